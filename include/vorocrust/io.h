@@ -1,0 +1,48 @@
+/* Mesh writers. Every writer writes to a temporary file next to the target
+ * and renames it, so a failed run never leaves a half-written file. */
+#ifndef VORO_CRUST_IO_H
+#define VORO_CRUST_IO_H
+
+#include "vorocrust/error.h"
+#include "vorocrust/polymesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum vc_vtu_encoding {
+    VC_VTU_RAW = 0,  /* binary appended data, uncompressed */
+    VC_VTU_ZLIB = 1  /* binary appended data, zlib-compressed blocks */
+} vc_vtu_encoding;
+
+/* Writes an unstructured grid of VTK_POLYHEDRON (42) cells in the VTK XML
+ * format, file version 1.0 (faces/faceoffsets arrays), Int64 ids, binary
+ * appended data. Cell data: "region" (Int32), "seed" (Int64), "volume"
+ * (Float64). */
+int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
+                 vc_error *err);
+
+/* Writes the connections (one row per interior face) as CSV with the header
+ * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz
+ * where the normal points from cell_i to cell_j. */
+int vc_write_connections_csv(const vc_polymesh *m, const char *path,
+                             vc_error *err);
+
+/* Helpers for the temporary-file-and-rename pattern. vc_tmpfile_open
+ * creates "<path>.tmp.XXXXXX" and opens it for binary writing;
+ * vc_tmpfile_commit closes and renames it (removing it on failure);
+ * vc_tmpfile_abort closes and removes it. */
+typedef struct vc_tmpfile {
+    void *fp; /* FILE * */
+    char *tmp_path;
+    char *final_path;
+} vc_tmpfile;
+
+int vc_tmpfile_open(vc_tmpfile *t, const char *path, vc_error *err);
+int vc_tmpfile_commit(vc_tmpfile *t, vc_error *err);
+void vc_tmpfile_abort(vc_tmpfile *t);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,105 @@
+/* The polyhedral mesh: the output of the Voronoi engine and the input of
+ * every writer and quality measure.
+ *
+ * Faces are stored once. A face is oriented so that its normal (right-hand
+ * rule on its vertex cycle) points out of its owner cell and into its
+ * neighbour cell. Interior faces (neighbour >= 0) come first, sorted by
+ * (owner, neighbour), then the boundary faces sorted by owner: the order
+ * OpenFOAM's polyMesh expects. A cell lists its faces; the cell is the
+ * owner of a face when face_owner[f] equals the cell index, otherwise the
+ * face is seen reversed from that cell. */
+#ifndef VORO_CRUST_POLYMESH_H
+#define VORO_CRUST_POLYMESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "vorocrust/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* face_other_seed of a boundary face on a wall of the clipping box:
+ * VC_WALL_XMIN - k for the wall k in order xmin, xmax, ymin, ymax, zmin, zmax. */
+#define VC_WALL_XMIN (-1)
+
+typedef struct vc_polymesh {
+    /* Vertices. */
+    int64_t n_points;
+    double *points; /* 3 * n_points */
+
+    /* Faces: the vertex cycle of face f is
+     * face_vertices[face_offsets[f] .. face_offsets[f + 1] - 1]. */
+    int64_t n_faces;
+    int64_t n_interior_faces; /* faces 0 .. n_interior_faces-1 are interior */
+    int64_t *face_offsets;    /* n_faces + 1 */
+    int64_t *face_vertices;
+    int64_t *face_owner;      /* cell index */
+    int64_t *face_neighbour;  /* cell index, or -1 for a boundary face */
+    /* For every face, the seed on the other side of the owner's seed: the
+     * neighbour's seed, a non-kept seed (boundary face), or a wall code
+     * (VC_WALL_XMIN - k) for a face on the clipping box. */
+    int64_t *face_other_seed;
+    double *face_area;        /* n_faces */
+    double *face_centroid;    /* 3 * n_faces */
+    double *face_normal;      /* 3 * n_faces, unit, owner -> neighbour */
+
+    /* Cells: the faces of cell c are
+     * cell_faces[cell_offsets[c] .. cell_offsets[c + 1] - 1]. */
+    int64_t n_cells;
+    int64_t *cell_offsets;    /* n_cells + 1 */
+    int64_t *cell_faces;
+    int64_t *cell_seed;       /* index of the cell's seed in the input seeds */
+    int32_t *cell_region;     /* the seed's label */
+    double *cell_volume;      /* n_cells */
+    double *cell_centroid;    /* 3 * n_cells */
+
+    /* Copy of the seed positions (3 * n_seeds), for connection distances. */
+    int64_t n_seeds;
+    double *seed_xyz;
+} vc_polymesh;
+
+void vc_polymesh_free(vc_polymesh *m);
+
+/* Number of vertices of face f. */
+static inline int64_t vc_polymesh_face_size(const vc_polymesh *m, int64_t f)
+{
+    return m->face_offsets[f + 1] - m->face_offsets[f];
+}
+
+/* Recomputes face areas, centroids, normals, cell volumes and centroids
+ * from the vertex positions and topology. */
+void vc_polymesh_compute_geometry(vc_polymesh *m);
+
+/* Distance between the seeds of the two cells of interior face f (the
+ * two-point-flux connection length). */
+double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);
+
+/* Checks every invariant of the mesh:
+ *  - indices in range, every face has >= 3 distinct vertices;
+ *  - every interior face is listed by exactly its owner and its neighbour,
+ *    every boundary face by its owner only;
+ *  - every cell is closed (each of its edges is used once in each
+ *    direction by its outward-oriented faces), convex (every vertex of the
+ *    cell lies on the inner side of every face plane, within rel_tol times
+ *    the cell size), and has positive volume.
+ * rel_tol <= 0 selects the default (1e-8).
+ * Returns the number of problems found (0 = valid). When report is not
+ * NULL, up to report_len bytes of the first problems, one per line, are
+ * written there. */
+int64_t vc_polymesh_validate(const vc_polymesh *m, double rel_tol,
+                             char *report, size_t report_len);
+
+/* Summary statistics used by the CLI. */
+typedef struct vc_polymesh_stats {
+    double volume_total, volume_min, volume_max;
+    int64_t n_boundary_faces;
+    double max_faces_per_cell, mean_faces_per_cell;
+} vc_polymesh_stats;
+
+void vc_polymesh_stats_compute(const vc_polymesh *m, vc_polymesh_stats *st);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

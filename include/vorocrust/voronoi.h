@@ -1,0 +1,46 @@
+/* The conforming polyhedral Voronoi engine.
+ *
+ * Builds the Voronoi cells of the kept seeds (label != 0) of a seed set,
+ * with the non-kept seeds shaping the cells but contributing none, and
+ * assembles them into one conforming mesh: global vertices, every face
+ * between two kept cells stored once. Coincident Voronoi vertices (seeds
+ * that are co-spherical, as VoroCrust's are by construction) are merged
+ * and zero-length edges and zero-area faces dropped, with a tolerance
+ * relative to the local cell size (the distance from the seed to its
+ * nearest neighbour). */
+#ifndef VORO_CRUST_VORONOI_H
+#define VORO_CRUST_VORONOI_H
+
+#include "vorocrust/error.h"
+#include "vorocrust/polymesh.h"
+#include "vorocrust/seeds.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vc_voronoi_options {
+    /* Clip every cell to the box [box[0],box[3]] x [box[1],box[4]] x
+     * [box[2],box[5]] when has_box; otherwise cells are bounded by a box
+     * enclosing the seeds with a margin of the seeds' bounding-box diagonal
+     * (VoroCrust's outside seeds bound every kept cell well inside it). */
+    int has_box;
+    double box[6];
+    /* Threads for the cell computation; <= 0 means OpenMP's default. The
+     * output does not depend on it. */
+    int threads;
+    /* Print progress to stderr. */
+    int progress;
+} vc_voronoi_options;
+
+void vc_voronoi_options_default(vc_voronoi_options *opt);
+
+/* Builds the mesh. Fails with VC_EINPUT on coincident seeds (naming both),
+ * non-finite coordinates, seeds outside the box, or no kept seed. */
+int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt,
+                     vc_polymesh *out, vc_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
