@@ -18,13 +18,19 @@ typedef enum vc_vtu_encoding {
 /* Writes an unstructured grid of VTK_POLYHEDRON (42) cells in the VTK XML
  * format, file version 1.0 (faces/faceoffsets arrays), Int64 ids, binary
  * appended data. Cell data: "region" (Int32), "seed" (Int64), "volume"
- * (Float64). */
+ * (Float64). Every face is written outward for the cell that lists it
+ * (reversed when the cell is not the face's owner). ZLIB compresses the
+ * arrays in 32 KiB blocks (in parallel with OpenMP). Errors: VC_EIO naming
+ * the path ("out.vtu: cannot write: ..."), VC_EINPUT for an index out of
+ * range, VC_ENOMEM. */
 int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
                  vc_error *err);
 
 /* Writes the connections (one row per interior face) as CSV with the header
  * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz
- * where the normal points from cell_i to cell_j. */
+ * where the normal points from cell_i to cell_j. cell_i is the face's owner,
+ * distance is between the two cells' seeds (needs m->seed_xyz), values are
+ * printed with %.17g. */
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
                              vc_error *err);
 

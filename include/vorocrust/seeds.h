@@ -24,7 +24,15 @@ int vc_seeds_alloc(vc_seeds *s, int64_t n, vc_error *err);
 void vc_seeds_free(vc_seeds *s);
 
 /* Reads a CSV file with a header line and rows "x,y,z[,label]".
- * A missing label means 1. Errors name the file and line. */
+ * A missing label means 1. Errors name the file and line. Rules: the first
+ * non-blank line is the header and must not start with a number; every row
+ * has the field count of the first row (3 or 4); coordinates must be finite
+ * numbers (strtod syntax), labels 32-bit integers; blank lines, spaces
+ * around fields, CRLF line ends and a UTF-8 BOM are accepted; a file with
+ * only a header gives 0 seeds. Codes: VC_EIO (cannot open/read),
+ * VC_EFORMAT (empty file, no header, field count, not a number/integer),
+ * VC_EINPUT (NaN or infinite coordinate), VC_ENOMEM. On failure *out is
+ * left empty (n = 0, NULL arrays). */
 int vc_seeds_read_csv(const char *path, vc_seeds *out, vc_error *err);
 
 /* Writes "x,y,z,label" rows with a header, via a temporary file + rename. */

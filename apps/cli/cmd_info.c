@@ -1,0 +1,89 @@
+/* vorocrust info: read a triangle surface and describe it. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+#include "vorocrust/surface.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: vorocrust info INPUT [--require-closed]\n"
+        "  INPUT             triangle surface: .obj, .off, .stl (ASCII or binary), .ply\n"
+        "  --require-closed  fail (exit 1) when the surface has open boundary edges\n"
+        "Prints counts, bounding box, topology (boundary, non-manifold and\n"
+        "inconsistently oriented edges, components, Euler characteristic, genus)\n"
+        "and enclosed volume. Problems are printed to stderr, one line each;\n"
+        "only unreadable or unusable input makes the exit code non-zero.\n");
+}
+
+int vc_cmd_info(int argc, char **argv)
+{
+    const char *path = NULL;
+    int require_closed = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--require-closed")) {
+            require_closed = 1;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "vorocrust info: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        } else if (!path) {
+            path = a;
+        } else {
+            fprintf(stderr, "vorocrust info: more than one INPUT ('%s', '%s')\n", path, a);
+            return 2;
+        }
+    }
+    if (!path) {
+        usage(stderr);
+        return 2;
+    }
+
+    vc_surface s;
+    vc_surface_report rep;
+    vc_error err = {0, ""};
+    if (vc_surface_read(path, &s, &rep, &err)) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        return 1;
+    }
+    for (int i = 0; i < rep.n_warnings; i++)
+        fprintf(stderr, "vorocrust: warning: %s\n", rep.warnings[i]);
+
+    const double *b = rep.bbox;
+    printf("file: %s\n", rep.name);
+    printf("reader: %s\n", rep.reader);
+    printf("vertices: %lld\n", (long long)rep.n_vertices);
+    printf("triangles: %lld\n", (long long)rep.n_triangles);
+    printf("edges: %lld\n", (long long)rep.n_edges);
+    if (rep.n_polygons_triangulated)
+        printf("polygons triangulated: %lld\n", (long long)rep.n_polygons_triangulated);
+    if (rep.n_duplicate_vertices)
+        printf("duplicate vertices merged: %lld\n", (long long)rep.n_duplicate_vertices);
+    printf("bounding box: [%.9g, %.9g] x [%.9g, %.9g] x [%.9g, %.9g]\n", b[0], b[3], b[1], b[4], b[2], b[5]);
+    printf("size: %.9g x %.9g x %.9g\n", b[3] - b[0], b[4] - b[1], b[5] - b[2]);
+    printf("boundary edges: %lld\n", (long long)rep.n_boundary_edges);
+    printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
+    printf("inconsistently oriented edges: %lld\n", (long long)rep.n_inconsistent_edges);
+    printf("degenerate triangles: %lld\n", (long long)rep.n_degenerate);
+    printf("components: %lld\n", (long long)rep.n_components);
+    printf("euler characteristic: %lld\n", (long long)rep.euler);
+    if (rep.genus >= 0)
+        printf("genus: %lld\n", (long long)rep.genus);
+    printf("closed: %s\n", rep.n_boundary_edges == 0 ? "yes" : "no");
+    printf("enclosed volume: %.9g%s\n", rep.volume,
+           rep.n_boundary_edges ? " (meaningless: surface is open)"
+           : rep.signed_volume < 0 ? " (oriented inward)" : "");
+
+    int rc = 0;
+    if (require_closed && vc_surface_require_closed(&rep, &err)) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        rc = 1;
+    }
+    vc_surface_free(&s);
+    return rc;
+}

@@ -1,0 +1,190 @@
+/* vorocrust voronoi: the conforming Voronoi mesh of a seed file. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "commands.h"
+#include "vorocrust/io.h"
+#include "vorocrust/polymesh.h"
+#include "vorocrust/seeds.h"
+#include "vorocrust/voronoi.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: vorocrust voronoi SEEDS.csv -o OUT.vtu [options]\n"
+        "  SEEDS.csv               header line, then rows x,y,z[,label]; label 0 = cell not kept\n"
+        "  -o, --output OUT.vtu    the mesh (VTK_POLYHEDRON cells)\n"
+        "  --box X0 Y0 Z0 X1 Y1 Z1 clip every cell to this box (all seeds must lie in it)\n"
+        "  --connections OUT.csv   interior faces: cells, seeds, area, seed distance, centroid, normal\n"
+        "  --encoding zlib|raw     binary encoding of the .vtu (default zlib)\n"
+        "  --threads N             threads (default: all cores); the mesh does not depend on it\n"
+        "  --no-validate           skip the mesh validator\n"
+        "  --quiet                 no progress or summary\n");
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_int(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int vc_cmd_voronoi(int argc, char **argv)
+{
+    const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL;
+    vc_voronoi_options opt;
+    vc_voronoi_options_default(&opt);
+    vc_vtu_encoding enc = VC_VTU_ZLIB;
+    int validate = 1, quiet = 0;
+
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if ((!strcmp(a, "-o") || !strcmp(a, "--output")) && i + 1 < argc) {
+            out_path = argv[++i];
+        } else if (!strcmp(a, "--connections") && i + 1 < argc) {
+            conn_path = argv[++i];
+        } else if (!strcmp(a, "--box")) {
+            if (i + 6 >= argc) {
+                fprintf(stderr, "vorocrust voronoi: --box needs 6 numbers\n");
+                return 2;
+            }
+            for (int d = 0; d < 6; d++)
+                if (parse_double(argv[i + 1 + d], &opt.box[d]) != 0) {
+                    fprintf(stderr, "vorocrust voronoi: --box: '%s' is not a finite number\n",
+                            argv[i + 1 + d]);
+                    return 2;
+                }
+            for (int d = 0; d < 3; d++)
+                if (!(opt.box[d] < opt.box[d + 3])) {
+                    fprintf(stderr, "vorocrust voronoi: --box: min %g >= max %g on axis %c\n",
+                            opt.box[d], opt.box[d + 3], 'x' + d);
+                    return 2;
+                }
+            opt.has_box = 1;
+            i += 6;
+        } else if (!strcmp(a, "--threads") && i + 1 < argc) {
+            long t;
+            if (parse_int(argv[++i], 1, 4096, &t) != 0) {
+                fprintf(stderr, "vorocrust voronoi: --threads: '%s' is not a count from 1 to 4096\n",
+                        argv[i]);
+                return 2;
+            }
+            opt.threads = (int)t;
+        } else if (!strcmp(a, "--encoding") && i + 1 < argc) {
+            const char *e = argv[++i];
+            if (!strcmp(e, "zlib"))
+                enc = VC_VTU_ZLIB;
+            else if (!strcmp(e, "raw"))
+                enc = VC_VTU_RAW;
+            else {
+                fprintf(stderr, "vorocrust voronoi: --encoding: '%s' is not zlib or raw\n", e);
+                return 2;
+            }
+        } else if (!strcmp(a, "--no-validate")) {
+            validate = 0;
+        } else if (!strcmp(a, "--quiet")) {
+            quiet = 1;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "vorocrust voronoi: unknown or incomplete option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        } else if (!seeds_path) {
+            seeds_path = a;
+        } else {
+            fprintf(stderr, "vorocrust voronoi: unexpected argument '%s'\n", a);
+            return 2;
+        }
+    }
+    if (!seeds_path || !out_path) {
+        usage(stderr);
+        return 2;
+    }
+    opt.progress = !quiet;
+
+    vc_error err = {0, ""};
+    vc_seeds seeds = {0, NULL, NULL};
+    vc_polymesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    int rc = 1;
+    double t0 = now();
+    if (vc_seeds_read_csv(seeds_path, &seeds, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        return 1;
+    }
+    double t1 = now();
+    if (vc_voronoi_build(&seeds, &opt, &mesh, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s: %s\n", seeds_path, err.msg);
+        goto out;
+    }
+    double t2 = now();
+    int64_t problems = 0;
+    char report[2048];
+    if (validate) {
+        problems = vc_polymesh_validate(&mesh, 0, report, sizeof report);
+        if (problems) {
+            fprintf(stderr, "vorocrust: %s: the mesh fails validation (%lld problems):\n%s",
+                    seeds_path, (long long)problems, report);
+            goto out;
+        }
+    }
+    double t3 = now();
+    if (vc_write_vtu(&mesh, out_path, enc, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        goto out;
+    }
+    if (conn_path && vc_write_connections_csv(&mesh, conn_path, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        goto out;
+    }
+    double t4 = now();
+    if (!quiet) {
+        vc_polymesh_stats st;
+        vc_polymesh_stats_compute(&mesh, &st);
+        fprintf(stderr,
+                "vorocrust voronoi: %lld seeds, %lld cells, %lld faces (%lld interior, %lld boundary), "
+                "%lld vertices\n"
+                "  volume %.17g (cell min %.6g, max %.6g), faces per cell mean %.2f max %.0f\n"
+                "  validation %s\n"
+                "  time: read %.3f s, cells %.3f s (%.0f cells/s), validate %.3f s, write %.3f s\n",
+                (long long)seeds.n, (long long)mesh.n_cells, (long long)mesh.n_faces,
+                (long long)mesh.n_interior_faces, (long long)st.n_boundary_faces,
+                (long long)mesh.n_points, st.volume_total, st.volume_min, st.volume_max,
+                st.mean_faces_per_cell, st.max_faces_per_cell, validate ? "passed" : "skipped",
+                t1 - t0, t2 - t1, (double)mesh.n_cells / (t2 - t1 > 0 ? t2 - t1 : 1e-9), t3 - t2,
+                t4 - t3);
+    }
+    rc = 0;
+out:
+    vc_polymesh_free(&mesh);
+    vc_seeds_free(&seeds);
+    return rc;
+}

@@ -1,0 +1,601 @@
+/* Tests of the surface module: the reference models, every format, every
+ * bad input. Environment: VC_MODELS (the shared models), VC_TMP (a
+ * writable directory). */
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vorocrust/surface.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static int failures = 0;
+static const char *tmpdir = ".";
+
+#define CHECK(cond, ...)                                                   \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond); \
+            fprintf(stderr, __VA_ARGS__);                                  \
+            fputc('\n', stderr);                                           \
+            failures++;                                                    \
+        }                                                                  \
+    } while (0)
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[8][1024];
+    static int k = 0;
+    k = (k + 1) % 8;
+    snprintf(buf[k], sizeof buf[k], "%s/surface_%s", tmpdir, name);
+    return buf[k];
+}
+
+static const char *write_file(const char *name, const void *data, size_t len)
+{
+    const char *p = tmp_path(name);
+    FILE *f = fopen(p, "wb");
+    if (!f) {
+        fprintf(stderr, "cannot write %s\n", p);
+        exit(2);
+    }
+    fwrite(data, 1, len, f);
+    fclose(f);
+    return p;
+}
+
+static const char *write_text(const char *name, const char *text)
+{
+    return write_file(name, text, strlen(text));
+}
+
+static int has_warning(const vc_surface_report *r, const char *needle)
+{
+    for (int i = 0; i < r->n_warnings; i++)
+        if (strstr(r->warnings[i], needle))
+            return 1;
+    return 0;
+}
+
+/* Reads a file that must succeed. */
+static int read_ok(const char *path, vc_surface *s, vc_surface_report *r)
+{
+    vc_error err = {0, ""};
+    int rc = vc_surface_read(path, s, r, &err);
+    CHECK(rc == 0, "%s: unexpected failure: %s", path, err.msg);
+    return rc == 0;
+}
+
+/* Reads a file that must fail with code; the message must name the file
+ * and contain needle. */
+static void read_fails(const char *path, int code, const char *needle)
+{
+    vc_surface s;
+    vc_surface_report r;
+    vc_error err = {0, ""};
+    int rc = vc_surface_read(path, &s, &r, &err);
+    CHECK(rc == code, "%s: code %d, expected %d (%s)", path, rc, code, err.msg);
+    CHECK(strstr(err.msg, path) == err.msg, "message does not start with the file: %s", err.msg);
+    CHECK(strstr(err.msg, needle) != NULL, "message lacks '%s': %s", needle, err.msg);
+    CHECK(!strchr(err.msg, '\n'), "message is not one line: %s", err.msg);
+    CHECK(s.xyz == NULL && s.tri == NULL && s.n_triangles == 0, "%s: output not empty on failure", path);
+    if (rc == 0)
+        vc_surface_free(&s);
+}
+
+/* ---- The reference models. ---- */
+
+typedef struct model_case {
+    const char *file;
+    int64_t euler;
+    double volume, rel_tol; /* expected |volume| (0: only check > 0) */
+    int polygons;           /* non-triangle faces expected */
+} model_case;
+
+static void test_models(const char *models)
+{
+    const model_case cases[] = {
+        {"cube.off", 2, 4.0, 1e-12, 6}, /* a 2x2x2 cube turned 45 degrees about z */
+        {"sphere.obj", 2, 4.0 / 3.0 * M_PI * 0.343, 0.03, 0},
+        {"torus.obj", 0, 2 * M_PI * M_PI * 1.0 * 0.25, 0.04, 0},
+        {"fertility.off", -6, 0, 0, 0},
+        {"onebox.obj", 2, 1.0, 1e-12, 0},
+        {"bracket.obj", 2, 0, 0, 0},
+        {"fandisk.off", 2, 0, 0, 0},
+        {"bumpy-cube.obj", 2, 0, 0, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const model_case *c = &cases[i];
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", models, c->file);
+        vc_surface s, t;
+        vc_surface_report r, q;
+        if (!read_ok(path, &s, &r))
+            continue;
+        vc_error err = {0, ""};
+        CHECK(r.n_boundary_edges == 0 && vc_surface_require_closed(&r, &err) == 0, "%s: not closed", c->file);
+        CHECK(r.n_nonmanifold_edges == 0, "%s: %lld non-manifold edges", c->file, (long long)r.n_nonmanifold_edges);
+        CHECK(r.n_inconsistent_edges == 0, "%s: inconsistent orientation", c->file);
+        CHECK(r.n_degenerate == 0, "%s: %lld degenerate", c->file, (long long)r.n_degenerate);
+        CHECK(r.n_components == 1, "%s: %lld components", c->file, (long long)r.n_components);
+        CHECK(r.euler == c->euler, "%s: Euler %lld, expected %lld", c->file, (long long)r.euler, (long long)c->euler);
+        CHECK(r.closed_manifold && r.genus == (2 - c->euler) / 2, "%s: genus %lld", c->file, (long long)r.genus);
+        CHECK(r.volume > 0, "%s: volume %g", c->file, r.volume);
+        if (c->volume > 0)
+            CHECK(fabs(r.volume - c->volume) <= c->rel_tol * c->volume, "%s: volume %.12g, expected %.12g",
+                  c->file, r.volume, c->volume);
+        CHECK(r.n_polygons_triangulated == c->polygons, "%s: %lld polygons triangulated", c->file,
+              (long long)r.n_polygons_triangulated);
+        if (c->polygons)
+            CHECK(has_warning(&r, "6 non-triangle faces triangulated"), "%s: no triangulation warning", c->file);
+        CHECK(r.n_vertices == s.n_vertices && r.n_triangles == s.n_triangles, "%s: report counts", c->file);
+        CHECK(r.euler == r.n_vertices - r.n_edges + r.n_triangles, "%s: Euler formula", c->file);
+        for (int k = 0; k < 3; k++)
+            CHECK(r.bbox[k] <= r.bbox[k + 3], "%s: bbox", c->file);
+
+        /* Cross-check against OpenMesh's readers (float coordinates). */
+        setenv("VC_SURFACE_READER", "openmesh", 1);
+        if (read_ok(path, &t, &q)) {
+            CHECK(strcmp(q.reader, "OpenMesh") == 0, "%s: reader %s", c->file, q.reader);
+            CHECK(q.n_vertices == r.n_vertices && q.n_triangles == r.n_triangles && q.euler == r.euler,
+                  "%s: OpenMesh reads V=%lld T=%lld chi=%lld, ours V=%lld T=%lld chi=%lld", c->file,
+                  (long long)q.n_vertices, (long long)q.n_triangles, (long long)q.euler,
+                  (long long)r.n_vertices, (long long)r.n_triangles, (long long)r.euler);
+            CHECK(fabs(q.volume - r.volume) <= 1e-5 * r.volume, "%s: OpenMesh volume %.9g vs %.9g", c->file,
+                  q.volume, r.volume);
+            vc_surface_free(&t);
+        }
+        unsetenv("VC_SURFACE_READER");
+        vc_surface_free(&s);
+    }
+}
+
+/* ---- The same box in every format. ---- */
+
+/* Box [0, 0.2] x [0, 0.5] x [0, 0.3]: volume 0.03; vertex i = (x bit 0,
+ * y bit 1, z bit 2). Quads counter-clockwise seen from outside. */
+static const int box_quads[6][4] = {
+    {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+static const double box_size[3] = {0.2, 0.5, 0.3};
+#define BOX_VOLUME (0.2 * 0.5 * 0.3)
+
+static void box_vertex(int i, double p[3])
+{
+    for (int k = 0; k < 3; k++)
+        p[k] = (i >> k & 1) ? box_size[k] : 0.0;
+}
+
+static void box_tri(int t, int v[3])
+{
+    const int *q = box_quads[t / 2];
+    if (t % 2 == 0) {
+        v[0] = q[0]; v[1] = q[1]; v[2] = q[2];
+    } else {
+        v[0] = q[0]; v[1] = q[2]; v[2] = q[3];
+    }
+}
+
+typedef struct strbuf {
+    char *s;
+    size_t n, cap;
+} strbuf;
+
+static void sb_printf(strbuf *b, const char *fmt, ...)
+{
+    va_list ap;
+    for (;;) {
+        va_start(ap, fmt);
+        int k = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? b->cap - b->n : 0, fmt, ap);
+        va_end(ap);
+        if (b->s && (size_t)k < b->cap - b->n) {
+            b->n += (size_t)k;
+            return;
+        }
+        b->cap = 2 * (b->cap + (size_t)k + 64);
+        b->s = realloc(b->s, b->cap);
+        if (!b->s)
+            exit(2);
+    }
+}
+
+static void sb_bytes(strbuf *b, const void *d, size_t n)
+{
+    if (b->n + n + 1 > b->cap) {
+        b->cap = 2 * (b->n + n + 64);
+        b->s = realloc(b->s, b->cap);
+        if (!b->s)
+            exit(2);
+    }
+    memcpy(b->s + b->n, d, n);
+    b->n += n;
+}
+
+static void put_le(strbuf *b, uint64_t v, int bytes)
+{
+    unsigned char c[8];
+    for (int i = 0; i < bytes; i++)
+        c[i] = (unsigned char)(v >> (8 * i));
+    sb_bytes(b, c, (size_t)bytes);
+}
+
+static void put_be(strbuf *b, uint64_t v, int bytes)
+{
+    unsigned char c[8];
+    for (int i = 0; i < bytes; i++)
+        c[bytes - 1 - i] = (unsigned char)(v >> (8 * i));
+    sb_bytes(b, c, (size_t)bytes);
+}
+
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return u;
+}
+
+static uint64_t double_bits(double d)
+{
+    uint64_t u;
+    memcpy(&u, &d, 8);
+    return u;
+}
+
+static void check_box(const char *path, double tol, int64_t polygons, int64_t duplicates)
+{
+    vc_surface s;
+    vc_surface_report r;
+    if (!read_ok(path, &s, &r))
+        return;
+    CHECK(r.n_vertices == 8 && r.n_triangles == 12, "%s: V=%lld T=%lld", path, (long long)r.n_vertices,
+          (long long)r.n_triangles);
+    CHECK(r.n_boundary_edges == 0 && r.n_nonmanifold_edges == 0 && r.n_inconsistent_edges == 0,
+          "%s: topology %lld/%lld/%lld", path, (long long)r.n_boundary_edges, (long long)r.n_nonmanifold_edges,
+          (long long)r.n_inconsistent_edges);
+    CHECK(r.euler == 2 && r.genus == 0 && r.n_components == 1, "%s: chi=%lld", path, (long long)r.euler);
+    CHECK(r.signed_volume > 0 && fabs(r.volume - BOX_VOLUME) <= tol * BOX_VOLUME, "%s: volume %.17g", path,
+          r.signed_volume);
+    CHECK(r.n_polygons_triangulated == polygons, "%s: %lld polygons", path, (long long)r.n_polygons_triangulated);
+    CHECK(r.n_duplicate_vertices == duplicates, "%s: %lld duplicates merged", path,
+          (long long)r.n_duplicate_vertices);
+    CHECK(r.n_warnings == (polygons ? 1 : 0), "%s: %d warnings (%s)", path, r.n_warnings,
+          r.n_warnings ? r.warnings[0] : "");
+    CHECK(fabs(r.bbox[3] - 0.2) < tol && fabs(r.bbox[4] - 0.5) < tol && fabs(r.bbox[5] - 0.3) < tol, "%s: bbox",
+          path);
+    vc_surface_free(&s);
+}
+
+static void test_formats(void)
+{
+    double p[3];
+    int v[3];
+    strbuf b = {0};
+
+    /* OBJ: triangles, negative (relative) indices in one face, v/t/n forms. */
+    sb_printf(&b, "# box\no box\n");
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    sb_printf(&b, "vn 0 0 1\n");
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        if (t == 0)
+            sb_printf(&b, "f %d %d %d\n", v[0] - 8, v[1] - 8, v[2] - 8);
+        else if (t == 1)
+            sb_printf(&b, "f %d//1 %d//1 %d//1\n", v[0] + 1, v[1] + 1, v[2] + 1);
+        else
+            sb_printf(&b, "f %d/%d %d/%d %d/%d\n", v[0] + 1, 1, v[1] + 1, 1, v[2] + 1, 1);
+    }
+    check_box(write_file("box.obj", b.s, b.n), 1e-14, 0, 0);
+
+    /* OFF: quads. */
+    b.n = 0;
+    sb_printf(&b, "OFF\n# comment\n8 6 0\n");
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    for (int f = 0; f < 6; f++)
+        sb_printf(&b, "4 %d %d %d %d\n", box_quads[f][0], box_quads[f][1], box_quads[f][2], box_quads[f][3]);
+    check_box(write_file("box.off", b.s, b.n), 1e-14, 6, 0);
+
+    /* ASCII STL. */
+    b.n = 0;
+    sb_printf(&b, "solid box\n");
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        sb_printf(&b, "  facet normal 0 0 0\n    outer loop\n");
+        for (int k = 0; k < 3; k++) {
+            box_vertex(v[k], p);
+            sb_printf(&b, "      vertex %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+        }
+        sb_printf(&b, "    endloop\n  endfacet\n");
+    }
+    sb_printf(&b, "endsolid box\n");
+    check_box(write_file("box_ascii.stl", b.s, b.n), 1e-14, 0, 28);
+
+    /* Binary STL (float: tolerance of float rounding). The header starts
+     * with "solid" as some exporters do. */
+    b.n = 0;
+    char header[80] = "solid written by test_surface";
+    sb_bytes(&b, header, 80);
+    put_le(&b, 12, 4);
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        for (int k = 0; k < 3; k++)
+            put_le(&b, float_bits(0.0f), 4);
+        for (int k = 0; k < 3; k++) {
+            box_vertex(v[k], p);
+            for (int d = 0; d < 3; d++)
+                put_le(&b, float_bits((float)p[d]), 4);
+        }
+        put_le(&b, 0, 2);
+    }
+    check_box(write_file("box_binary.stl", b.s, b.n), 1e-6, 0, 28);
+
+    /* PLY ASCII with quads and an extra property and element. */
+    b.n = 0;
+    sb_printf(&b, "ply\nformat ascii 1.0\ncomment box\nelement vertex 8\nproperty float x\nproperty float y\n"
+                  "property float z\nproperty uchar red\nelement face 6\nproperty list uchar int vertex_indices\n"
+                  "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n");
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, "%.17g %.17g %.17g 255\n", p[0], p[1], p[2]);
+    }
+    for (int f = 0; f < 6; f++)
+        sb_printf(&b, "4 %d %d %d %d\n", box_quads[f][0], box_quads[f][1], box_quads[f][2], box_quads[f][3]);
+    sb_printf(&b, "0 1\n");
+    check_box(write_file("box_ascii.ply", b.s, b.n), 1e-14, 6, 0);
+
+    /* PLY binary little and big endian, double coordinates, triangles,
+     * with a normal property to skip. */
+    for (int big = 0; big < 2; big++) {
+        b.n = 0;
+        sb_printf(&b, "ply\nformat %s 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
+                      "property double z\nproperty float nx\nelement face 12\n"
+                      "property list uchar uint vertex_indices\nend_header\n",
+                  big ? "binary_big_endian" : "binary_little_endian");
+        void (*put)(strbuf *, uint64_t, int) = big ? put_be : put_le;
+        for (int i = 0; i < 8; i++) {
+            box_vertex(i, p);
+            for (int d = 0; d < 3; d++)
+                put(&b, double_bits(p[d]), 8);
+            put(&b, float_bits(1.0f), 4);
+        }
+        for (int t = 0; t < 12; t++) {
+            box_tri(t, v);
+            put(&b, 3, 1);
+            for (int k = 0; k < 3; k++)
+                put(&b, (uint64_t)v[k], 4);
+        }
+        check_box(write_file(big ? "box_be.ply" : "box_le.ply", b.s, b.n), 1e-14, 0, 0);
+    }
+
+    /* Upper-case extension. */
+    b.n = 0;
+    sb_printf(&b, "OFF 8 12 0\n");
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        sb_printf(&b, "3 %d %d %d 0.5 0.5 0.5\n", v[0], v[1], v[2]); /* with a face colour */
+    }
+    check_box(write_file("box_upper.OFF", b.s, b.n), 1e-14, 0, 0);
+    free(b.s);
+}
+
+/* ---- Bad inputs. ---- */
+
+/* OBJ text of the box (0-based triangle list), with triangle `flip`
+ * reversed, triangles `skip_from`..`skip_to` left out and `extra` appended. */
+static const char *box_obj(const char *name, int flip, int skip_from, int skip_to, const char *extra)
+{
+    strbuf b = {0};
+    double p[3];
+    int v[3];
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    for (int t = 0; t < 12; t++) {
+        if (t >= skip_from && t <= skip_to)
+            continue;
+        box_tri(t, v);
+        if (t == flip)
+            sb_printf(&b, "f %d %d %d\n", v[0] + 1, v[2] + 1, v[1] + 1);
+        else
+            sb_printf(&b, "f %d %d %d\n", v[0] + 1, v[1] + 1, v[2] + 1);
+    }
+    sb_printf(&b, "%s", extra ? extra : "");
+    const char *path = write_file(name, b.s, b.n);
+    free(b.s);
+    return path;
+}
+
+static void test_bad_inputs(void)
+{
+    vc_surface s;
+    vc_surface_report r;
+    vc_error err = {0, ""};
+
+    read_fails(tmp_path("does_not_exist.obj"), VC_EIO, "cannot open");
+    read_fails(write_text("points.xyz", "0 0 0\n"), VC_EFORMAT, "unsupported file extension '.xyz'");
+    read_fails(write_text("noext", "0 0 0\n"), VC_EFORMAT, "unsupported file extension");
+    read_fails(write_text("empty.obj", ""), VC_EFORMAT, "empty file");
+    read_fails(write_text("blank.stl", "  \n\n"), VC_EFORMAT, "empty file");
+    read_fails(write_text("novertices.obj", "# nothing\n"), VC_EINPUT, "no triangles");
+    read_fails(write_text("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"), VC_EINPUT,
+               "vertex 3 has a non-finite coordinate");
+    read_fails(write_text("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"), VC_EINPUT,
+               "non-finite");
+    read_fails(write_text("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"), VC_EINPUT,
+               "face 1 refers to vertex 4, but the file has 3 vertices");
+    read_fails(write_text("malformed.obj", "v 0 0 0\nv 1 zero 0\n"), VC_EFORMAT, "line 2: malformed vertex");
+    read_fails(write_text("twoverts.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), VC_EFORMAT, "line 3: face with 2 vertices");
+    read_fails(write_text("short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n"), VC_EFORMAT,
+               "file ends after 1 of 2 faces");
+    read_fails(write_text("noheader.off", "4 2 0\n"), VC_EFORMAT, "missing OFF header");
+    read_fails(write_text("bad.stl", "this is not an STL file\n"), VC_EFORMAT, "malformed STL");
+    read_fails(write_text("bad.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n"),
+               VC_EFORMAT, "without x, y and z");
+    read_fails(write_text("truncated.ply",
+                          "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                          "property float y\nproperty float z\nend_header\n\x01\x02"),
+               VC_EFORMAT, "file ends inside element 'vertex'");
+    read_fails(write_text("alldegenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"), VC_EINPUT,
+               "all 1 triangles are degenerate");
+    read_fails(write_text("allcollapsed.obj", "v 0 0 0\nv 1 0 0\nf 1 1 2\n"), VC_EINPUT,
+               "every triangle repeats a vertex");
+
+    /* Degenerate triangle (kept, counted) and a triangle repeating a
+     * vertex (removed, counted), next to the closed box. */
+    const char *path = box_obj("degenerate.obj", -1, 99, 99,
+                               "v 5 0 0\nv 6 0 0\nv 7 0 0\nf 9 10 11\nf 1 1 2\nv 9 9 9\n");
+    if (read_ok(path, &s, &r)) {
+        CHECK(r.n_degenerate == 1, "degenerate %lld", (long long)r.n_degenerate);
+        CHECK(r.n_collapsed == 1, "collapsed %lld", (long long)r.n_collapsed);
+        CHECK(r.n_unused_vertices == 1, "unused %lld", (long long)r.n_unused_vertices);
+        CHECK(r.n_triangles == 13 && r.n_vertices == 11, "T=%lld V=%lld", (long long)r.n_triangles,
+              (long long)r.n_vertices);
+        CHECK(r.n_components == 2, "components %lld", (long long)r.n_components);
+        CHECK(has_warning(&r, "1 degenerate (zero-area) triangles"), "no degenerate warning");
+        CHECK(has_warning(&r, "1 triangles repeat a vertex"), "no collapsed warning");
+        CHECK(has_warning(&r, "1 vertices used by no face"), "no unused warning");
+        CHECK(r.n_boundary_edges == 3, "boundary %lld", (long long)r.n_boundary_edges);
+        vc_surface_free(&s);
+    }
+
+    /* Open surface: the box without its top (triangles 2, 3). */
+    path = box_obj("open.obj", -1, 2, 3, NULL);
+    if (read_ok(path, &s, &r)) {
+        CHECK(r.n_boundary_edges == 4, "boundary %lld", (long long)r.n_boundary_edges);
+        CHECK(!r.closed_manifold && r.genus == -1, "open surface reported closed");
+        CHECK(r.euler == 1, "chi %lld", (long long)r.euler);
+        CHECK(has_warning(&r, "4 open boundary edges (surface is not closed)"), "no boundary warning");
+        int rc = vc_surface_require_closed(&r, &err);
+        CHECK(rc == VC_EINPUT, "require_closed returned %d", rc);
+        CHECK(strstr(err.msg, path) == err.msg && strstr(err.msg, "4 open boundary edges"), "message: %s", err.msg);
+        vc_surface_free(&s);
+    }
+
+    /* Inconsistent orientation: one triangle flipped -> its 3 edges. */
+    path = box_obj("flipped.obj", 5, 99, 99, NULL);
+    if (read_ok(path, &s, &r)) {
+        CHECK(r.n_inconsistent_edges == 3, "inconsistent %lld", (long long)r.n_inconsistent_edges);
+        CHECK(r.n_boundary_edges == 0 && r.n_triangles == 12, "flipped triangle lost");
+        CHECK(has_warning(&r, "3 inconsistently oriented edges"), "no orientation warning");
+        vc_surface_free(&s);
+    }
+
+    /* Inward orientation: every triangle flipped (OFF with reversed quads). */
+    {
+        strbuf b = {0};
+        double p[3];
+        sb_printf(&b, "OFF\n8 6 0\n");
+        for (int i = 0; i < 8; i++) {
+            box_vertex(i, p);
+            sb_printf(&b, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+        }
+        for (int f = 0; f < 6; f++)
+            sb_printf(&b, "4 %d %d %d %d\n", box_quads[f][3], box_quads[f][2], box_quads[f][1], box_quads[f][0]);
+        path = write_file("inward.off", b.s, b.n);
+        free(b.s);
+        if (read_ok(path, &s, &r)) {
+            CHECK(r.signed_volume < 0 && fabs(r.volume - BOX_VOLUME) < 1e-14, "inward volume %g", r.signed_volume);
+            CHECK(has_warning(&r, "oriented inward"), "no inward warning");
+            CHECK(r.n_inconsistent_edges == 0, "inward box inconsistent");
+            vc_surface_free(&s);
+        }
+    }
+
+    /* Non-manifold edge kept: two outward tetrahedra sharing the edge 0-1
+     * (4 triangles on it). */
+    {
+        const double tv[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}};
+        const int tets[2][4] = {{0, 1, 2, 3}, {0, 1, 4, 5}};
+        strbuf b = {0};
+        for (int i = 0; i < 6; i++)
+            sb_printf(&b, "v %g %g %g\n", tv[i][0], tv[i][1], tv[i][2]);
+        for (int k = 0; k < 2; k++) {
+            double c[3] = {0, 0, 0};
+            for (int j = 0; j < 4; j++)
+                for (int d = 0; d < 3; d++)
+                    c[d] += 0.25 * tv[tets[k][j]][d];
+            for (int j = 0; j < 4; j++) {
+                int a = tets[k][j], bb = tets[k][(j + 1) % 4], cc = tets[k][(j + 2) % 4];
+                const double *A = tv[a], *B = tv[bb], *C = tv[cc];
+                double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, w[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+                double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+                double dot = n[0] * (A[0] - c[0]) + n[1] * (A[1] - c[1]) + n[2] * (A[2] - c[2]);
+                if (dot > 0)
+                    sb_printf(&b, "f %d %d %d\n", a + 1, bb + 1, cc + 1);
+                else
+                    sb_printf(&b, "f %d %d %d\n", a + 1, cc + 1, bb + 1);
+            }
+        }
+        path = write_file("nonmanifold.obj", b.s, b.n);
+        free(b.s);
+        if (read_ok(path, &s, &r)) {
+            CHECK(r.n_triangles == 8, "non-manifold faces dropped: %lld triangles", (long long)r.n_triangles);
+            CHECK(r.n_nonmanifold_edges == 1, "non-manifold %lld", (long long)r.n_nonmanifold_edges);
+            CHECK(r.n_boundary_edges == 0 && r.n_inconsistent_edges == 0, "boundary %lld inconsistent %lld",
+                  (long long)r.n_boundary_edges, (long long)r.n_inconsistent_edges);
+            CHECK(!r.closed_manifold && r.genus == -1, "non-manifold reported manifold");
+            CHECK(fabs(r.volume - 2.0 / 6.0) < 1e-14, "volume %g", r.volume);
+            CHECK(has_warning(&r, "1 non-manifold edges"), "no non-manifold warning");
+            CHECK(vc_surface_require_closed(&r, &err) == 0, "closed non-manifold refused");
+            vc_surface_free(&s);
+        }
+        /* The same through OpenMesh: the recording importer keeps them. */
+        setenv("VC_SURFACE_READER", "openmesh", 1);
+        if (read_ok(path, &s, &r)) {
+            CHECK(r.n_triangles == 8 && r.n_nonmanifold_edges == 1, "OpenMesh path: T=%lld nm=%lld",
+                  (long long)r.n_triangles, (long long)r.n_nonmanifold_edges);
+            vc_surface_free(&s);
+        }
+        unsetenv("VC_SURFACE_READER");
+    }
+
+    /* vc_surface_check on an in-memory surface and a bad index. */
+    {
+        double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        int64_t tri[3] = {0, 1, 3};
+        vc_surface m = {3, xyz, 1, tri};
+        vc_surface_report rr;
+        memset(&rr, 0, sizeof rr);
+        CHECK(vc_surface_check(&m, &rr, &err) == VC_EINPUT && strstr(err.msg, "refers to vertex 4"),
+              "bad index: %s", err.msg);
+        tri[2] = 2;
+        memset(&rr, 0, sizeof rr);
+        CHECK(vc_surface_check(&m, &rr, &err) == 0 && rr.n_boundary_edges == 3 && rr.euler == 1,
+              "single triangle: boundary %lld", (long long)rr.n_boundary_edges);
+    }
+    vc_surface_free(NULL);
+}
+
+int main(void)
+{
+    const char *models = getenv("VC_MODELS");
+    const char *t = getenv("VC_TMP");
+    if (t && *t)
+        tmpdir = t;
+    if (models && *models)
+        test_models(models);
+    else
+        fprintf(stderr, "VC_MODELS not set: reference models skipped\n");
+    test_formats();
+    test_bad_inputs();
+    if (failures) {
+        fprintf(stderr, "test_surface: %d failures\n", failures);
+        return 1;
+    }
+    printf("test_surface: all passed\n");
+    return 0;
+}

@@ -1,0 +1,283 @@
+/* The Voronoi engine on random, lattice, co-spherical, single and
+ * duplicate seeds: validator, volume sums, cube shapes, thread
+ * independence. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vorocrust/random.h"
+#include "vorocrust/voronoi.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static int failures = 0;
+#define CHECK(cond, ...)                                   \
+    do {                                                   \
+        if (!(cond)) {                                     \
+            failures++;                                    \
+            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
+            fprintf(stderr, __VA_ARGS__);                  \
+            fprintf(stderr, "\n");                         \
+        }                                                  \
+    } while (0)
+
+static double total_volume(const vc_polymesh *m)
+{
+    double v = 0;
+    for (int64_t c = 0; c < m->n_cells; c++)
+        v += m->cell_volume[c];
+    return v;
+}
+
+/* Builds, validates, and checks the volume sum against expected (if > 0). */
+static int build_checked(const char *name, const vc_seeds *s, const double *box, int threads,
+                         double expected_volume, vc_polymesh *m)
+{
+    vc_voronoi_options opt;
+    vc_voronoi_options_default(&opt);
+    if (box) {
+        opt.has_box = 1;
+        memcpy(opt.box, box, sizeof opt.box);
+    }
+    opt.threads = threads;
+    vc_error err = {0, ""};
+    int rc = vc_voronoi_build(s, &opt, m, &err);
+    CHECK(rc == 0, "%s: build failed: %s", name, err.msg);
+    if (rc)
+        return rc;
+    char report[4096];
+    int64_t problems = vc_polymesh_validate(m, 0, report, sizeof report);
+    CHECK(problems == 0, "%s: %lld validation problems:\n%s", name, (long long)problems, report);
+    if (expected_volume > 0) {
+        double v = total_volume(m);
+        CHECK(fabs(v - expected_volume) <= 1e-9 * expected_volume,
+              "%s: volume %.17g, expected %.17g (rel err %.3g)", name, v, expected_volume,
+              fabs(v - expected_volume) / expected_volume);
+    }
+    printf("%s: %lld cells, %lld faces (%lld interior), %lld points, volume %.15g\n", name,
+           (long long)m->n_cells, (long long)m->n_faces, (long long)m->n_interior_faces,
+           (long long)m->n_points, total_volume(m));
+    return 0;
+}
+
+static int same_mesh(const vc_polymesh *a, const vc_polymesh *b)
+{
+    if (a->n_points != b->n_points || a->n_faces != b->n_faces || a->n_cells != b->n_cells)
+        return 0;
+    if (memcmp(a->points, b->points, (size_t)a->n_points * 3 * sizeof(double)))
+        return 0;
+    if (memcmp(a->face_offsets, b->face_offsets, (size_t)(a->n_faces + 1) * sizeof(int64_t)))
+        return 0;
+    if (memcmp(a->face_vertices, b->face_vertices,
+               (size_t)a->face_offsets[a->n_faces] * sizeof(int64_t)))
+        return 0;
+    if (memcmp(a->cell_faces, b->cell_faces,
+               (size_t)a->cell_offsets[a->n_cells] * sizeof(int64_t)))
+        return 0;
+    return 1;
+}
+
+static void test_random(int64_t n, uint64_t seed)
+{
+    vc_seeds s;
+    vc_seeds_alloc(&s, n, NULL);
+    vc_rng rng;
+    vc_rng_init(&rng, seed, 0);
+    for (int64_t i = 0; i < 3 * n; i++)
+        s.xyz[i] = vc_rng_uniform(&rng) * 2.0 - 0.5; /* box [-0.5, 1.5]^3 */
+    double box[6] = {-0.5, -0.5, -0.5, 1.5, 1.5, 1.5};
+    vc_polymesh m1, m2;
+    char name[64];
+    snprintf(name, sizeof name, "random %lld", (long long)n);
+    if (build_checked(name, &s, box, 1, 8.0, &m1) == 0) {
+        CHECK(m1.n_cells == n, "random: %lld cells for %lld seeds", (long long)m1.n_cells,
+              (long long)n);
+        if (build_checked(name, &s, box, 2, 8.0, &m2) == 0) {
+            CHECK(same_mesh(&m1, &m2), "random: 1-thread and 2-thread meshes differ");
+            vc_polymesh_free(&m2);
+        }
+        vc_polymesh_free(&m1);
+    }
+    vc_seeds_free(&s);
+}
+
+static void test_lattice(int k)
+{
+    vc_seeds s;
+    int64_t n = (int64_t)k * k * k;
+    vc_seeds_alloc(&s, n, NULL);
+    for (int64_t i = 0; i < n; i++) {
+        s.xyz[3 * i + 0] = (double)(i % k) + 0.5;
+        s.xyz[3 * i + 1] = (double)((i / k) % k) + 0.5;
+        s.xyz[3 * i + 2] = (double)(i / ((int64_t)k * k)) + 0.5;
+    }
+    double box[6] = {0, 0, 0, k, k, k};
+    vc_polymesh m;
+    if (build_checked("lattice", &s, box, 2, (double)n, &m) == 0) {
+        for (int64_t c = 0; c < m.n_cells; c++) {
+            int64_t nf = m.cell_offsets[c + 1] - m.cell_offsets[c];
+            CHECK(nf == 6, "lattice: cell %lld has %lld faces", (long long)c, (long long)nf);
+            for (int64_t i = m.cell_offsets[c]; i < m.cell_offsets[c + 1]; i++)
+                CHECK(vc_polymesh_face_size(&m, m.cell_faces[i]) == 4,
+                      "lattice: cell %lld has a face with %lld vertices", (long long)c,
+                      (long long)vc_polymesh_face_size(&m, m.cell_faces[i]));
+            CHECK(fabs(m.cell_volume[c] - 1.0) < 1e-12, "lattice: cell %lld volume %.17g",
+                  (long long)c, m.cell_volume[c]);
+        }
+        int64_t kp1 = k + 1;
+        CHECK(m.n_points == kp1 * kp1 * kp1, "lattice: %lld points, expected %lld",
+              (long long)m.n_points, (long long)(kp1 * kp1 * kp1));
+        vc_polymesh_free(&m);
+    }
+    vc_seeds_free(&s);
+}
+
+/* VoroCrust-like seeds: overlapping balls on a sphere surface; every pair of
+ * intersection points of three sphere boundaries gives one seed inside
+ * (label 1) and one outside (label 0). Here: each ball centre c_i on the
+ * unit sphere has radius r; seeds are c_i +- r u for directions built so
+ * that seeds come in mirrored pairs across the surface and many are
+ * co-spherical about the ball centres. */
+static void test_cospherical(void)
+{
+    int nb = 200;
+    double r = 0.3;
+    int per = 6;
+    vc_seeds s;
+    vc_seeds_alloc(&s, (int64_t)nb * per * 2 + 1, NULL);
+    vc_rng rng;
+    vc_rng_init(&rng, 7, 1);
+    int64_t k = 0;
+    for (int b = 0; b < nb; b++) {
+        /* Fibonacci sphere point. */
+        double z = 1.0 - 2.0 * (b + 0.5) / nb, rho = sqrt(1 - z * z), phi = b * 2.399963229728653;
+        double c[3] = {rho * cos(phi), rho * sin(phi), z};
+        for (int j = 0; j < per; j++) {
+            /* a direction at angle 50 degrees from the normal, so the pair
+             * (inside, outside) sits on this ball's sphere symmetrically */
+            double a = 2 * M_PI * j / per + 0.1 * b;
+            double t[3] = {-sin(phi), cos(phi), 0};
+            double u[3] = {c[1] * t[2] - c[2] * t[1], c[2] * t[0] - c[0] * t[2],
+                           c[0] * t[1] - c[1] * t[0]};
+            double tang[3], sn = sin(50 * M_PI / 180), cs = cos(50 * M_PI / 180);
+            for (int d = 0; d < 3; d++)
+                tang[d] = cos(a) * t[d] + sin(a) * u[d];
+            for (int side = -1; side <= 1; side += 2) {
+                for (int d = 0; d < 3; d++)
+                    s.xyz[3 * k + d] = c[d] + r * (sn * tang[d] + side * cs * c[d]);
+                s.label[k] = side < 0 ? 1 : 0;
+                k++;
+            }
+        }
+    }
+    /* Plus the centre, so the inside is not empty of interior seeds. */
+    s.xyz[3 * k] = s.xyz[3 * k + 1] = s.xyz[3 * k + 2] = 0;
+    s.label[k] = 1;
+    k++;
+    s.n = k;
+    vc_polymesh m1, m2;
+    if (build_checked("co-spherical pairs", &s, NULL, 1, 0, &m1) == 0) {
+        if (build_checked("co-spherical pairs (2 threads)", &s, NULL, 2, 0, &m2) == 0) {
+            CHECK(same_mesh(&m1, &m2), "co-spherical: 1-thread and 2-thread meshes differ");
+            vc_polymesh_free(&m2);
+        }
+        vc_polymesh_free(&m1);
+    }
+    /* The same seeds inside a box, all kept: volumes must sum to the box. */
+    for (int64_t i = 0; i < s.n; i++)
+        s.label[i] = 1 + (int32_t)(i % 3);
+    double box[6] = {-2, -2, -2, 2, 2, 2};
+    if (build_checked("co-spherical pairs in a box", &s, box, 2, 64.0, &m1) == 0)
+        vc_polymesh_free(&m1);
+    vc_seeds_free(&s);
+}
+
+/* Exactly co-spherical: 8 seeds at the corners of a cube around each
+ * point of a coarse lattice (every Voronoi vertex has degree > 4). */
+static void test_cube_corners(void)
+{
+    vc_seeds s;
+    vc_seeds_alloc(&s, 4 * 4 * 4 * 8, NULL);
+    int64_t k = 0;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            for (int l = 0; l < 4; l++)
+                for (int c = 0; c < 8; c++) {
+                    s.xyz[3 * k + 0] = i + 0.5 + ((c & 1) ? 0.25 : -0.25);
+                    s.xyz[3 * k + 1] = j + 0.5 + ((c & 2) ? 0.25 : -0.25);
+                    s.xyz[3 * k + 2] = l + 0.5 + ((c & 4) ? 0.25 : -0.25);
+                    k++;
+                }
+    double box[6] = {0, 0, 0, 4, 4, 4};
+    vc_polymesh m;
+    if (build_checked("cube corners", &s, box, 2, 64.0, &m) == 0)
+        vc_polymesh_free(&m);
+    vc_seeds_free(&s);
+}
+
+static void test_single_and_duplicates(void)
+{
+    vc_seeds s;
+    vc_seeds_alloc(&s, 1, NULL);
+    s.xyz[0] = 0.2;
+    s.xyz[1] = 0.3;
+    s.xyz[2] = 0.4;
+    double box[6] = {0, 0, 0, 1, 2, 3};
+    vc_polymesh m;
+    if (build_checked("single seed", &s, box, 1, 6.0, &m) == 0) {
+        CHECK(m.n_cells == 1 && m.n_faces == 6 && m.n_points == 8,
+              "single: %lld cells %lld faces %lld points", (long long)m.n_cells,
+              (long long)m.n_faces, (long long)m.n_points);
+        CHECK(m.n_interior_faces == 0, "single: interior faces");
+        vc_polymesh_free(&m);
+    }
+    vc_seeds_free(&s);
+
+    vc_seeds_alloc(&s, 3, NULL);
+    double pts[9] = {0.1, 0.1, 0.1, 0.5, 0.5, 0.5, 0.1, 0.1, 0.1};
+    memcpy(s.xyz, pts, sizeof pts);
+    vc_voronoi_options opt;
+    vc_voronoi_options_default(&opt);
+    opt.has_box = 1;
+    double b1[6] = {0, 0, 0, 1, 1, 1};
+    memcpy(opt.box, b1, sizeof b1);
+    vc_error err = {0, ""};
+    int rc = vc_voronoi_build(&s, &opt, &m, &err);
+    CHECK(rc == VC_EINPUT && strstr(err.msg, "seeds 0 and 2 coincide"),
+          "duplicates: rc %d, message '%s'", rc, err.msg);
+    if (rc == 0)
+        vc_polymesh_free(&m);
+    /* A seed outside the box. */
+    s.xyz[6] = 3.0;
+    rc = vc_voronoi_build(&s, &opt, &m, &err);
+    CHECK(rc == VC_EINPUT && strstr(err.msg, "outside the box"), "outside: rc %d '%s'", rc,
+          err.msg);
+    /* NaN. */
+    s.xyz[6] = NAN;
+    rc = vc_voronoi_build(&s, &opt, &m, &err);
+    CHECK(rc == VC_EINPUT && strstr(err.msg, "non-finite"), "nan: rc %d '%s'", rc, err.msg);
+    /* No kept seed. */
+    s.xyz[6] = 0.9;
+    s.label[0] = s.label[1] = s.label[2] = 0;
+    rc = vc_voronoi_build(&s, &opt, &m, &err);
+    CHECK(rc == VC_EINPUT && strstr(err.msg, "no kept seed"), "no kept: rc %d '%s'", rc, err.msg);
+    vc_seeds_free(&s);
+}
+
+int main(void)
+{
+    test_single_and_duplicates();
+    test_lattice(6);
+    test_cube_corners();
+    test_random(2000, 42);
+    test_random(20000, 43);
+    test_cospherical();
+    if (failures)
+        fprintf(stderr, "%d check(s) failed\n", failures);
+    else
+        printf("all voronoi checks passed\n");
+    return failures ? 1 : 0;
+}

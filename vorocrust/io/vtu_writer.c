@@ -1,0 +1,517 @@
+/* VTK XML UnstructuredGrid writer for polyhedral meshes.
+ *
+ * File layout (VTK file version 1.0, what VTK 9.1 / ParaView 5.11 read):
+ *   - every cell is a VTK_POLYHEDRON (42);
+ *   - Cells/connectivity lists each cell's distinct point ids (in order of
+ *     first appearance in its faces), Cells/offsets the end of each cell's
+ *     run in connectivity;
+ *   - Cells/faces holds, per cell, [nfaces, n0, ids0..., n1, ids1...] with
+ *     global point ids and every face oriented outward for that cell;
+ *     Cells/faceoffsets the end of each cell's record in faces;
+ *   - all arrays are binary appended data with UInt64 headers, either raw
+ *     (byte count, then the bytes) or zlib-compressed in blocks (nblocks,
+ *     block size, size of the partial last block or 0, the compressed size
+ *     of every block, then the compressed blocks).
+ *
+ * Every array's size is known before it is written, so the data is streamed
+ * through a fixed buffer; zlib blocks are compressed in parallel in batches.
+ * The offset attributes of the XML header are patched at the end (their
+ * room is reserved with trailing blanks outside the quotes). */
+#include "vorocrust/io.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+#define VTU_BLOCK ((size_t)32768)     /* uncompressed zlib block size */
+#define VTU_BATCH ((size_t)64)        /* zlib blocks compressed per batch */
+#define VTU_RAW_BUF ((size_t)1 << 20) /* raw streaming buffer */
+#define VTU_ZLEVEL 1                  /* Z_BEST_SPEED: 2x faster than 5, ~3% larger */
+#define VTU_OFFSET_ROOM 22            /* room for "<20 digits>" */
+#define VTK_POLYHEDRON_TYPE 42
+
+#if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
+    __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#define VTU_BYTE_ORDER "BigEndian"
+#else
+#define VTU_BYTE_ORDER "LittleEndian"
+#endif
+
+/* ---- appended-data stream ------------------------------------------- */
+
+typedef struct vtu_stream {
+    FILE *fp;
+    vc_vtu_encoding enc;
+    int err_no;            /* first write error (errno), 0 if none */
+    int zerr;              /* zlib failure */
+    long data_start;       /* file position just after the '_' marker */
+
+    unsigned char *buf;    /* uncompressed bytes waiting to be written */
+    size_t cap, len;
+
+    /* current array */
+    uint64_t total;        /* announced size in bytes */
+    uint64_t fed;          /* bytes given so far */
+
+    /* zlib */
+    unsigned char *cbuf;   /* VTU_BATCH compressed blocks */
+    size_t cbound;         /* room per compressed block */
+    uLongf *clen;          /* VTU_BATCH compressed sizes */
+    uint64_t *zheader;     /* 3 + nblocks words for the current array */
+    size_t zheader_cap;
+    uint64_t nblocks, iblock;
+    long zheader_pos;
+} vtu_stream;
+
+static void vtu_fwrite(vtu_stream *s, const void *p, size_t n)
+{
+    if (s->err_no || n == 0)
+        return;
+    if (fwrite(p, 1, n, s->fp) != n)
+        s->err_no = errno ? errno : EIO;
+}
+
+/* Compresses and writes the blocks held in s->buf (all full except
+ * possibly the last block of the array). */
+static void vtu_flush_zlib(vtu_stream *s)
+{
+    size_t len = s->len;
+    int nb = (int)((len + VTU_BLOCK - 1) / VTU_BLOCK);
+    int zfail = 0;
+    if (s->zerr || s->iblock + (uint64_t)nb > s->nblocks) {
+        s->zerr = 1; /* allocation failure, or more data than announced */
+        s->len = 0;
+        return;
+    }
+#pragma omp parallel for schedule(static) if (nb > 1) reduction(| : zfail)
+    for (int b = 0; b < nb; ++b) {
+        size_t off = (size_t)b * VTU_BLOCK;
+        size_t n = len - off < VTU_BLOCK ? len - off : VTU_BLOCK;
+        uLongf out = (uLongf)s->cbound;
+        int rc = compress2(s->cbuf + (size_t)b * s->cbound, &out, s->buf + off,
+                           (uLong)n, VTU_ZLEVEL);
+        s->clen[b] = out;
+        zfail |= (rc != Z_OK);
+    }
+    if (zfail) {
+        s->zerr = 1;
+        return;
+    }
+    for (int b = 0; b < nb; ++b) {
+        vtu_fwrite(s, s->cbuf + (size_t)b * s->cbound, (size_t)s->clen[b]);
+        s->zheader[3 + s->iblock++] = (uint64_t)s->clen[b];
+    }
+    s->len = 0;
+}
+
+static void vtu_flush(vtu_stream *s)
+{
+    if (s->len == 0)
+        return;
+    if (s->enc == VC_VTU_ZLIB) {
+        vtu_flush_zlib(s);
+    } else {
+        vtu_fwrite(s, s->buf, s->len);
+        s->len = 0;
+    }
+}
+
+static int vtu_stream_init(vtu_stream *s, FILE *fp, vc_vtu_encoding enc)
+{
+    memset(s, 0, sizeof *s);
+    s->fp = fp;
+    s->enc = enc;
+    if (enc == VC_VTU_ZLIB) {
+        s->cap = VTU_BLOCK * VTU_BATCH;
+        s->cbound = (size_t)compressBound((uLong)VTU_BLOCK);
+        s->cbuf = malloc(s->cbound * VTU_BATCH);
+        s->clen = malloc(sizeof *s->clen * VTU_BATCH);
+        if (!s->cbuf || !s->clen)
+            return VC_ENOMEM;
+    } else {
+        s->cap = VTU_RAW_BUF;
+    }
+    s->buf = malloc(s->cap);
+    return s->buf ? VC_OK : VC_ENOMEM;
+}
+
+static void vtu_stream_free(vtu_stream *s)
+{
+    free(s->buf);
+    free(s->cbuf);
+    free(s->clen);
+    free(s->zheader);
+}
+
+/* Starts an array of nbytes bytes; returns its offset in the appended data. */
+static uint64_t vtu_begin(vtu_stream *s, uint64_t nbytes)
+{
+    long pos = ftell(s->fp);
+    if (pos < 0 && !s->err_no)
+        s->err_no = errno ? errno : EIO;
+    uint64_t offset = (uint64_t)(pos - s->data_start);
+    s->total = nbytes;
+    s->fed = 0;
+    s->len = 0;
+    if (s->enc == VC_VTU_ZLIB) {
+        s->nblocks = (nbytes + VTU_BLOCK - 1) / VTU_BLOCK;
+        size_t words = 3 + (size_t)s->nblocks;
+        if (words > s->zheader_cap) {
+            free(s->zheader);
+            s->zheader = malloc(words * sizeof *s->zheader);
+            s->zheader_cap = s->zheader ? words : 0;
+            if (!s->zheader) {
+                s->zerr = 1;
+                return offset;
+            }
+        }
+        memset(s->zheader, 0, words * sizeof *s->zheader);
+        s->zheader[0] = s->nblocks;
+        s->zheader[1] = VTU_BLOCK;
+        s->zheader[2] = nbytes % VTU_BLOCK;
+        s->iblock = 0;
+        s->zheader_pos = pos;
+        /* placeholder, patched by vtu_end */
+        vtu_fwrite(s, s->zheader, words * sizeof *s->zheader);
+    } else {
+        uint64_t h = nbytes;
+        vtu_fwrite(s, &h, sizeof h);
+    }
+    return offset;
+}
+
+static void vtu_put(vtu_stream *s, const void *p, size_t n)
+{
+    const unsigned char *c = p;
+    s->fed += n;
+    if (s->enc == VC_VTU_RAW && s->len == 0 && n >= s->cap) {
+        vtu_fwrite(s, c, n); /* large array: no copy */
+        return;
+    }
+    while (n > 0) {
+        size_t room = s->cap - s->len;
+        size_t k = n < room ? n : room;
+        memcpy(s->buf + s->len, c, k);
+        s->len += k;
+        c += k;
+        n -= k;
+        if (s->len == s->cap)
+            vtu_flush(s);
+    }
+}
+
+static inline void vtu_put_i64(vtu_stream *s, int64_t v)
+{
+    if (s->cap - s->len >= sizeof v) {
+        memcpy(s->buf + s->len, &v, sizeof v);
+        s->len += sizeof v;
+        s->fed += sizeof v;
+        if (s->len == s->cap)
+            vtu_flush(s);
+    } else {
+        vtu_put(s, &v, sizeof v);
+    }
+}
+
+/* Ends the current array; returns 0 if all went well. */
+static int vtu_end(vtu_stream *s)
+{
+    vtu_flush(s);
+    if (s->fed != s->total)
+        return VC_EINTERNAL;
+    if (s->enc == VC_VTU_ZLIB && !s->zerr && !s->err_no) {
+        if (s->iblock != s->nblocks)
+            return VC_EINTERNAL;
+        long end = ftell(s->fp);
+        if (end < 0 || fseek(s->fp, s->zheader_pos, SEEK_SET) != 0) {
+            s->err_no = errno ? errno : EIO;
+        } else {
+            vtu_fwrite(s, s->zheader, (3 + (size_t)s->nblocks) * sizeof *s->zheader);
+            if (!s->err_no && fseek(s->fp, end, SEEK_SET) != 0)
+                s->err_no = errno ? errno : EIO;
+        }
+    }
+    if (s->zerr)
+        return VC_ENOMEM;
+    return s->err_no ? VC_EIO : VC_OK;
+}
+
+/* ---- XML header ------------------------------------------------------ */
+
+enum {
+    A_REGION, A_SEED, A_VOLUME, A_POINTS, A_CONN, A_OFFSETS, A_TYPES,
+    A_FACES, A_FACEOFFSETS, A_COUNT
+};
+
+/* Writes one DataArray element with a reserved offset; records where the
+ * offset text goes. */
+static void xml_array(FILE *fp, const char *indent, const char *type, const char *name,
+                      int ncomp, long *offset_pos)
+{
+    fprintf(fp, "%s<DataArray type=\"%s\" Name=\"%s\"", indent, type, name);
+    if (ncomp > 1)
+        fprintf(fp, " NumberOfComponents=\"%d\"", ncomp);
+    fputs(" format=\"appended\" offset=", fp);
+    *offset_pos = ftell(fp);
+    fprintf(fp, "%-*s/>\n", VTU_OFFSET_ROOM, "\"0\"");
+}
+
+/* ---- the writer ------------------------------------------------------ */
+
+static int vtu_check_mesh(const vc_polymesh *m, const char *path, vc_error *err)
+{
+    if (m->n_cells < 0 || m->n_points < 0 || m->n_faces < 0)
+        return vc_error_set(err, VC_EINPUT, "%s: mesh has negative sizes", path);
+    if (m->n_cells > 0 && (!m->cell_offsets || !m->cell_faces || !m->face_offsets ||
+                           !m->face_vertices || !m->face_owner))
+        return vc_error_set(err, VC_EINPUT, "%s: mesh has no cell/face topology", path);
+    if (m->n_points > 0 && !m->points)
+        return vc_error_set(err, VC_EINPUT, "%s: mesh has no point coordinates", path);
+    for (int64_t c = 0; c < m->n_cells; ++c) {
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {
+            int64_t f = m->cell_faces[k];
+            if (f < 0 || f >= m->n_faces)
+                return vc_error_set(err, VC_EINPUT, "%s: cell %" PRId64
+                                    " lists face %" PRId64 " out of range", path, c, f);
+            for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; ++i) {
+                int64_t v = m->face_vertices[i];
+                if (v < 0 || v >= m->n_points)
+                    return vc_error_set(err, VC_EINPUT, "%s: face %" PRId64
+                                        " has vertex %" PRId64 " out of range", path, f, v);
+            }
+        }
+    }
+    return VC_OK;
+}
+
+int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
+                 vc_error *err)
+{
+    if (!m || !path)
+        return vc_error_set(err, VC_EPARAM, "vc_write_vtu: NULL argument");
+    if (enc != VC_VTU_RAW && enc != VC_VTU_ZLIB)
+        return vc_error_set(err, VC_EPARAM, "%s: unknown VTU encoding %d", path, (int)enc);
+    int rc = vtu_check_mesh(m, path, err);
+    if (rc)
+        return rc;
+
+    const int64_t nc = m->n_cells, np = m->n_points;
+
+    /* Pass 1: per-cell ends in connectivity (distinct points) and in faces. */
+    int64_t *conn_end = malloc(sizeof(int64_t) * (size_t)(nc > 0 ? nc : 1));
+    int64_t *face_end = malloc(sizeof(int64_t) * (size_t)(nc > 0 ? nc : 1));
+    int64_t *stamp = malloc(sizeof(int64_t) * (size_t)(np > 0 ? np : 1));
+    if (!conn_end || !face_end || !stamp) {
+        free(conn_end);
+        free(face_end);
+        free(stamp);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    }
+    for (int64_t i = 0; i < np; ++i)
+        stamp[i] = -1;
+    int64_t nconn = 0, nfacestream = 0;
+    for (int64_t c = 0; c < nc; ++c) {
+        nfacestream += 1;
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {
+            int64_t f = m->cell_faces[k];
+            int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+            nfacestream += 1 + (e - b);
+            for (int64_t i = b; i < e; ++i) {
+                int64_t v = m->face_vertices[i];
+                if (stamp[v] != c) {
+                    stamp[v] = c;
+                    ++nconn;
+                }
+            }
+        }
+        conn_end[c] = nconn;
+        face_end[c] = nfacestream;
+    }
+
+    vc_tmpfile t;
+    rc = vc_tmpfile_open(&t, path, err);
+    if (rc) {
+        free(conn_end);
+        free(face_end);
+        free(stamp);
+        return rc;
+    }
+    FILE *fp = t.fp;
+
+    /* XML header */
+    long opos[A_COUNT];
+    fputs("<?xml version=\"1.0\"?>\n", fp);
+    fprintf(fp, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\""
+                " header_type=\"UInt64\"%s>\n", VTU_BYTE_ORDER,
+            enc == VC_VTU_ZLIB ? " compressor=\"vtkZLibDataCompressor\"" : "");
+    fputs("  <UnstructuredGrid>\n", fp);
+    fprintf(fp, "    <Piece NumberOfPoints=\"%" PRId64 "\" NumberOfCells=\"%" PRId64 "\">\n",
+            np, nc);
+    fputs("      <CellData Scalars=\"region\">\n", fp);
+    const char *in8 = "        ";
+    xml_array(fp, in8, "Int32", "region", 1, &opos[A_REGION]);
+    xml_array(fp, in8, "Int64", "seed", 1, &opos[A_SEED]);
+    xml_array(fp, in8, "Float64", "volume", 1, &opos[A_VOLUME]);
+    fputs("      </CellData>\n", fp);
+    fputs("      <Points>\n", fp);
+    xml_array(fp, in8, "Float64", "Points", 3, &opos[A_POINTS]);
+    fputs("      </Points>\n", fp);
+    fputs("      <Cells>\n", fp);
+    xml_array(fp, in8, "Int64", "connectivity", 1, &opos[A_CONN]);
+    xml_array(fp, in8, "Int64", "offsets", 1, &opos[A_OFFSETS]);
+    xml_array(fp, in8, "UInt8", "types", 1, &opos[A_TYPES]);
+    xml_array(fp, in8, "Int64", "faces", 1, &opos[A_FACES]);
+    xml_array(fp, in8, "Int64", "faceoffsets", 1, &opos[A_FACEOFFSETS]);
+    fputs("      </Cells>\n", fp);
+    fputs("    </Piece>\n", fp);
+    fputs("  </UnstructuredGrid>\n", fp);
+    fputs("  <AppendedData encoding=\"raw\">\n   _", fp);
+
+    vtu_stream s;
+    uint64_t off[A_COUNT];
+    int src = vtu_stream_init(&s, fp, enc);
+    if (src) {
+        vtu_stream_free(&s);
+        vc_tmpfile_abort(&t);
+        free(conn_end);
+        free(face_end);
+        free(stamp);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    }
+    if (ferror(fp))
+        s.err_no = errno ? errno : EIO;
+    s.data_start = ftell(fp);
+    if (s.data_start < 0 && !s.err_no)
+        s.err_no = errno ? errno : EIO;
+
+    const uint64_t unc = (uint64_t)nc;
+    /* cell data */
+    off[A_REGION] = vtu_begin(&s, 4 * unc);
+    if (m->cell_region)
+        vtu_put(&s, m->cell_region, 4 * (size_t)nc);
+    else
+        for (int64_t c = 0; c < nc; ++c) {
+            int32_t r = 1;
+            vtu_put(&s, &r, 4);
+        }
+    if (!src) src = vtu_end(&s);
+
+    off[A_SEED] = vtu_begin(&s, 8 * unc);
+    if (m->cell_seed)
+        vtu_put(&s, m->cell_seed, 8 * (size_t)nc);
+    else
+        for (int64_t c = 0; c < nc; ++c)
+            vtu_put_i64(&s, c);
+    if (!src) src = vtu_end(&s);
+
+    off[A_VOLUME] = vtu_begin(&s, 8 * unc);
+    if (m->cell_volume)
+        vtu_put(&s, m->cell_volume, 8 * (size_t)nc);
+    else
+        for (int64_t c = 0; c < nc; ++c) {
+            double v = 0.0;
+            vtu_put(&s, &v, 8);
+        }
+    if (!src) src = vtu_end(&s);
+
+    /* points */
+    off[A_POINTS] = vtu_begin(&s, 24 * (uint64_t)np);
+    vtu_put(&s, m->points, 24 * (size_t)np);
+    if (!src) src = vtu_end(&s);
+
+    /* connectivity: distinct points of each cell, in order of appearance */
+    off[A_CONN] = vtu_begin(&s, 8 * (uint64_t)nconn);
+    for (int64_t c = 0; c < nc; ++c) {
+        const int64_t mark = c + nc; /* differs from every pass-1 mark */
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {
+            int64_t f = m->cell_faces[k];
+            for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; ++i) {
+                int64_t v = m->face_vertices[i];
+                if (stamp[v] != mark) {
+                    stamp[v] = mark;
+                    vtu_put_i64(&s, v);
+                }
+            }
+        }
+    }
+    if (!src) src = vtu_end(&s);
+
+    off[A_OFFSETS] = vtu_begin(&s, 8 * unc);
+    vtu_put(&s, conn_end, 8 * (size_t)nc);
+    if (!src) src = vtu_end(&s);
+
+    off[A_TYPES] = vtu_begin(&s, unc);
+    {
+        unsigned char ty[4096];
+        memset(ty, VTK_POLYHEDRON_TYPE, sizeof ty);
+        for (int64_t c = 0; c < nc; c += (int64_t)sizeof ty) {
+            size_t k = nc - c < (int64_t)sizeof ty ? (size_t)(nc - c) : sizeof ty;
+            vtu_put(&s, ty, k);
+        }
+    }
+    if (!src) src = vtu_end(&s);
+
+    /* faces: [nfaces, n0, ids..., n1, ids...] per cell, outward for the cell */
+    off[A_FACES] = vtu_begin(&s, 8 * (uint64_t)nfacestream);
+    for (int64_t c = 0; c < nc; ++c) {
+        vtu_put_i64(&s, m->cell_offsets[c + 1] - m->cell_offsets[c]);
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {
+            int64_t f = m->cell_faces[k];
+            int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+            vtu_put_i64(&s, e - b);
+            if (m->face_owner[f] == c) {
+                for (int64_t i = b; i < e; ++i)
+                    vtu_put_i64(&s, m->face_vertices[i]);
+            } else {
+                for (int64_t i = e - 1; i >= b; --i)
+                    vtu_put_i64(&s, m->face_vertices[i]);
+            }
+        }
+    }
+    if (!src) src = vtu_end(&s);
+
+    off[A_FACEOFFSETS] = vtu_begin(&s, 8 * unc);
+    vtu_put(&s, face_end, 8 * (size_t)nc);
+    if (!src) src = vtu_end(&s);
+
+    {
+        static const char tail[] = "\n  </AppendedData>\n</VTKFile>\n";
+        vtu_fwrite(&s, tail, sizeof tail - 1);
+    }
+
+    /* patch the offsets in the XML header */
+    if (!src && !s.err_no) {
+        for (int a = 0; a < A_COUNT && !s.err_no; ++a) {
+            char txt[VTU_OFFSET_ROOM + 1];
+            snprintf(txt, sizeof txt, "\"%" PRIu64 "\"", off[a]);
+            size_t n = strlen(txt);
+            if (fseek(fp, opos[a], SEEK_SET) != 0)
+                s.err_no = errno ? errno : EIO;
+            else
+                vtu_fwrite(&s, txt, n);
+        }
+    }
+    int write_errno = s.err_no;
+    vtu_stream_free(&s);
+    free(conn_end);
+    free(face_end);
+    free(stamp);
+
+    if (src == VC_EINTERNAL) {
+        vc_tmpfile_abort(&t);
+        return vc_error_set(err, VC_EINTERNAL, "%s: array size mismatch in VTU writer", path);
+    }
+    if (src == VC_ENOMEM) {
+        vc_tmpfile_abort(&t);
+        return vc_error_set(err, VC_ENOMEM, "%s: zlib compression failed (out of memory)",
+                            path);
+    }
+    if (write_errno) {
+        vc_tmpfile_abort(&t);
+        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(write_errno));
+    }
+    return vc_tmpfile_commit(&t, err);
+}

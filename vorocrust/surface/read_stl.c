@@ -1,0 +1,110 @@
+/* STL reader. Binary when the size is 84 + 50 * (the uint32 count at byte
+ * 80); otherwise ASCII ("solid ... facet normal ... outer loop vertex x y z
+ * ... endloop endfacet ... endsolid"). Every facet gets its own three
+ * vertices: the caller merges equal positions. */
+#include "surface/surface_internal.h"
+
+#include <string.h>
+
+static uint32_t le32(const unsigned char *b)
+{
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+static double lefloat(const unsigned char *b)
+{
+    uint32_t u = le32(b);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return (double)f;
+}
+
+static int read_binary(const char *name, const unsigned char *b, uint32_t n, vc_soup *s, vc_error *err)
+{
+    s->expected_faces = n;
+    for (uint32_t t = 0; t < n; t++) {
+        const unsigned char *r = b + 84 + 50 * (size_t)t + 12; /* skip the normal */
+        int64_t v[3];
+        for (int k = 0; k < 3; k++) {
+            v[k] = s->nv;
+            if (vc_soup_add_vertex(s, lefloat(r + 12 * k), lefloat(r + 12 * k + 4), lefloat(r + 12 * k + 8)))
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+        }
+        if (vc_soup_add_face(s, v, 3))
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+    }
+    return 0;
+}
+
+static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err)
+{
+    vc_scan sc = {buf, buf + len, 1};
+    char w[32];
+    int64_t face[3], n = -1; /* n = -1 outside a facet */
+    int64_t facet_line = 0;
+    s->expected_faces = -1;
+    for (;;) {
+        vc_scan_space(&sc, 0);
+        if (sc.p >= sc.end)
+            break;
+        size_t wl = vc_scan_word(&sc, w, sizeof w);
+        if (!strcmp(w, "facet")) {
+            if (n >= 0)
+                return vc_error_set(err, VC_EFORMAT, "%s: line %lld: 'facet' inside the facet of line %lld",
+                                    name, (long long)sc.line, (long long)facet_line);
+            n = 0;
+            facet_line = sc.line;
+            vc_scan_next_line(&sc); /* the normal */
+        } else if (!strcmp(w, "vertex")) {
+            double x, y, z;
+            if (n < 0 || n >= 3)
+                return vc_error_set(err, VC_EFORMAT, "%s: line %lld: 'vertex' %s", name, (long long)sc.line,
+                                    n < 0 ? "outside a facet" : "beyond the third of a facet");
+            if (!vc_scan_double(&sc, &x) || !vc_scan_double(&sc, &y) || !vc_scan_double(&sc, &z))
+                return vc_error_set(err, VC_EFORMAT, "%s: line %lld: malformed vertex (expected 'vertex x y z')",
+                                    name, (long long)sc.line);
+            face[n++] = s->nv;
+            if (vc_soup_add_vertex(s, x, y, z))
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+        } else if (!strcmp(w, "endfacet")) {
+            if (n != 3)
+                return vc_error_set(err, VC_EFORMAT, "%s: line %lld: facet with %lld vertices (3 needed)",
+                                    name, (long long)facet_line, (long long)(n < 0 ? 0 : n));
+            if (vc_soup_add_face(s, face, 3))
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            n = -1;
+        } else if (!strcmp(w, "solid") || !strcmp(w, "endsolid")) {
+            vc_scan_next_line(&sc); /* the solid's name */
+        } else if (!strcmp(w, "outer") || !strcmp(w, "loop") || !strcmp(w, "endloop")) {
+            /* structure only */
+        } else {
+            return vc_error_set(err, VC_EFORMAT, "%s: line %lld: unexpected word '%.*s' in ASCII STL",
+                                name, (long long)sc.line, (int)(wl < sizeof w ? wl : sizeof w - 1), w);
+        }
+    }
+    if (n >= 0)
+        return vc_error_set(err, VC_EFORMAT, "%s: facet of line %lld is not closed by 'endfacet'",
+                            name, (long long)facet_line);
+    return 0;
+}
+
+int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err)
+{
+    const unsigned char *b = (const unsigned char *)buf;
+    if (len >= 84) {
+        uint32_t n = le32(b + 80);
+        if ((uint64_t)len == 84 + 50 * (uint64_t)n)
+            return read_binary(name, b, n, s, err);
+    }
+    size_t i = 0;
+    while (i < len && (vc_scan_is_blank(buf[i]) || buf[i] == '\n'))
+        i++;
+    if (len - i >= 5 && !memcmp(buf + i, "solid", 5))
+        return read_ascii(name, buf, len, s, err);
+    if (len >= 84)
+        return vc_error_set(err, VC_EFORMAT,
+                            "%s: malformed STL: binary header announces %lu triangles (%llu bytes) but the file has %llu bytes",
+                            name, (unsigned long)le32(b + 80), 84 + 50 * (unsigned long long)le32(b + 80),
+                            (unsigned long long)len);
+    return vc_error_set(err, VC_EFORMAT, "%s: malformed STL: neither 'solid' (ASCII) nor a binary header", name);
+}

@@ -1,0 +1,120 @@
+/* The polygon soup the readers fill, and the text scanner they share. */
+#include "surface/surface_internal.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int grow(void **p, int64_t *cap, int64_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    int64_t c = *cap ? *cap : 1024;
+    while (c < need)
+        c *= 2;
+    void *q = realloc(*p, (size_t)c * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = c;
+    return 0;
+}
+
+int vc_soup_add_vertex(vc_soup *s, double x, double y, double z)
+{
+    if (grow((void **)&s->xyz, &s->cap_v, s->nv + 1, 3 * sizeof(double)))
+        return VC_ENOMEM;
+    double *v = s->xyz + 3 * s->nv++;
+    v[0] = x;
+    v[1] = y;
+    v[2] = z;
+    return 0;
+}
+
+int vc_soup_add_face(vc_soup *s, const int64_t *v, int64_t n)
+{
+    if (grow((void **)&s->off, &s->cap_f, s->nf + 2, sizeof(int64_t)) ||
+        grow((void **)&s->idx, &s->cap_i, s->ni + n, sizeof(int64_t)))
+        return VC_ENOMEM;
+    if (s->nf == 0)
+        s->off[0] = 0;
+    memcpy(s->idx + s->ni, v, (size_t)n * sizeof(int64_t));
+    s->ni += n;
+    s->off[++s->nf] = s->ni;
+    return 0;
+}
+
+void vc_soup_free(vc_soup *s)
+{
+    free(s->xyz);
+    free(s->off);
+    free(s->idx);
+    memset(s, 0, sizeof *s);
+}
+
+void vc_scan_space(vc_scan *sc, int comments)
+{
+    while (sc->p < sc->end) {
+        char c = *sc->p;
+        if (vc_scan_is_blank(c)) {
+            sc->p++;
+        } else if (c == '\n') {
+            sc->p++;
+            sc->line++;
+        } else if (comments && c == '#') {
+            while (sc->p < sc->end && *sc->p != '\n')
+                sc->p++;
+        } else {
+            break;
+        }
+    }
+}
+
+int vc_scan_double(vc_scan *sc, double *v)
+{
+    vc_scan_blanks(sc);
+    if (sc->p >= sc->end || *sc->p == '\n')
+        return 0;
+    char *e;
+    errno = 0;
+    double d = strtod(sc->p, &e);
+    /* ERANGE on underflow still gives a usable value; overflow gives inf,
+     * which the caller's finiteness check reports. */
+    if (e == sc->p || e > sc->end)
+        return 0;
+    if (e < sc->end && !vc_scan_is_blank(*e) && *e != '\n' && *e != '#')
+        return 0;
+    sc->p = e;
+    *v = d;
+    return 1;
+}
+
+int vc_scan_int(vc_scan *sc, int64_t *v)
+{
+    vc_scan_blanks(sc);
+    if (sc->p >= sc->end || *sc->p == '\n')
+        return 0;
+    char *e;
+    errno = 0;
+    long long k = strtoll(sc->p, &e, 10);
+    if (e == sc->p || e > sc->end || errno == ERANGE)
+        return 0;
+    sc->p = e;
+    *v = (int64_t)k;
+    return 1;
+}
+
+size_t vc_scan_word(vc_scan *sc, char *w, size_t cap)
+{
+    vc_scan_blanks(sc);
+    size_t n = 0;
+    while (sc->p < sc->end && !vc_scan_is_blank(*sc->p) && *sc->p != '\n') {
+        if (n + 1 < cap)
+            w[n] = *sc->p;
+        n++;
+        sc->p++;
+    }
+    if (cap)
+        w[n < cap ? n : cap - 1] = '\0';
+    return n;
+}

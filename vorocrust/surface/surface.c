@@ -1,0 +1,321 @@
+/* Reading a surface file: format dispatch, validation of the polygon soup,
+ * triangulation, merging of equal vertices, memory.
+ *
+ * The C readers of this folder read OBJ, OFF, STL and PLY; OpenMesh
+ * (openmesh_reader.cpp, which explains the choice) reads the variants they
+ * defer and any other format it knows. */
+#include "vorocrust/surface.h"
+#include "surface/surface_internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vc_surface_free(vc_surface *s)
+{
+    if (!s)
+        return;
+    free(s->xyz);
+    free(s->tri);
+    memset(s, 0, sizeof *s);
+}
+
+void vc_surface_report_warn(vc_surface_report *rep, const char *fmt, ...)
+{
+    if (!rep || rep->n_warnings >= VC_SURFACE_MAX_WARNINGS)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(rep->warnings[rep->n_warnings++], VC_ERROR_LEN, fmt, ap);
+    va_end(ap);
+}
+
+/* Reads the whole file, with a NUL byte after the last one. */
+static int slurp(const char *path, char **buf, size_t *len, vc_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return vc_error_set(err, VC_EIO, "%s: cannot open (%s)", path, strerror(errno));
+    char *b = NULL;
+    size_t n = 0, cap = 0;
+    for (;;) {
+        if (cap - n < 65536) {
+            size_t c = cap ? 2 * cap : 1 << 20;
+            char *q = realloc(b, c + 1);
+            if (!q) {
+                free(b);
+                fclose(f);
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+            }
+            b = q;
+            cap = c;
+        }
+        size_t r = fread(b + n, 1, cap - n, f);
+        n += r;
+        if (r == 0)
+            break;
+    }
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        free(b);
+        return vc_error_set(err, VC_EIO, "%s: read error", path);
+    }
+    b[n] = '\0';
+    *buf = b;
+    *len = n;
+    return 0;
+}
+
+/* Lower-case extension of path without the dot ("" when none). */
+static void extension(const char *path, char *ext, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    size_t i = 0;
+    if (dot && dot != base)
+        for (dot++; *dot && i + 1 < cap; dot++)
+            ext[i++] = (char)tolower((unsigned char)*dot);
+    ext[i] = '\0';
+}
+
+static double dist2(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* Validates the soup and turns it into triangles: quads are split along
+ * their shorter diagonal, larger polygons fanned from their first vertex. */
+static int soup_to_surface(const char *name, const vc_soup *sp, vc_surface *out,
+                           vc_surface_report *rep, vc_error *err)
+{
+    for (int64_t i = 0; i < 3 * sp->nv; i++)
+        if (!isfinite(sp->xyz[i]))
+            return vc_error_set(err, VC_EINPUT, "%s: vertex %lld has a non-finite coordinate (%g)",
+                                name, (long long)(i / 3 + 1), sp->xyz[i]);
+    int64_t nt = 0, npoly = 0;
+    for (int64_t f = 0; f < sp->nf; f++) {
+        int64_t n = sp->off[f + 1] - sp->off[f];
+        if (n < 3)
+            return vc_error_set(err, VC_EFORMAT, "%s: face %lld has %lld vertices (at least 3 needed)",
+                                name, (long long)(f + 1), (long long)n);
+        nt += n - 2;
+        npoly += n > 3;
+        for (int64_t k = sp->off[f]; k < sp->off[f + 1]; k++)
+            if (sp->idx[k] < 0 || sp->idx[k] >= sp->nv)
+                return vc_error_set(err, VC_EINPUT,
+                                    "%s: face %lld refers to vertex %lld, but the file has %lld vertices",
+                                    name, (long long)(f + 1), (long long)sp->idx[k] + 1, (long long)sp->nv);
+    }
+    if (nt == 0)
+        return vc_error_set(err, VC_EINPUT, "%s: no triangles (%lld vertices, 0 faces)", name, (long long)sp->nv);
+    out->xyz = malloc((size_t)(sp->nv ? sp->nv : 1) * 3 * sizeof(double));
+    out->tri = malloc((size_t)nt * 3 * sizeof(int64_t));
+    if (!out->xyz || !out->tri) {
+        vc_surface_free(out);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+    }
+    memcpy(out->xyz, sp->xyz, (size_t)sp->nv * 3 * sizeof(double));
+    out->n_vertices = sp->nv;
+    int64_t *t = out->tri;
+    for (int64_t f = 0; f < sp->nf; f++) {
+        const int64_t *v = sp->idx + sp->off[f];
+        int64_t n = sp->off[f + 1] - sp->off[f];
+        if (n == 4 && dist2(sp->xyz + 3 * v[1], sp->xyz + 3 * v[3]) <
+                          dist2(sp->xyz + 3 * v[0], sp->xyz + 3 * v[2])) {
+            int64_t q[6] = {v[0], v[1], v[3], v[1], v[2], v[3]};
+            memcpy(t, q, sizeof q);
+            t += 6;
+            continue;
+        }
+        for (int64_t k = 1; k + 1 < n; k++) {
+            *t++ = v[0];
+            *t++ = v[k];
+            *t++ = v[k + 1];
+        }
+    }
+    out->n_triangles = nt;
+    if (rep) {
+        rep->n_file_vertices = sp->nv;
+        rep->n_file_faces = sp->nf;
+        rep->n_polygons_triangulated = npoly;
+        if (npoly)
+            vc_surface_report_warn(rep, "%s: %lld non-triangle faces triangulated", name, (long long)npoly);
+    }
+    return 0;
+}
+
+int vc_surface_read(const char *path, vc_surface *out, vc_surface_report *rep, vc_error *err)
+{
+    vc_surface_report local;
+    if (!rep)
+        rep = &local;
+    memset(rep, 0, sizeof *rep);
+    memset(out, 0, sizeof *out);
+    snprintf(rep->name, sizeof rep->name, "%s", path);
+    const char *name = rep->name;
+
+    char ext[16];
+    extension(path, ext, sizeof ext);
+    int (*reader)(const char *, const char *, size_t, vc_soup *, vc_error *) =
+        !strcmp(ext, "obj") ? vc_read_obj : !strcmp(ext, "off") ? vc_read_off
+        : !strcmp(ext, "stl") ? vc_read_stl : !strcmp(ext, "ply") ? vc_read_ply : NULL;
+    if (!reader && !(ext[0] && vc_openmesh_can_read(ext)))
+        return vc_error_set(err, VC_EFORMAT,
+                            "%s: unsupported file extension '%s%s' (expected .obj, .off, .stl or .ply)",
+                            name, ext[0] ? "." : "", ext);
+    char *buf = NULL;
+    size_t len = 0;
+    int rc = slurp(path, &buf, &len, err);
+    if (rc)
+        return rc;
+    size_t i = 0;
+    while (i < len && isspace((unsigned char)buf[i]))
+        i++;
+    if (i == len) {
+        free(buf);
+        return vc_error_set(err, VC_EFORMAT, "%s: empty file", name);
+    }
+    vc_soup sp;
+    memset(&sp, 0, sizeof sp);
+    sp.expected_faces = -1;
+    rep->reader = "vorocrust";
+    const char *force = getenv("VC_SURFACE_READER");
+    if (force && !strcmp(force, "openmesh"))
+        reader = NULL;
+    rc = reader ? reader(name, buf, len, &sp, err) : VC_SURFACE_DEFER_TO_OPENMESH;
+    free(buf);
+    if (rc == VC_SURFACE_DEFER_TO_OPENMESH) {
+        int64_t expected = sp.expected_faces;
+        vc_soup_free(&sp);
+        rep->reader = "OpenMesh";
+        rc = vc_openmesh_read(path, &sp, err);
+        sp.expected_faces = expected;
+    }
+    if (!rc && sp.expected_faces > sp.nf) {
+        rep->n_faces_dropped = sp.expected_faces - sp.nf;
+        vc_surface_report_warn(rep, "%s: %lld faces could not be read (the file announces %lld)",
+                               name, (long long)rep->n_faces_dropped, (long long)sp.expected_faces);
+    }
+    if (!rc)
+        rc = soup_to_surface(name, &sp, out, rep, err);
+    vc_soup_free(&sp);
+    if (rc)
+        return rc;
+
+    rc = vc_surface_merge_vertices(out, &rep->n_duplicate_vertices, &rep->n_unused_vertices,
+                                   &rep->n_collapsed, err);
+    if (!rc && rep->n_unused_vertices)
+        vc_surface_report_warn(rep, "%s: %lld vertices used by no face (removed)", name,
+                               (long long)rep->n_unused_vertices);
+    if (!rc && rep->n_collapsed)
+        vc_surface_report_warn(rep, "%s: %lld triangles repeat a vertex (removed as degenerate)", name,
+                               (long long)rep->n_collapsed);
+    if (!rc && out->n_triangles == 0)
+        rc = vc_error_set(err, VC_EINPUT, "%s: every triangle repeats a vertex (all %lld degenerate)",
+                          name, (long long)rep->n_collapsed);
+    if (!rc)
+        rc = vc_surface_check(out, rep, err);
+    if (rc)
+        vc_surface_free(out);
+    return rc;
+}
+
+/* ---- Merging equal vertices. ---- */
+
+static const double *g_sort_xyz; /* qsort has no context argument in C11 */
+
+static int cmp_pos(const void *a, const void *b)
+{
+    int64_t i = *(const int64_t *)a, j = *(const int64_t *)b;
+    const double *p = g_sort_xyz + 3 * i, *q = g_sort_xyz + 3 * j;
+    for (int k = 0; k < 3; k++)
+        if (p[k] != q[k])
+            return p[k] < q[k] ? -1 : 1;
+    return (i > j) - (i < j);
+}
+
+int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unused,
+                              int64_t *n_collapsed, vc_error *err)
+{
+    int64_t nv = s->n_vertices;
+    int64_t *order = malloc((size_t)(nv ? nv : 1) * sizeof *order);
+    int64_t *map = malloc((size_t)(nv ? nv : 1) * sizeof *map);
+    if (!order || !map) {
+        free(order);
+        free(map);
+        return vc_error_set(err, VC_ENOMEM, "out of memory merging vertices");
+    }
+    for (int64_t i = 0; i < nv; i++)
+        order[i] = i;
+    g_sort_xyz = s->xyz;
+    qsort(order, (size_t)nv, sizeof *order, cmp_pos);
+    g_sort_xyz = NULL;
+    /* map[i] = the first vertex (lowest index) with i's position. */
+    int64_t merged = 0;
+    for (int64_t k = 0; k < nv;) {
+        int64_t first = order[k], e = k + 1;
+        while (e < nv && s->xyz[3 * order[e]] == s->xyz[3 * first] &&
+               s->xyz[3 * order[e] + 1] == s->xyz[3 * first + 1] &&
+               s->xyz[3 * order[e] + 2] == s->xyz[3 * first + 2])
+            e++;
+        for (int64_t j = k; j < e; j++)
+            map[order[j]] = first;
+        merged += e - k - 1;
+        k = e;
+    }
+    /* Remap triangles, drop those repeating a vertex, mark used vertices
+     * (order[] is reused as the new index, -1 for unused). */
+    int64_t nt = 0, collapsed = 0;
+    for (int64_t i = 0; i < nv; i++)
+        order[i] = -1;
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        int64_t a = map[s->tri[3 * t]], b = map[s->tri[3 * t + 1]], c = map[s->tri[3 * t + 2]];
+        if (a == b || b == c || c == a) {
+            collapsed++;
+            continue;
+        }
+        s->tri[3 * nt] = a;
+        s->tri[3 * nt + 1] = b;
+        s->tri[3 * nt + 2] = c;
+        order[a] = order[b] = order[c] = 0;
+        nt++;
+    }
+    int64_t used = 0;
+    for (int64_t i = 0; i < nv; i++) {
+        if (order[i] < 0)
+            continue;
+        order[i] = used;
+        memmove(s->xyz + 3 * used, s->xyz + 3 * i, 3 * sizeof(double));
+        used++;
+    }
+    for (int64_t k = 0; k < 3 * nt; k++)
+        s->tri[k] = order[s->tri[k]];
+    /* Vertices merged into another one are not "unused". */
+    int64_t unused = nv - merged - used;
+    s->n_vertices = used;
+    s->n_triangles = nt;
+    free(order);
+    free(map);
+    if (n_merged)
+        *n_merged = merged;
+    if (n_unused)
+        *n_unused = unused;
+    if (n_collapsed)
+        *n_collapsed = collapsed;
+    return 0;
+}
+
+int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err)
+{
+    if (rep->n_boundary_edges > 0)
+        return vc_error_set(err, VC_EINPUT, "%s: %lld open boundary edges (surface is not closed)",
+                            rep->name, (long long)rep->n_boundary_edges);
+    return 0;
+}

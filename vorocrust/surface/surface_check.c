@@ -1,0 +1,184 @@
+/* Topology and geometry checks of a triangle surface: edges (boundary,
+ * non-manifold, orientation), components, Euler characteristic, genus,
+ * degenerate triangles, bounding box and enclosed volume. */
+#include "vorocrust/surface.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct edge_use {
+    int64_t a, b; /* a < b */
+    int dir;      /* 1 when the triangle walks a -> b */
+} edge_use;
+
+static int cmp_edge(const void *x, const void *y)
+{
+    const edge_use *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    if (p->b != q->b)
+        return p->b < q->b ? -1 : 1;
+    return 0;
+}
+
+static int64_t find(int64_t *parent, int64_t i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
+{
+    const char *name = rep->name[0] ? rep->name : "surface";
+    int64_t nv = s->n_vertices, nt = s->n_triangles;
+    rep->n_vertices = nv;
+    rep->n_triangles = nt;
+    if (nt <= 0)
+        return vc_error_set(err, VC_EINPUT, "%s: no triangles", name);
+    for (int64_t i = 0; i < 3 * nv; i++)
+        if (!isfinite(s->xyz[i]))
+            return vc_error_set(err, VC_EINPUT, "%s: vertex %lld has a non-finite coordinate (%g)",
+                                name, (long long)(i / 3 + 1), s->xyz[i]);
+    for (int64_t k = 0; k < 3 * nt; k++)
+        if (s->tri[k] < 0 || s->tri[k] >= nv)
+            return vc_error_set(err, VC_EINPUT, "%s: triangle %lld refers to vertex %lld of %lld",
+                                name, (long long)(k / 3 + 1), (long long)s->tri[k] + 1, (long long)nv);
+
+    /* Bounding box. */
+    double *bb = rep->bbox;
+    for (int k = 0; k < 3; k++) {
+        bb[k] = nv ? s->xyz[k] : 0;
+        bb[k + 3] = bb[k];
+    }
+    for (int64_t i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++) {
+            double x = s->xyz[3 * i + k];
+            if (x < bb[k])
+                bb[k] = x;
+            if (x > bb[k + 3])
+                bb[k + 3] = x;
+        }
+    double c[3] = {0.5 * (bb[0] + bb[3]), 0.5 * (bb[1] + bb[4]), 0.5 * (bb[2] + bb[5])};
+
+    /* Degenerate triangles and volume (relative to the box centre, which
+     * leaves the closed-surface sum unchanged and keeps it accurate). */
+    int64_t degenerate = 0;
+    double vol6 = 0;
+    for (int64_t t = 0; t < nt; t++) {
+        const double *p[3];
+        double r[3][3];
+        for (int j = 0; j < 3; j++) {
+            p[j] = s->xyz + 3 * s->tri[3 * t + j];
+            for (int k = 0; k < 3; k++)
+                r[j][k] = p[j][k] - c[k];
+        }
+        double u[3], v[3], w[3], lmax = 0;
+        for (int k = 0; k < 3; k++) {
+            u[k] = p[1][k] - p[0][k];
+            v[k] = p[2][k] - p[0][k];
+            w[k] = p[2][k] - p[1][k];
+        }
+        double lu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        double lv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        double lw = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        lmax = lu > lv ? lu : lv;
+        lmax = lmax > lw ? lmax : lw;
+        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        double area2 = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (area2 <= 1e-12 * lmax)
+            degenerate++;
+        vol6 += r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    }
+    rep->n_degenerate = degenerate;
+    rep->signed_volume = vol6 / 6.0;
+    rep->volume = fabs(rep->signed_volume);
+    if (degenerate == nt)
+        return vc_error_set(err, VC_EINPUT, "%s: all %lld triangles are degenerate (zero area)",
+                            name, (long long)nt);
+
+    /* Edges. */
+    edge_use *e = malloc((size_t)nt * 3 * sizeof *e);
+    int64_t *parent = malloc((size_t)(nv ? nv : 1) * sizeof *parent);
+    if (!e || !parent) {
+        free(e);
+        free(parent);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory checking the surface", name);
+    }
+    for (int64_t t = 0; t < nt; t++)
+        for (int j = 0; j < 3; j++) {
+            int64_t a = s->tri[3 * t + j], b = s->tri[3 * t + (j + 1) % 3];
+            edge_use *u = &e[3 * t + j];
+            u->a = a < b ? a : b;
+            u->b = a < b ? b : a;
+            u->dir = a < b;
+        }
+    qsort(e, (size_t)(3 * nt), sizeof *e, cmp_edge);
+    int64_t n_edges = 0, boundary = 0, nonmanifold = 0, inconsistent = 0;
+    for (int64_t k = 0; k < 3 * nt;) {
+        int64_t j = k + 1;
+        while (j < 3 * nt && e[j].a == e[k].a && e[j].b == e[k].b)
+            j++;
+        int64_t m = j - k;
+        n_edges++;
+        if (m == 1)
+            boundary++;
+        else if (m == 2)
+            inconsistent += e[k].dir == e[k + 1].dir;
+        else
+            nonmanifold++;
+        k = j;
+    }
+    free(e);
+
+    /* Components: vertices joined by triangles. */
+    for (int64_t i = 0; i < nv; i++)
+        parent[i] = i;
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t r0 = find(parent, s->tri[3 * t]);
+        for (int j = 1; j < 3; j++) {
+            int64_t r = find(parent, s->tri[3 * t + j]);
+            if (r != r0)
+                parent[r] = r0;
+        }
+    }
+    /* Vertices no triangle uses count as components of their own; after
+     * vc_surface_merge_vertices there are none. */
+    int64_t comps = 0;
+    for (int64_t i = 0; i < nv; i++)
+        comps += find(parent, i) == i;
+    free(parent);
+
+    rep->n_edges = n_edges;
+    rep->n_boundary_edges = boundary;
+    rep->n_nonmanifold_edges = nonmanifold;
+    rep->n_inconsistent_edges = inconsistent;
+    rep->n_components = comps;
+    rep->euler = nv - n_edges + nt;
+    rep->closed_manifold = boundary == 0 && nonmanifold == 0;
+    rep->genus = -1;
+    if (rep->closed_manifold && (2 * comps - rep->euler) % 2 == 0 && 2 * comps >= rep->euler)
+        rep->genus = (2 * comps - rep->euler) / 2;
+
+    if (degenerate)
+        vc_surface_report_warn(rep, "%s: %lld degenerate (zero-area) triangles", name, (long long)degenerate);
+    if (boundary)
+        vc_surface_report_warn(rep, "%s: %lld open boundary edges (surface is not closed)", name,
+                               (long long)boundary);
+    if (nonmanifold)
+        vc_surface_report_warn(rep, "%s: %lld non-manifold edges (shared by 3 or more triangles; kept)", name,
+                               (long long)nonmanifold);
+    if (inconsistent)
+        vc_surface_report_warn(rep,
+                               "%s: %lld inconsistently oriented edges (both triangles walk them the same way)",
+                               name, (long long)inconsistent);
+    if (!boundary && !inconsistent && rep->signed_volume < 0)
+        vc_surface_report_warn(rep, "%s: enclosed volume is negative (%.6g): triangles are oriented inward",
+                               name, rep->signed_volume);
+    return 0;
+}

@@ -1,0 +1,95 @@
+/* Internal to the surface module: the polygon soup the format readers
+ * produce, the readers themselves and a small text scanner. */
+#ifndef VC_SURFACE_INTERNAL_H
+#define VC_SURFACE_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "vorocrust/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Vertices and polygons as read: face f has the 0-based vertex indices
+ * idx[off[f] .. off[f + 1] - 1]. Indices are not validated by readers. */
+typedef struct vc_soup {
+    int64_t nv, cap_v;
+    double *xyz;
+    int64_t nf, cap_f;
+    int64_t *off; /* nf + 1 entries once a face exists */
+    int64_t ni, cap_i;
+    int64_t *idx;
+    /* Faces the file announces (header counts), or -1 when unknown; lets
+     * the caller see faces a reader skipped. */
+    int64_t expected_faces;
+} vc_soup;
+
+int vc_soup_add_vertex(vc_soup *s, double x, double y, double z);
+/* Appends a face of n indices. */
+int vc_soup_add_face(vc_soup *s, const int64_t *v, int64_t n);
+void vc_soup_free(vc_soup *s);
+
+/* Readers: name is used in messages; buf holds the whole file and has a
+ * NUL byte at buf[len]. Return 0 or a VC_E* code with err set. */
+int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err);
+int vc_read_off(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err);
+int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err);
+int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err);
+
+/* A reader returns this code (with err unset) for a variant of its format
+ * it leaves to OpenMesh, e.g. binary OFF. */
+#define VC_SURFACE_DEFER_TO_OPENMESH (-100)
+
+/* Reads any format OpenMesh knows through OpenMesh's IO manager
+ * (openmesh_reader.cpp). Coordinates come through OpenMesh's float path. */
+int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err);
+/* Whether OpenMesh has a reader for this extension (without the dot). */
+int vc_openmesh_can_read(const char *ext);
+
+/* --- Text scanning over a NUL-terminated buffer. --- */
+typedef struct vc_scan {
+    const char *p, *end;
+    int64_t line; /* 1-based line of p */
+} vc_scan;
+
+static inline int vc_scan_is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+/* Skips blanks on the current line. */
+static inline void vc_scan_blanks(vc_scan *sc)
+{
+    while (sc->p < sc->end && vc_scan_is_blank(*sc->p))
+        sc->p++;
+}
+
+/* Moves to the start of the next line. */
+static inline void vc_scan_next_line(vc_scan *sc)
+{
+    while (sc->p < sc->end && *sc->p != '\n')
+        sc->p++;
+    if (sc->p < sc->end) {
+        sc->p++;
+        sc->line++;
+    }
+}
+
+/* Whether the rest of the current line is blank or a '#' comment. */
+static inline int vc_scan_at_eol(vc_scan *sc)
+{
+    vc_scan_blanks(sc);
+    return sc->p >= sc->end || *sc->p == '\n' || *sc->p == '#';
+}
+
+/* Skips whitespace, newlines and '#' comments (when comments is set). */
+void vc_scan_space(vc_scan *sc, int comments);
+/* Parses a number on the current line (after blanks). Return 1 on success. */
+int vc_scan_double(vc_scan *sc, double *v);
+int vc_scan_int(vc_scan *sc, int64_t *v);
+/* Copies the next blank-delimited word of the current line (truncated to
+ * cap - 1 characters); returns its length, 0 at end of line. */
+size_t vc_scan_word(vc_scan *sc, char *w, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

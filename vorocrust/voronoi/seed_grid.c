@@ -1,0 +1,134 @@
+#include "seed_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int cmp_offset(const void *a, const void *b)
+{
+    const vc_grid_offset *x = a, *y = b;
+    if (x->dmin2 != y->dmin2)
+        return x->dmin2 < y->dmin2 ? -1 : 1;
+    /* Tie-break on the offset itself so the order is fully determined. */
+    if (x->dz != y->dz)
+        return x->dz - y->dz;
+    if (x->dy != y->dy)
+        return x->dy - y->dy;
+    return x->dx - y->dx;
+}
+
+static double gap(int d)
+{
+    int a = abs(d) - 1;
+    return a > 0 ? (double)a : 0.0;
+}
+
+void vc_seed_grid_locate(const vc_seed_grid *g, const double x[3], int b[3])
+{
+    for (int d = 0; d < 3; d++) {
+        double t = (x[d] - g->lo[d]) / g->h;
+        int i = t >= 0 ? (int)t : 0;
+        if (i >= g->n[d])
+            i = g->n[d] - 1;
+        if (i < 0)
+            i = 0;
+        b[d] = i;
+    }
+}
+
+int vc_seed_grid_build(vc_seed_grid *g, const double *xyz, int64_t n,
+                       const double lo[3], const double hi[3], double seeds_per_bin)
+{
+    memset(g, 0, sizeof *g);
+    double ext[3], vol = 1.0, maxext = 0;
+    for (int d = 0; d < 3; d++) {
+        ext[d] = hi[d] - lo[d];
+        if (ext[d] > maxext)
+            maxext = ext[d];
+    }
+    for (int d = 0; d < 3; d++) {
+        if (ext[d] < 1e-12 * maxext)
+            ext[d] = 1e-12 * maxext; /* flat seed sets still get a volume */
+        vol *= ext[d];
+    }
+    double h = cbrt(vol * seeds_per_bin / (double)(n > 0 ? n : 1));
+    /* Cap the bin count so that huge, sparse boxes stay cheap. */
+    for (;;) {
+        double nb = 1;
+        for (int d = 0; d < 3; d++)
+            nb *= floor(ext[d] / h) + 1;
+        if (nb <= 4.0 * (double)n + 64)
+            break;
+        h *= 1.25;
+    }
+    g->h = h;
+    int64_t nbins = 1;
+    for (int d = 0; d < 3; d++) {
+        g->lo[d] = lo[d];
+        g->n[d] = (int)floor(ext[d] / h) + 1;
+        nbins *= g->n[d];
+    }
+    g->bin_start = calloc((size_t)nbins + 1, sizeof(int64_t));
+    g->seed_index = malloc((size_t)(n > 0 ? n : 1) * sizeof(int64_t));
+    g->xyz = malloc((size_t)(n > 0 ? n : 1) * 3 * sizeof(double));
+    int64_t *bin_of = malloc((size_t)(n > 0 ? n : 1) * sizeof(int64_t));
+    if (!g->bin_start || !g->seed_index || !g->xyz || !bin_of) {
+        free(bin_of);
+        vc_seed_grid_free(g);
+        return -1;
+    }
+    for (int64_t i = 0; i < n; i++) {
+        int b[3];
+        vc_seed_grid_locate(g, xyz + 3 * i, b);
+        bin_of[i] = vc_seed_grid_bin(g, b[0], b[1], b[2]);
+        g->bin_start[bin_of[i] + 1]++;
+    }
+    for (int64_t b = 0; b < nbins; b++)
+        g->bin_start[b + 1] += g->bin_start[b];
+    /* Stable counting sort: seeds keep their input order inside a bin. */
+    int64_t *fill = malloc((size_t)nbins * sizeof(int64_t));
+    if (!fill) {
+        free(bin_of);
+        vc_seed_grid_free(g);
+        return -1;
+    }
+    memcpy(fill, g->bin_start, (size_t)nbins * sizeof(int64_t));
+    for (int64_t i = 0; i < n; i++) {
+        int64_t k = fill[bin_of[i]]++;
+        g->seed_index[k] = i;
+        memcpy(g->xyz + 3 * k, xyz + 3 * i, 3 * sizeof(double));
+    }
+    free(fill);
+    free(bin_of);
+
+    int R = 3;
+    g->max_ring = R;
+    int side = 2 * R + 1;
+    g->offsets = malloc((size_t)side * side * side * sizeof(vc_grid_offset));
+    if (!g->offsets) {
+        vc_seed_grid_free(g);
+        return -1;
+    }
+    int k = 0;
+    for (int dz = -R; dz <= R; dz++)
+        for (int dy = -R; dy <= R; dy++)
+            for (int dx = -R; dx <= R; dx++) {
+                vc_grid_offset *o = &g->offsets[k++];
+                o->dx = dx;
+                o->dy = dy;
+                o->dz = dz;
+                o->dmin2 = gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz);
+            }
+    g->n_offsets = k;
+    qsort(g->offsets, (size_t)k, sizeof *g->offsets, cmp_offset);
+    return 0;
+}
+
+void vc_seed_grid_free(vc_seed_grid *g)
+{
+    free(g->bin_start);
+    free(g->seed_index);
+    free(g->xyz);
+    free(g->offsets);
+    memset(g, 0, sizeof *g);
+}

@@ -1,0 +1,340 @@
+/* The Voronoi engine's driver: checks the seeds, computes every kept cell on
+ * its own (in parallel: a cell depends only on the seeds), then stitches
+ * them into one conforming mesh. */
+#include "vorocrust/voronoi.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "cell_result.h"
+#include "convex_cell.h"
+#include "seed_grid.h"
+
+/* Vertices within CLIP_TOL * |p| of the bisector of a neighbour at p count
+ * as on it: co-spherical seeds give no sliver faces. Copies of a vertex
+ * computed in different cells are merged within MERGE_TOL times the local
+ * cell size; it must exceed the clipping tolerance by a wide margin. */
+#define CLIP_TOL 1e-10
+#define MERGE_TOL 1e-8
+
+void vc_voronoi_options_default(vc_voronoi_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+}
+
+enum { CELL_OK = 0, CELL_DUPLICATE = 1, CELL_NUMERIC = 2, CELL_EMPTY = 3 };
+
+typedef struct cell_job {
+    const vc_seed_grid *grid;
+    const double *xyz;
+    double box_lo[3], box_hi[3];
+    double dup_dist2;
+} cell_job;
+
+/* Visits the seeds of one bin; returns CELL_* and updates rmax2. */
+static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, int64_t s,
+                        const double *xs, int64_t bin, double tol, double *rmax2,
+                        int64_t *other)
+{
+    const vc_seed_grid *g = job->grid;
+    for (int64_t k = g->bin_start[bin]; k < g->bin_start[bin + 1]; k++) {
+        int64_t t = g->seed_index[k];
+        if (t == s)
+            continue;
+        const double *xt = g->xyz + 3 * k;
+        double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
+        double d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+        if (d2 > 4.0 * *rmax2 * (1.0 + 1e-9))
+            continue;
+        if (d2 <= job->dup_dist2) {
+            *other = t;
+            return CELL_DUPLICATE;
+        }
+        int r = vc_convex_cell_cut(cell, p, t, tol);
+        if (r == 1)
+            *rmax2 = vc_convex_cell_max_radius2(cell);
+        else if (r == -1)
+            return CELL_NUMERIC;
+        else if (r == -2)
+            return CELL_EMPTY;
+    }
+    return CELL_OK;
+}
+
+/* Squared distance from x to the box of bin (i, j, k). */
+static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, int k)
+{
+    int b[3] = {i, j, k};
+    double d2 = 0;
+    for (int d = 0; d < 3; d++) {
+        double lo = g->lo[d] + b[d] * g->h, hi = lo + g->h;
+        double e = x[d] < lo ? lo - x[d] : (x[d] > hi ? x[d] - hi : 0);
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* Builds the cell of seed s into cell; returns CELL_*. */
+static int compute_cell(const cell_job *job, vc_convex_cell *cell, int64_t s,
+                        double tol, int64_t *other)
+{
+    const vc_seed_grid *g = job->grid;
+    const double *xs = job->xyz + 3 * s;
+    double lo[3], hi[3];
+    const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
+                              VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
+    for (int d = 0; d < 3; d++) {
+        lo[d] = job->box_lo[d] - xs[d];
+        hi[d] = job->box_hi[d] - xs[d];
+    }
+    vc_convex_cell_reset_box(cell, lo, hi, walls);
+    double rmax2 = vc_convex_cell_max_radius2(cell);
+    int b[3];
+    vc_seed_grid_locate(g, xs, b);
+    const double h2 = g->h * g->h;
+
+    for (int o = 0; o < g->n_offsets; o++) {
+        const vc_grid_offset *off = &g->offsets[o];
+        if (off->dmin2 * h2 > 4.0 * rmax2 * (1.0 + 1e-9))
+            return CELL_OK;
+        int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
+        if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
+            continue;
+        if (bin_dist2(g, xs, i, j, k) > 4.0 * rmax2 * (1.0 + 1e-9))
+            continue;
+        int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k), tol, &rmax2, other);
+        if (r != CELL_OK)
+            return r;
+    }
+    /* Beyond the precomputed offsets: whole rings of bins, outward. */
+    int max_n = g->n[0];
+    if (g->n[1] > max_n)
+        max_n = g->n[1];
+    if (g->n[2] > max_n)
+        max_n = g->n[2];
+    for (int ring = g->max_ring + 1; ring <= max_n; ring++) {
+        double dmin = (ring - 1) * g->h;
+        if (dmin * dmin > 4.0 * rmax2 * (1.0 + 1e-9))
+            break;
+        for (int k = b[2] - ring; k <= b[2] + ring; k++) {
+            if (k < 0 || k >= g->n[2])
+                continue;
+            for (int j = b[1] - ring; j <= b[1] + ring; j++) {
+                if (j < 0 || j >= g->n[1])
+                    continue;
+                int on_shell_jk = abs(k - b[2]) == ring || abs(j - b[1]) == ring;
+                int step = on_shell_jk ? 1 : 2 * ring;
+                for (int i = b[0] - ring; i <= b[0] + ring; i += step) {
+                    if (i < 0 || i >= g->n[0])
+                        continue;
+                    if (bin_dist2(g, xs, i, j, k) > 4.0 * rmax2 * (1.0 + 1e-9))
+                        continue;
+                    int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k),
+                                         tol, &rmax2, other);
+                    if (r != CELL_OK)
+                        return r;
+                }
+            }
+        }
+    }
+    return CELL_OK;
+}
+
+/* Copies the finished cell into one allocation owned by res. */
+static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s,
+                      vc_cell_result *res)
+{
+    size_t bytes = (size_t)cell->nv * 3 * sizeof(double) + (size_t)cell->nf * sizeof(int64_t) +
+                   (size_t)(cell->nf + 1 + cell->nfv) * sizeof(int);
+    char *mem = malloc(bytes);
+    if (!mem)
+        return -1;
+    res->nv = cell->nv;
+    res->nf = cell->nf;
+    res->nfv = cell->nfv;
+    res->v = (double *)mem;
+    res->plane = (int64_t *)(mem + (size_t)cell->nv * 3 * sizeof(double));
+    res->face_start = (int *)(res->plane + cell->nf);
+    res->fv = res->face_start + cell->nf + 1;
+    const double *xs = xyz + 3 * s;
+    double scale2 = INFINITY, r2 = 0;
+    for (int i = 0; i < cell->nv; i++)
+        for (int d = 0; d < 3; d++)
+            res->v[3 * i + d] = xs[d] + cell->v[3 * i + d];
+    memcpy(res->plane, cell->face_plane, (size_t)cell->nf * sizeof(int64_t));
+    memcpy(res->face_start, cell->face_start, (size_t)(cell->nf + 1) * sizeof(int));
+    memcpy(res->fv, cell->fv, (size_t)cell->nfv * sizeof(int));
+    /* The local size: distance to the nearest seed that makes a face, or
+     * the cell's diameter when only walls bound it. */
+    for (int f = 0; f < cell->nf; f++) {
+        int64_t t = cell->face_plane[f];
+        if (t < 0)
+            continue;
+        double d2 = 0;
+        for (int d = 0; d < 3; d++)
+            d2 += (xyz[3 * t + d] - xs[d]) * (xyz[3 * t + d] - xs[d]);
+        if (d2 < scale2)
+            scale2 = d2;
+    }
+    r2 = vc_convex_cell_max_radius2(cell);
+    res->scale = isfinite(scale2) ? sqrt(scale2) : 2.0 * sqrt(r2);
+    return 0;
+}
+
+int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
+                     vc_polymesh *out, vc_error *err)
+{
+    vc_voronoi_options opt;
+    if (opt_in)
+        opt = *opt_in;
+    else
+        vc_voronoi_options_default(&opt);
+    memset(out, 0, sizeof *out);
+    const int64_t n = seeds->n;
+    if (n <= 0)
+        return vc_error_set(err, VC_EINPUT, "no seeds");
+
+    double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int64_t n_kept = 0;
+    for (int64_t i = 0; i < n; i++) {
+        for (int d = 0; d < 3; d++) {
+            double x = seeds->xyz[3 * i + d];
+            if (!isfinite(x))
+                return vc_error_set(err, VC_EINPUT, "seed %lld has a non-finite coordinate",
+                                    (long long)i);
+            if (x < slo[d])
+                slo[d] = x;
+            if (x > shi[d])
+                shi[d] = x;
+        }
+        n_kept += seeds->label[i] != 0;
+    }
+    if (n_kept == 0)
+        return vc_error_set(err, VC_EINPUT, "no kept seed (every label is 0)");
+
+    cell_job job;
+    memset(&job, 0, sizeof job);
+    double diag = sqrt((shi[0] - slo[0]) * (shi[0] - slo[0]) + (shi[1] - slo[1]) * (shi[1] - slo[1]) +
+                       (shi[2] - slo[2]) * (shi[2] - slo[2]));
+    if (opt.has_box) {
+        for (int d = 0; d < 3; d++) {
+            if (!(opt.box[d] < opt.box[d + 3]) || !isfinite(opt.box[d]) || !isfinite(opt.box[d + 3]))
+                return vc_error_set(err, VC_EPARAM, "empty or invalid box on axis %c", 'x' + d);
+            job.box_lo[d] = opt.box[d];
+            job.box_hi[d] = opt.box[d + 3];
+        }
+        for (int64_t i = 0; i < n; i++)
+            for (int d = 0; d < 3; d++) {
+                double x = seeds->xyz[3 * i + d];
+                if (x < job.box_lo[d] || x > job.box_hi[d])
+                    return vc_error_set(err, VC_EINPUT,
+                                        "seed %lld (%g %g %g) lies outside the box", (long long)i,
+                                        seeds->xyz[3 * i], seeds->xyz[3 * i + 1],
+                                        seeds->xyz[3 * i + 2]);
+            }
+        double bd = 0;
+        for (int d = 0; d < 3; d++)
+            bd += (job.box_hi[d] - job.box_lo[d]) * (job.box_hi[d] - job.box_lo[d]);
+        if (sqrt(bd) > diag)
+            diag = sqrt(bd);
+    } else {
+        double margin = diag > 0 ? diag : 1.0;
+        for (int d = 0; d < 3; d++) {
+            job.box_lo[d] = slo[d] - margin;
+            job.box_hi[d] = shi[d] + margin;
+        }
+        if (diag == 0)
+            diag = 1.0;
+    }
+    job.xyz = seeds->xyz;
+    job.dup_dist2 = (1e-12 * diag) * (1e-12 * diag);
+
+    vc_seed_grid grid;
+    if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, 3.0) != 0)
+        return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
+    job.grid = &grid;
+
+    int64_t *kept_seed = malloc((size_t)n_kept * sizeof(int64_t));
+    vc_cell_result *cells = calloc((size_t)n_kept, sizeof(vc_cell_result));
+    int *status = calloc((size_t)n_kept, sizeof(int));
+    int64_t *other = calloc((size_t)n_kept, sizeof(int64_t));
+    if (!kept_seed || !cells || !status || !other) {
+        free(kept_seed);
+        free(cells);
+        free(status);
+        free(other);
+        vc_seed_grid_free(&grid);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
+    }
+    for (int64_t i = 0, k = 0; i < n; i++)
+        if (seeds->label[i] != 0)
+            kept_seed[k++] = i;
+
+    int threads = opt.threads;
+#ifdef _OPENMP
+    if (threads <= 0)
+        threads = omp_get_max_threads();
+#else
+    threads = 1;
+#endif
+    int64_t done = 0, next_report = n_kept / 10;
+#pragma omp parallel num_threads(threads)
+    {
+        vc_convex_cell cell;
+        vc_convex_cell_init(&cell);
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t k = 0; k < n_kept; k++) {
+            int64_t s = kept_seed[k];
+            int r = CELL_NUMERIC;
+            /* A cut that cannot be closed is a tolerance problem: retry
+             * with a coarser tolerance before giving up. */
+            for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC; tol *= 100)
+                r = compute_cell(&job, &cell, s, tol, &other[k]);
+            if (r == CELL_OK && store_cell(&cell, seeds->xyz, s, &cells[k]) != 0)
+                r = CELL_EMPTY;
+            status[k] = r;
+            if (opt.progress) {
+                int64_t d;
+#pragma omp atomic capture
+                d = ++done;
+                if (next_report > 0 && d % next_report == 0)
+                    fprintf(stderr, "voronoi: %lld / %lld cells\n", (long long)d, (long long)n_kept);
+            }
+        }
+        vc_convex_cell_free(&cell);
+    }
+
+    int rc = 0;
+    for (int64_t k = 0; k < n_kept && rc == 0; k++) {
+        int64_t s = kept_seed[k];
+        const double *x = seeds->xyz + 3 * s;
+        if (status[k] == CELL_DUPLICATE)
+            rc = vc_error_set(err, VC_EINPUT, "seeds %lld and %lld coincide at (%g %g %g)",
+                              (long long)s, (long long)other[k], x[0], x[1], x[2]);
+        else if (status[k] == CELL_NUMERIC)
+            rc = vc_error_set(err, VC_EINTERNAL,
+                              "the cell of seed %lld (%g %g %g) could not be built robustly",
+                              (long long)s, x[0], x[1], x[2]);
+        else if (status[k] == CELL_EMPTY)
+            rc = vc_error_set(err, VC_EINTERNAL, "the cell of seed %lld (%g %g %g) is empty",
+                              (long long)s, x[0], x[1], x[2]);
+    }
+    if (rc == 0) {
+        if (opt.progress)
+            fprintf(stderr, "voronoi: stitching %lld cells\n", (long long)n_kept);
+        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, MERGE_TOL, out, err);
+    }
+    for (int64_t k = 0; k < n_kept; k++)
+        free(cells[k].v);
+    free(cells);
+    free(status);
+    free(other);
+    free(kept_seed);
+    vc_seed_grid_free(&grid);
+    return rc;
+}
