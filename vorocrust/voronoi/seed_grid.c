@@ -46,6 +46,8 @@ int vc_seed_grid_build(vc_seed_grid *g, const double *xyz, int64_t n,
         if (ext[d] > maxext)
             maxext = ext[d];
     }
+    if (!(maxext > 0))
+        maxext = 1.0; /* a single seed, or all seeds at one point */
     for (int d = 0; d < 3; d++) {
         if (ext[d] < 1e-12 * maxext)
             ext[d] = 1e-12 * maxext; /* flat seed sets still get a volume */
