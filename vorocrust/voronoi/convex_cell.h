@@ -1,32 +1,53 @@
 /* A convex polyhedron cut down plane by plane: the Voronoi cell of one seed
  * while it is being built. Internal to the Voronoi engine.
  *
- * Coordinates are relative to the seed (for precision). Faces are vertex
- * cycles oriented outward (counter-clockwise seen from outside); each face
- * carries the id of the plane that made it (a neighbour seed index, or a
- * wall code of the clipping box). */
+ * The cell is held in dual form: a list of planes, and one triangle of
+ * three plane indices per polyhedron vertex (the three faces meeting
+ * there). The triangles form a closed, consistently oriented triangulation
+ * of the sphere, so a cut only removes the triangles whose vertex lies
+ * outside the new plane and fans the boundary of the removed disk to the
+ * new plane: the work is proportional to what changes, not to the cell.
+ * A vertex where more than three faces meet (co-spherical seeds) is held
+ * as several triangles at one point; the stitching step merges them.
+ *
+ * Coordinates are relative to the seed (for precision). */
 #ifndef VC_CONVEX_CELL_H
 #define VC_CONVEX_CELL_H
 
 #include <stdint.h>
 
-/* A growable array: data, count in use is kept by the owner, capacity here. */
+/* A growable array: data, capacity in elements. */
 typedef struct vc_cell_buf {
     void *data;
     int cap;
 } vc_cell_buf;
 
 typedef struct vc_convex_cell {
+    /* Planes {x : n.x <= d} as (n, d), and the id each carries (a
+     * neighbour seed index, or a wall code of the clipping box). */
+    int np;
+    double *plane;       /* 4 * np */
+    int64_t *plane_id;   /* np */
+    /* Triangles: plane indices (counter-clockwise seen from outside, that
+     * is det(n_a, n_b, n_c) > 0) and the vertex point. */
+    int nt;
+    int *tri;            /* 3 * nt */
+    double *pt;          /* 3 * nt */
+    double rmax2;        /* largest squared distance of a vertex */
+
+    /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i;
+     * face k is fv[face_start[k] .. face_start[k+1]-1], counter-clockwise
+     * seen from outside, made by plane face_plane[k]. */
     int nv, nf, nfv;
-    double *v;           /* 3 * nv */
-    int64_t *face_plane; /* nf */
-    int *face_start;     /* nf + 1: face k is fv[face_start[k] .. face_start[k+1]-1] */
+    double *v;
+    int64_t *face_plane;
+    int *face_start;
     int *fv;
-    /* Storage behind the arrays above, and scratch reused by every cut. */
-    vc_cell_buf b_v, b_face_plane, b_face_start, b_fv;
-    vc_cell_buf b_dist, b_side, b_remap, b_on, b_cap_next;
-    vc_cell_buf b_new_v, b_new_face_plane, b_new_face_start, b_new_fv;
-    vc_cell_buf b_cut;
+
+    /* Storage and scratch reused by every cut. */
+    vc_cell_buf b_plane, b_plane_id, b_tri, b_pt;
+    vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
+    vc_cell_buf b_face_plane, b_face_start, b_fv, b_entry, b_count;
 } vc_convex_cell;
 
 void vc_convex_cell_init(vc_convex_cell *c);
@@ -40,14 +61,15 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
 
 /* Cuts c with the bisector of the seed (origin) and the point p: keeps
  * {x : x.p <= |p|^2 / 2}. Vertices within tol * |p| of the plane count as
- * on it, so a plane through existing vertices creates no sliver face.
+ * on it (kept), so a plane through existing vertices changes nothing.
  * Returns 1 if the cell changed, 0 if the plane misses it, -1 on a
- * numerical failure (the cut face could not be closed), -2 if nothing of
+ * numerical failure (the removed part is not a disk), -2 if nothing of
  * the cell would remain. */
 int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                        double tol);
 
-/* Largest squared distance of a vertex from the seed. */
-double vc_convex_cell_max_radius2(const vc_convex_cell *c);
+/* Fills the face form (nv, nf, nfv, v, face_plane, face_start, fv) from
+ * the current cell. Returns 0, or -1 if a face cycle is inconsistent. */
+int vc_convex_cell_faces(vc_convex_cell *c);
 
 #endif

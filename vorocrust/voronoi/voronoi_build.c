@@ -36,10 +36,32 @@ typedef struct cell_job {
     double dup_dist2;
 } cell_job;
 
-/* Visits the seeds of one bin; returns CELL_* and updates rmax2. */
+/* Cuts the cell with the bisector of seed t (at relative position p,
+ * squared distance d2); returns CELL_*. */
+static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, int64_t t, const double p[3],
+                         double d2, double tol, int64_t *other)
+{
+    if (d2 <= job->dup_dist2) {
+        *other = t;
+        return CELL_DUPLICATE;
+    }
+    int r = vc_convex_cell_cut(cell, p, t, tol);
+    if (r == -1)
+        return CELL_NUMERIC;
+    if (r == -2)
+        return CELL_EMPTY;
+    return CELL_OK;
+}
+
+/* A plane at distance |p| / 2 can only cut the cell if |p| < 2 rmax. */
+static inline int may_cut(const vc_convex_cell *cell, double d2)
+{
+    return d2 <= 4.0 * cell->rmax2 * (1.0 + 1e-9);
+}
+
+/* Visits the seeds of one bin; returns CELL_*. */
 static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, int64_t s,
-                        const double *xs, int64_t bin, double tol, double *rmax2,
-                        int64_t *other)
+                        const double *xs, int64_t bin, double tol, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
     for (int64_t k = g->bin_start[bin]; k < g->bin_start[bin + 1]; k++) {
@@ -49,21 +71,34 @@ static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, int64_t s,
         const double *xt = g->xyz + 3 * k;
         double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
         double d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-        if (d2 > 4.0 * *rmax2 * (1.0 + 1e-9))
+        if (!may_cut(cell, d2))
             continue;
-        if (d2 <= job->dup_dist2) {
-            *other = t;
-            return CELL_DUPLICATE;
-        }
-        int r = vc_convex_cell_cut(cell, p, t, tol);
-        if (r == 1)
-            *rmax2 = vc_convex_cell_max_radius2(cell);
-        else if (r == -1)
-            return CELL_NUMERIC;
-        else if (r == -2)
-            return CELL_EMPTY;
+        int r = cut_with_seed(job, cell, t, p, d2, tol, other);
+        if (r != CELL_OK)
+            return r;
     }
     return CELL_OK;
+}
+
+/* A neighbour candidate of the first shell of bins. */
+typedef struct candidate {
+    double d2;
+    int64_t k; /* position in the grid's seed order */
+} candidate;
+
+static candidate *reserve_candidates(vc_cell_buf *b, int need)
+{
+    if (need > b->cap) {
+        int n = b->cap ? 2 * b->cap : 128;
+        while (n < need)
+            n *= 2;
+        void *q = realloc(b->data, (size_t)n * sizeof(candidate));
+        if (!q)
+            abort(); /* out of memory for a few hundred candidates */
+        b->data = q;
+        b->cap = n;
+    }
+    return b->data;
 }
 
 /* Squared distance from x to the box of bin (i, j, k). */
@@ -79,9 +114,11 @@ static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, in
     return d2;
 }
 
-/* Builds the cell of seed s into cell; returns CELL_*. */
-static int compute_cell(const cell_job *job, vc_convex_cell *cell, int64_t s,
-                        double tol, int64_t *other)
+/* Builds the cell of seed s into cell; returns CELL_*. The seeds of the
+ * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
+ * the farther seeds are mostly rejected by the radius test alone. */
+static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
+                        int64_t s, double tol, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
     const double *xs = job->xyz + 3 * s;
@@ -93,21 +130,59 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, int64_t s,
         hi[d] = job->box_hi[d] - xs[d];
     }
     vc_convex_cell_reset_box(cell, lo, hi, walls);
-    double rmax2 = vc_convex_cell_max_radius2(cell);
     int b[3];
     vc_seed_grid_locate(g, xs, b);
     const double h2 = g->h * g->h;
 
-    for (int o = 0; o < g->n_offsets; o++) {
+    /* The first shell: offsets with a zero distance bound come first. */
+    int n_cand = 0, o = 0;
+    for (; o < g->n_offsets && g->offsets[o].dmin2 == 0; o++) {
         const vc_grid_offset *off = &g->offsets[o];
-        if (off->dmin2 * h2 > 4.0 * rmax2 * (1.0 + 1e-9))
+        int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
+        if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
+            continue;
+        int64_t bin = vc_seed_grid_bin(g, i, j, k);
+        int64_t k0 = g->bin_start[bin], k1 = g->bin_start[bin + 1];
+        if (k1 == k0)
+            continue;
+        candidate *cand = reserve_candidates(cand_buf, n_cand + (int)(k1 - k0));
+        for (int64_t kk = k0; kk < k1; kk++) {
+            if (g->seed_index[kk] == s)
+                continue;
+            const double *xt = g->xyz + 3 * kk;
+            double dx = xt[0] - xs[0], dy = xt[1] - xs[1], dz = xt[2] - xs[2];
+            /* Insertion into the sorted list (it is short). */
+            double d2 = dx * dx + dy * dy + dz * dz;
+            int m = n_cand++;
+            while (m > 0 && (cand[m - 1].d2 > d2 || (cand[m - 1].d2 == d2 && cand[m - 1].k > kk))) {
+                cand[m] = cand[m - 1];
+                m--;
+            }
+            cand[m].d2 = d2;
+            cand[m].k = kk;
+        }
+    }
+    const candidate *cand = cand_buf->data;
+    for (int m = 0; m < n_cand; m++) {
+        if (!may_cut(cell, cand[m].d2))
+            break;
+        const double *xt = g->xyz + 3 * cand[m].k;
+        double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
+        int r = cut_with_seed(job, cell, g->seed_index[cand[m].k], p, cand[m].d2, tol, other);
+        if (r != CELL_OK)
+            return r;
+    }
+
+    for (; o < g->n_offsets; o++) {
+        const vc_grid_offset *off = &g->offsets[o];
+        if (!may_cut(cell, off->dmin2 * h2))
             return CELL_OK;
         int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
         if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
             continue;
-        if (bin_dist2(g, xs, i, j, k) > 4.0 * rmax2 * (1.0 + 1e-9))
+        if (!may_cut(cell, bin_dist2(g, xs, i, j, k)))
             continue;
-        int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k), tol, &rmax2, other);
+        int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k), tol, other);
         if (r != CELL_OK)
             return r;
     }
@@ -119,7 +194,7 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, int64_t s,
         max_n = g->n[2];
     for (int ring = g->max_ring + 1; ring <= max_n; ring++) {
         double dmin = (ring - 1) * g->h;
-        if (dmin * dmin > 4.0 * rmax2 * (1.0 + 1e-9))
+        if (!may_cut(cell, dmin * dmin))
             break;
         for (int k = b[2] - ring; k <= b[2] + ring; k++) {
             if (k < 0 || k >= g->n[2])
@@ -132,10 +207,10 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, int64_t s,
                 for (int i = b[0] - ring; i <= b[0] + ring; i += step) {
                     if (i < 0 || i >= g->n[0])
                         continue;
-                    if (bin_dist2(g, xs, i, j, k) > 4.0 * rmax2 * (1.0 + 1e-9))
+                    if (!may_cut(cell, bin_dist2(g, xs, i, j, k)))
                         continue;
                     int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k),
-                                         tol, &rmax2, other);
+                                         tol, other);
                     if (r != CELL_OK)
                         return r;
                 }
@@ -181,7 +256,7 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s,
         if (d2 < scale2)
             scale2 = d2;
     }
-    r2 = vc_convex_cell_max_radius2(cell);
+    r2 = cell->rmax2;
     res->scale = isfinite(scale2) ? sqrt(scale2) : 2.0 * sqrt(r2);
     return 0;
 }
@@ -287,6 +362,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     {
         vc_convex_cell cell;
         vc_convex_cell_init(&cell);
+        vc_cell_buf cand_buf = {NULL, 0};
 #pragma omp for schedule(dynamic, 256)
         for (int64_t k = 0; k < n_kept; k++) {
             int64_t s = kept_seed[k];
@@ -294,7 +370,11 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             /* A cut that cannot be closed is a tolerance problem: retry
              * with a coarser tolerance before giving up. */
             for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC; tol *= 100)
-                r = compute_cell(&job, &cell, s, tol, &other[k]);
+            {
+                r = compute_cell(&job, &cell, &cand_buf, s, tol, &other[k]);
+                if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
+                    r = CELL_NUMERIC;
+            }
             if (r == CELL_OK && store_cell(&cell, seeds->xyz, s, &cells[k]) != 0)
                 r = CELL_EMPTY;
             status[k] = r;
@@ -307,6 +387,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             }
         }
         vc_convex_cell_free(&cell);
+        free(cand_buf.data);
     }
 
     int rc = 0;
