@@ -261,6 +261,10 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s,
     return 0;
 }
 
+/* About 3 seeds per bin: measured fastest on uniform random seeds (1 and 5
+ * are 5 to 15% slower). */
+#define SEEDS_PER_BIN 3.0
+
 int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                      vc_polymesh *out, vc_error *err)
 {
@@ -330,7 +334,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     job.dup_dist2 = (1e-12 * diag) * (1e-12 * diag);
 
     vc_seed_grid grid;
-    if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, 3.0) != 0)
+    if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, SEEDS_PER_BIN) != 0)
         return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
     job.grid = &grid;
 
@@ -358,6 +362,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     threads = 1;
 #endif
     int64_t done = 0, next_report = n_kept / 10;
+#ifdef _OPENMP
+    double t_start = omp_get_wtime();
+#endif
 #pragma omp parallel num_threads(threads)
     {
         vc_convex_cell cell;
@@ -406,8 +413,14 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                               (long long)s, x[0], x[1], x[2]);
     }
     if (rc == 0) {
-        if (opt.progress)
+        if (opt.progress) {
+#ifdef _OPENMP
+            fprintf(stderr, "voronoi: %lld cells built in %.3f s; stitching\n", (long long)n_kept,
+                    omp_get_wtime() - t_start);
+#else
             fprintf(stderr, "voronoi: stitching %lld cells\n", (long long)n_kept);
+#endif
+        }
         rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, MERGE_TOL, out, err);
     }
     for (int64_t k = 0; k < n_kept; k++)
