@@ -366,6 +366,28 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     for (int64_t i = 0, k = 0; i < n; i++)
         if (seeds->label[i] != 0)
             kept_seed[k++] = i;
+    /* Cells are built in bin order, so that consecutive cells read the
+     * same seeds from cache; each result goes to its kept index. */
+    int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
+    int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
+    if (!build_order || !kept_index) {
+        free(build_order);
+        free(kept_index);
+        free(kept_seed);
+        free(cells);
+        free(status);
+        free(other);
+        vc_seed_grid_free(&grid);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
+    }
+    for (int64_t i = 0, k = 0; i < n; i++)
+        kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
+    for (int64_t j = 0, m = 0; j < n; j++) {
+        int64_t k = kept_index[grid.seed_index[j]];
+        if (k >= 0)
+            build_order[m++] = k;
+    }
+    free(kept_index);
 
     int threads = opt.threads;
 #ifdef _OPENMP
@@ -384,8 +406,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_convex_cell_init(&cell);
         vc_cell_buf cand_buf = {NULL, 0};
 #pragma omp for schedule(dynamic, 256)
-        for (int64_t k = 0; k < n_kept; k++) {
-            int64_t s = kept_seed[k];
+        for (int64_t m = 0; m < n_kept; m++) {
+            const int64_t k = build_order[m];
+            const int64_t s = kept_seed[k];
             int r = CELL_NUMERIC;
             /* A cut that cannot be closed is a tolerance problem: retry
              * with a coarser tolerance before giving up. */
@@ -442,6 +465,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     free(status);
     free(other);
     free(kept_seed);
+    free(build_order);
     vc_seed_grid_free(&grid);
     return rc;
 }
