@@ -36,7 +36,7 @@ void vc_convex_cell_free(vc_convex_cell *c)
     vc_cell_buf *bufs[] = {&c->b_plane,      &c->b_plane_id, &c->b_tri,      &c->b_pt,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_start, &c->b_fv,
-                           &c->b_entry,      &c->b_count};
+                           &c->b_entry,      &c->b_count,    &c->b_edge_mark};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         free(bufs[i]->data);
     memset(c, 0, sizeof *c);
@@ -138,16 +138,36 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     int *edge_out = reserve(&c->b_edge_out, np, sizeof(int));
     for (int i = 0; i < np; i++)
         next[i] = -1;
-    int n_boundary = 0, first = -1;
+    /* An edge of a removed triangle is on the boundary unless its reverse
+     * belongs to a removed triangle too: marked in a plane-pair matrix
+     * (cleared again below) or, for huge cells, searched. */
+    unsigned char *mark = NULL;
+    if (np <= 256) {
+        if (c->b_edge_mark.cap < np * np) {
+            free(c->b_edge_mark.data);
+            c->b_edge_mark.cap = 256 * 256;
+            c->b_edge_mark.data = calloc((size_t)c->b_edge_mark.cap, 1);
+            if (!c->b_edge_mark.data)
+                abort(); /* 64 KiB: nothing sane to do without it */
+        }
+        mark = c->b_edge_mark.data;
+        for (int i = 0; i < n_out; i++) {
+            const int *tr = c->tri + 3 * conflict[i];
+            mark[tr[0] * np + tr[1]] = 1;
+            mark[tr[1] * np + tr[2]] = 1;
+            mark[tr[2] * np + tr[0]] = 1;
+        }
+    }
+    int n_boundary = 0, first = -1, simple = 1;
     for (int i = 0; i < n_out; i++) {
         const int t = conflict[i];
         const int *tr = c->tri + 3 * t;
         for (int e = 0; e < 3; e++) {
             int a = tr[e], b = tr[e == 2 ? 0 : e + 1];
-            if (has_edge(c->tri, conflict, n_out, b, a))
+            if (mark ? mark[b * np + a] != 0 : has_edge(c->tri, conflict, n_out, b, a))
                 continue;
             if (next[a] != -1)
-                return -1; /* the region touches itself: not a disk */
+                simple = 0; /* the region touches itself: not a disk */
             next[a] = b;
             edge_tri[a] = t;
             edge_out[a] = -1;
@@ -156,6 +176,16 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                 first = a;
         }
     }
+    if (mark) {
+        for (int i = 0; i < n_out; i++) {
+            const int *tr = c->tri + 3 * conflict[i];
+            mark[tr[0] * np + tr[1]] = 0;
+            mark[tr[1] * np + tr[2]] = 0;
+            mark[tr[2] * np + tr[0]] = 0;
+        }
+    }
+    if (!simple)
+        return -1;
     int steps = 0, a = first;
     do {
         a = next[a];

@@ -47,6 +47,7 @@ typedef struct vc_convex_cell {
     /* Storage and scratch reused by every cut. */
     vc_cell_buf b_plane, b_plane_id, b_tri, b_pt;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
+    vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
     vc_cell_buf b_face_plane, b_face_start, b_fv, b_entry, b_count;
 } vc_convex_cell;
 
