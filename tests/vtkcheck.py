@@ -120,13 +120,119 @@ def state_text(state):
     return ", ".join(parts) if parts else ("valid" if state == 0 else "0x%x" % state)
 
 
+# VTK 9.1's convexity test (vtkPolyhedron::IsConvex, the seam method of
+# Devillers et al.) uses exact comparisons on projected x-y silhouettes, so its
+# verdict on a convex cell depends on the cell's orientation in space: on 3000
+# random Voronoi cells it flags 74 as "nonconvex" (or "faces oriented
+# incorrectly"), 15 after rotating the mesh by (10, 20, 30) degrees, 26 after
+# (45, 0, 0), and never the same cells. A rigid rotation cannot make a
+# non-convex cell convex, so a cell counts as invalid only if the validator
+# rejects it in the original orientation and in every rotated copy tried; in
+# addition every cell is checked by an exact-arithmetic-free plane test.
+ROTATIONS = ((10.0, 20.0, 30.0), (45.0, 0.0, 0.0), (0.0, 35.0, 0.0), (23.0, 47.0, 61.0))
+
+
+def divergence_volume(grid, c, ids=None):
+    """Volume of polyhedron c by the divergence theorem over its faces (each
+    face fanned from its first point), computed here from the file's face
+    stream: independent of both vorocrust and VTK's volume filter."""
+    faces = cell_faces(grid, c, ids)
+    pts = {p: grid.GetPoint(p) for f in faces for p in f}
+    o = [sum(x[k] for x in pts.values()) / len(pts) for k in range(3)]
+    vol = 0.0
+    for f in faces:
+        a = [pts[f[0]][k] - o[k] for k in range(3)]
+        for i in range(1, len(f) - 1):
+            b = [pts[f[i]][k] - o[k] for k in range(3)]
+            d = [pts[f[i + 1]][k] - o[k] for k in range(3)]
+            vol += (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0])
+                    + a[2] * (b[0] * d[1] - b[1] * d[0]))
+    return vol / 6.0
+
+
+def validator_verdict(grid):
+    """Returns (invalid, flagged): cells vtkCellValidator rejects in every
+    orientation tried as (cell, state) pairs, and how many it rejected in
+    the original orientation."""
+    states = validity_states(grid)
+    suspects = {c: s for c, s in enumerate(states) if s != 0}
+    flagged = len(suspects)
+    for ang in ROTATIONS:
+        if not suspects:
+            break
+        t = vtk.vtkTransform()
+        t.RotateX(ang[0])
+        t.RotateY(ang[1])
+        t.RotateZ(ang[2])
+        f = vtk.vtkTransformFilter()
+        f.SetInputData(grid)
+        f.SetTransform(t)
+        f.Update()
+        rotated = f.GetOutput()
+        cell = vtk.vtkGenericCell()
+        tol = vtk.vtkCellValidator().GetTolerance()
+        for c in list(suspects):
+            rotated.GetCell(c, cell)
+            if int(vtk.vtkCellValidator.Check(cell, tol)) == 0:
+                del suspects[c]
+    return sorted(suspects.items()), flagged
+
+
+def _shortest_edge_ratio(grid, c):
+    """Shortest edge of cell c over the cell's largest coordinate extent."""
+    faces = cell_faces(grid, c)
+    pts = {p: grid.GetPoint(p) for f in faces for p in f}
+    xs = list(pts.values())
+    ext = max(max(x[k] for x in xs) - min(x[k] for x in xs) for k in range(3))
+    shortest = min(math.dist(pts[a], pts[b]) for f in faces for a, b in zip(f, f[1:] + f[:1]))
+    return shortest / ext
+
+
+def convexity_problems(grid, rel_tol=1e-9):
+    """Cells whose points are not all on the inner side of every face plane
+    (Newell normal through the face centroid), within rel_tol times the
+    cell's extent; and faces whose normal points inward. Returns a list of
+    (cell, text)."""
+    out = []
+    ids = vtk.vtkIdList()
+    for c in range(grid.GetNumberOfCells()):
+        faces = cell_faces(grid, c, ids)
+        pts = {p: grid.GetPoint(p) for f in faces for p in f}
+        xs = list(pts.values())
+        ext = max(max(x[k] for x in xs) - min(x[k] for x in xs) for k in range(3))
+        mid = [sum(x[k] for x in xs) / len(xs) for k in range(3)]
+        for f in faces:
+            n = [0.0, 0.0, 0.0]
+            for a, b in zip(f, f[1:] + f[:1]):
+                pa, pb = pts[a], pts[b]
+                n[0] += (pa[1] - pb[1]) * (pa[2] + pb[2])
+                n[1] += (pa[2] - pb[2]) * (pa[0] + pb[0])
+                n[2] += (pa[0] - pb[0]) * (pa[1] + pb[1])
+            ln = math.sqrt(sum(v * v for v in n))
+            if ln == 0.0:
+                out.append((c, "face %s has no area" % f))
+                break
+            n = [v / ln for v in n]
+            fc = [sum(pts[p][k] for p in f) / len(f) for k in range(3)]
+            above = max(sum((x[k] - fc[k]) * n[k] for k in range(3)) for x in xs)
+            if above > rel_tol * ext:
+                out.append((c, "a point is %.3g above face %s" % (above, f)))
+                break
+            if sum((fc[k] - mid[k]) * n[k] for k in range(3)) <= 0.0:
+                out.append((c, "face %s points inward" % f))
+                break
+    return out
+
+
 def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
     """Reads path with VTK 9.1 and checks it is a sound polyhedral mesh:
 
     - expected_cells cells if given, every cell a VTK_POLYHEDRON;
-    - every cell valid per vtkCellValidator (closed, convex, outward faces);
-    - the cell array "volume" equals VTK's volume (vtkCellSizeFilter) of
-      every cell within rel_tol (relative to the cell's volume);
+    - every cell valid per vtkCellValidator (closed, convex, outward faces),
+      in the original orientation or a rotated copy (see validator_verdict),
+      and convex with outward faces by an exact plane test;
+    - the cell array "volume" equals the volume its faces enclose (computed
+      here) within rel_tol, and VTK's vtkCellSizeFilter agrees on 99%;
     - total volume within rel_tol of expected_volume if given;
     - every face (as its set of point ids) belongs to at most 2 cells, and a
       face shared by 2 cells is seen in opposite orientations.
@@ -144,17 +250,39 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
         if t != VTK_POLYHEDRON:
             _fail(path, "cell %d has type %d, expected VTK_POLYHEDRON (42)" % (c, t))
 
-    states = validity_states(grid)
-    bad = [(c, s) for c, s in enumerate(states) if s != 0]
+    bad, flagged = validator_verdict(grid)
+    # What VTK still rejects must be a cell with a tiny feature (an edge
+    # shorter than 1e-4 of the cell's extent: VTK's single-precision
+    # thresholds cannot resolve it), few of them, and convex by the plane
+    # test below; anything else fails.
+    tiny = []
+    for c, st in bad:
+        rel = _shortest_edge_ratio(grid, c)
+        if rel >= 1e-4:
+            _fail(path, "cell %d invalid per vtkCellValidator (%s) in every orientation tried, "
+                  "shortest edge %.3g of its extent" % (c, state_text(st), rel))
+        tiny.append(c)
+    if len(tiny) > max(1, n_cells // 200):
+        _fail(path, "%d cells with tiny features rejected by vtkCellValidator (more than 0.5%%)"
+              % len(tiny))
+    bad = convexity_problems(grid)
     if bad:
-        _fail(path, "%d invalid cell(s) per vtkCellValidator, first: %s"
-              % (len(bad), ", ".join("cell %d (%s)" % (c, state_text(st)) for c, st in bad[:5])))
+        _fail(path, "%d cell(s) not convex or not outward by the exact plane test, first: %s"
+              % (len(bad), ", ".join("cell %d: %s" % cb for cb in bad[:5])))
 
-    vols = vtk_volumes(grid)
+    # Volumes: the file's "volume" array must match the divergence-theorem
+    # volume computed here from the face stream. VTK's own vtkCellSizeFilter
+    # is a looser cross-check: it tetrahedralizes the cell's points with an
+    # ordered Delaunay triangulator, which loses volume on co-spherical
+    # point sets (VoroCrust's normal case: up to 7% on single cells of the
+    # bundled ball model while the cells are exact to 1e-11), so it must
+    # agree to 1e-6 on at least 99% of the cells.
+    ids = vtk.vtkIdList()
+    vols = [divergence_volume(grid, c, ids) for c in range(n_cells)]
     total = math.fsum(vols)
     for c, v in enumerate(vols):
         if not (v > 0.0):
-            _fail(path, "cell %d has VTK volume %r" % (c, v))
+            _fail(path, "cell %d has volume %r" % (c, v))
     written = cell_array(grid, "volume")
     if written is None:
         _fail(path, "no cell array \"volume\"")
@@ -162,11 +290,16 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
         _fail(path, "\"volume\" has %d values for %d cells" % (len(written), n_cells))
     for c in range(n_cells):
         if abs(written[c] - vols[c]) > rel_tol * abs(vols[c]):
-            _fail(path, "cell %d: \"volume\" %.17g but VTK computes %.17g"
+            _fail(path, "cell %d: \"volume\" %.17g but its faces enclose %.17g"
                   % (c, written[c], vols[c]))
     if expected_volume is not None:
         if abs(total - expected_volume) > rel_tol * abs(expected_volume):
             _fail(path, "total volume %.17g, expected %.17g" % (total, expected_volume))
+    vtk_vols = vtk_volumes(grid)
+    vtk_off = sum(1 for a, b in zip(vtk_vols, vols) if abs(a - b) > 1e-6 * b)
+    if vtk_off > n_cells // 100:
+        _fail(path, "vtkCellSizeFilter disagrees (1e-6) with the face volumes on %d of %d cells"
+              % (vtk_off, n_cells))
 
     # Faces: key = sorted point ids; value = [count, first orientation]
     faces = {}
@@ -193,6 +326,9 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
         "total_volume": total,
         "n_faces_shared": shared,
         "n_faces_boundary": boundary,
+        "vtk_flagged": flagged,
+        "vtk_rejected_tiny": len(tiny),
+        "vtk_volume_off": vtk_off,
     }
 
 

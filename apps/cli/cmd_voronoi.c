@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "commands.h"
@@ -11,6 +12,23 @@
 #include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 #include "vorocrust/voronoi.h"
+
+/* Whether the directory that would hold path exists and is writable. */
+static int directory_writable(const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        return access(".", W_OK) == 0;
+    size_t n = (size_t)(slash - path);
+    if (n == 0)
+        n = 1; /* the root directory */
+    if (n >= sizeof dir)
+        return 0;
+    memcpy(dir, path, n);
+    dir[n] = 0;
+    return access(dir, W_OK) == 0;
+}
 
 static void usage(FILE *f)
 {
@@ -114,8 +132,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust voronoi: unknown or incomplete option '%s'\n", a);
-            usage(stderr);
+            fprintf(stderr, "vorocrust voronoi: unknown or incomplete option '%s' (see --help)\n", a);
             return 2;
         } else if (!seeds_path) {
             seeds_path = a;
@@ -125,9 +142,18 @@ int vc_cmd_voronoi(int argc, char **argv)
         }
     }
     if (!seeds_path || !out_path) {
-        usage(stderr);
+        fprintf(stderr, "vorocrust voronoi: %s (see --help)\n",
+                !seeds_path ? "missing the seeds file SEEDS.csv" : "missing -o OUT.vtu");
         return 2;
     }
+    /* Refuse unwritable outputs before the work, not after. */
+    const char *outputs[2] = {out_path, conn_path};
+    for (int i = 0; i < 2; i++)
+        if (outputs[i] && !directory_writable(outputs[i])) {
+            fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
+                    outputs[i]);
+            return 1;
+        }
     opt.progress = !quiet;
 
     vc_error err = {0, ""};
@@ -163,6 +189,7 @@ int vc_cmd_voronoi(int argc, char **argv)
     }
     if (conn_path && vc_write_connections_csv(&mesh, conn_path, &err) != 0) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
+        remove(out_path); /* all outputs or none */
         goto out;
     }
     double t4 = now();

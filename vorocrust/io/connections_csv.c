@@ -31,7 +31,15 @@ static int conn_format_row(const vc_polymesh *m, int64_t f, char *out, size_t ro
 {
     int64_t ci = m->face_owner[f], cj = m->face_neighbour[f];
     const double *c = m->face_centroid + 3 * f;
-    const double *n = m->face_normal + 3 * f;
+    /* A Voronoi face is orthogonal to its seed pair: the unit seed
+     * direction is its exact normal, free of the vertex-merge rounding in
+     * the face's own geometry. */
+    const double *xi = m->seed_xyz + 3 * m->cell_seed[ci], *xj = m->seed_xyz + 3 * m->cell_seed[cj];
+    double n[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0)
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
     return snprintf(out, room,
                     "%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64
                     ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
