@@ -1,26 +1,37 @@
 /* vorocrust info: read a triangle surface and describe it. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
+#include "vorocrust/features.h"
 #include "vorocrust/surface.h"
 
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: vorocrust info INPUT [--require-closed]\n"
-        "  INPUT             triangle surface: .obj, .off, .stl (ASCII or binary), .ply\n"
-        "  --require-closed  fail (exit 1) when the surface has open boundary edges\n"
+        "usage: vorocrust info INPUT [--require-closed] [--features [--sharp-angle DEG]]\n"
+        "  INPUT              triangle surface: .obj, .off, .stl (ASCII or binary), .ply\n"
+        "  --require-closed   fail (exit 1) when the surface has open boundary edges\n"
+        "  --features         also detect sharp features (thesis 6.2.2) and print the\n"
+        "                     numbers of sharp edges, sharp corners, creases (open and\n"
+        "                     closed) and surface patches\n"
+        "  --sharp-angle DEG  theta_sharp in degrees, 0 < DEG < 180 (default %g):\n"
+        "                     an edge is sharp when its triangles' normals differ by\n"
+        "                     more than DEG, or it has one or more than two triangles;\n"
+        "                     implies --features\n"
         "Prints counts, bounding box, topology (boundary, non-manifold and\n"
         "inconsistently oriented edges, components, Euler characteristic, genus)\n"
         "and enclosed volume. Problems are printed to stderr, one line each;\n"
-        "only unreadable or unusable input makes the exit code non-zero.\n");
+        "only unreadable or unusable input makes the exit code non-zero.\n",
+        VC_FEATURES_DEFAULT_SHARP_ANGLE);
 }
 
 int vc_cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
-    int require_closed = 0;
+    int require_closed = 0, features = 0;
+    double sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -28,6 +39,20 @@ int vc_cmd_info(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--require-closed")) {
             require_closed = 1;
+        } else if (!strcmp(a, "--features")) {
+            features = 1;
+        } else if (!strcmp(a, "--sharp-angle")) {
+            char *end = NULL;
+            if (i + 1 < argc)
+                sharp_angle = strtod(argv[i + 1], &end);
+            if (i + 1 >= argc || end == argv[i + 1] || *end || !(sharp_angle > 0 && sharp_angle < 180)) {
+                fprintf(stderr, "vorocrust info: --sharp-angle needs a number of degrees in (0, 180)%s%s%s\n",
+                        i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
+                        i + 1 < argc ? "'" : "");
+                return 2;
+            }
+            features = 1;
+            i++;
         } else if (a[0] == '-' && a[1]) {
             fprintf(stderr, "vorocrust info: unknown option '%s'\n", a);
             usage(stderr);
@@ -80,6 +105,26 @@ int vc_cmd_info(int argc, char **argv)
            : rep.signed_volume < 0 ? " (oriented inward)" : "");
 
     int rc = 0;
+    if (features) {
+        vc_features f;
+        if (vc_features_detect(&s, sharp_angle, &f, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", rep.name, err.msg);
+            vc_surface_free(&s);
+            return 1;
+        }
+        printf("sharp angle: %.9g degrees\n", f.sharp_angle);
+        printf("sharp edges: %lld (%lld by angle, %lld boundary, %lld non-manifold)\n",
+               (long long)f.n_sharp_edges, (long long)f.n_sharp_by_angle, (long long)f.n_boundary_edges,
+               (long long)f.n_nonmanifold_edges);
+        printf("sharp corners: %lld\n", (long long)f.n_corners);
+        printf("creases: %lld (%lld open, %lld closed)\n", (long long)f.n_creases,
+               (long long)(f.n_creases - f.n_closed_creases), (long long)f.n_closed_creases);
+        printf("surface patches: %lld", (long long)f.n_patches);
+        if (f.n_nonorientable_patches)
+            printf(" (%lld non-orientable)", (long long)f.n_nonorientable_patches);
+        printf("\n");
+        vc_features_free(&f);
+    }
     if (require_closed && vc_surface_require_closed(&rep, &err)) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         rc = 1;
