@@ -36,7 +36,8 @@ void vc_convex_cell_free(vc_convex_cell *c)
     vc_cell_buf *bufs[] = {&c->b_plane,      &c->b_plane_id, &c->b_tri,      &c->b_pt,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_start, &c->b_fv,
-                           &c->b_entry,      &c->b_count,    &c->b_edge_mark};
+                           &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_new_pt,
+                           &c->b_new_tri};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         free(bufs[i]->data);
     memset(c, 0, sizeof *c);
