@@ -355,31 +355,23 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     vc_cell_result *cells = calloc((size_t)n_kept, sizeof(vc_cell_result));
     int *status = calloc((size_t)n_kept, sizeof(int));
     int64_t *other = calloc((size_t)n_kept, sizeof(int64_t));
-    if (!kept_seed || !cells || !status || !other) {
+    /* Cells are built in bin order, so that consecutive cells read the
+     * same seeds from cache; each result goes to its kept index. */
+    int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
+    int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
+    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index) {
         free(kept_seed);
         free(cells);
         free(status);
         free(other);
+        free(build_order);
+        free(kept_index);
         vc_seed_grid_free(&grid);
         return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
     }
     for (int64_t i = 0, k = 0; i < n; i++)
         if (seeds->label[i] != 0)
             kept_seed[k++] = i;
-    /* Cells are built in bin order, so that consecutive cells read the
-     * same seeds from cache; each result goes to its kept index. */
-    int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
-    int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
-    if (!build_order || !kept_index) {
-        free(build_order);
-        free(kept_index);
-        free(kept_seed);
-        free(cells);
-        free(status);
-        free(other);
-        vc_seed_grid_free(&grid);
-        return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
-    }
     for (int64_t i = 0, k = 0; i < n; i++)
         kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
     for (int64_t j = 0, m = 0; j < n; j++) {
