@@ -8,12 +8,13 @@
  *  2. triangle normals and sharp edges (the angle test compares normals
  *     made consistent across the edge, so an inconsistently oriented input
  *     gives the same answer);
- *  3. patches: breadth-first flood across non-sharp edges, orienting each
- *     new triangle against the one it was reached from;
- *  4. sectors: union-find over triangle corners joined through non-sharp
- *     edges; then the corner tests per vertex;
- *  5. creases: walks along sharp edges from each corner, then around the
- *     remaining cycles. */
+ *  3. sectors: union-find (with relative orientation) over triangle
+ *     corners joined through non-sharp edges; then the corner tests per
+ *     vertex;
+ *  4. creases: walks along sharp edges from each corner, then around the
+ *     remaining cycles;
+ *  5. patches: breadth-first flood across non-sharp edges, orienting each
+ *     new triangle against the one it was reached from. */
 #include "vorocrust/features.h"
 
 #include <math.h>
@@ -281,7 +282,7 @@ static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_the
     f->n_nonmanifold_edges = n_nm;
 }
 
-/* ---- 3. Surface patches ---- */
+/* ---- 5. Surface patches ---- */
 
 static int build_patches(const vc_surface *s, vc_features *f, vc_error *err)
 {
@@ -367,26 +368,44 @@ static int build_patches(const vc_surface *s, vc_features *f, vc_error *err)
     return 0;
 }
 
-/* ---- 4. Sectors and corners ---- */
+/* ---- 3. Sectors and corners ---- */
 
-static int64_t uf_find(int64_t *parent, int64_t i)
+/* Union-find with parity: par[i] is the orientation of i relative to
+ * parent[i] (+1 same, -1 opposite). After uf_find(i), parent[i] is the
+ * root and par[i] the orientation of i relative to it. */
+static int64_t uf_find(int64_t *parent, signed char *par, int64_t i)
 {
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
+    int64_t r = i;
+    int p = 1;
+    while (parent[r] != r) {
+        p *= par[r];
+        r = parent[r];
     }
-    return i;
+    /* Compress: every node on the path points to r with its parity. */
+    while (parent[i] != r && parent[i] != i) {
+        int64_t next = parent[i];
+        int pn = p * par[i]; /* parity of next relative to r */
+        parent[i] = r;
+        par[i] = (signed char)p;
+        i = next;
+        p = pn;
+    }
+    return r;
 }
 
-static void uf_union(int64_t *parent, int64_t a, int64_t b)
+/* Records that o(b) = o(a) * rel. */
+static void uf_union(int64_t *parent, signed char *par, int64_t a, int64_t b, int rel)
 {
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a != b) {
-        if (a < b)
-            parent[b] = a;
-        else
-            parent[a] = b;
+    int64_t ra = uf_find(parent, par, a), rb = uf_find(parent, par, b);
+    if (ra == rb)
+        return; /* a fan around a vertex is a disk: no conflict to record */
+    int p = par[a] * rel * par[b]; /* o(rb) = o(ra) * p */
+    if (ra < rb) {
+        parent[rb] = ra;
+        par[rb] = (signed char)p;
+    } else {
+        parent[ra] = rb;
+        par[ra] = (signed char)p;
     }
 }
 
@@ -426,20 +445,23 @@ static void sort_slots(slot_rec *a, int64_t n)
     }
 }
 
-/* Whether two of the normals of triangles slot[0..n-1] / 3 (zero-area
- * ones skipped) differ by at least theta, i.e. have dot <= cos_theta.
- * When every normal is within theta / 2 of the mean direction no pair
- * can; otherwise pairs are compared until one is found. */
-static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, double cos_theta,
-                         double cos_half)
+/* Whether two of the normals of the triangles of the corner slots
+ * r[0..n-1] (zero-area ones skipped), each turned by the slot's sign par
+ * (the orientation of the sector), differ by at least theta, i.e. have
+ * dot <= cos_theta. When every normal is within theta / 2 of the mean
+ * direction no pair can; otherwise pairs are compared until one is
+ * found. */
+static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, const signed char *par,
+                         double cos_theta, double cos_half)
 {
     double m[3] = {0, 0, 0};
     int64_t used = 0;
     for (int64_t i = 0; i < n; i++) {
         const double *q = f->tri_normal + 3 * (r[i].slot / 3);
-        m[0] += q[0];
-        m[1] += q[1];
-        m[2] += q[2];
+        double sg = par[r[i].slot];
+        m[0] += sg * q[0];
+        m[1] += sg * q[1];
+        m[2] += sg * q[2];
         used += q[0] != 0 || q[1] != 0 || q[2] != 0;
     }
     if (used < 2)
@@ -450,7 +472,7 @@ static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, dou
         for (int64_t i = 0; i < n && inside; i++) {
             const double *q = f->tri_normal + 3 * (r[i].slot / 3);
             if (q[0] != 0 || q[1] != 0 || q[2] != 0)
-                inside = dot3(q, m) > cos_half * len;
+                inside = par[r[i].slot] * dot3(q, m) > cos_half * len;
         }
         if (inside)
             return 0;
@@ -461,7 +483,8 @@ static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, dou
             continue;
         for (int64_t j = i + 1; j < n; j++) {
             const double *q = f->tri_normal + 3 * (r[j].slot / 3);
-            if ((q[0] != 0 || q[1] != 0 || q[2] != 0) && dot3(p, q) <= cos_theta)
+            if ((q[0] != 0 || q[1] != 0 || q[2] != 0) &&
+                par[r[i].slot] * par[r[j].slot] * dot3(p, q) <= cos_theta)
                 return 1;
         }
     }
@@ -507,24 +530,32 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     int64_t nv = s->n_vertices, nt = s->n_triangles, nh = 3 * nt;
     double cos_half = cos(0.5 * acos(cos_theta));
     int64_t *parent = xalloc(nh, sizeof *parent);
+    signed char *par = xalloc(nh, 1);
     int64_t *vstart = xcalloc(nv + 1, sizeof *vstart);
     slot_rec *recs = xalloc(nh, sizeof *recs);
-    if (!parent || !vstart || !recs) {
+    if (!parent || !par || !vstart || !recs) {
         free(parent);
+        free(par);
         free(vstart);
         free(recs);
         return vc_error_set(err, VC_ENOMEM, "out of memory finding corners");
     }
-    /* Sectors: corners of triangles joined through non-sharp edges. */
-    for (int64_t h = 0; h < nh; h++)
+    /* Sectors: corners of triangles joined through non-sharp edges, with
+     * their orientation relative to the sector's root (the input
+     * orientation need not be consistent, and a patch need not be
+     * orientable, but a sector is). */
+    for (int64_t h = 0; h < nh; h++) {
         parent[h] = h;
+        par[h] = 1;
+    }
     for (int64_t e = 0; e < f->n_edges; e++) {
         if (f->edge_sharp[e])
             continue;
         int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
+        int rel = walk_dir(f, s, t1, e) == walk_dir(f, s, t2, e) ? -1 : 1;
         for (int k = 0; k < 2; k++) {
             int64_t v = f->edge_vertex[2 * e + k];
-            uf_union(parent, slot_of(s, t1, v), slot_of(s, t2, v));
+            uf_union(parent, par, slot_of(s, t1, v), slot_of(s, t2, v), rel);
         }
     }
     /* Slots grouped by vertex. */
@@ -534,7 +565,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
         vstart[v + 1] += vstart[v];
     for (int64_t h = 0; h < nh; h++) {
         int64_t v = s->tri[h];
-        recs[vstart[v]++] = (slot_rec){uf_find(parent, h), h};
+        recs[vstart[v]++] = (slot_rec){uf_find(parent, par, h), h};
     }
     for (int64_t v = nv; v > 0; v--)
         vstart[v] = vstart[v - 1];
@@ -568,7 +599,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
             while (j < k && r[j].root == r[i].root)
                 j++;
             n_sectors++;
-            if (!(why & VC_CORNER_SECTOR) && sector_spread(f, r + i, j - i, cos_theta, cos_half))
+            if (!(why & VC_CORNER_SECTOR) && sector_spread(f, r + i, j - i, par, cos_theta, cos_half))
                 why |= VC_CORNER_SECTOR;
             i = j;
         }
@@ -579,12 +610,13 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     }
     f->n_corners = n_corners;
     free(parent);
+    free(par);
     free(vstart);
     free(recs);
     return 0;
 }
 
-/* ---- 5. Creases ---- */
+/* ---- 4. Creases ---- */
 
 static int build_creases(vc_features *f, const int64_t *adj_start, const int64_t *adj,
                          vc_error *err)
@@ -706,21 +738,21 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
     if (!rc) {
         compute_normals(s, f);
         find_sharp_edges(s, f, cos_theta);
-        rc = build_patches(s, f, err);
-    }
-    if (!rc) {
-        /* Normals in the patch orientation (the sector test needs them
-         * consistent within a sector, which lies inside one patch). */
-        for (int64_t t = 0; t < nt; t++)
-            if (f->tri_orient[t] < 0)
-                for (int k = 0; k < 3; k++)
-                    f->tri_normal[3 * t + k] = -f->tri_normal[3 * t + k];
         rc = sharp_adjacency(f, &adj_start, &adj, err);
     }
     if (!rc)
         rc = find_corners(s, f, adj_start, adj, cos_theta, err);
     if (!rc)
         rc = build_creases(f, adj_start, adj, err);
+    if (!rc)
+        rc = build_patches(s, f, err);
+    if (!rc) {
+        /* Normals in the patch orientation. */
+        for (int64_t t = 0; t < nt; t++)
+            if (f->tri_orient[t] < 0)
+                for (int k = 0; k < 3; k++)
+                    f->tri_normal[3 * t + k] = -f->tri_normal[3 * t + k];
+    }
     free(adj_start);
     free(adj);
     if (rc)
