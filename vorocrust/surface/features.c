@@ -532,12 +532,13 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     int64_t *parent = xalloc(nh, sizeof *parent);
     signed char *par = xalloc(nh, 1);
     int64_t *vstart = xcalloc(nv + 1, sizeof *vstart);
-    slot_rec *recs = xalloc(nh, sizeof *recs);
-    if (!parent || !par || !vstart || !recs) {
+    int64_t *vslot = xalloc(nh, sizeof *vslot);
+    slot_rec *recs = NULL;
+    if (!parent || !par || !vstart || !vslot) {
         free(parent);
         free(par);
         free(vstart);
-        free(recs);
+        free(vslot);
         return vc_error_set(err, VC_ENOMEM, "out of memory finding corners");
     }
     /* Sectors: corners of triangles joined through non-sharp edges, with
@@ -558,18 +559,30 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
             uf_union(parent, par, slot_of(s, t1, v), slot_of(s, t2, v), rel);
         }
     }
-    /* Slots grouped by vertex. */
+    /* Every slot straight under its root, parity relative to the root. */
+    for (int64_t h = 0; h < nh; h++)
+        uf_find(parent, par, h);
+    /* Slots grouped by vertex; the largest group sizes the sort buffer. */
     for (int64_t h = 0; h < nh; h++)
         vstart[s->tri[h] + 1]++;
-    for (int64_t v = 0; v < nv; v++)
+    int64_t kmax = 0;
+    for (int64_t v = 0; v < nv; v++) {
+        kmax = vstart[v + 1] > kmax ? vstart[v + 1] : kmax;
         vstart[v + 1] += vstart[v];
-    for (int64_t h = 0; h < nh; h++) {
-        int64_t v = s->tri[h];
-        recs[vstart[v]++] = (slot_rec){uf_find(parent, par, h), h};
     }
+    for (int64_t h = 0; h < nh; h++)
+        vslot[vstart[s->tri[h]]++] = h;
     for (int64_t v = nv; v > 0; v--)
         vstart[v] = vstart[v - 1];
     vstart[0] = 0;
+    recs = xalloc(kmax, sizeof *recs);
+    if (!recs) {
+        free(parent);
+        free(par);
+        free(vstart);
+        free(vslot);
+        return vc_error_set(err, VC_ENOMEM, "out of memory finding corners");
+    }
 
     int64_t n_corners = 0;
     for (int64_t v = 0; v < nv; v++) {
@@ -590,8 +603,12 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
             if (dot3(u, w) > -cos_theta * sqrt(dot3(u, u) * dot3(w, w)))
                 why |= VC_CORNER_TURN;
         }
-        slot_rec *r = recs + vstart[v];
+        slot_rec *r = recs;
         int64_t k = vstart[v + 1] - vstart[v];
+        for (int64_t i = 0; i < k; i++) {
+            int64_t h = vslot[vstart[v] + i];
+            r[i] = (slot_rec){parent[h], h};
+        }
         sort_slots(r, k);
         int64_t n_sectors = 0;
         for (int64_t i = 0; i < k;) {
@@ -612,6 +629,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     free(parent);
     free(par);
     free(vstart);
+    free(vslot);
     free(recs);
     return 0;
 }
@@ -721,17 +739,10 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
     if (!rc) {
         int64_t ne = f->n_edges;
         f->edge_sharp = xalloc(ne, 1);
-        f->edge_crease = xalloc(ne, sizeof *f->edge_crease);
-        f->edge_crease_dir = xalloc(ne, 1);
         f->vertex_corner = xalloc(nv, 1);
         f->vertex_sharp_degree = xalloc(nv, sizeof *f->vertex_sharp_degree);
-        f->tri_patch = xalloc(nt, sizeof *f->tri_patch);
-        f->tri_orient = xalloc(nt, 1);
         f->tri_normal = xalloc(3 * nt, sizeof *f->tri_normal);
-        f->patch_tri = xalloc(nt, sizeof *f->patch_tri);
-        if (!f->edge_sharp || !f->edge_crease || !f->edge_crease_dir || !f->vertex_corner ||
-            !f->vertex_sharp_degree || !f->tri_patch || !f->tri_orient || !f->tri_normal ||
-            !f->patch_tri)
+        if (!f->edge_sharp || !f->vertex_corner || !f->vertex_sharp_degree || !f->tri_normal)
             rc = vc_error_set(err, VC_ENOMEM, "out of memory detecting features of %lld triangles",
                               (long long)nt);
     }
@@ -742,8 +753,26 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
     }
     if (!rc)
         rc = find_corners(s, f, adj_start, adj, cos_theta, err);
+    /* The arrays of the later steps are allocated after the corner step's
+     * scratch memory is freed, to lower the peak. */
+    if (!rc) {
+        f->edge_crease = xalloc(f->n_edges, sizeof *f->edge_crease);
+        f->edge_crease_dir = xalloc(f->n_edges, 1);
+        if (!f->edge_crease || !f->edge_crease_dir)
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory building creases");
+    }
     if (!rc)
         rc = build_creases(f, adj_start, adj, err);
+    free(adj_start);
+    free(adj);
+    adj_start = adj = NULL;
+    if (!rc) {
+        f->tri_patch = xalloc(nt, sizeof *f->tri_patch);
+        f->tri_orient = xalloc(nt, 1);
+        f->patch_tri = xalloc(nt, sizeof *f->patch_tri);
+        if (!f->tri_patch || !f->tri_orient || !f->patch_tri)
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory flooding patches");
+    }
     if (!rc)
         rc = build_patches(s, f, err);
     if (!rc) {
