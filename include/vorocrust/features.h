@@ -46,9 +46,10 @@ extern "C" {
 #endif
 
 /* The default theta_sharp in degrees: the thesis' value for smooth models
- * (6.4.1; the public implementation uses it for OneBox and Torus too).
- * Models with sharp features may need a smaller value (e.g. 23 degrees
- * for bracket in the public implementation). */
+ * (6.4.1, "We set theta_sharp to 60 degrees for smooth models, and choose
+ * an appropriate value for models with sharp features"). The public
+ * implementation's test inputs set their angle (VC_ANGLE) to 60 for
+ * OneBox and Torus and to 23 for Bracket. */
 #define VC_FEATURES_DEFAULT_SHARP_ANGLE 60.0
 
 /* Why an edge is sharp (bits of edge_sharp; 0 = not sharp). */
