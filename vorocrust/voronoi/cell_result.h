@@ -22,10 +22,13 @@ typedef struct vc_cell_result {
  * copies of one Voronoi vertex in different cells are identified (within
  * merge_tol times the local cell size), zero-length edges and zero-area
  * faces are dropped, and every face between two kept cells is stored once.
- * cells[k] is the cell of the k-th kept seed, kept_seed[k] its seed index.
- * Runs sequentially: the result does not depend on how cells were made. */
+ * cells[k] is the cell of the k-th kept seed, kept_seed[k] its seed index;
+ * order lists the cells in a spatially coherent order (NULL: 0..n_kept-1):
+ * vertex copies are numbered in that order, so that neighbouring cells'
+ * copies are close in memory. Runs on threads (OpenMP); the result does
+ * not depend on their number. */
 int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
-                           const int64_t *kept_seed, int64_t n_kept,
+                           const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            double merge_tol, vc_polymesh *out, vc_error *err);
 
 #endif

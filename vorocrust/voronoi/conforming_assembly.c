@@ -6,8 +6,10 @@
  * of edges shorter than the tolerance; across two kept cells, the vertices
  * of their common face, matched to the nearest copy on the other side.
  * The component's smallest copy index is its representative, so the result
- * does not depend on the order of the unions. A face between two kept
- * cells is then written once, from its owner (the lower cell index). */
+ * does not depend on the order of the unions: they run on threads, linking
+ * roots with compare-and-swap (a root is only ever linked to a smaller
+ * index). A face between two kept cells is then written once, from its
+ * owner (the lower cell index). */
 #include "cell_result.h"
 
 #include <math.h>
@@ -23,23 +25,34 @@ typedef struct assembly {
     int64_t *parent;       /* union-find over vertex copies */
 } assembly;
 
+/* Thread-safe find with path halving: a parent pointer only ever moves to
+ * an ancestor, which stays an ancestor whatever other threads link. */
 static int64_t find_root(int64_t *parent, int64_t x)
 {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
+    for (;;) {
+        int64_t p = __atomic_load_n(&parent[x], __ATOMIC_RELAXED);
+        if (p == x)
+            return x;
+        int64_t g = __atomic_load_n(&parent[p], __ATOMIC_RELAXED);
+        if (g != p)
+            __atomic_store_n(&parent[x], g, __ATOMIC_RELAXED);
+        x = g;
     }
-    return x;
 }
 
+/* Links the larger root under the smaller one, if it is still a root. */
 static void unite(int64_t *parent, int64_t a, int64_t b)
 {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a < b)
-        parent[b] = a;
-    else if (b < a)
-        parent[a] = b;
+    for (;;) {
+        a = find_root(parent, a);
+        b = find_root(parent, b);
+        if (a == b)
+            return;
+        int64_t hi = a > b ? a : b, lo = a > b ? b : a, expected = hi;
+        if (__atomic_compare_exchange_n(&parent[hi], &expected, lo, 0, __ATOMIC_RELAXED,
+                                        __ATOMIC_RELAXED))
+            return;
+    }
 }
 
 static double dist2(const double *a, const double *b)
@@ -126,12 +139,14 @@ static int cmp_interior(const void *a, const void *b)
 }
 
 int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
-                           const int64_t *kept_seed, int64_t n_kept,
+                           const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            double merge_tol, vc_polymesh *out, vc_error *err)
 {
     assembly as = {cells, kept_seed, n_kept, NULL, NULL, NULL};
     face_rec *interior = NULL, *boundary = NULL;
-    int64_t *pid = NULL, *buf = NULL;
+    int64_t *pid = NULL, *buf = NULL, *fbase = NULL;
+    char *face_ok = NULL;
+    int *twin = NULL;
     int max_len = 0;
     int rc = 0;
 
@@ -141,11 +156,14 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
         goto nomem;
     for (int64_t i = 0; i < seeds->n; i++)
         as.cell_of_seed[i] = -1;
-    as.vbase[0] = 0;
-    int64_t n_faces_all = 0;
+    int64_t n_faces_all = 0, n_copies = 0;
+    for (int64_t m = 0; m < n_kept; m++) {
+        const int64_t k = order ? order[m] : m;
+        as.vbase[k] = n_copies;
+        n_copies += cells[k].nv;
+    }
     for (int64_t k = 0; k < n_kept; k++) {
         as.cell_of_seed[kept_seed[k]] = k;
-        as.vbase[k + 1] = as.vbase[k] + cells[k].nv;
         n_faces_all += cells[k].nf;
         for (int f = 0; f < cells[k].nf; f++) {
             int len = cells[k].face_start[f + 1] - cells[k].face_start[f];
@@ -153,7 +171,6 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
                 max_len = len;
         }
     }
-    const int64_t n_copies = as.vbase[n_kept];
     as.parent = malloc((size_t)(n_copies > 0 ? n_copies : 1) * sizeof(int64_t));
     buf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
     if (!as.parent || !buf)
@@ -161,8 +178,11 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = i;
 
-    /* Identify copies: short edges inside a cell, then common faces. */
-    for (int64_t k = 0; k < n_kept; k++) {
+    /* Identify copies: short edges inside a cell, then common faces. Cells
+     * are visited in the spatial order, so neighbours are in cache. */
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const int64_t k = order ? order[m] : m;
         const vc_cell_result *c = &cells[k];
         double tol2 = merge_tol * c->scale * merge_tol * c->scale;
         for (int f = 0; f < c->nf; f++) {
@@ -173,22 +193,20 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
                     unite(as.parent, as.vbase[k] + a, as.vbase[k] + b);
             }
         }
-    }
-    for (int64_t k = 0; k < n_kept; k++) {
-        const vc_cell_result *c = &cells[k];
         for (int f = 0; f < c->nf; f++) {
             int64_t t = c->plane[f];
             if (t < 0 || as.cell_of_seed[t] <= k)
                 continue;
             int64_t d = as.cell_of_seed[t];
             double sc = c->scale > cells[d].scale ? c->scale : cells[d].scale;
-            double tol2 = merge_tol * sc * merge_tol * sc;
+            double tol2f = merge_tol * sc * merge_tol * sc;
             int g = face_with_plane(&cells[d], kept_seed[k]);
-            match_face(&as, k, f, d, g, tol2);
+            match_face(&as, k, f, d, g, tol2f);
             if (g >= 0)
-                match_face(&as, d, g, k, f, tol2);
+                match_face(&as, d, g, k, f, tol2f);
         }
     }
+#pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = find_root(as.parent, i);
 
@@ -197,20 +215,55 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     boundary = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1) * sizeof(face_rec));
     if (!interior || !boundary)
         goto nomem;
+    /* Per face of every cell (in parallel): whether it survives the
+     * merging, and the index of the same face in the neighbour cell. */
+    fbase = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    if (!fbase)
+        goto nomem;
+    fbase[0] = 0;
+    for (int64_t k = 0; k < n_kept; k++)
+        fbase[k + 1] = fbase[k] + cells[k].nf;
+    face_ok = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1));
+    twin = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1) * sizeof(int));
+    if (!face_ok || !twin)
+        goto nomem;
+    int alloc_failed = 0;
+#pragma omp parallel
+    {
+        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
+        if (!tbuf) {
+#pragma omp atomic write
+            alloc_failed = 1;
+        }
+#pragma omp for schedule(dynamic, 64)
+        for (int64_t m = 0; m < n_kept; m++) {
+            const int64_t k = order ? order[m] : m;
+            const vc_cell_result *c = &cells[k];
+            for (int f = 0; f < c->nf && tbuf; f++) {
+                int64_t t = c->plane[f];
+                int64_t d = t >= 0 ? as.cell_of_seed[t] : -1;
+                face_ok[fbase[k] + f] = face_cycle(&as, k, f, tbuf) > 0;
+                twin[fbase[k] + f] = d >= 0 ? face_with_plane(&cells[d], kept_seed[k]) : -1;
+            }
+        }
+        free(tbuf);
+    }
+    if (alloc_failed)
+        goto nomem;
     int64_t n_int = 0, n_bnd = 0;
     for (int64_t k = 0; k < n_kept; k++) {
         const vc_cell_result *c = &cells[k];
         for (int f = 0; f < c->nf; f++) {
             int64_t t = c->plane[f];
             int64_t d = t >= 0 ? as.cell_of_seed[t] : -1;
-            int ok = face_cycle(&as, k, f, buf) > 0;
+            int ok = face_ok[fbase[k] + f];
             if (d < 0) {
                 if (ok)
                     boundary[n_bnd++] = (face_rec){k, -1, t, k, f, 0};
                 continue;
             }
-            int g = face_with_plane(&cells[d], kept_seed[k]);
-            int ok_other = g >= 0 && face_cycle(&as, d, g, buf) > 0;
+            int g = twin[fbase[k] + f];
+            int ok_other = g >= 0 && face_ok[fbase[d] + g];
             if (d > k) {
                 if (ok)
                     interior[n_int++] = (face_rec){k, d, t, k, f, 0};
@@ -327,5 +380,8 @@ done:
     free(boundary);
     free(pid);
     free(buf);
+    free(fbase);
+    free(face_ok);
+    free(twin);
     return rc;
 }

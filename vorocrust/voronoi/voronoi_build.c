@@ -449,7 +449,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             fprintf(stderr, "voronoi: stitching %lld cells\n", (long long)n_kept);
 #endif
         }
-        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, MERGE_TOL, out, err);
+        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, build_order, MERGE_TOL, out, err);
     }
     for (int64_t k = 0; k < n_kept; k++)
         free(cells[k].v);
