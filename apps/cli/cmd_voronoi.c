@@ -6,6 +6,9 @@
 #include <string.h>
 #include <unistd.h>
 #include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "commands.h"
 #include "vorocrust/io.h"
@@ -117,6 +120,9 @@ int vc_cmd_voronoi(int argc, char **argv)
                 return 2;
             }
             opt.threads = (int)t;
+#ifdef _OPENMP
+            omp_set_num_threads((int)t); /* also for writing the outputs */
+#endif
         } else if (!strcmp(a, "--encoding") && i + 1 < argc) {
             const char *e = argv[++i];
             if (!strcmp(e, "zlib"))

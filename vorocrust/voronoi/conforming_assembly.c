@@ -287,34 +287,74 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     out->face_other_seed = malloc((size_t)(n_faces > 0 ? n_faces : 1) * sizeof(int64_t));
     if (!out->face_offsets || !out->face_owner || !out->face_neighbour || !out->face_other_seed)
         goto nomem;
-    int64_t total_fv = 0;
-    out->face_offsets[0] = 0;
-    for (int64_t i = 0; i < n_faces; i++) {
-        const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
-        total_fv += face_cycle(&as, r->src_cell, r->src_face, buf);
-        out->face_offsets[i + 1] = total_fv;
-        out->face_owner[i] = r->owner;
-        out->face_neighbour[i] = r->neighbour;
-        out->face_other_seed[i] = r->other_seed;
-    }
-    out->face_vertices = malloc((size_t)(total_fv > 0 ? total_fv : 1) * sizeof(int64_t));
+    /* Face lengths and the used representatives (in parallel), points
+     * numbered in copy order (spatially coherent: copies follow the bin
+     * order), then the vertex lists (in parallel). */
     pid = malloc((size_t)(n_copies > 0 ? n_copies : 1) * sizeof(int64_t));
-    if (!out->face_vertices || !pid)
+    if (!pid)
         goto nomem;
+#pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n_copies; i++)
         pid[i] = -1;
-    int64_t n_points = 0;
-    for (int64_t i = 0; i < n_faces; i++) {
-        const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
-        int len = face_cycle(&as, r->src_cell, r->src_face, buf);
-        int64_t *dst = out->face_vertices + out->face_offsets[i];
-        for (int j = 0; j < len; j++) {
-            int64_t root = buf[r->reversed ? len - 1 - j : j];
-            if (pid[root] < 0)
-                pid[root] = n_points++;
-            dst[j] = pid[root];
+    alloc_failed = 0;
+#pragma omp parallel
+    {
+        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
+        if (!tbuf) {
+#pragma omp atomic write
+            alloc_failed = 1;
         }
+#pragma omp for schedule(dynamic, 1024)
+        for (int64_t i = 0; i < n_faces; i++) {
+            if (!tbuf)
+                continue;
+            const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
+            int len = face_cycle(&as, r->src_cell, r->src_face, tbuf);
+            out->face_offsets[i + 1] = len;
+            out->face_owner[i] = r->owner;
+            out->face_neighbour[i] = r->neighbour;
+            out->face_other_seed[i] = r->other_seed;
+            for (int j = 0; j < len; j++)
+                __atomic_store_n(&pid[tbuf[j]], 0, __ATOMIC_RELAXED); /* used */
+        }
+        free(tbuf);
     }
+    if (alloc_failed)
+        goto nomem;
+    out->face_offsets[0] = 0;
+    for (int64_t i = 0; i < n_faces; i++)
+        out->face_offsets[i + 1] += out->face_offsets[i];
+    const int64_t total_fv = out->face_offsets[n_faces];
+    int64_t n_points = 0;
+    for (int64_t i = 0; i < n_copies; i++)
+        if (pid[i] == 0)
+            pid[i] = n_points++;
+        else
+            pid[i] = -1;
+    out->face_vertices = malloc((size_t)(total_fv > 0 ? total_fv : 1) * sizeof(int64_t));
+    if (!out->face_vertices)
+        goto nomem;
+#pragma omp parallel
+    {
+        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
+        if (!tbuf) {
+#pragma omp atomic write
+            alloc_failed = 1;
+        }
+#pragma omp for schedule(dynamic, 1024)
+        for (int64_t i = 0; i < n_faces; i++) {
+            if (!tbuf)
+                continue;
+            const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
+            int len = face_cycle(&as, r->src_cell, r->src_face, tbuf);
+            int64_t *dst = out->face_vertices + out->face_offsets[i];
+            for (int j = 0; j < len; j++)
+                dst[j] = pid[tbuf[r->reversed ? len - 1 - j : j]];
+        }
+        free(tbuf);
+    }
+    if (alloc_failed)
+        goto nomem;
     out->n_points = n_points;
     out->points = malloc((size_t)(n_points > 0 ? n_points : 1) * 3 * sizeof(double));
     if (!out->points)

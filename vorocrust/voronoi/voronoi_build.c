@@ -449,7 +449,15 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             fprintf(stderr, "voronoi: stitching %lld cells\n", (long long)n_kept);
 #endif
         }
+#ifdef _OPENMP
+        /* The stitching's parallel loops use the requested thread count. */
+        int saved_threads = omp_get_max_threads();
+        omp_set_num_threads(threads);
+#endif
         rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, build_order, MERGE_TOL, out, err);
+#ifdef _OPENMP
+        omp_set_num_threads(saved_threads);
+#endif
     }
     for (int64_t k = 0; k < n_kept; k++)
         free(cells[k].v);
