@@ -218,6 +218,50 @@ static void test_cube_corners(void)
     vc_seeds_free(&s);
 }
 
+/* Kept cells that touch only along an edge or at a corner, with non-kept
+ * cells around it: a 3x3x3 lattice with a checkerboard of kept seeds (every
+ * kept pair of neighbours shares at most an edge). Each cube corner must
+ * be one mesh point: the kept cubes' corners are exactly the lattice
+ * points they touch. */
+static void test_checkerboard(void)
+{
+    const int k = 3;
+    vc_seeds s;
+    vc_seeds_alloc(&s, k * k * k, NULL);
+    int64_t n_kept = 0;
+    char used[4][4][4];
+    memset(used, 0, sizeof used);
+    for (int z = 0, i = 0; z < k; z++)
+        for (int y = 0; y < k; y++)
+            for (int x = 0; x < k; x++, i++) {
+                s.xyz[3 * i] = x + 0.5;
+                s.xyz[3 * i + 1] = y + 0.5;
+                s.xyz[3 * i + 2] = z + 0.5;
+                s.label[i] = (x + y + z) % 2 == 0;
+                if (s.label[i]) {
+                    n_kept++;
+                    for (int c = 0; c < 8; c++)
+                        used[z + (c >> 2)][y + ((c >> 1) & 1)][x + (c & 1)] = 1;
+                }
+            }
+    int64_t corners = 0;
+    for (int z = 0; z <= k; z++)
+        for (int y = 0; y <= k; y++)
+            for (int x = 0; x <= k; x++)
+                corners += used[z][y][x];
+    double box[6] = {0, 0, 0, k, k, k};
+    vc_polymesh m;
+    if (build_checked("checkerboard", &s, box, 2, (double)n_kept, &m) == 0) {
+        CHECK(m.n_cells == n_kept && m.n_interior_faces == 0,
+              "checkerboard: %lld cells, %lld interior faces", (long long)m.n_cells,
+              (long long)m.n_interior_faces);
+        CHECK(m.n_points == corners, "checkerboard: %lld points, expected %lld shared corners",
+              (long long)m.n_points, (long long)corners);
+        vc_polymesh_free(&m);
+    }
+    vc_seeds_free(&s);
+}
+
 static void test_single_and_duplicates(void)
 {
     vc_seeds s;
@@ -271,6 +315,7 @@ int main(void)
 {
     test_single_and_duplicates();
     test_lattice(6);
+    test_checkerboard();
     test_cube_corners();
     test_random(2000, 42);
     test_random(20000, 43);

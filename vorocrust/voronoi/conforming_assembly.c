@@ -128,6 +128,109 @@ typedef struct face_rec {
     int reversed;             /* 1: the source cycle is seen from the neighbour */
 } face_rec;
 
+/* A vertex copy on a face against a non-kept cell or a wall, binned by
+ * position for matching copies of cells that share no face. */
+typedef struct loose_copy {
+    int64_t key[3];
+    int64_t copy;
+    const double *x;
+    double tol;
+} loose_copy;
+
+static int cmp_loose(const void *a, const void *b)
+{
+    const loose_copy *x = a, *y = b;
+    for (int d = 0; d < 3; d++)
+        if (x->key[d] != y->key[d])
+            return x->key[d] < y->key[d] ? -1 : 1;
+    return x->copy < y->copy ? -1 : (x->copy > y->copy);
+}
+
+/* First entry with key >= k. */
+static int64_t lower_bound(const loose_copy *e, int64_t n, const int64_t k[3])
+{
+    int64_t lo = 0, hi = n;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        int less = 0;
+        for (int d = 0; d < 3; d++)
+            if (e[mid].key[d] != k[d]) {
+                less = e[mid].key[d] < k[d];
+                break;
+            }
+        if (less)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Kept cells that meet only along an edge or at a vertex (every cell
+ * around it in between is not kept) share no face, so their copies of the
+ * common vertices are matched here, by position: the copies on outer faces
+ * are binned on a grid of the largest merge tolerance and compared with
+ * the copies in the 27 surrounding bins. Returns -1 when out of memory. */
+static int match_loose_copies(assembly *as, double merge_tol)
+{
+    int64_t n = 0;
+    for (int64_t k = 0; k < as->n_kept; k++) {
+        const vc_cell_result *c = &as->cells[k];
+        for (int f = 0; f < c->nf; f++)
+            if (c->plane[f] < 0 || as->cell_of_seed[c->plane[f]] < 0)
+                n += c->face_start[f + 1] - c->face_start[f];
+    }
+    if (n == 0)
+        return 0;
+    loose_copy *e = malloc((size_t)n * sizeof *e);
+    if (!e)
+        return -1;
+    double h = 0;
+    int64_t m = 0;
+    for (int64_t k = 0; k < as->n_kept; k++) {
+        const vc_cell_result *c = &as->cells[k];
+        double tol = merge_tol * c->scale;
+        if (tol > h)
+            h = tol;
+        for (int f = 0; f < c->nf; f++) {
+            if (!(c->plane[f] < 0 || as->cell_of_seed[c->plane[f]] < 0))
+                continue;
+            for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++) {
+                e[m].copy = as->vbase[k] + c->fv[i];
+                e[m].x = c->v + 3 * c->fv[i];
+                e[m].tol = tol;
+                m++;
+            }
+        }
+    }
+    if (!(h > 0)) {
+        free(e);
+        return 0;
+    }
+    for (int64_t i = 0; i < n; i++)
+        for (int d = 0; d < 3; d++)
+            e[i].key[d] = (int64_t)floor(e[i].x[d] / h);
+    qsort(e, (size_t)n, sizeof *e, cmp_loose);
+    for (int64_t i = 0; i < n; i++) {
+        for (int dz = -1; dz <= 1; dz++)
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int64_t k[3] = {e[i].key[0] + dx, e[i].key[1] + dy, e[i].key[2] + dz};
+                    for (int64_t j = lower_bound(e, n, k); j < n; j++) {
+                        if (e[j].key[0] != k[0] || e[j].key[1] != k[1] || e[j].key[2] != k[2])
+                            break;
+                        if (e[j].copy <= e[i].copy)
+                            continue;
+                        double tol = e[i].tol > e[j].tol ? e[i].tol : e[j].tol;
+                        if (dist2(e[i].x, e[j].x) <= tol * tol)
+                            unite(as->parent, e[i].copy, e[j].copy);
+                    }
+                }
+    }
+    free(e);
+    return 0;
+}
+
 static int cmp_interior(const void *a, const void *b)
 {
     const face_rec *x = a, *y = b;
@@ -206,6 +309,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
                 match_face(&as, d, g, k, f, tol2f);
         }
     }
+    if (match_loose_copies(&as, merge_tol) != 0)
+        goto nomem;
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = find_root(as.parent, i);
