@@ -46,7 +46,7 @@ int vc_cmd_info(int argc, char **argv)
             if (i + 1 < argc)
                 sharp_angle = strtod(argv[i + 1], &end);
             if (i + 1 >= argc || end == argv[i + 1] || *end || !(sharp_angle > 0 && sharp_angle < 180)) {
-                fprintf(stderr, "vorocrust info: --sharp-angle needs a number of degrees in (0, 180)%s%s%s\n",
+                fprintf(stderr, "vorocrust: --sharp-angle needs a number of degrees in (0, 180)%s%s%s\n",
                         i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
                         i + 1 < argc ? "'" : "");
                 return 2;
@@ -54,13 +54,13 @@ int vc_cmd_info(int argc, char **argv)
             features = 1;
             i++;
         } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust info: unknown option '%s'\n", a);
+            fprintf(stderr, "vorocrust: unknown option '%s'\n", a);
             usage(stderr);
             return 2;
         } else if (!path) {
             path = a;
         } else {
-            fprintf(stderr, "vorocrust info: more than one INPUT ('%s', '%s')\n", path, a);
+            fprintf(stderr, "vorocrust: more than one INPUT ('%s', '%s')\n", path, a);
             return 2;
         }
     }

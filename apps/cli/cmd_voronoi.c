@@ -47,6 +47,17 @@ static void usage(FILE *f)
         "  --quiet                 no progress or summary\n");
 }
 
+/* Options that are followed by a value (reached here only when it is missing). */
+static int takes_value(const char *a)
+{
+    static const char *const with_value[] = {"-o", "--output", "--connections", "--threads",
+                                             "--encoding"};
+    for (size_t i = 0; i < sizeof with_value / sizeof with_value[0]; i++)
+        if (!strcmp(a, with_value[i]))
+            return 1;
+    return 0;
+}
+
 static double now(void)
 {
     struct timespec ts;
@@ -95,18 +106,18 @@ int vc_cmd_voronoi(int argc, char **argv)
             conn_path = argv[++i];
         } else if (!strcmp(a, "--box")) {
             if (i + 6 >= argc) {
-                fprintf(stderr, "vorocrust voronoi: --box needs 6 numbers\n");
+                fprintf(stderr, "vorocrust: --box needs 6 numbers\n");
                 return 2;
             }
             for (int d = 0; d < 6; d++)
                 if (parse_double(argv[i + 1 + d], &opt.box[d]) != 0) {
-                    fprintf(stderr, "vorocrust voronoi: --box: '%s' is not a finite number\n",
+                    fprintf(stderr, "vorocrust: --box: '%s' is not a finite number\n",
                             argv[i + 1 + d]);
                     return 2;
                 }
             for (int d = 0; d < 3; d++)
                 if (!(opt.box[d] < opt.box[d + 3])) {
-                    fprintf(stderr, "vorocrust voronoi: --box: min %g >= max %g on axis %c\n",
+                    fprintf(stderr, "vorocrust: --box: min %g >= max %g on axis %c\n",
                             opt.box[d], opt.box[d + 3], 'x' + d);
                     return 2;
                 }
@@ -115,7 +126,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             long t;
             if (parse_int(argv[++i], 1, 4096, &t) != 0) {
-                fprintf(stderr, "vorocrust voronoi: --threads: '%s' is not a count from 1 to 4096\n",
+                fprintf(stderr, "vorocrust: --threads: '%s' is not a count from 1 to 4096\n",
                         argv[i]);
                 return 2;
             }
@@ -130,25 +141,28 @@ int vc_cmd_voronoi(int argc, char **argv)
             else if (!strcmp(e, "raw"))
                 enc = VC_VTU_RAW;
             else {
-                fprintf(stderr, "vorocrust voronoi: --encoding: '%s' is not zlib or raw\n", e);
+                fprintf(stderr, "vorocrust: --encoding: '%s' is not zlib or raw\n", e);
                 return 2;
             }
         } else if (!strcmp(a, "--no-validate")) {
             validate = 0;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (takes_value(a)) {
+            fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust voronoi --help')\n", a);
+            return 2;
         } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust voronoi: unknown or incomplete option '%s' (see --help)\n", a);
+            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust voronoi --help')\n", a);
             return 2;
         } else if (!seeds_path) {
             seeds_path = a;
         } else {
-            fprintf(stderr, "vorocrust voronoi: unexpected argument '%s'\n", a);
+            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
             return 2;
         }
     }
     if (!seeds_path || !out_path) {
-        fprintf(stderr, "vorocrust voronoi: %s (see --help)\n",
+        fprintf(stderr, "vorocrust: %s (see 'vorocrust voronoi --help')\n",
                 !seeds_path ? "missing the seeds file SEEDS.csv" : "missing -o OUT.vtu");
         return 2;
     }
@@ -203,7 +217,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         vc_polymesh_stats st;
         vc_polymesh_stats_compute(&mesh, &st);
         fprintf(stderr,
-                "vorocrust voronoi: %lld seeds, %lld cells, %lld faces (%lld interior, %lld boundary), "
+                "vorocrust: %lld seeds, %lld cells, %lld faces (%lld interior, %lld boundary), "
                 "%lld vertices\n"
                 "  volume %.17g (cell min %.6g, max %.6g), faces per cell mean %.2f max %.0f\n"
                 "  validation %s\n"
