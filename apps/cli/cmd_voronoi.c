@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <time.h>
 #ifdef _OPENMP
@@ -168,12 +169,24 @@ int vc_cmd_voronoi(int argc, char **argv)
     }
     /* Refuse unwritable outputs before the work, not after. */
     const char *outputs[2] = {out_path, conn_path};
-    for (int i = 0; i < 2; i++)
-        if (outputs[i] && !directory_writable(outputs[i])) {
+    for (int i = 0; i < 2; i++) {
+        struct stat st;
+        if (!outputs[i])
+            continue;
+        if (!directory_writable(outputs[i])) {
             fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
                     outputs[i]);
             return 1;
         }
+        if (stat(outputs[i], &st) == 0 && S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", outputs[i]);
+            return 1;
+        }
+    }
+    if (conn_path && !strcmp(conn_path, out_path)) {
+        fprintf(stderr, "vorocrust: %s: named by both -o and --connections\n", out_path);
+        return 2;
+    }
     opt.progress = !quiet;
 
     vc_error err = {0, ""};
@@ -217,7 +230,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         vc_polymesh_stats st;
         vc_polymesh_stats_compute(&mesh, &st);
         fprintf(stderr,
-                "vorocrust: %lld seeds, %lld cells, %lld faces (%lld interior, %lld boundary), "
+                "vorocrust voronoi: %lld seeds, %lld cells, %lld faces (%lld interior, %lld boundary), "
                 "%lld vertices\n"
                 "  volume %.17g (cell min %.6g, max %.6g), faces per cell mean %.2f max %.0f\n"
                 "  validation %s\n"
