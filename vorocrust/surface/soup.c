@@ -1,5 +1,6 @@
 /* The polygon soup the readers fill, and the text scanner they share. */
 #include "surface/surface_internal.h"
+#include "util/number_span.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -75,9 +76,9 @@ int vc_scan_double(vc_scan *sc, double *v)
     vc_scan_blanks(sc);
     if (sc->p >= sc->end || *sc->p == '\n')
         return 0;
-    char *e;
-    errno = 0;
-    double d = strtod(sc->p, &e);
+    double d;
+    int erange;
+    const char *e = sc->p + vc_strtod_span(sc->p, sc->end, &d, &erange);
     /* ERANGE on underflow still gives a usable value; overflow gives inf,
      * which the caller's finiteness check reports. */
     if (e == sc->p || e > sc->end)
@@ -94,10 +95,10 @@ int vc_scan_int(vc_scan *sc, int64_t *v)
     vc_scan_blanks(sc);
     if (sc->p >= sc->end || *sc->p == '\n')
         return 0;
-    char *e;
-    errno = 0;
-    long long k = strtoll(sc->p, &e, 10);
-    if (e == sc->p || e > sc->end || errno == ERANGE)
+    long long k;
+    int erange;
+    const char *e = sc->p + vc_strtoll_span(sc->p, sc->end, &k, &erange);
+    if (e == sc->p || erange)
         return 0;
     sc->p = e;
     *v = (int64_t)k;
