@@ -1,29 +1,95 @@
 /* Stitching independently computed Voronoi cells into one conforming mesh
  * (see cell_result.h).
  *
- * Every cell holds its own copy of each of its vertices. Copies of one
- * Voronoi vertex are identified with a union-find: inside a cell, the ends
- * of edges shorter than the tolerance; across two kept cells, the vertices
- * of their common face, matched to the nearest copy on the other side.
+ * The cells are handled in the spatial order given by the caller (their
+ * position in it is called m below; neighbouring cells are close in it),
+ * through a compact header per cell, so that a cell's neighbours are
+ * usually in cache. Every cell holds its own copy of each of its vertices;
+ * copy i of the cell at position m is numbered vbase[m] + i.
+ *
+ * Copies of one Voronoi vertex are identified with a union-find:
+ *  - inside a cell, the ends of edges shorter than the tolerance;
+ *  - across two kept cells, the vertices of their common face: the two
+ *    copies of the face are normally the same cycle in opposite directions,
+ *    checked in one pass; otherwise (degenerate faces) every vertex is
+ *    matched to the nearest copy on the other side, both ways;
+ *  - copies on faces against a non-kept cell or the box, by position (a
+ *    hash grid), for kept cells that meet only along an edge or at a vertex.
  * The component's smallest copy index is its representative, so the result
  * does not depend on the order of the unions: they run on threads, linking
  * roots with compare-and-swap (a root is only ever linked to a smaller
- * index). A face between two kept cells is then written once, from its
- * owner (the lower cell index). */
+ * index).
+ *
+ * Every later step is a pass over the cells, on threads, writing to places
+ * fixed by prefix sums over the cells, so the output is the same byte for
+ * byte whatever the thread count:
+ *  - a face between two kept cells is written once, by its owner (the
+ *    lower cell index, i.e. the lower seed index), from the owner's copy,
+ *    or from the neighbour's copy reversed when the owner's degenerated;
+ *    interior faces come out sorted by (owner, neighbour), boundary faces
+ *    by (owner, face);
+ *  - points are the representatives used by some face, numbered in copy
+ *    order (spatially coherent);
+ *  - a cell lists its faces in increasing face index;
+ *  - the geometry is vc_polymesh_compute_geometry's, computed here with the
+ *    same arithmetic while the faces are written (in cache).
+ *
+ * Set VC_ASSEMBLY_TIMING in the environment to print the phase times. */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE 1 /* madvise */
+#endif
 #include "cell_result.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
-typedef struct assembly {
-    const vc_cell_result *cells;
-    const int64_t *kept_seed;
-    int64_t n_kept;
-    int64_t *cell_of_seed; /* seed -> kept cell index, or -1 */
-    int64_t *vbase;        /* cell -> index of its first vertex copy */
-    int64_t *parent;       /* union-find over vertex copies */
-} assembly;
+/* ---------------------------------------------------------------------
+ * Memory. The large arrays are touched once, in parallel passes; on Linux
+ * they are backed by transparent huge pages when the system allows it,
+ * which makes first touches several times cheaper. They are freed with
+ * free(), like any other allocation (the mesh's arrays are among them). */
+
+#define BIG_ALLOC_MIN ((size_t)4 << 20)
+#define HUGE_PAGE ((size_t)2 << 20)
+
+static void *big_alloc(size_t bytes)
+{
+    if (bytes == 0)
+        bytes = 1;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= BIG_ALLOC_MIN) {
+        size_t rounded = (bytes + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
+        void *p = NULL;
+        if (posix_memalign(&p, HUGE_PAGE, rounded) != 0)
+            return NULL;
+        (void)madvise(p, rounded, MADV_HUGEPAGE);
+        return p;
+    }
+#endif
+    return malloc(bytes);
+}
+
+#define BIG_ARRAY(n, type) ((type *)big_alloc((size_t)(n) * sizeof(type)))
+
+static double wall_time(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    return 0;
+#endif
+}
+
+/* ---------------------------------------------------------------------
+ * Union-find over the vertex copies. */
 
 /* Thread-safe find with path halving: a parent pointer only ever moves to
  * an ancestor, which stays an ancestor whatever other threads link. */
@@ -49,20 +115,84 @@ static void unite(int64_t *parent, int64_t a, int64_t b)
         if (a == b)
             return;
         int64_t hi = a > b ? a : b, lo = a > b ? b : a, expected = hi;
+#ifdef EXP_NOCAS
+        (void)expected; parent[hi] = lo; return;
+#endif
         if (__atomic_compare_exchange_n(&parent[hi], &expected, lo, 0, __ATOMIC_RELAXED,
                                         __ATOMIC_RELAXED))
             return;
     }
 }
 
-static double dist2(const double *a, const double *b)
+static inline double dist2(const double *a, const double *b)
 {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
     return dx * dx + dy * dy + dz * dz;
 }
 
+/* A cell, at its position m in the spatial order. */
+typedef struct cell_hdr {
+    const double *v;
+    const int64_t *plane;
+    const int *face_start;
+    const int *fv;
+    int64_t vbase;  /* copy index of its vertex 0 */
+    int64_t abase;  /* its data in the arena (bytes) */
+    int64_t fbase;  /* index of its face 0 among all cells' faces */
+    int64_t k;      /* cell index */
+    int64_t seed;   /* seed index (increasing with k) */
+    double tol;     /* merge tolerance */
+    int nv, nf;
+} cell_hdr;
+
+/* Per cell, at its position: counts, then (after the prefix sums) the
+ * places of its faces in the output. */
+typedef struct cell_acc {
+    int64_t n_int, n_bnd;   /* faces it owns; then their first index */
+    int64_t fv_int, fv_bnd; /* their vertex count; then their first offset */
+    int64_t n_nb;           /* faces it lists but does not own (atomic) */
+    int64_t nb_fill;        /* of those, listed so far (atomic) */
+    int64_t cell_off;       /* its first entry in cell_faces */
+    int64_t first_point;
+} cell_acc;
+
+typedef struct assembly {
+    const cell_hdr *h; /* n cells, in spatial order */
+    int64_t n;
+    int32_t *nbr;      /* per face: position of the kept cell beyond, or -1 */
+    int32_t *twin;     /* per face: the same face in that cell, or -1 */
+    int32_t *flen;     /* per face: cycle length after merging (0: gone), -1: unknown */
+    int64_t *parent;   /* union-find over the copies; later, point ids */
+    cell_acc *acc;
+} assembly;
+
+/* The cells' data are copied, in the spatial order, into one arena: in
+ * cache and in few pages for the passes below. */
+static int64_t cell_bytes(const vc_cell_result *c)
+{
+    int64_t b = (int64_t)c->nv * 3 * (int64_t)sizeof(double) + (int64_t)c->nf * (int64_t)sizeof(int64_t) +
+                ((int64_t)c->nf + 1 + c->face_start[c->nf]) * (int64_t)sizeof(int);
+    return (b + 7) & ~(int64_t)7;
+}
+
+static void copy_cell(cell_hdr *c, char *dst)
+{
+    const int nfv = c->face_start[c->nf];
+    double *v = (double *)dst;
+    int64_t *plane = (int64_t *)(v + 3 * c->nv);
+    int *fs = (int *)(plane + c->nf), *fv = fs + c->nf + 1;
+    memcpy(v, c->v, (size_t)c->nv * 3 * sizeof(double));
+    memcpy(plane, c->plane, (size_t)c->nf * sizeof(int64_t));
+    memcpy(fs, c->face_start, (size_t)(c->nf + 1) * sizeof(int));
+    memcpy(fv, c->fv, (size_t)nfv * sizeof(int));
+    c->v = v;
+    c->plane = plane;
+    c->face_start = fs;
+    c->fv = fv;
+}
+
 /* Face of cell c made by seed s, or -1. */
-static int face_with_plane(const vc_cell_result *c, int64_t s)
+static int face_with_plane(const cell_hdr *c, int64_t s)
 {
     for (int f = 0; f < c->nf; f++)
         if (c->plane[f] == s)
@@ -71,12 +201,12 @@ static int face_with_plane(const vc_cell_result *c, int64_t s)
 }
 
 /* Unites every vertex of face fa of cell a with the nearest vertex of face
- * fb of cell b (all of b's vertices when fb < 0), when within tol. */
-static void match_face(assembly *as, int64_t a, int fa, int64_t b, int fb, double tol2)
+ * fb of cell b (all of b's vertices when fb < 0 or none is close), when
+ * within tol. */
+static void match_nearest(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb,
+                          int fb, double tol2)
 {
-    const vc_cell_result *ca = &as->cells[a], *cb = &as->cells[b];
-    int s0 = ca->face_start[fa], s1 = ca->face_start[fa + 1];
-    for (int i = s0; i < s1; i++) {
+    for (int i = ca->face_start[fa]; i < ca->face_start[fa + 1]; i++) {
         int va = ca->fv[i];
         const double *x = ca->v + 3 * va;
         double best = tol2;
@@ -100,417 +230,801 @@ static void match_face(assembly *as, int64_t a, int fa, int64_t b, int fb, doubl
             }
         }
         if (vb >= 0)
-            unite(as->parent, as->vbase[a] + va, as->vbase[b] + vb);
+            unite(parent, ca->vbase + va, cb->vbase + vb);
     }
 }
 
-/* Writes the representative cycle of face f of cell k into buf (removing
- * repeated consecutive vertices); returns its length (< 3: degenerate). */
-static int face_cycle(const assembly *as, int64_t k, int f, int64_t *buf)
+/* Identifies the copies on face fa of cell a and face fb (>= 0) of cell b,
+ * the same face seen from both sides. In general position both are the
+ * same cycle in opposite directions: one pass checks it and unites the
+ * pairs. Otherwise, nearest matches both ways. */
+static void match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
+                       double tol2)
 {
-    const vc_cell_result *c = &as->cells[k];
-    int n = 0;
-    for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++) {
-        int64_t r = as->parent[as->vbase[k] + c->fv[i]];
-        if (n == 0 || buf[n - 1] != r)
-            buf[n++] = r;
+    const int *pa = ca->fv + ca->face_start[fa], *pb = cb->fv + cb->face_start[fb];
+    const int n = ca->face_start[fa + 1] - ca->face_start[fa];
+    if (n == cb->face_start[fb + 1] - cb->face_start[fb] && n >= 3) {
+        const double *x0 = ca->v + 3 * pa[0];
+        int j0 = -1;
+        double best = tol2;
+        for (int j = 0; j < n; j++) {
+            double d = dist2(x0, cb->v + 3 * pb[j]);
+            if (d <= best) {
+                best = d;
+                j0 = j;
+            }
+        }
+        int ok = j0 >= 0;
+        for (int i = 1, j = j0; i < n && ok; i++) {
+            j = j == 0 ? n - 1 : j - 1;
+            ok = dist2(ca->v + 3 * pa[i], cb->v + 3 * pb[j]) <= tol2;
+        }
+        if (ok) {
+            for (int i = 0, j = j0; i < n; i++, j = j == 0 ? n - 1 : j - 1)
+                unite(parent, ca->vbase + pa[i], cb->vbase + pb[j]);
+            return;
+        }
     }
-    while (n > 1 && buf[n - 1] == buf[0])
+    match_nearest(parent, ca, fa, cb, fb, tol2);
+    match_nearest(parent, cb, fb, ca, fa, tol2);
+}
+
+/* The matching reads the data of each cell's neighbours later in the
+ * spatial order, often for the first time (from memory): they are
+ * prefetched a few cells ahead, the headers first. */
+#define PREFETCH_AHEAD 4
+
+static void prefetch_headers(const assembly *as, int64_t m)
+{
+    const cell_hdr *c = &as->h[m];
+    for (int f = 0; f < c->nf; f++) {
+        int32_t om = as->nbr[c->fbase + f];
+        if (om > m) {
+            __builtin_prefetch(&as->h[om]);
+            __builtin_prefetch((const char *)&as->h[om] + sizeof(cell_hdr) - 1);
+        }
+    }
+}
+
+static void prefetch_lines(const void *p, size_t bytes)
+{
+    const char *a = (const char *)((uintptr_t)p & ~(uintptr_t)63), *e = (const char *)p + bytes;
+    for (; a < e; a += 64)
+        __builtin_prefetch(a);
+}
+
+static void prefetch_cells(const assembly *as, int64_t m)
+{
+    const cell_hdr *c = &as->h[m];
+    for (int f = 0; f < c->nf; f++) {
+        int32_t om = as->nbr[c->fbase + f];
+        if (om > m) {
+            const cell_hdr *d = &as->h[om];
+            prefetch_lines(d->plane, (size_t)d->nf * sizeof(int64_t));
+            prefetch_lines(d->face_start, (size_t)(d->nf + 1) * sizeof(int));
+            prefetch_lines(d->v, (size_t)d->nv * 3 * sizeof(double));
+            prefetch_lines(as->parent + d->vbase, (size_t)d->nv * sizeof(int64_t));
+        }
+    }
+}
+
+/* ---------------------------------------------------------------------
+ * Kept cells that meet only along an edge or at a vertex (every cell
+ * around it in between is not kept) share no face, so their copies of the
+ * common vertices are matched by position: the copies on faces against a
+ * non-kept cell or the box go into a hash grid of cubes of side 4 h (h: the
+ * largest merge tolerance); each copy looks at the 2 x 2 x 2 cubes nearest
+ * to it, which hold every point within 2 h of it. */
+
+typedef struct loose_copy {
+    int64_t copy; /* -1: unused entry */
+    const double *x;
+    double tol;
+    int64_t key[3];
+} loose_copy;
+
+static inline uint64_t key_hash(const int64_t k[3])
+{
+    uint64_t h = (uint64_t)k[0] * 0x9E3779B97F4A7C15ull;
+    h ^= (uint64_t)k[1] * 0xC2B2AE3D27D4EB4Full + (h >> 29);
+    h ^= (uint64_t)k[2] * 0x165667B19E3779F9ull + (h >> 31);
+    return h ^ (h >> 32);
+}
+
+/* n_outer[m]: number of copies (with repeats) of cell m on its outer
+ * faces. Returns -1 when out of memory. */
+static int match_loose_copies(const assembly *as, const int64_t *n_outer, int max_nv)
+{
+    const int64_t n_cells = as->n;
+    int64_t *start = BIG_ARRAY(n_cells + 1, int64_t);
+    if (!start)
+        return -1;
+    start[0] = 0;
+    double h = 0;
+    for (int64_t m = 0; m < n_cells; m++) {
+        start[m + 1] = start[m] + n_outer[m];
+        if (n_outer[m] > 0 && as->h[m].tol > h)
+            h = as->h[m].tol;
+    }
+    const int64_t n = start[n_cells];
+    if (n == 0 || !(h > 0)) {
+        free(start);
+        return 0;
+    }
+    const double side = 4 * h;
+    int64_t n_slots = 1;
+    while (n_slots < 2 * n)
+        n_slots *= 2;
+    loose_copy *e = BIG_ARRAY(n, loose_copy);
+    int64_t *head = BIG_ARRAY(n_slots, int64_t);
+    int64_t *next = BIG_ARRAY(n, int64_t);
+    int failed = 0;
+    if (!e || !head || !next) {
+        free(start);
+        free(e);
+        free(head);
+        free(next);
+        return -1;
+    }
+#pragma omp parallel
+    {
+        unsigned char *seen = calloc((size_t)max_nv + 1, 1);
+        if (!seen) {
+#pragma omp atomic write
+            failed = 1;
+        }
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < n_slots; i++)
+            head[i] = -1;
+        /* Entries in copy order, inserted into the grid's chains. The
+         * chains' order varies with the threads, the unions found do not. */
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_cells; m++) {
+            const cell_hdr *c = &as->h[m];
+            if (!seen || n_outer[m] == 0)
+                continue;
+            int64_t w = start[m];
+            for (int f = 0; f < c->nf; f++) {
+                if (as->nbr[c->fbase + f] >= 0)
+                    continue;
+                for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++) {
+                    int v = c->fv[i];
+                    if (seen[v])
+                        continue;
+                    seen[v] = 1;
+                    loose_copy *q = &e[w];
+                    q->copy = c->vbase + v;
+                    q->x = c->v + 3 * v;
+                    q->tol = c->tol;
+                    for (int d = 0; d < 3; d++)
+                        q->key[d] = (int64_t)floor(q->x[d] / side);
+                    int64_t slot = (int64_t)(key_hash(q->key) & (uint64_t)(n_slots - 1));
+                    int64_t old = __atomic_load_n(&head[slot], __ATOMIC_RELAXED);
+                    do
+                        next[w] = old;
+                    while (!__atomic_compare_exchange_n(&head[slot], &old, w, 1, __ATOMIC_RELAXED,
+                                                        __ATOMIC_RELAXED));
+                    w++;
+                }
+            }
+            for (int f = 0; f < c->nf; f++)
+                for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++)
+                    seen[c->fv[i]] = 0;
+            for (; w < start[m + 1]; w++) /* repeated copies */
+                e[w] = (loose_copy){-1, NULL, 0, {0, 0, 0}};
+        }
+        free(seen);
+        if (!failed) {
+            /* head[] and next[] are complete after the loop's barrier. */
+#pragma omp for schedule(dynamic, 1024)
+            for (int64_t i = 0; i < n; i++) {
+                const loose_copy *q = &e[i];
+                if (q->copy < 0)
+                    continue;
+                int64_t step[3];
+                for (int d = 0; d < 3; d++)
+                    step[d] = q->x[d] / side - (double)q->key[d] < 0.5 ? -1 : 1;
+                for (int b = 0; b < 8; b++) {
+                    int64_t key[3] = {q->key[0] + ((b & 1) ? step[0] : 0),
+                                      q->key[1] + ((b & 2) ? step[1] : 0),
+                                      q->key[2] + ((b & 4) ? step[2] : 0)};
+                    int64_t slot = (int64_t)(key_hash(key) & (uint64_t)(n_slots - 1));
+                    for (int64_t j = head[slot]; j >= 0; j = next[j]) {
+                        const loose_copy *r = &e[j];
+                        if (r->copy <= q->copy || r->key[0] != key[0] || r->key[1] != key[1] ||
+                            r->key[2] != key[2])
+                            continue;
+                        double tol = q->tol > r->tol ? q->tol : r->tol;
+                        if (dist2(q->x, r->x) <= tol * tol)
+                            unite(as->parent, q->copy, r->copy);
+                    }
+                }
+            }
+        }
+    }
+    free(start);
+    free(e);
+    free(head);
+    free(next);
+    return failed ? -1 : 0;
+}
+
+/* ---------------------------------------------------------------------
+ * Faces after merging. The cycle of a face is the sequence of its copies'
+ * representatives with repeated consecutive ones (and a last one equal to
+ * the first) removed; fewer than 3 left: the face is gone. */
+
+/* Cycle length of face f of cell c (parent[] holds roots). */
+static int cycle_len(const int64_t *parent, const cell_hdr *c, int f)
+{
+    const int64_t *par = parent + c->vbase;
+    const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
+    int64_t first = par[c->fv[s0]], last = first;
+    int n = 1;
+    for (int i = s0 + 1; i < s1; i++) {
+        int64_t r = par[c->fv[i]];
+        if (r != last) {
+            n++;
+            last = r;
+        }
+    }
+    if (n > 1 && last == first)
         n--;
     return n >= 3 ? n : 0;
 }
 
-typedef struct face_rec {
-    int64_t owner, neighbour; /* neighbour -1: boundary */
-    int64_t other_seed;
-    int64_t src_cell;         /* the cell whose copy of the face is used */
-    int src_face;
-    int reversed;             /* 1: the source cycle is seen from the neighbour */
-} face_rec;
-
-/* A vertex copy on a face against a non-kept cell or a wall, binned by
- * position for matching copies of cells that share no face. */
-typedef struct loose_copy {
-    int64_t key[3];
-    int64_t copy;
-    const double *x;
-    double tol;
-} loose_copy;
-
-static int cmp_loose(const void *a, const void *b)
+/* Marks the roots of the cycle of face f of cell c as used. */
+static void mark_used(const int64_t *parent, const cell_hdr *c, int f, unsigned char *used)
 {
-    const loose_copy *x = a, *y = b;
-    for (int d = 0; d < 3; d++)
-        if (x->key[d] != y->key[d])
-            return x->key[d] < y->key[d] ? -1 : 1;
-    return x->copy < y->copy ? -1 : (x->copy > y->copy);
+    const int64_t *par = parent + c->vbase;
+    for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++)
+        __atomic_store_n(&used[par[c->fv[i]]], 1, __ATOMIC_RELAXED);
 }
 
-/* First entry with key >= k. */
-static int64_t lower_bound(const loose_copy *e, int64_t n, const int64_t k[3])
+/* Point id of a copy once the used roots are numbered: a used root r holds
+ * -(id + 1) in parent[r], any other copy its root. */
+static inline int64_t point_of(const int64_t *parent, int64_t copy)
+{
+    int64_t p = parent[copy];
+    return p < 0 ? -p - 1 : -parent[p] - 1;
+}
+
+/* Writes the point ids of the cycle of face f of cell c (len entries,
+ * known), reversed when rev. */
+static void write_cycle(const int64_t *parent, const cell_hdr *c, int f, int len, int rev,
+                        int64_t *dst)
+{
+    const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
+    int n = 0;
+    int64_t last = -1;
+    for (int i = s0; i < s1 && n < len; i++) {
+        int64_t p = point_of(parent, c->vbase + c->fv[i]);
+        if (n == 0 || p != last) {
+            dst[rev ? len - 1 - n : n] = p;
+            n++;
+            last = p;
+        }
+    }
+}
+
+/* A face between two kept cells known only to the higher one (the owner
+ * has no face with the neighbour's seed: rounding). */
+typedef struct orphan {
+    int64_t owner_seed, neighbour_seed;
+    int32_t owner, neighbour; /* positions */
+    int src_face;             /* in the neighbour */
+    int len;
+} orphan;
+
+static int cmp_orphan(const void *a, const void *b)
+{
+    const orphan *x = a, *y = b;
+    if (x->owner_seed != y->owner_seed)
+        return x->owner_seed < y->owner_seed ? -1 : 1;
+    return (x->neighbour_seed > y->neighbour_seed) - (x->neighbour_seed < y->neighbour_seed);
+}
+
+/* The orphans owned by the cell at position m: a range of the sorted list. */
+static const orphan *orphans_of(const orphan *o, int64_t n, int64_t seed, int64_t *count)
 {
     int64_t lo = 0, hi = n;
     while (lo < hi) {
         int64_t mid = lo + (hi - lo) / 2;
-        int less = 0;
-        for (int d = 0; d < 3; d++)
-            if (e[mid].key[d] != k[d]) {
-                less = e[mid].key[d] < k[d];
-                break;
-            }
-        if (less)
+        if (o[mid].owner_seed < seed)
             lo = mid + 1;
         else
             hi = mid;
     }
-    return lo;
+    int64_t e = lo;
+    while (e < n && o[e].owner_seed == seed)
+        e++;
+    *count = e - lo;
+    return o + lo;
 }
 
-/* Kept cells that meet only along an edge or at a vertex (every cell
- * around it in between is not kept) share no face, so their copies of the
- * common vertices are matched here, by position: the copies on outer faces
- * are binned on a grid of the largest merge tolerance and compared with
- * the copies in the 27 surrounding bins. Returns -1 when out of memory. */
-static int match_loose_copies(assembly *as, double merge_tol)
+/* A face of the output, as enumerated by its owner. */
+typedef struct out_face {
+    int64_t other_seed;
+    int32_t neighbour; /* position, or -1 */
+    int32_t src;       /* position of the cell whose copy is written */
+    int src_face;
+    int len;
+    int reversed;      /* the source copy is seen from the neighbour */
+} out_face;
+
+/* The faces owned by the cell at position m into buf: the interior ones
+ * sorted by neighbour (o: the orphans it owns), then the boundary ones.
+ * Returns the number of interior ones; *n_bnd gets the others. */
+static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n_o,
+                       out_face *buf, int *n_bnd)
 {
-    int64_t n = 0;
-    for (int64_t k = 0; k < as->n_kept; k++) {
-        const vc_cell_result *c = &as->cells[k];
-        for (int f = 0; f < c->nf; f++)
-            if (c->plane[f] < 0 || as->cell_of_seed[c->plane[f]] < 0)
-                n += c->face_start[f + 1] - c->face_start[f];
-    }
-    if (n == 0)
-        return 0;
-    loose_copy *e = malloc((size_t)n * sizeof *e);
-    if (!e)
-        return -1;
-    double h = 0;
-    int64_t m = 0;
-    for (int64_t k = 0; k < as->n_kept; k++) {
-        const vc_cell_result *c = &as->cells[k];
-        double tol = merge_tol * c->scale;
-        if (tol > h)
-            h = tol;
-        for (int f = 0; f < c->nf; f++) {
-            if (!(c->plane[f] < 0 || as->cell_of_seed[c->plane[f]] < 0))
+    const cell_hdr *c = &as->h[m];
+    const int64_t fb = c->fbase;
+    int n = 0;
+    for (int f = 0; f < c->nf; f++) {
+        const int32_t om = as->nbr[fb + f];
+        const int64_t t = c->plane[f];
+        if (om < 0 || t < c->seed)
+            continue;
+        out_face r = {t, om, (int32_t)m, f, as->flen[fb + f], 0};
+        if (r.len <= 0) {
+            int g = as->twin[fb + f];
+            r.len = g >= 0 ? cycle_len(as->parent, &as->h[om], g) : 0;
+            if (r.len == 0)
                 continue;
-            for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++) {
-                e[m].copy = as->vbase[k] + c->fv[i];
-                e[m].x = c->v + 3 * c->fv[i];
-                e[m].tol = tol;
-                m++;
-            }
+            r.src = om;
+            r.src_face = g;
+            r.reversed = 1;
         }
+        buf[n++] = r;
     }
-    if (!(h > 0)) {
-        free(e);
-        return 0;
+    for (int64_t i = 0; i < n_o; i++)
+        buf[n++] = (out_face){o[i].neighbour_seed, o[i].neighbour, o[i].neighbour,
+                              o[i].src_face, o[i].len, 1};
+    for (int i = 1; i < n; i++) { /* insertion sort by neighbour */
+        out_face r = buf[i];
+        int j = i;
+        for (; j > 0 && buf[j - 1].other_seed > r.other_seed; j--)
+            buf[j] = buf[j - 1];
+        buf[j] = r;
     }
+    int nb = 0;
+    for (int f = 0; f < c->nf; f++)
+        if (as->nbr[fb + f] < 0 && as->flen[fb + f] > 0)
+            buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, as->flen[fb + f], 0};
+    *n_bnd = nb;
+    return n;
+}
+
+/* vc_polymesh_compute_geometry's face formula, for face f of m (its n
+ * vertices at fv). */
+static void face_geometry(const vc_polymesh *m, int64_t f, const int64_t *fv, int64_t n)
+{
+    double c0[3] = {0, 0, 0};
     for (int64_t i = 0; i < n; i++)
         for (int d = 0; d < 3; d++)
-            e[i].key[d] = (int64_t)floor(e[i].x[d] / h);
-    qsort(e, (size_t)n, sizeof *e, cmp_loose);
+            c0[d] += m->points[3 * fv[i] + d];
+    for (int d = 0; d < 3; d++)
+        c0[d] /= (double)n;
+    double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, wsum = 0;
     for (int64_t i = 0; i < n; i++) {
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int64_t k[3] = {e[i].key[0] + dx, e[i].key[1] + dy, e[i].key[2] + dz};
-                    for (int64_t j = lower_bound(e, n, k); j < n; j++) {
-                        if (e[j].key[0] != k[0] || e[j].key[1] != k[1] || e[j].key[2] != k[2])
-                            break;
-                        if (e[j].copy <= e[i].copy)
-                            continue;
-                        double tol = e[i].tol > e[j].tol ? e[i].tol : e[j].tol;
-                        if (dist2(e[i].x, e[j].x) <= tol * tol)
-                            unite(as->parent, e[i].copy, e[j].copy);
-                    }
-                }
+        const double *p = m->points + 3 * fv[i], *q = m->points + 3 * fv[i + 1 < n ? i + 1 : 0];
+        double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
+        double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
+        double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        for (int d = 0; d < 3; d++)
+            a[d] += 0.5 * x[d];
+        double w = 0.5 * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        for (int d = 0; d < 3; d++)
+            c[d] += w * (c0[d] + p[d] + q[d]) / 3.0;
+        wsum += w;
     }
-    free(e);
-    return 0;
+    double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    m->face_area[f] = area;
+    for (int d = 0; d < 3; d++) {
+        m->face_centroid[3 * f + d] = wsum > 0 ? c[d] / wsum : c0[d];
+        m->face_normal[3 * f + d] = area > 0 ? a[d] / area : 0;
+    }
 }
 
-static int cmp_interior(const void *a, const void *b)
+/* vc_polymesh_compute_geometry's cell formula, for cell c of m. */
+static void cell_geometry(const vc_polymesh *m, int64_t c)
 {
-    const face_rec *x = a, *y = b;
-    if (x->owner != y->owner)
-        return x->owner < y->owner ? -1 : 1;
-    if (x->neighbour != y->neighbour)
-        return x->neighbour < y->neighbour ? -1 : 1;
-    return 0;
+    int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1];
+    double ref[3] = {0, 0, 0};
+    for (int64_t i = f0; i < f1; i++)
+        for (int d = 0; d < 3; d++)
+            ref[d] += m->face_centroid[3 * m->cell_faces[i] + d];
+    for (int d = 0; d < 3; d++)
+        ref[d] /= (double)(f1 > f0 ? f1 - f0 : 1);
+    double vol = 0, cen[3] = {0, 0, 0};
+    for (int64_t i = f0; i < f1; i++) {
+        int64_t f = m->cell_faces[i];
+        double sgn = m->face_owner[f] == c ? 1.0 : -1.0;
+        const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
+        double h = (fc[0] - ref[0]) * n[0] + (fc[1] - ref[1]) * n[1] + (fc[2] - ref[2]) * n[2];
+        double pv = sgn * h * m->face_area[f] / 3.0;
+        vol += pv;
+        for (int d = 0; d < 3; d++)
+            cen[d] += pv * (ref[d] + 0.75 * (fc[d] - ref[d]));
+    }
+    m->cell_volume[c] = vol;
+    for (int d = 0; d < 3; d++)
+        m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
 }
 
 int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            double merge_tol, vc_polymesh *out, vc_error *err)
 {
-    assembly as = {cells, kept_seed, n_kept, NULL, NULL, NULL};
-    face_rec *interior = NULL, *boundary = NULL;
-    int64_t *pid = NULL, *buf = NULL, *fbase = NULL;
-    char *face_ok = NULL;
-    int *twin = NULL;
-    int max_len = 0;
-    int rc = 0;
+    assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL};
+    cell_hdr *h = NULL;
+    char *arena = NULL;
+    int32_t *mpos = NULL;
+    int64_t *n_outer = NULL;
+    unsigned char *used = NULL;
+    orphan *orphans = NULL;
+    int64_t n_orphans = 0, cap_orphans = 0;
+    int rc = 0, failed = 0, max_nv = 0, max_nf = 0;
+    const int timing = getenv("VC_ASSEMBLY_TIMING") != NULL;
+    double t0 = wall_time(), t_prev = t0;
+#define PHASE(name)                                                                          \
+    do {                                                                                     \
+        if (timing) {                                                                        \
+            double t_now = wall_time();                                                      \
+            fprintf(stderr, "  assembly: %-8s %.3f s\n", name, t_now - t_prev);              \
+            t_prev = t_now;                                                                  \
+        }                                                                                    \
+    } while (0)
 
-    as.cell_of_seed = malloc((size_t)seeds->n * sizeof(int64_t));
-    as.vbase = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
-    if (!as.cell_of_seed || !as.vbase)
+    memset(out, 0, sizeof *out);
+    if (n_kept > INT32_MAX - 1)
+        return vc_error_set(err, VC_EPARAM, "%lld cells: at most %d can be assembled",
+                            (long long)n_kept, INT32_MAX - 1);
+    h = BIG_ARRAY(n_kept + 1, cell_hdr);
+    mpos = BIG_ARRAY(seeds->n, int32_t);
+    as.acc = BIG_ARRAY(n_kept + 1, cell_acc);
+    n_outer = BIG_ARRAY(n_kept + 1, int64_t);
+    if (!h || !mpos || !as.acc || !n_outer)
         goto nomem;
+    as.h = h;
+
+    /* Headers in spatial order, copy and face numbering. */
+#pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < seeds->n; i++)
-        as.cell_of_seed[i] = -1;
-    int64_t n_faces_all = 0, n_copies = 0;
-    for (int64_t m = 0; m < n_kept; m++) {
-        const int64_t k = order ? order[m] : m;
-        as.vbase[k] = n_copies;
-        n_copies += cells[k].nv;
-    }
-    for (int64_t k = 0; k < n_kept; k++) {
-        as.cell_of_seed[kept_seed[k]] = k;
-        n_faces_all += cells[k].nf;
-        for (int f = 0; f < cells[k].nf; f++) {
-            int len = cells[k].face_start[f + 1] - cells[k].face_start[f];
-            if (len > max_len)
-                max_len = len;
-        }
-    }
-    as.parent = malloc((size_t)(n_copies > 0 ? n_copies : 1) * sizeof(int64_t));
-    buf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
-    if (!as.parent || !buf)
-        goto nomem;
-    for (int64_t i = 0; i < n_copies; i++)
-        as.parent[i] = i;
-
-    /* Identify copies: short edges inside a cell, then common faces. Cells
-     * are visited in the spatial order, so neighbours are in cache. */
-#pragma omp parallel for schedule(dynamic, 64)
+        mpos[i] = -1;
+#pragma omp parallel for schedule(static)
     for (int64_t m = 0; m < n_kept; m++) {
         const int64_t k = order ? order[m] : m;
         const vc_cell_result *c = &cells[k];
-        double tol2 = merge_tol * c->scale * merge_tol * c->scale;
-        for (int f = 0; f < c->nf; f++) {
-            int s0 = c->face_start[f], s1 = c->face_start[f + 1];
-            for (int i = s0; i < s1; i++) {
-                int a = c->fv[i], b = c->fv[i + 1 < s1 ? i + 1 : s0];
-                if (dist2(c->v + 3 * a, c->v + 3 * b) <= tol2)
-                    unite(as.parent, as.vbase[k] + a, as.vbase[k] + b);
-            }
-        }
+        h[m] = (cell_hdr){c->v, c->plane, c->face_start, c->fv, 0, cell_bytes(c), 0, k, kept_seed[k],
+                          merge_tol * c->scale, c->nv, c->nf};
+        mpos[kept_seed[k]] = (int32_t)m;
+        as.acc[m] = (cell_acc){0, 0, 0, 0, 0, 0, 0, 0};
+    }
+    int64_t n_copies = 0, n_faces_all = 0, n_bytes = 0;
+    for (int64_t m = 0; m < n_kept; m++) {
+        int64_t b = h[m].abase;
+        h[m].abase = n_bytes;
+        n_bytes += b;
+        h[m].vbase = n_copies;
+        h[m].fbase = n_faces_all;
+        n_copies += h[m].nv;
+        n_faces_all += h[m].nf;
+        if (h[m].nv > max_nv)
+            max_nv = h[m].nv;
+        if (h[m].nf > max_nf)
+            max_nf = h[m].nf;
+    }
+    arena = BIG_ARRAY(n_bytes, char);
+    as.parent = BIG_ARRAY(n_copies, int64_t);
+    as.nbr = BIG_ARRAY(n_faces_all, int32_t);
+    as.twin = BIG_ARRAY(n_faces_all, int32_t);
+    as.flen = BIG_ARRAY(n_faces_all, int32_t);
+    if (!arena || !as.parent || !as.nbr || !as.twin || !as.flen)
+        goto nomem;
+#pragma omp parallel for schedule(static)
+    for (int64_t m = 0; m < n_kept; m++) {
+        cell_hdr *c = &h[m];
+        copy_cell(c, arena + c->abase);
+        for (int v = 0; v < c->nv; v++)
+            as.parent[c->vbase + v] = c->vbase + v;
         for (int f = 0; f < c->nf; f++) {
             int64_t t = c->plane[f];
-            if (t < 0 || as.cell_of_seed[t] <= k)
-                continue;
-            int64_t d = as.cell_of_seed[t];
-            double sc = c->scale > cells[d].scale ? c->scale : cells[d].scale;
-            double tol2f = merge_tol * sc * merge_tol * sc;
-            int g = face_with_plane(&cells[d], kept_seed[k]);
-            match_face(&as, k, f, d, g, tol2f);
-            if (g >= 0)
-                match_face(&as, d, g, k, f, tol2f);
+            as.nbr[c->fbase + f] = t >= 0 ? mpos[t] : -1;
+            as.twin[c->fbase + f] = -1;
         }
     }
-    if (match_loose_copies(&as, merge_tol) != 0)
+    PHASE("setup");
+
+    /* Identify copies: short edges inside a cell, then the faces shared
+     * with cells later in the spatial order (whose twin faces are found
+     * here, for both sides). */
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const cell_hdr *c = &h[m];
+        const int64_t fb = c->fbase;
+        if (m + 2 * PREFETCH_AHEAD < n_kept)
+            prefetch_headers(&as, m + 2 * PREFETCH_AHEAD);
+        if (m + PREFETCH_AHEAD < n_kept)
+            prefetch_cells(&as, m + PREFETCH_AHEAD);
+        const double tol2 = c->tol * c->tol;
+#ifndef EXP_NOSHORT
+        for (int f = 0; f < c->nf; f++) {
+            int s0 = c->face_start[f], s1 = c->face_start[f + 1];
+            for (int i = s0, a = c->fv[s1 - 1]; i < s1; i++) {
+                int b = c->fv[i];
+                if (a < b && dist2(c->v + 3 * a, c->v + 3 * b) <= tol2)
+                    unite(as.parent, c->vbase + a, c->vbase + b);
+                a = b;
+            }
+        }
+#endif
+        int64_t outer = 0;
+        for (int f = 0; f < c->nf; f++) {
+            const int32_t om = as.nbr[fb + f];
+            if (om < 0)
+                outer += c->face_start[f + 1] - c->face_start[f];
+            if (om <= m)
+                continue;
+            const cell_hdr *d = &h[om];
+            int g = face_with_plane(d, c->seed);
+            double tol = c->tol > d->tol ? c->tol : d->tol;
+#ifdef EXP_NOMATCH
+            if (g >= 0) { as.twin[fb + f] = g; as.twin[d->fbase + g] = f; } continue;
+#endif
+            if (g >= 0) {
+                as.twin[fb + f] = g;
+                as.twin[d->fbase + g] = f;
+                match_face(as.parent, c, f, d, g, tol * tol);
+            } else {
+                match_nearest(as.parent, c, f, d, -1, tol * tol);
+            }
+        }
+        n_outer[m] = outer;
+    }
+    PHASE("faces");
+    if (match_loose_copies(&as, n_outer, max_nv) != 0)
         goto nomem;
+    PHASE("loose");
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = find_root(as.parent, i);
+    PHASE("roots");
 
-    /* Faces: each interior one once, from its owner's point of view. */
-    interior = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1) * sizeof(face_rec));
-    boundary = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1) * sizeof(face_rec));
-    if (!interior || !boundary)
+    /* Which faces survive, who writes them, and the used roots. A face
+     * between two kept cells is decided by its owner, except an orphan. */
+    used = calloc((size_t)(n_copies > 0 ? n_copies : 1), 1);
+    if (!used)
         goto nomem;
-    /* Per face of every cell (in parallel): whether it survives the
-     * merging, and the index of the same face in the neighbour cell. */
-    fbase = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
-    if (!fbase)
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const cell_hdr *c = &h[m];
+        const int64_t fb = c->fbase;
+        cell_acc *a = &as.acc[m];
+        int64_t n_int = 0, n_bnd = 0, fv_int = 0, fv_bnd = 0;
+        for (int f = 0; f < c->nf; f++) {
+            const int32_t om = as.nbr[fb + f];
+            const int64_t t = c->plane[f];
+            int len = -1;
+            if (om < 0) {
+                len = cycle_len(as.parent, c, f);
+                if (len > 0) {
+                    n_bnd++;
+                    fv_bnd += len;
+                    mark_used(as.parent, c, f, used);
+                }
+            } else if (t > c->seed) {
+                len = cycle_len(as.parent, c, f);
+                const cell_hdr *src = c;
+                int sf = f, sl = len;
+                if (len == 0 && as.twin[fb + f] >= 0) {
+                    src = &h[om];
+                    sf = as.twin[fb + f];
+                    sl = cycle_len(as.parent, src, sf);
+                }
+                if (sl > 0) {
+                    n_int++;
+                    fv_int += sl;
+                    mark_used(as.parent, src, sf, used);
+                    __atomic_fetch_add(&as.acc[om].n_nb, 1, __ATOMIC_RELAXED);
+                }
+            } else if (as.twin[fb + f] < 0) {
+                len = cycle_len(as.parent, c, f);
+                if (len > 0) {
+                    mark_used(as.parent, c, f, used);
+                    __atomic_fetch_add(&a->n_nb, 1, __ATOMIC_RELAXED);
+#pragma omp critical(vc_assembly_orphans)
+                    {
+                        if (n_orphans == cap_orphans) {
+                            int64_t cap = cap_orphans ? 2 * cap_orphans : 64;
+                            orphan *o = realloc(orphans, (size_t)cap * sizeof *o);
+                            if (o) {
+                                orphans = o;
+                                cap_orphans = cap;
+                            } else {
+                                failed = 1;
+                            }
+                        }
+                        if (n_orphans < cap_orphans)
+                            orphans[n_orphans++] =
+                                (orphan){h[om].seed, c->seed, om, (int32_t)m, f, len};
+                    }
+                }
+            }
+            as.flen[fb + f] = len;
+        }
+        a->n_int = n_int;
+        a->n_bnd = n_bnd;
+        a->fv_int = fv_int;
+        a->fv_bnd = fv_bnd;
+    }
+    if (failed)
         goto nomem;
-    fbase[0] = 0;
-    for (int64_t k = 0; k < n_kept; k++)
-        fbase[k + 1] = fbase[k] + cells[k].nf;
-    face_ok = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1));
-    twin = malloc((size_t)(n_faces_all > 0 ? n_faces_all : 1) * sizeof(int));
-    if (!face_ok || !twin)
+    if (n_orphans > 1)
+        qsort(orphans, (size_t)n_orphans, sizeof *orphans, cmp_orphan);
+    for (int64_t i = 0; i < n_orphans; i++) {
+        as.acc[orphans[i].owner].n_int++;
+        as.acc[orphans[i].owner].fv_int += orphans[i].len;
+    }
+    PHASE("survive");
+
+    /* Places in the output: prefix sums in cell order. */
+    int64_t n_int = 0, n_bnd = 0, n_fv_int = 0, n_fv_bnd = 0, n_cf = 0;
+    out->n_cells = n_kept;
+    out->cell_offsets = BIG_ARRAY(n_kept + 1, int64_t);
+    if (!out->cell_offsets)
         goto nomem;
-    int alloc_failed = 0;
+    for (int64_t k = 0; k < n_kept; k++) {
+        cell_acc *a = &as.acc[mpos[kept_seed[k]]];
+        int64_t ni = a->n_int, nb = a->n_bnd, fi = a->fv_int, fb = a->fv_bnd;
+        a->n_int = n_int;
+        a->n_bnd = n_bnd;
+        a->fv_int = n_fv_int;
+        a->fv_bnd = n_fv_bnd;
+        a->cell_off = n_cf;
+        out->cell_offsets[k] = n_cf;
+        n_int += ni;
+        n_bnd += nb;
+        n_fv_int += fi;
+        n_fv_bnd += fb;
+        n_cf += a->n_nb + ni + nb;
+    }
+    out->cell_offsets[n_kept] = n_cf;
+    const int64_t n_faces = n_int + n_bnd;
+
+    /* Points: the used roots in copy order. */
+#pragma omp parallel for schedule(static)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const unsigned char *u = used + h[m].vbase;
+        int64_t np = 0;
+        for (int v = 0; v < h[m].nv; v++)
+            np += u[v] != 0;
+        as.acc[m].first_point = np;
+    }
+    int64_t n_points = 0;
+    for (int64_t m = 0; m < n_kept; m++) {
+        int64_t np = as.acc[m].first_point;
+        as.acc[m].first_point = n_points;
+        n_points += np;
+    }
+    out->n_points = n_points;
+    out->points = BIG_ARRAY(3 * n_points, double);
+    if (!out->points)
+        goto nomem;
+#pragma omp parallel for schedule(static)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const cell_hdr *c = &h[m];
+        int64_t p = as.acc[m].first_point;
+        for (int v = 0; v < c->nv; v++)
+            if (used[c->vbase + v]) {
+                as.parent[c->vbase + v] = -(p + 1);
+                memcpy(out->points + 3 * p, c->v + 3 * v, 3 * sizeof(double));
+                p++;
+            }
+    }
+    free(used);
+    used = NULL;
+    PHASE("points");
+
+    /* Faces: records, vertex lists, cell lists and geometry. */
+    out->n_faces = n_faces;
+    out->n_interior_faces = n_int;
+    out->face_offsets = BIG_ARRAY(n_faces + 1, int64_t);
+    out->face_vertices = BIG_ARRAY(n_fv_int + n_fv_bnd, int64_t);
+    out->face_owner = BIG_ARRAY(n_faces, int64_t);
+    out->face_neighbour = BIG_ARRAY(n_faces, int64_t);
+    out->face_other_seed = BIG_ARRAY(n_faces, int64_t);
+    out->face_area = BIG_ARRAY(n_faces, double);
+    out->face_centroid = BIG_ARRAY(3 * n_faces, double);
+    out->face_normal = BIG_ARRAY(3 * n_faces, double);
+    out->cell_faces = BIG_ARRAY(n_cf, int64_t);
+    if (!out->face_offsets || !out->face_vertices || !out->face_owner || !out->face_neighbour ||
+        !out->face_other_seed || !out->face_area || !out->face_centroid || !out->face_normal ||
+        !out->cell_faces)
+        goto nomem;
+    out->face_offsets[0] = 0;
 #pragma omp parallel
     {
-        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
-        if (!tbuf) {
+        out_face *buf = malloc((size_t)(max_nf + n_orphans + 1) * sizeof *buf);
+        if (!buf) {
 #pragma omp atomic write
-            alloc_failed = 1;
+            failed = 1;
         }
 #pragma omp for schedule(dynamic, 64)
         for (int64_t m = 0; m < n_kept; m++) {
-            const int64_t k = order ? order[m] : m;
-            const vc_cell_result *c = &cells[k];
-            for (int f = 0; f < c->nf && tbuf; f++) {
-                int64_t t = c->plane[f];
-                int64_t d = t >= 0 ? as.cell_of_seed[t] : -1;
-                face_ok[fbase[k] + f] = face_cycle(&as, k, f, tbuf) > 0;
-                twin[fbase[k] + f] = d >= 0 ? face_with_plane(&cells[d], kept_seed[k]) : -1;
-            }
-        }
-        free(tbuf);
-    }
-    if (alloc_failed)
-        goto nomem;
-    int64_t n_int = 0, n_bnd = 0;
-    for (int64_t k = 0; k < n_kept; k++) {
-        const vc_cell_result *c = &cells[k];
-        for (int f = 0; f < c->nf; f++) {
-            int64_t t = c->plane[f];
-            int64_t d = t >= 0 ? as.cell_of_seed[t] : -1;
-            int ok = face_ok[fbase[k] + f];
-            if (d < 0) {
-                if (ok)
-                    boundary[n_bnd++] = (face_rec){k, -1, t, k, f, 0};
+            if (!buf)
                 continue;
-            }
-            int g = twin[fbase[k] + f];
-            int ok_other = g >= 0 && face_ok[fbase[d] + g];
-            if (d > k) {
-                if (ok)
-                    interior[n_int++] = (face_rec){k, d, t, k, f, 0};
-                else if (ok_other)
-                    interior[n_int++] = (face_rec){k, d, t, d, g, 1};
-            } else if (!ok_other && ok) {
-                /* The owner lost this face to rounding: use ours. */
-                interior[n_int++] = (face_rec){d, k, kept_seed[k], k, f, 1};
+            const cell_hdr *c = &h[m];
+            const cell_acc *a = &as.acc[m];
+            int64_t n_o = 0;
+            const orphan *o = n_orphans ? orphans_of(orphans, n_orphans, c->seed, &n_o) : NULL;
+            int nb;
+            const int ni = owned_faces(&as, m, o, n_o, buf, &nb);
+            int64_t pos_i = a->fv_int, pos_b = n_fv_int + a->fv_bnd;
+            int64_t *cf = out->cell_faces + a->cell_off + a->n_nb;
+            for (int j = 0; j < ni + nb; j++) {
+                const out_face *r = &buf[j];
+                int64_t i, *pos;
+                if (j < ni) {
+                    i = a->n_int + j;
+                    pos = &pos_i;
+                    cell_acc *an = &as.acc[r->neighbour];
+                    int64_t s = __atomic_fetch_add(&an->nb_fill, 1, __ATOMIC_RELAXED);
+                    out->cell_faces[an->cell_off + s] = i;
+                    out->face_neighbour[i] = h[r->neighbour].k;
+                } else {
+                    i = n_int + a->n_bnd + (j - ni);
+                    pos = &pos_b;
+                    out->face_neighbour[i] = -1;
+                }
+                out->face_owner[i] = c->k;
+                out->face_other_seed[i] = r->other_seed;
+                int64_t *fv = out->face_vertices + *pos;
+                write_cycle(as.parent, &h[r->src], r->src_face, r->len, r->reversed, fv);
+                *pos += r->len;
+                out->face_offsets[i + 1] = *pos;
+                cf[j] = i;
+                face_geometry(out, i, fv, r->len);
             }
         }
+        free(buf);
     }
-    qsort(interior, (size_t)n_int, sizeof *interior, cmp_interior);
-
-    /* Mesh arrays. */
-    int64_t n_faces = n_int + n_bnd;
-    out->n_faces = n_faces;
-    out->n_interior_faces = n_int;
-    out->face_offsets = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
-    out->face_owner = malloc((size_t)(n_faces > 0 ? n_faces : 1) * sizeof(int64_t));
-    out->face_neighbour = malloc((size_t)(n_faces > 0 ? n_faces : 1) * sizeof(int64_t));
-    out->face_other_seed = malloc((size_t)(n_faces > 0 ? n_faces : 1) * sizeof(int64_t));
-    if (!out->face_offsets || !out->face_owner || !out->face_neighbour || !out->face_other_seed)
+    if (failed)
         goto nomem;
-    /* Face lengths and the used representatives (in parallel), points
-     * numbered in copy order (spatially coherent: copies follow the bin
-     * order), then the vertex lists (in parallel). */
-    pid = malloc((size_t)(n_copies > 0 ? n_copies : 1) * sizeof(int64_t));
-    if (!pid)
+    PHASE("faces");
+
+    /* Each cell's faces from the neighbour's side, in face order, then the
+     * cells' geometry and data. */
+    out->cell_seed = BIG_ARRAY(n_kept, int64_t);
+    out->cell_region = BIG_ARRAY(n_kept, int32_t);
+    out->n_seeds = seeds->n;
+    out->seed_xyz = BIG_ARRAY(3 * seeds->n, double);
+    out->cell_volume = BIG_ARRAY(n_kept, double);
+    out->cell_centroid = BIG_ARRAY(3 * n_kept, double);
+    if (!out->cell_seed || !out->cell_region || !out->seed_xyz || !out->cell_volume ||
+        !out->cell_centroid)
         goto nomem;
 #pragma omp parallel for schedule(static)
-    for (int64_t i = 0; i < n_copies; i++)
-        pid[i] = -1;
-    alloc_failed = 0;
-#pragma omp parallel
-    {
-        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
-        if (!tbuf) {
-#pragma omp atomic write
-            alloc_failed = 1;
-        }
-#pragma omp for schedule(dynamic, 1024)
-        for (int64_t i = 0; i < n_faces; i++) {
-            if (!tbuf)
-                continue;
-            const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
-            int len = face_cycle(&as, r->src_cell, r->src_face, tbuf);
-            out->face_offsets[i + 1] = len;
-            out->face_owner[i] = r->owner;
-            out->face_neighbour[i] = r->neighbour;
-            out->face_other_seed[i] = r->other_seed;
-            for (int j = 0; j < len; j++)
-                __atomic_store_n(&pid[tbuf[j]], 0, __ATOMIC_RELAXED); /* used */
-        }
-        free(tbuf);
-    }
-    if (alloc_failed)
-        goto nomem;
-    out->face_offsets[0] = 0;
-    for (int64_t i = 0; i < n_faces; i++)
-        out->face_offsets[i + 1] += out->face_offsets[i];
-    const int64_t total_fv = out->face_offsets[n_faces];
-    int64_t n_points = 0;
-    for (int64_t i = 0; i < n_copies; i++)
-        if (pid[i] == 0)
-            pid[i] = n_points++;
-        else
-            pid[i] = -1;
-    out->face_vertices = malloc((size_t)(total_fv > 0 ? total_fv : 1) * sizeof(int64_t));
-    if (!out->face_vertices)
-        goto nomem;
-#pragma omp parallel
-    {
-        int64_t *tbuf = malloc((size_t)(max_len + 1) * sizeof(int64_t));
-        if (!tbuf) {
-#pragma omp atomic write
-            alloc_failed = 1;
-        }
-#pragma omp for schedule(dynamic, 1024)
-        for (int64_t i = 0; i < n_faces; i++) {
-            if (!tbuf)
-                continue;
-            const face_rec *r = i < n_int ? &interior[i] : &boundary[i - n_int];
-            int len = face_cycle(&as, r->src_cell, r->src_face, tbuf);
-            int64_t *dst = out->face_vertices + out->face_offsets[i];
-            for (int j = 0; j < len; j++)
-                dst[j] = pid[tbuf[r->reversed ? len - 1 - j : j]];
-        }
-        free(tbuf);
-    }
-    if (alloc_failed)
-        goto nomem;
-    out->n_points = n_points;
-    out->points = malloc((size_t)(n_points > 0 ? n_points : 1) * 3 * sizeof(double));
-    if (!out->points)
-        goto nomem;
-    for (int64_t k = 0; k < n_kept; k++)
-        for (int v = 0; v < cells[k].nv; v++) {
-            int64_t copy = as.vbase[k] + v;
-            if (as.parent[copy] == copy && pid[copy] >= 0)
-                memcpy(out->points + 3 * pid[copy], cells[k].v + 3 * v, 3 * sizeof(double));
-        }
-
-    /* Cells and their face lists. */
-    out->n_cells = n_kept;
-    out->cell_offsets = calloc((size_t)n_kept + 1, sizeof(int64_t));
-    out->cell_seed = malloc((size_t)n_kept * sizeof(int64_t));
-    out->cell_region = malloc((size_t)n_kept * sizeof(int32_t));
-    out->cell_faces = malloc((size_t)(n_int * 2 + n_bnd + 1) * sizeof(int64_t));
-    if (!out->cell_offsets || !out->cell_seed || !out->cell_region || !out->cell_faces)
-        goto nomem;
-    for (int64_t i = 0; i < n_faces; i++) {
-        out->cell_offsets[out->face_owner[i] + 1]++;
-        if (out->face_neighbour[i] >= 0)
-            out->cell_offsets[out->face_neighbour[i] + 1]++;
-    }
-    for (int64_t k = 0; k < n_kept; k++)
-        out->cell_offsets[k + 1] += out->cell_offsets[k];
-    {
-        int64_t *fill = pid; /* reuse: pid is no longer needed */
-        memcpy(fill, out->cell_offsets, (size_t)n_kept * sizeof(int64_t));
-        for (int64_t i = 0; i < n_faces; i++) {
-            out->cell_faces[fill[out->face_owner[i]]++] = i;
-            if (out->face_neighbour[i] >= 0)
-                out->cell_faces[fill[out->face_neighbour[i]]++] = i;
+    for (int64_t m = 0; m < n_kept; m++) {
+        int64_t *l = out->cell_faces + as.acc[m].cell_off;
+        for (int64_t i = 1; i < as.acc[m].n_nb; i++) {
+            int64_t x = l[i], j = i;
+            for (; j > 0 && l[j - 1] > x; j--)
+                l[j] = l[j - 1];
+            l[j] = x;
         }
     }
+#pragma omp parallel for schedule(static)
     for (int64_t k = 0; k < n_kept; k++) {
         out->cell_seed[k] = kept_seed[k];
         out->cell_region[k] = seeds->label[kept_seed[k]];
+        cell_geometry(out, k);
     }
-    out->n_seeds = seeds->n;
-    out->seed_xyz = malloc((size_t)seeds->n * 3 * sizeof(double));
-    out->face_area = malloc((size_t)(n_faces > 0 ? n_faces : 1) * sizeof(double));
-    out->face_centroid = malloc((size_t)(n_faces > 0 ? n_faces : 1) * 3 * sizeof(double));
-    out->face_normal = malloc((size_t)(n_faces > 0 ? n_faces : 1) * 3 * sizeof(double));
-    out->cell_volume = malloc((size_t)n_kept * sizeof(double));
-    out->cell_centroid = malloc((size_t)n_kept * 3 * sizeof(double));
-    if (!out->seed_xyz || !out->face_area || !out->face_centroid || !out->face_normal ||
-        !out->cell_volume || !out->cell_centroid)
-        goto nomem;
     memcpy(out->seed_xyz, seeds->xyz, (size_t)seeds->n * 3 * sizeof(double));
-    vc_polymesh_compute_geometry(out);
+    PHASE("cells");
+    if (timing)
+        fprintf(stderr, "  assembly: total    %.3f s\n", wall_time() - t0);
     goto done;
 
 nomem:
@@ -518,15 +1032,17 @@ nomem:
                       (long long)n_kept);
     vc_polymesh_free(out);
 done:
-    free(as.cell_of_seed);
-    free(as.vbase);
+    free(h);
+    free(arena);
+    free(mpos);
+    free(n_outer);
+    free(as.acc);
     free(as.parent);
-    free(interior);
-    free(boundary);
-    free(pid);
-    free(buf);
-    free(fbase);
-    free(face_ok);
-    free(twin);
+    free(as.nbr);
+    free(as.twin);
+    free(as.flen);
+    free(used);
+    free(orphans);
     return rc;
+#undef PHASE
 }
