@@ -11,28 +11,12 @@
 #include <omp.h>
 #endif
 
+#include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/io.h"
 #include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 #include "vorocrust/voronoi.h"
-
-/* Whether the directory that would hold path exists and is writable. */
-static int directory_writable(const char *path)
-{
-    char dir[4096];
-    const char *slash = strrchr(path, '/');
-    if (!slash)
-        return access(".", W_OK) == 0;
-    size_t n = (size_t)(slash - path);
-    if (n == 0)
-        n = 1; /* the root directory */
-    if (n >= sizeof dir)
-        return 0;
-    memcpy(dir, path, n);
-    dir[n] = 0;
-    return access(dir, W_OK) == 0;
-}
 
 static void usage(FILE *f)
 {
@@ -59,35 +43,6 @@ static int takes_value(const char *a)
     return 0;
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int parse_double(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || !isfinite(v))
-        return -1;
-    *out = v;
-    return 0;
-}
-
-static int parse_int(const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
-}
-
 int vc_cmd_voronoi(int argc, char **argv)
 {
     const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL;
@@ -111,7 +66,7 @@ int vc_cmd_voronoi(int argc, char **argv)
                 return 2;
             }
             for (int d = 0; d < 6; d++)
-                if (parse_double(argv[i + 1 + d], &opt.box[d]) != 0) {
+                if (vc_cli_parse_double(argv[i + 1 + d], &opt.box[d]) != 0) {
                     fprintf(stderr, "vorocrust: --box: '%s' is not a finite number\n",
                             argv[i + 1 + d]);
                     return 2;
@@ -126,7 +81,7 @@ int vc_cmd_voronoi(int argc, char **argv)
             i += 6;
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             long t;
-            if (parse_int(argv[++i], 1, 4096, &t) != 0) {
+            if (vc_cli_parse_int(argv[++i], 1, 4096, &t) != 0) {
                 fprintf(stderr, "vorocrust: --threads: '%s' is not a count from 1 to 4096\n",
                         argv[i]);
                 return 2;
@@ -173,7 +128,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         struct stat st;
         if (!outputs[i])
             continue;
-        if (!directory_writable(outputs[i])) {
+        if (!vc_cli_directory_writable(outputs[i])) {
             fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
                     outputs[i]);
             return 1;
@@ -194,17 +149,17 @@ int vc_cmd_voronoi(int argc, char **argv)
     vc_polymesh mesh;
     memset(&mesh, 0, sizeof mesh);
     int rc = 1;
-    double t0 = now();
+    double t0 = vc_cli_now();
     if (vc_seeds_read_csv(seeds_path, &seeds, &err) != 0) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         return 1;
     }
-    double t1 = now();
+    double t1 = vc_cli_now();
     if (vc_voronoi_build(&seeds, &opt, &mesh, &err) != 0) {
         fprintf(stderr, "vorocrust: %s: %s\n", seeds_path, err.msg);
         goto out;
     }
-    double t2 = now();
+    double t2 = vc_cli_now();
     int64_t problems = 0;
     char report[2048];
     if (validate) {
@@ -215,7 +170,7 @@ int vc_cmd_voronoi(int argc, char **argv)
             goto out;
         }
     }
-    double t3 = now();
+    double t3 = vc_cli_now();
     if (vc_write_vtu(&mesh, out_path, enc, &err) != 0) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         goto out;
@@ -225,7 +180,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         remove(out_path); /* all outputs or none */
         goto out;
     }
-    double t4 = now();
+    double t4 = vc_cli_now();
     if (!quiet) {
         vc_polymesh_stats st;
         vc_polymesh_stats_compute(&mesh, &st);

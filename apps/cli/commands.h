@@ -6,5 +6,6 @@
 
 int vc_cmd_info(int argc, char **argv);
 int vc_cmd_voronoi(int argc, char **argv);
+int vc_cmd_mesh(int argc, char **argv);
 
 #endif

@@ -11,6 +11,7 @@ static void usage(FILE *f)
         "commands:\n"
         "  info INPUT          describe a triangle surface (OBJ, OFF, STL, PLY)\n"
         "  voronoi SEEDS.csv   build the conforming Voronoi mesh of seeds\n"
+        "  mesh INPUT          VoroCrust: sample a closed surface, place seeds, mesh\n"
         "run 'vorocrust COMMAND --help' for the options of a command\n");
 }
 
@@ -29,6 +30,8 @@ int main(int argc, char **argv)
         return vc_cmd_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "voronoi"))
         return vc_cmd_voronoi(argc - 1, argv + 1);
+    if (!strcmp(cmd, "mesh"))
+        return vc_cmd_mesh(argc - 1, argv + 1);
     fprintf(stderr, "vorocrust: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

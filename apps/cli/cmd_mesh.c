@@ -1,0 +1,377 @@
+/* vorocrust mesh: VoroCrust surface sampling of a closed triangle surface,
+ * its seeds, the reconstructed surface and (without --surface-only) the
+ * Voronoi mesh of the inside seeds. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "cli_util.h"
+#include "commands.h"
+#include "vorocrust/features.h"
+#include "vorocrust/io.h"
+#include "vorocrust/sampling.h"
+#include "vorocrust/surface.h"
+#include "vorocrust/voronoi.h"
+
+static void usage(FILE *f)
+{
+    vc_sampling_options d;
+    vc_sampling_options_default(&d);
+    fprintf(f,
+        "usage: vorocrust mesh INPUT (--surface-only --surface OUT.obj | -o OUT.vtu) [options]\n"
+        "  INPUT               closed triangle surface: .obj, .off, .stl, .ply\n"
+        "  --surface-only      stop after the surface: sampling, seeds, reconstructed surface\n"
+        "  --surface OUT       the reconstructed surface: OBJ polygons, or VTK_POLYGON cells\n"
+        "                      when OUT ends in .vtu\n"
+        "  -o, --output OUT.vtu  the Voronoi mesh of the inside seeds (no interior seeds yet)\n"
+        "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
+        "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
+        "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
+        "  --smooth-angle DEG  normal deviation bounding the ball size on curved patches,\n"
+        "                      0 < DEG <= theta_sharp (default %g)\n"
+        "  --lipschitz L       0 < L < 1 (default %g)\n"
+        "  --max-size H        largest ball radius (default: the bounding-box diagonal)\n"
+        "  --seed N            random seed (default %llu)\n"
+        "  --threads N         threads, 1 to 4096 (default: all cores)\n"
+        "  --quiet             no progress and no summary on stderr\n",
+        d.sharp_angle, d.smooth_angle, d.lipschitz, (unsigned long long)d.seed);
+}
+
+static int takes_value(const char *a)
+{
+    static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
+                                             "--sharp-angle", "--smooth-angle", "--lipschitz",
+                                             "--max-size", "--seed", "--threads"};
+    for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
+        if (!strcmp(a, with_value[i]))
+            return 1;
+    return 0;
+}
+
+/* Triangle quality Q = 6 S / (sqrt(3) h P), P the half-perimeter. */
+static double tri_quality(const double *a, const double *b, const double *c, double ang[3])
+{
+    const double *p[3] = {a, b, c};
+    double l[3];
+    for (int k = 0; k < 3; k++) {
+        const double *u = p[(k + 1) % 3], *v = p[(k + 2) % 3];
+        l[k] = sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) +
+                    (u[2] - v[2]) * (u[2] - v[2]));
+    }
+    double s = 0.5 * (l[0] + l[1] + l[2]);
+    double area2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]);
+    double S = area2 > 0 ? sqrt(area2) : 0;
+    double h = fmax(l[0], fmax(l[1], l[2]));
+    for (int k = 0; k < 3; k++) {
+        double x = l[(k + 1) % 3], y = l[(k + 2) % 3];
+        double cs = (x * x + y * y - l[k] * l[k]) / (2 * x * y);
+        ang[k] = acos(fmax(-1, fmin(1, cs))) * 180 / 3.14159265358979323846;
+    }
+    return h > 0 && s > 0 ? 6 * S / (sqrt(3.0) * h * s) : 0;
+}
+
+int vc_cmd_mesh(int argc, char **argv)
+{
+    const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
+               *balls_path = NULL;
+    int surface_only = 0, quiet = 0;
+    vc_sampling_options opt;
+    vc_sampling_options_default(&opt);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--surface-only")) {
+            surface_only = 1;
+        } else if (!strcmp(a, "--quiet")) {
+            quiet = 1;
+        } else if (takes_value(a) && !v) {
+            fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust mesh --help')\n", a);
+            return 2;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            out_path = argv[++i];
+        } else if (!strcmp(a, "--surface")) {
+            surf_path = argv[++i];
+        } else if (!strcmp(a, "--seeds")) {
+            seeds_path = argv[++i];
+        } else if (!strcmp(a, "--balls")) {
+            balls_path = argv[++i];
+        } else if (!strcmp(a, "--sharp-angle") || !strcmp(a, "--smooth-angle")) {
+            double x;
+            if (vc_cli_parse_double(v, &x) || !(x > 0 && x < 180)) {
+                fprintf(stderr, "vorocrust: %s needs a number of degrees in (0, 180), got '%s'\n",
+                        a, v);
+                return 2;
+            }
+            if (a[2] == 's' && a[3] == 'h')
+                opt.sharp_angle = x;
+            else
+                opt.smooth_angle = x;
+            i++;
+        } else if (!strcmp(a, "--lipschitz")) {
+            if (vc_cli_parse_double(v, &opt.lipschitz) || !(opt.lipschitz > 0 && opt.lipschitz < 1)) {
+                fprintf(stderr, "vorocrust: --lipschitz needs a number in (0, 1), got '%s'\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--max-size")) {
+            if (vc_cli_parse_double(v, &opt.max_size) || !(opt.max_size > 0)) {
+                fprintf(stderr, "vorocrust: --max-size needs a positive number, got '%s'\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--seed")) {
+            long s;
+            if (vc_cli_parse_int(v, 0, 2147483647L, &s)) {
+                fprintf(stderr, "vorocrust: --seed needs an integer from 0 to 2147483647, got '%s'\n",
+                        v);
+                return 2;
+            }
+            opt.seed = (uint64_t)s;
+            i++;
+        } else if (!strcmp(a, "--threads")) {
+            long t;
+            if (vc_cli_parse_int(v, 1, 4096, &t)) {
+                fprintf(stderr, "vorocrust: --threads: '%s' is not a count from 1 to 4096\n", v);
+                return 2;
+            }
+            opt.threads = (int)t;
+#ifdef _OPENMP
+            omp_set_num_threads((int)t);
+#endif
+            i++;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust mesh --help')\n", a);
+            return 2;
+        } else if (!in_path) {
+            in_path = a;
+        } else {
+            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+            return 2;
+        }
+    }
+    if (!in_path) {
+        fprintf(stderr, "vorocrust: missing the input surface (see 'vorocrust mesh --help')\n");
+        return 2;
+    }
+    if (surface_only && !surf_path && !seeds_path && !balls_path) {
+        fprintf(stderr, "vorocrust: --surface-only needs --surface, --seeds or --balls\n");
+        return 2;
+    }
+    if (surface_only && out_path) {
+        fprintf(stderr, "vorocrust: -o and --surface-only exclude each other\n");
+        return 2;
+    }
+    if (!surface_only && !out_path) {
+        fprintf(stderr, "vorocrust: missing -o OUT.vtu (or --surface-only)\n");
+        return 2;
+    }
+    if (opt.smooth_angle > opt.sharp_angle)
+        opt.smooth_angle = opt.sharp_angle;
+    const char *outputs[4] = {out_path, surf_path, seeds_path, balls_path};
+    for (int i = 0; i < 4; i++) {
+        struct stat st;
+        if (!outputs[i])
+            continue;
+        for (int j = 0; j < i; j++)
+            if (outputs[j] && !strcmp(outputs[i], outputs[j])) {
+                fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
+                return 2;
+            }
+        if (!vc_cli_directory_writable(outputs[i])) {
+            fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
+                    outputs[i]);
+            return 1;
+        }
+        if (stat(outputs[i], &st) == 0 && S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", outputs[i]);
+            return 1;
+        }
+    }
+    opt.progress = !quiet;
+
+    vc_error err = {0, ""};
+    vc_surface s;
+    vc_surface_report rep;
+    vc_features f;
+    vc_balls balls;
+    vc_seeds seeds = {0, NULL, NULL};
+    vc_polysurface ps;
+    vc_sampling_stats st;
+    memset(&s, 0, sizeof s);
+    memset(&f, 0, sizeof f);
+    memset(&balls, 0, sizeof balls);
+    memset(&ps, 0, sizeof ps);
+    int rc = 1;
+    const char *written[4] = {NULL, NULL, NULL, NULL};
+    int n_written = 0;
+
+    double t0 = vc_cli_now();
+    if (vc_surface_read(in_path, &s, &rep, &err)) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        return 1;
+    }
+    if (rep.n_boundary_edges > 0) {
+        fprintf(stderr, "vorocrust: %s: the surface is open: %lld boundary edges (VoroCrust needs a "
+                "closed surface)\n", in_path, (long long)rep.n_boundary_edges);
+        goto out;
+    }
+    if (rep.n_inconsistent_edges > 0) {
+        fprintf(stderr, "vorocrust: %s: %lld inconsistently oriented edges: the inside of the "
+                "surface is undefined\n", in_path, (long long)rep.n_inconsistent_edges);
+        goto out;
+    }
+    double t1 = vc_cli_now();
+    if (vc_features_detect(&s, opt.sharp_angle, &f, &err)) {
+        fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+        goto out;
+    }
+    double t2 = vc_cli_now();
+    if (vc_sample_surface(&s, &f, &opt, &balls, &st, &err)) {
+        fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+        goto out;
+    }
+    st.t_features = t2 - t1;
+    double t3 = vc_cli_now();
+    int64_t n_half = 0;
+    if (vc_balls_seeds(&balls, &seeds, &n_half, &err)) {
+        fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+        goto out;
+    }
+    int64_t n_inside = 0;
+    for (int64_t i = 0; i < seeds.n; i++)
+        n_inside += seeds.label[i] != 0;
+    double t4 = vc_cli_now();
+    if (vc_reconstruct_surface(&seeds, opt.threads, &ps, &err)) {
+        fprintf(stderr, "vorocrust: %s: reconstructing the surface: %s\n", in_path, err.msg);
+        goto out;
+    }
+    double t5 = vc_cli_now();
+    vc_polysurface_topology topo;
+    if (vc_polysurface_topology_compute(&ps, &topo, &err)) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        goto out;
+    }
+    if (surf_path) {
+        if (vc_polysurface_write(&ps, surf_path, &err))
+            goto write_failed;
+        written[n_written++] = surf_path;
+    }
+    if (seeds_path) {
+        if (vc_seeds_write_csv(seeds_path, &seeds, &err))
+            goto write_failed;
+        written[n_written++] = seeds_path;
+    }
+    if (balls_path) {
+        if (vc_balls_write_csv(&balls, balls_path, &err))
+            goto write_failed;
+        written[n_written++] = balls_path;
+    }
+    double t6 = vc_cli_now(), t7 = t6;
+    int64_t n_cells = 0;
+    if (out_path) {
+        vc_voronoi_options vo;
+        vc_voronoi_options_default(&vo);
+        vo.threads = opt.threads;
+        vo.progress = 0;
+        vc_polymesh m;
+        if (vc_voronoi_build(&seeds, &vo, &m, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto cleanup_outputs;
+        }
+        n_cells = m.n_cells;
+        int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
+        vc_polymesh_free(&m);
+        if (wrc)
+            goto write_failed;
+        written[n_written++] = out_path;
+        t7 = vc_cli_now();
+    }
+    if (!quiet) {
+        /* surface quality: polygons fanned from their centroid */
+        double qmin = INFINITY, qsum = 0;
+        int64_t ntri = 0, nang = 0, below30 = 0, above90 = 0;
+        for (int64_t k = 0; k < ps.n_polys; k++) {
+            int64_t a = ps.poly_offsets[k], n = ps.poly_offsets[k + 1] - a;
+            double c[3] = {0, 0, 0};
+            for (int64_t j = 0; j < n; j++)
+                for (int d = 0; d < 3; d++)
+                    c[d] += ps.points[3 * ps.poly_vertices[a + j] + d] / (double)n;
+            int64_t fan = n == 3 ? 1 : n;
+            for (int64_t j = 0; j < fan; j++) {
+                const double *p0, *p1, *p2;
+                if (n == 3) {
+                    p0 = ps.points + 3 * ps.poly_vertices[a];
+                    p1 = ps.points + 3 * ps.poly_vertices[a + 1];
+                    p2 = ps.points + 3 * ps.poly_vertices[a + 2];
+                } else {
+                    p0 = c;
+                    p1 = ps.points + 3 * ps.poly_vertices[a + j];
+                    p2 = ps.points + 3 * ps.poly_vertices[a + (j + 1) % n];
+                }
+                double ang[3];
+                double q = tri_quality(p0, p1, p2, ang);
+                qmin = fmin(qmin, q);
+                qsum += q;
+                ntri++;
+                for (int m = 0; m < 3; m++) {
+                    nang++;
+                    below30 += ang[m] < 30;
+                    above90 += ang[m] > 90;
+                }
+            }
+        }
+        fprintf(stderr,
+                "vorocrust mesh: %s\n"
+                "  balls: %lld (corner %lld, edge %lld, surface %lld); shrunk for Lipschitz %lld, "
+                "for slivers %lld in %d iterations%s; half-covered seed pairs %lld\n"
+                "  seeds: %lld (%lld inside, %lld outside)\n"
+                "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
+                "%s, %lld components\n"
+                "  surface quality: Q min %.3f mean %.3f; angles < 30 deg %.1f%%, > 90 deg %.1f%% "
+                "(%lld triangles, polygons fanned from their centroid)\n"
+                "  time (s): read %.3f, features %.3f, sizing %.3f, corner protection %.3f, edge "
+                "protection %.3f, surface coverage %.3f, Lipschitz fixes %.3f, sliver elimination "
+                "%.3f, seeds %.3f, surface %.3f, write %.3f%s\n",
+                in_path, (long long)balls.n, (long long)st.n_corner, (long long)st.n_edge,
+                (long long)st.n_surface, (long long)st.n_shrunk_lipschitz,
+                (long long)st.n_shrunk_sliver, st.sliver_iterations,
+                st.safe_mode ? " (safe mode)" : "", (long long)n_half, (long long)seeds.n,
+                (long long)n_inside, (long long)(seeds.n - n_inside), (long long)topo.n_vertices,
+                (long long)topo.n_faces, (long long)topo.n_edges, (long long)topo.euler,
+                (long long)rep.euler,
+                topo.n_boundary_edges == 0 && topo.n_nonmanifold_edges == 0 &&
+                        topo.n_misoriented_edges == 0 && topo.n_nonmanifold_vertices == 0
+                    ? "closed 2-manifold, consistently oriented"
+                    : "NOT a closed consistently oriented 2-manifold",
+                (long long)topo.n_components, qmin, ntri ? qsum / (double)ntri : 0,
+                nang ? 100.0 * (double)below30 / (double)nang : 0,
+                nang ? 100.0 * (double)above90 / (double)nang : 0, (long long)ntri, t1 - t0,
+                st.t_features, st.t_sizing, st.t_corners, st.t_edges, st.t_surface,
+                st.t_lipschitz, st.t_slivers, t4 - t3, t5 - t4, t6 - t5, "");
+        if (out_path)
+            fprintf(stderr, "  volume mesh: %lld cells (inside surface seeds only), %.3f s\n",
+                    (long long)n_cells, t7 - t6);
+    }
+    rc = 0;
+    goto out;
+write_failed:
+    fprintf(stderr, "vorocrust: %s\n", err.msg);
+cleanup_outputs:
+    for (int i = 0; i < n_written; i++)
+        remove(written[i]); /* all outputs or none */
+out:
+    vc_polysurface_free(&ps);
+    vc_seeds_free(&seeds);
+    vc_balls_free(&balls);
+    vc_features_free(&f);
+    vc_surface_free(&s);
+    return rc;
+}

@@ -1,0 +1,245 @@
+#include "balls/ball_set.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define COORD_BITS 19
+#define COORD_MAX ((int64_t)1 << COORD_BITS) - 1
+
+/* 19 bits per cell coordinate (counted from the origin, clamped) and 6 bits
+ * of level: distinct cells have distinct keys. */
+static uint64_t cell_key(int level, int64_t i, int64_t j, int64_t k)
+{
+    return (uint64_t)i | ((uint64_t)j << COORD_BITS) | ((uint64_t)k << (2 * COORD_BITS)) |
+           ((uint64_t)level << (3 * COORD_BITS));
+}
+
+static uint64_t hash64(uint64_t x)
+{
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    x ^= x >> 33;
+    return x;
+}
+
+static int level_of(const vc_ball_set *bs, double r)
+{
+    if (!(r > bs->unit))
+        return 0;
+    int l = (int)floor(log2(r / bs->unit));
+    if (l < 0)
+        l = 0;
+    if (l >= VC_BALL_LEVELS)
+        l = VC_BALL_LEVELS - 1;
+    return l;
+}
+
+static double cell_size(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 1); }
+
+static int64_t cell_coord(double x, double h)
+{
+    double c = floor(x / h);
+    if (c < 0)
+        return 0;
+    if (c > (double)(COORD_MAX))
+        return COORD_MAX;
+    return (int64_t)c;
+}
+
+int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag)
+{
+    memset(bs, 0, sizeof *bs);
+    /* level-0 cells of diag / 2^17: the whole range of 3 diagonals fits in
+     * 19 bits per coordinate */
+    bs->unit = ldexp(diag > 0 ? diag : 1.0, -18);
+    for (int d = 0; d < 3; d++)
+        bs->origin[d] = lo[d] - (diag > 0 ? diag : 1.0);
+    bs->table_size = 1 << 12;
+    bs->head = malloc(sizeof(int64_t) * (size_t)bs->table_size);
+    if (!bs->head)
+        return -1;
+    for (int64_t i = 0; i < bs->table_size; i++)
+        bs->head[i] = -1;
+    return 0;
+}
+
+void vc_ball_set_free(vc_ball_set *bs)
+{
+    vc_balls_free(&bs->b);
+    free(bs->head);
+    free(bs->next);
+    free(bs->key);
+    free(bs->level);
+    free(bs->level_pos);
+    for (int l = 0; l < VC_BALL_LEVELS; l++)
+        free(bs->level_list[l]);
+    memset(bs, 0, sizeof *bs);
+}
+
+static void link_ball(vc_ball_set *bs, int64_t i)
+{
+    int64_t slot = (int64_t)(hash64(bs->key[i]) & (uint64_t)(bs->table_size - 1));
+    bs->next[i] = bs->head[slot];
+    bs->head[slot] = i;
+}
+
+static void unlink_ball(vc_ball_set *bs, int64_t i)
+{
+    int64_t slot = (int64_t)(hash64(bs->key[i]) & (uint64_t)(bs->table_size - 1));
+    int64_t *pp = &bs->head[slot];
+    while (*pp != i)
+        pp = &bs->next[*pp];
+    *pp = bs->next[i];
+}
+
+static int level_push(vc_ball_set *bs, int l, int64_t i)
+{
+    if (bs->level_n[l] == bs->level_cap[l]) {
+        int64_t c = bs->level_cap[l] ? 2 * bs->level_cap[l] : 64;
+        int64_t *q = realloc(bs->level_list[l], sizeof(int64_t) * (size_t)c);
+        if (!q)
+            return -1;
+        bs->level_list[l] = q;
+        bs->level_cap[l] = c;
+    }
+    bs->level_pos[i] = bs->level_n[l];
+    bs->level_list[l][bs->level_n[l]++] = i;
+    return 0;
+}
+
+static void level_remove(vc_ball_set *bs, int l, int64_t i)
+{
+    int64_t pos = bs->level_pos[i];
+    int64_t last = bs->level_list[l][--bs->level_n[l]];
+    bs->level_list[l][pos] = last;
+    bs->level_pos[last] = pos;
+}
+
+static void set_key(vc_ball_set *bs, int64_t i)
+{
+    int l = bs->level[i];
+    double h = cell_size(bs, l);
+    const double *c = bs->b.center + 3 * i;
+    bs->key[i] = cell_key(l, cell_coord(c[0] - bs->origin[0], h),
+                          cell_coord(c[1] - bs->origin[1], h), cell_coord(c[2] - bs->origin[2], h));
+}
+
+static int grow(vc_ball_set *bs)
+{
+    int64_t c = bs->cap ? 2 * bs->cap : 1024;
+    vc_balls *b = &bs->b;
+#define GROW(ptr, type, k)                                                  \
+    do {                                                                    \
+        void *q_ = realloc(ptr, sizeof(type) * (size_t)(k) * (size_t)c);    \
+        if (!q_)                                                            \
+            return -1;                                                      \
+        ptr = q_;                                                           \
+    } while (0)
+    GROW(b->center, double, 3);
+    GROW(b->radius, double, 1);
+    GROW(b->kind, signed char, 1);
+    GROW(b->element, int64_t, 1);
+    GROW(b->normal, double, 3);
+    GROW(bs->next, int64_t, 1);
+    GROW(bs->key, uint64_t, 1);
+    GROW(bs->level, int, 1);
+    GROW(bs->level_pos, int64_t, 1);
+#undef GROW
+    bs->cap = c;
+    /* keep the table at least as large as the ball count */
+    if (c > bs->table_size) {
+        int64_t ts = bs->table_size;
+        while (ts < c)
+            ts *= 2;
+        int64_t *h = malloc(sizeof(int64_t) * (size_t)ts);
+        if (!h)
+            return -1;
+        free(bs->head);
+        bs->head = h;
+        bs->table_size = ts;
+        for (int64_t i = 0; i < ts; i++)
+            h[i] = -1;
+        for (int64_t i = b->n - 1; i >= 0; i--)
+            link_ball(bs, i);
+    }
+    return 0;
+}
+
+int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, int64_t element,
+                        const double normal[3])
+{
+    if (bs->b.n == bs->cap && grow(bs))
+        return -1;
+    int64_t i = bs->b.n++;
+    vc_balls *b = &bs->b;
+    for (int d = 0; d < 3; d++) {
+        b->center[3 * i + d] = c[d];
+        b->normal[3 * i + d] = normal[d];
+    }
+    b->radius[i] = r;
+    b->kind[i] = (signed char)kind;
+    b->element[i] = element;
+    bs->level[i] = level_of(bs, r);
+    set_key(bs, i);
+    link_ball(bs, i);
+    if (level_push(bs, bs->level[i], i))
+        return -1;
+    return i;
+}
+
+int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
+{
+    bs->b.radius[i] = r;
+    int l = level_of(bs, r);
+    if (l == bs->level[i])
+        return 0;
+    unlink_ball(bs, i);
+    level_remove(bs, bs->level[i], i);
+    bs->level[i] = l;
+    set_key(bs, i);
+    link_ball(bs, i);
+    return level_push(bs, l, i);
+}
+
+int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
+                      double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx)
+{
+    for (int l = 0; l < VC_BALL_LEVELS; l++) {
+        if (bs->level_n[l] == 0)
+            continue;
+        double h = cell_size(bs, l);
+        double R = reach + radius_factor * h; /* radii at this level are below h */
+        int64_t lo[3], hi[3];
+        double cells = 1;
+        for (int d = 0; d < 3; d++) {
+            lo[d] = cell_coord(p[d] - bs->origin[d] - R, h);
+            hi[d] = cell_coord(p[d] - bs->origin[d] + R, h);
+            cells *= (double)(hi[d] - lo[d] + 1);
+        }
+        if (cells > (double)bs->level_n[l]) {
+            for (int64_t m = 0; m < bs->level_n[l]; m++) {
+                int r = fn(ctx, bs->level_list[l][m]);
+                if (r)
+                    return r;
+            }
+            continue;
+        }
+        for (int64_t i = lo[0]; i <= hi[0]; i++)
+            for (int64_t j = lo[1]; j <= hi[1]; j++)
+                for (int64_t k = lo[2]; k <= hi[2]; k++) {
+                    uint64_t key = cell_key(l, i, j, k);
+                    int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
+                    for (int64_t b = bs->head[slot]; b >= 0; b = bs->next[b]) {
+                        if (bs->key[b] != key)
+                            continue;
+                        int r = fn(ctx, b);
+                        if (r)
+                            return r;
+                    }
+                }
+    }
+    return 0;
+}

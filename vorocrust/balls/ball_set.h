@@ -1,0 +1,52 @@
+/* The growing set of balls and its spatial index.
+ *
+ * Radii vary over orders of magnitude (tiny balls at sharp corners, large
+ * ones on flat patches), so one uniform grid does not fit: balls are
+ * indexed in levels by radius, level k holding radii in
+ * [unit 2^k, unit 2^(k+1)) in a grid of cell size unit 2^(k+1), so a ball
+ * touching a point always lies in one of the 27 cells around it at its
+ * level. A query at a level whose cell range would exceed the number of
+ * balls there scans that level's list instead. */
+#ifndef VC_BALLS_BALL_SET_H
+#define VC_BALLS_BALL_SET_H
+
+#include <stdint.h>
+#include "vorocrust/sampling.h"
+
+#define VC_BALL_LEVELS 48
+
+typedef struct vc_ball_set {
+    vc_balls b;          /* the balls (center, radius, kind, element, normal) */
+    int64_t cap;
+    double unit;         /* radius of level 0 */
+    double origin[3];    /* cell coordinates count from here */
+    /* hash grid: cell key -> first ball, then next[] */
+    int64_t table_size;  /* power of two */
+    int64_t *head;
+    int64_t *next;
+    uint64_t *key;       /* the ball's cell key */
+    int *level;
+    /* per-level lists */
+    int64_t *level_pos;  /* position of the ball in its level's list */
+    int64_t *level_list[VC_BALL_LEVELS];
+    int64_t level_n[VC_BALL_LEVELS], level_cap[VC_BALL_LEVELS];
+} vc_ball_set;
+
+/* lo: the low corner of the surface's bounding box, diag its diagonal. */
+int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag);
+void vc_ball_set_free(vc_ball_set *bs);
+
+/* Adds a ball; returns its index or -1 when out of memory. */
+int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, int64_t element,
+                        const double normal[3]);
+
+/* Sets the radius of ball i (re-indexing it when its level changes). */
+int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
+
+/* Calls fn(ctx, i) for every ball whose centre is within distance
+ * reach + its radius * radius_factor of p (a superset filter: fn tests the
+ * exact condition). Stops early when fn returns non-zero, and returns that. */
+int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
+                      double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx);
+
+#endif

@@ -1,0 +1,716 @@
+/* Recursive maximal Poisson-disk sampling of the surface (thesis 6.2.4 to
+ * 6.2.9): corner balls, then edge balls on every crease, then surface balls
+ * on every patch; the local Lipschitz condition on the radii; sliver
+ * elimination; and, after every shrinking, sampling again around the
+ * shrunk balls until the surface is covered and no seed pair is half
+ * covered.
+ *
+ * Coverage rules (6.2.4, 6.2.5): a point of a stratum of dimension k is
+ * covered when a ball of a lower dimension holds it, or a ball of the same
+ * dimension holds it alpha-deeply (within (1 - alpha) r). Balls of higher
+ * dimension never hold it: their radius keeps them 0.49 times their
+ * distance away from every lower stratum.
+ *
+ * Radius of a new sample p (6.2.3, 6.2.6): min(sz, 0.49 |p - q*|,
+ * min_q (r_q + L |p - q|)), q* the nearest element not co-smooth with p
+ * (sizing/sizing.h); if an existing centre q lies alpha-deeply inside, p is
+ * dropped with probability 0.1 and otherwise r_p is cut to
+ * |p - q| / (1 - alpha) (density regulation and the spacing part of C4). */
+#include "vorocrust/sampling.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "balls/ball_set.h"
+#include "balls/triplets.h"
+#include "sizing/sizing.h"
+#include "vorocrust/random.h"
+
+#define MAX_MISSES 100
+#define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
+
+typedef struct subface {
+    double v[9];   /* a segment (v[0..5]) or a triangle */
+    int64_t elem;  /* the sharp edge or triangle */
+} subface;
+
+typedef struct pool {
+    subface *f;
+    int64_t n, cap;
+} pool;
+
+typedef struct sampler {
+    const vc_surface *s;
+    const vc_features *f;
+    vc_sampling_options opt;
+    double alpha;      /* the deep-coverage constant in force (alpha / 2 in the safe mode) */
+    double sz;
+    vc_sizing z;
+    vc_ball_set bs;
+    vc_rng rng;
+    vc_sampling_stats *st;
+    int oom;
+} sampler;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double dist(const double *a, const double *b)
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+static int pool_push(pool *P, const subface *sf)
+{
+    if (P->n == P->cap) {
+        int64_t c = P->cap ? 2 * P->cap : 1024;
+        subface *q = realloc(P->f, sizeof(subface) * (size_t)c);
+        if (!q)
+            return -1;
+        P->f = q;
+        P->cap = c;
+    }
+    P->f[P->n++] = *sf;
+    return 0;
+}
+
+/* ---------------------------------------------------------------------
+ * Coverage */
+
+typedef struct cover_ctx {
+    const vc_balls *b;
+    const double *x;
+    int kind;          /* the stratum's dimension */
+    double deep;       /* 1 - alpha */
+} cover_ctx;
+
+static int covers_point(void *ctx, int64_t i)
+{
+    cover_ctx *c = ctx;
+    int k = c->b->kind[i];
+    if (k > c->kind)
+        return 0;
+    double d = dist(c->b->center + 3 * i, c->x);
+    double r = c->b->radius[i];
+    return k < c->kind ? d < r : d <= c->deep * r;
+}
+
+static int point_covered(const sampler *S, const double x[3], int kind)
+{
+    cover_ctx c = {&S->bs.b, x, kind, 1 - S->alpha};
+    return vc_ball_set_query(&S->bs, x, 0, 1.0, covers_point, &c);
+}
+
+typedef struct subface_cover_ctx {
+    const vc_balls *b;
+    const double *v;
+    int nv;
+    int kind;
+    double deep;
+} subface_cover_ctx;
+
+static int covers_subface(void *ctx, int64_t i)
+{
+    subface_cover_ctx *c = ctx;
+    int k = c->b->kind[i];
+    if (k > c->kind)
+        return 0;
+    double r = c->b->radius[i] * (k < c->kind ? 1.0 : c->deep);
+    for (int m = 0; m < c->nv; m++)
+        if (dist(c->b->center + 3 * i, c->v + 3 * m) > r)
+            return 0;
+    return 1;
+}
+
+/* Is the whole subface covered by one ball (balls are convex)? */
+static int subface_covered(const sampler *S, const subface *sf, int nv, int kind)
+{
+    double c[3] = {0, 0, 0};
+    for (int m = 0; m < nv; m++)
+        for (int d = 0; d < 3; d++)
+            c[d] += sf->v[3 * m + d] / nv;
+    double reach = 0;
+    for (int m = 0; m < nv; m++)
+        reach = fmax(reach, dist(c, sf->v + 3 * m));
+    subface_cover_ctx cc = {&S->bs.b, sf->v, nv, kind, 1 - S->alpha};
+    return vc_ball_set_query(&S->bs, c, reach, 1.0, covers_subface, &cc);
+}
+
+/* ---------------------------------------------------------------------
+ * Radius of a new sample */
+
+typedef struct radius_ctx {
+    const vc_balls *b;
+    const double *x;
+    int kind;          /* C3 binds balls of the same kind only */
+    double r;          /* the running estimate */
+    double L;
+    double deep;
+    double nearest_deep; /* the nearest centre alpha-deeply inside the estimate */
+} radius_ctx;
+
+static int lipschitz_bound(void *ctx, int64_t i)
+{
+    radius_ctx *c = ctx;
+    if (c->b->kind[i] != c->kind)
+        return 0;
+    double d = dist(c->b->center + 3 * i, c->x);
+    double lim = c->b->radius[i] + c->L * d;
+    if (lim < c->r)
+        c->r = lim;
+    return 0;
+}
+
+typedef struct spacing_ctx {
+    const vc_balls *b;
+    const double *x;
+    double nearest;
+} spacing_ctx;
+
+static int nearest_centre(void *ctx, int64_t i)
+{
+    spacing_ctx *c = ctx;
+    double d = dist(c->b->center + 3 * i, c->x);
+    if (d < c->nearest)
+        c->nearest = d;
+    return 0;
+}
+
+/* The radius for a new ball at x on element sp, or a negative value when
+ * density regulation drops the sample. */
+static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3])
+{
+    double r = S->sz;
+    double dstar = vc_sizing_conflict_distance(&S->z, sp, x, r / 0.49);
+    r = fmin(r, 0.49 * dstar);
+    int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
+             : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
+                                          : VC_BALL_SURFACE;
+    radius_ctx rc = {&S->bs.b, x, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
+    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, lipschitz_bound, &rc);
+    r = rc.r;
+    spacing_ctx sc = {&S->bs.b, x, INFINITY};
+    vc_ball_set_query(&S->bs, x, r, 0.0, nearest_centre, &sc);
+    double deep = 1 - S->alpha;
+    if (sc.nearest < deep * r) {
+        if (vc_rng_uniform(&S->rng) < 0.1)
+            return -1;
+        r = sc.nearest / deep;
+    }
+    return r;
+}
+
+static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp)
+{
+    double n[3];
+    vc_sizing_point_normal(&S->z, sp, n);
+    int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
+             : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
+                                          : VC_BALL_SURFACE;
+    if (vc_ball_set_add(&S->bs, x, r, kind, sp->id, n) < 0) {
+        S->oom = 1;
+        return -1;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------------
+ * Maximal Poisson-disk sampling of one pool (segments: nv = 2, triangles:
+ * nv = 3), until every subface is covered. */
+
+static double measure(const subface *sf, int nv)
+{
+    const double *a = sf->v, *b = sf->v + 3;
+    if (nv == 2)
+        return dist(a, b);
+    const double *c = sf->v + 6;
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+           z = u[0] * w[1] - u[1] * w[0];
+    return 0.5 * sqrt(x * x + y * y + z * z);
+}
+
+static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3])
+{
+    if (nv == 2) {
+        double t = vc_rng_uniform(rng);
+        for (int d = 0; d < 3; d++)
+            x[d] = sf->v[d] + t * (sf->v[3 + d] - sf->v[d]);
+        return;
+    }
+    double u = vc_rng_uniform(rng), v = vc_rng_uniform(rng);
+    if (u + v > 1) {
+        u = 1 - u;
+        v = 1 - v;
+    }
+    for (int d = 0; d < 3; d++)
+        x[d] = sf->v[d] + u * (sf->v[3 + d] - sf->v[d]) + v * (sf->v[6 + d] - sf->v[d]);
+}
+
+static int mps(sampler *S, pool *P, int nv)
+{
+    int kind = nv == 2 ? VC_ELEM_EDGE : VC_ELEM_TRIANGLE;
+    double *cum = NULL;
+    int64_t cum_cap = 0;
+    pool next = {NULL, 0, 0};
+    int rc = 0;
+    /* drop what is already covered */
+    {
+        int64_t m = 0;
+        for (int64_t i = 0; i < P->n; i++)
+            if (!subface_covered(S, &P->f[i], nv, kind))
+                P->f[m++] = P->f[i];
+        P->n = m;
+    }
+    for (int round = 0; P->n > 0 && round < 60; round++) {
+        if (P->n > cum_cap) {
+            double *q = realloc(cum, sizeof(double) * (size_t)P->n);
+            if (!q) {
+                rc = -1;
+                break;
+            }
+            cum = q;
+            cum_cap = P->n;
+        }
+        double total = 0;
+        for (int64_t i = 0; i < P->n; i++) {
+            total += measure(&P->f[i], nv);
+            cum[i] = total;
+        }
+        int misses = 0;
+        while (misses < MAX_MISSES && total > 0) {
+            double t = vc_rng_uniform(&S->rng) * total;
+            int64_t lo = 0, hi = P->n - 1;
+            while (lo < hi) {
+                int64_t mid = (lo + hi) / 2;
+                if (cum[mid] <= t)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            const subface *sf = &P->f[lo];
+            double x[3];
+            random_point(&S->rng, sf, nv, x);
+            if (point_covered(S, x, kind)) {
+                misses++;
+                continue;
+            }
+            vc_surface_point sp = {kind, sf->elem};
+            double r = new_radius(S, &sp, x);
+            if (r <= 0) {
+                misses++;
+                continue;
+            }
+            if (add_ball(S, x, r, &sp)) {
+                rc = -1;
+                break;
+            }
+            misses = 0;
+        }
+        if (rc)
+            break;
+        /* subdivide and keep the uncovered children */
+        next.n = 0;
+        for (int64_t i = 0; i < P->n && !rc; i++) {
+            const subface *sf = &P->f[i];
+            subface ch[4];
+            int nch;
+            if (nv == 2) {
+                double m[3];
+                for (int d = 0; d < 3; d++)
+                    m[d] = 0.5 * (sf->v[d] + sf->v[3 + d]);
+                memcpy(ch[0].v, sf->v, sizeof(double) * 3);
+                memcpy(ch[0].v + 3, m, sizeof m);
+                memcpy(ch[1].v, m, sizeof m);
+                memcpy(ch[1].v + 3, sf->v + 3, sizeof(double) * 3);
+                nch = 2;
+            } else {
+                double m[3][3];
+                for (int e = 0; e < 3; e++)
+                    for (int d = 0; d < 3; d++)
+                        m[e][d] = 0.5 * (sf->v[3 * e + d] + sf->v[3 * ((e + 1) % 3) + d]);
+                const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
+                const double *tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
+                                           {m[0], m[1], m[2]}};
+                for (int q = 0; q < 4; q++)
+                    for (int e = 0; e < 3; e++)
+                        memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                nch = 4;
+            }
+            for (int q = 0; q < nch; q++) {
+                ch[q].elem = sf->elem;
+                if (!subface_covered(S, &ch[q], nv, kind) && pool_push(&next, &ch[q]))
+                    rc = -1;
+            }
+        }
+        pool tmp = *P;
+        *P = next;
+        next = tmp;
+        if (getenv("VC_MPS_DEBUG"))
+            fprintf(stderr, "mps nv=%d round %d: pool %lld, balls %lld\n", nv, round,
+                    (long long)P->n, (long long)S->bs.b.n);
+    }
+    free(cum);
+    free(next.f);
+    if (S->oom)
+        rc = -1;
+    return rc;
+}
+
+/* ---------------------------------------------------------------------
+ * Pools */
+
+static void edge_subface(const sampler *S, int64_t e, subface *sf)
+{
+    const double *a = S->s->xyz + 3 * S->f->edge_vertex[2 * e];
+    const double *b = S->s->xyz + 3 * S->f->edge_vertex[2 * e + 1];
+    memcpy(sf->v, a, sizeof(double) * 3);
+    memcpy(sf->v + 3, b, sizeof(double) * 3);
+    sf->elem = e;
+}
+
+static void tri_subface(const sampler *S, int64_t t, subface *sf)
+{
+    for (int k = 0; k < 3; k++)
+        memcpy(sf->v + 3 * k, S->s->xyz + 3 * S->s->tri[3 * t + k], sizeof(double) * 3);
+    sf->elem = t;
+}
+
+typedef struct near_ctx {
+    unsigned char *mark_edge, *mark_tri;
+} near_ctx;
+
+static void mark_near(void *ctx, int kind, int64_t id)
+{
+    near_ctx *c = ctx;
+    if (kind == VC_ELEM_EDGE)
+        c->mark_edge[id] = 1;
+    else if (kind == VC_ELEM_TRIANGLE)
+        c->mark_tri[id] = 1;
+}
+
+/* Samples the creases, then the patches, restricted to the elements marked
+ * (all when marks are NULL). */
+static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsigned char *mark_tri)
+{
+    pool P = {NULL, 0, 0};
+    int rc = 0;
+    double t0 = now();
+    for (int64_t e = 0; e < S->f->n_edges && !rc; e++) {
+        if (!S->f->edge_sharp[e] || (mark_edge && !mark_edge[e]))
+            continue;
+        subface sf;
+        edge_subface(S, e, &sf);
+        rc = pool_push(&P, &sf);
+    }
+    if (!rc)
+        rc = mps(S, &P, 2);
+    double t1 = now();
+    S->st->t_edges += t1 - t0;
+    P.n = 0;
+    for (int64_t t = 0; t < S->s->n_triangles && !rc; t++) {
+        if (mark_tri && !mark_tri[t])
+            continue;
+        subface sf;
+        tri_subface(S, t, &sf);
+        rc = pool_push(&P, &sf);
+    }
+    if (!rc)
+        rc = mps(S, &P, 3);
+    S->st->t_surface += now() - t1;
+    free(P.f);
+    return rc;
+}
+
+/* Samples again around the balls whose radius went down from old_r. */
+static int resample_around(sampler *S, const double *old_r, const unsigned char *shrunk)
+{
+    unsigned char *me = calloc((size_t)S->f->n_edges + 1, 1);
+    unsigned char *mt = calloc((size_t)S->s->n_triangles + 1, 1);
+    if (!me || !mt) {
+        free(me);
+        free(mt);
+        return -1;
+    }
+    near_ctx nc = {me, mt};
+    for (int64_t i = 0; i < S->bs.b.n; i++)
+        if (shrunk[i])
+            vc_sizing_elements_near(&S->z, S->bs.b.center + 3 * i, old_r[i], mark_near, &nc);
+    int rc = sample_strata(S, me, mt);
+    free(me);
+    free(mt);
+    return rc;
+}
+
+/* ---------------------------------------------------------------------
+ * Local Lipschitz condition C3 among balls of the same kind:
+ * r_p <= r_q + L |p - q| (across kinds it would make the small edge balls
+ * shrink the surface balls next to them and back, without end).
+ * One pass from a snapshot gives the exact L-Lipschitz envelope. */
+
+static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrunk)
+{
+    vc_balls *b = &S->bs.b;
+    int64_t n = b->n, changed = 0;
+    memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
+    double *newr = malloc(sizeof(double) * (size_t)(n ? n : 1));
+    if (!newr)
+        return -1;
+    for (int64_t i = 0; i < n; i++) {
+        radius_ctx rc = {b, b->center + 3 * i, b->kind[i], old_r[i], S->opt.lipschitz, 0, 0};
+        vc_ball_set_query(&S->bs, b->center + 3 * i, old_r[i] / S->opt.lipschitz, 0.0,
+                          lipschitz_bound, &rc);
+        newr[i] = rc.r;
+    }
+    for (int64_t i = 0; i < n; i++) {
+        if (newr[i] < old_r[i] * (1 - 1e-12)) {
+            shrunk[i] = 1;
+            changed++;
+            if (vc_ball_set_resize(&S->bs, i, newr[i]))
+                changed = -1;
+        }
+    }
+    free(newr);
+    return changed;
+}
+
+/* ---------------------------------------------------------------------
+ * Sliver elimination (6.2.7): for every triplet with exactly one of its two
+ * points covered by a fourth ball, the covering ball that needs the least
+ * shrinking is cut to leave the point just outside. */
+
+typedef struct sliver_ctx {
+    const vc_balls *b;
+    double *target;
+    int64_t n_half;
+} sliver_ctx;
+
+static void on_triplet(void *ctx, const vc_triplet *t)
+{
+    sliver_ctx *c = ctx;
+    if ((t->cover_up < 0) == (t->cover_down < 0))
+        return;
+    c->n_half++;
+    int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
+    const double *g = t->cover_up >= 0 ? t->up : t->down;
+    double r = dist(c->b->center + 3 * f, g) * (1 - SHRINK_MARGIN);
+    if (r < c->target[f])
+        c->target[f] = r;
+}
+
+static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrunk,
+                                 int64_t *n_half)
+{
+    vc_balls *b = &S->bs.b;
+    int64_t n = b->n;
+    memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
+    sliver_ctx c = {b, NULL, 0};
+    c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
+    if (!c.target)
+        return -1;
+    memcpy(c.target, b->radius, sizeof(double) * (size_t)n);
+    if (vc_triplets_scan(&S->bs, on_triplet, &c)) {
+        free(c.target);
+        return -1;
+    }
+    int64_t changed = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (c.target[i] < b->radius[i]) {
+            shrunk[i] = 1;
+            changed++;
+            if (vc_ball_set_resize(&S->bs, i, c.target[i]))
+                changed = -1;
+        }
+    *n_half = c.n_half;
+    free(c.target);
+    return changed;
+}
+
+/* ---------------------------------------------------------------------
+ * The driver */
+
+void vc_sampling_options_default(vc_sampling_options *opt)
+{
+    opt->sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE;
+    opt->smooth_angle = 30.0;
+    opt->lipschitz = 0.25;
+    opt->max_size = 0;
+    opt->alpha = 1 - sqrt(3.0) / 2;
+    opt->seed = 1;
+    opt->threads = 0;
+    opt->progress = 0;
+    opt->max_sliver_iterations = 100;
+}
+
+void vc_balls_free(vc_balls *b)
+{
+    free(b->center);
+    free(b->radius);
+    free(b->kind);
+    free(b->element);
+    free(b->normal);
+    memset(b, 0, sizeof *b);
+}
+
+static int grow_scratch(double **old_r, unsigned char **shrunk, int64_t n)
+{
+    double *a = realloc(*old_r, sizeof(double) * (size_t)(n ? n : 1));
+    if (!a)
+        return -1;
+    *old_r = a;
+    unsigned char *s = realloc(*shrunk, (size_t)(n ? n : 1));
+    if (!s)
+        return -1;
+    *shrunk = s;
+    memset(s, 0, (size_t)n);
+    return 0;
+}
+
+int vc_sample_surface(const vc_surface *s, const vc_features *f,
+                      const vc_sampling_options *opt, vc_balls *out,
+                      vc_sampling_stats *stats, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    vc_sampling_stats local;
+    vc_sampling_stats *st = stats ? stats : &local;
+    memset(st, 0, sizeof *st);
+    if (!(opt->lipschitz > 0 && opt->lipschitz < 1))
+        return vc_error_set(err, VC_EPARAM, "--lipschitz must be in (0, 1), got %g", opt->lipschitz);
+    if (!(opt->sharp_angle > 0 && opt->sharp_angle < 180))
+        return vc_error_set(err, VC_EPARAM, "--sharp-angle must be in (0, 180), got %g",
+                            opt->sharp_angle);
+    if (!(opt->smooth_angle > 0 && opt->smooth_angle <= opt->sharp_angle))
+        return vc_error_set(err, VC_EPARAM, "--smooth-angle must be in (0, sharp angle], got %g",
+                            opt->smooth_angle);
+    if (!(opt->alpha > 0 && opt->alpha < 1))
+        return vc_error_set(err, VC_EPARAM, "alpha must be in (0, 1), got %g", opt->alpha);
+    if (!(opt->max_size >= 0) || !isfinite(opt->max_size))
+        return vc_error_set(err, VC_EPARAM, "--max-size must be a positive number, got %g",
+                            opt->max_size);
+    if (f->n_boundary_edges > 0)
+        return vc_error_set(err, VC_EINPUT,
+                            "the surface is open: %lld boundary edges (VoroCrust needs a "
+                            "closed surface)", (long long)f->n_boundary_edges);
+
+    sampler S;
+    memset(&S, 0, sizeof S);
+    S.s = s;
+    S.f = f;
+    S.opt = *opt;
+    S.alpha = opt->alpha;
+    S.st = st;
+    vc_rng_init(&S.rng, opt->seed, 0);
+    double t0 = now();
+    if (vc_sizing_init(&S.z, s, f, opt->sharp_angle, opt->smooth_angle))
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the sizing structures");
+    S.sz = opt->max_size > 0 ? opt->max_size : S.z.diag;
+    double lo[3] = {INFINITY, INFINITY, INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++)
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+    if (vc_ball_set_init(&S.bs, lo, S.z.diag)) {
+        vc_sizing_free(&S.z);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the balls");
+    }
+    st->t_sizing = now() - t0;
+
+    int rc = 0;
+    double *old_r = NULL;
+    unsigned char *shrunk = NULL;
+
+    /* Phase 1: one ball per sharp corner, then C3 among them. */
+    t0 = now();
+    for (int64_t v = 0; v < s->n_vertices && !rc; v++) {
+        if (!f->vertex_corner[v])
+            continue;
+        vc_surface_point sp = {VC_ELEM_CORNER, v};
+        const double *x = s->xyz + 3 * v;
+        double r = fmin(S.sz, 0.49 * vc_sizing_conflict_distance(&S.z, &sp, x, S.sz / 0.49));
+        rc = add_ball(&S, x, r, &sp);
+    }
+    if (!rc && (rc = grow_scratch(&old_r, &shrunk, S.bs.b.n)) == 0)
+        rc = enforce_lipschitz(&S, old_r, shrunk) < 0 ? -1 : 0;
+    st->t_corners = now() - t0;
+
+    /* Phases 2 and 3: creases, then patches. */
+    if (!rc)
+        rc = sample_strata(&S, NULL, NULL);
+    if (opt->progress && !rc)
+        fprintf(stderr, "mesh: %lld balls after the first coverage\n", (long long)S.bs.b.n);
+
+    /* Lipschitz fixes and sliver elimination, sampling again after every
+     * shrinking, until nothing changes. */
+    int iter = 0;
+    while (!rc) {
+        double ta = now();
+        if (grow_scratch(&old_r, &shrunk, S.bs.b.n)) {
+            rc = -1;
+            break;
+        }
+        int64_t nl = enforce_lipschitz(&S, old_r, shrunk);
+        st->t_lipschitz += now() - ta;
+        if (nl < 0) {
+            rc = -1;
+            break;
+        }
+        st->n_shrunk_lipschitz += nl;
+        if (nl > 0) {
+            rc = resample_around(&S, old_r, shrunk);
+            continue;
+        }
+        double tb = now();
+        int64_t n_half = 0;
+        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half);
+        st->t_slivers += now() - tb;
+        if (ns < 0) {
+            rc = -1;
+            break;
+        }
+        st->n_half_covered = n_half;
+        if (ns == 0)
+            break;
+        st->n_shrunk_sliver += ns;
+        iter++;
+        st->sliver_iterations = iter;
+        if (opt->progress)
+            fprintf(stderr, "mesh: sliver elimination %d: %lld half-covered pairs, %lld balls "
+                    "shrunk, %lld balls\n", iter, (long long)n_half, (long long)ns,
+                    (long long)S.bs.b.n);
+        if (iter == opt->max_sliver_iterations && !st->safe_mode) {
+            st->safe_mode = 1;
+            S.alpha = opt->alpha / 2;
+        } else if (iter >= 2 * opt->max_sliver_iterations) {
+            break;
+        }
+        rc = resample_around(&S, old_r, shrunk);
+    }
+    free(old_r);
+    free(shrunk);
+    vc_sizing_free(&S.z);
+    if (rc) {
+        vc_ball_set_free(&S.bs);
+        return vc_error_set(err, VC_ENOMEM, "out of memory while sampling the surface");
+    }
+    /* hand the balls over, trimmed */
+    *out = S.bs.b;
+    memset(&S.bs.b, 0, sizeof S.bs.b);
+    vc_ball_set_free(&S.bs);
+    for (int64_t i = 0; i < out->n; i++) {
+        if (out->kind[i] == VC_BALL_CORNER)
+            st->n_corner++;
+        else if (out->kind[i] == VC_BALL_EDGE)
+            st->n_edge++;
+        else
+            st->n_surface++;
+    }
+    return 0;
+}

@@ -1,0 +1,35 @@
+/* Triplets of pairwise overlapping balls and the two points where their
+ * spheres meet (thesis 6.2.7): the candidate seeds, and the half-covered
+ * pairs that sliver elimination removes. */
+#ifndef VC_BALLS_TRIPLETS_H
+#define VC_BALLS_TRIPLETS_H
+
+#include <stdint.h>
+#include "balls/ball_set.h"
+
+/* The two points where the spheres of balls a, b, c meet; returns 0 when
+ * they do not meet in two distinct points (or the centres are collinear).
+ * up is on the side of (cb - ca) x (cc - ca). */
+int vc_sphere_triple_points(const double *ca, double ra, const double *cb, double rb,
+                            const double *cc, double rc, double up[3], double down[3]);
+
+/* Is p strictly inside ball i (with a relative margin, so that a point
+ * placed on a sphere by vc_sphere_triple_points is not inside)? */
+int vc_ball_strictly_contains(const vc_balls *b, int64_t i, const double p[3]);
+
+/* One triplet (i < j < k) with its points and which of them a fourth ball
+ * covers; cover_up / cover_down is the covering ball that needs the least
+ * shrinking (-1 when uncovered). */
+typedef struct vc_triplet {
+    int64_t i, j, k;
+    double up[3], down[3];
+    int64_t cover_up, cover_down;
+} vc_triplet;
+
+/* Calls fn(ctx, &t) for every triplet of pairwise overlapping balls whose
+ * spheres meet in two points, in increasing (i, j, k) order. Returns 0, or
+ * -1 when out of memory. */
+int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_triplet *t),
+                     void *ctx);
+
+#endif

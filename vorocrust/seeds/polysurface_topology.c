@@ -1,0 +1,102 @@
+/* Edge and vertex topology of a polygonal surface. Edges are found by
+ * sorting (min, max, polygon, direction) records. */
+#include "vorocrust/sampling.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct edge_rec {
+    int64_t a, b;   /* a < b */
+    int64_t poly;
+    int dir;        /* +1 when the polygon walks a -> b */
+} edge_rec;
+
+static int cmp_edge(const void *p, const void *q)
+{
+    const edge_rec *x = p, *y = q;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->poly > y->poly) - (x->poly < y->poly);
+}
+
+static int64_t find_root(int64_t *parent, int64_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+int vc_polysurface_topology_compute(const vc_polysurface *p, vc_polysurface_topology *t,
+                                    vc_error *err)
+{
+    memset(t, 0, sizeof *t);
+    int64_t ne = p->poly_offsets[p->n_polys];
+    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(ne ? ne : 1));
+    int64_t *parent = malloc(sizeof(int64_t) * (size_t)(p->n_points ? p->n_points : 1));
+    /* vertex fans: per vertex, count its polygons and the unions of the
+     * polygons around it through shared edges */
+    int64_t *vdeg = calloc((size_t)(p->n_points ? p->n_points : 1), sizeof(int64_t));
+    int64_t *vedge = calloc((size_t)(p->n_points ? p->n_points : 1), sizeof(int64_t));
+    if (!e || !parent || !vdeg || !vedge) {
+        free(e);
+        free(parent);
+        free(vdeg);
+        free(vedge);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the surface topology");
+    }
+    int64_t m = 0;
+    for (int64_t f = 0; f < p->n_polys; f++) {
+        int64_t s = p->poly_offsets[f], n = p->poly_offsets[f + 1] - s;
+        for (int64_t i = 0; i < n; i++) {
+            int64_t a = p->poly_vertices[s + i], b = p->poly_vertices[s + (i + 1) % n];
+            vdeg[a]++;
+            e[m].a = a < b ? a : b;
+            e[m].b = a < b ? b : a;
+            e[m].poly = f;
+            e[m].dir = a < b ? 1 : -1;
+            m++;
+        }
+    }
+    qsort(e, (size_t)m, sizeof(edge_rec), cmp_edge);
+    for (int64_t v = 0; v < p->n_points; v++)
+        parent[v] = v;
+    for (int64_t i = 0; i < m;) {
+        int64_t j = i;
+        while (j < m && e[j].a == e[i].a && e[j].b == e[i].b)
+            j++;
+        int64_t cnt = j - i;
+        t->n_edges++;
+        vedge[e[i].a]++;
+        vedge[e[i].b]++;
+        if (cnt == 1)
+            t->n_boundary_edges++;
+        else if (cnt > 2)
+            t->n_nonmanifold_edges++;
+        else if (e[i].dir == e[i + 1].dir)
+            t->n_misoriented_edges++;
+        int64_t ra = find_root(parent, e[i].a), rb = find_root(parent, e[i].b);
+        if (ra != rb)
+            parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+        i = j;
+    }
+    /* A manifold vertex of a closed surface has as many edges as polygons
+     * (one fan); more polygons than edges would mean several fans. */
+    for (int64_t v = 0; v < p->n_points; v++) {
+        if (vdeg[v] != vedge[v])
+            t->n_nonmanifold_vertices++;
+        if (find_root(parent, v) == v)
+            t->n_components++;
+    }
+    t->n_vertices = p->n_points;
+    t->n_faces = p->n_polys;
+    t->euler = t->n_vertices - t->n_edges + t->n_faces;
+    free(e);
+    free(parent);
+    free(vdeg);
+    free(vedge);
+    return 0;
+}

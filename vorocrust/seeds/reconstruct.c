@@ -1,0 +1,76 @@
+/* The reconstructed surface: the Voronoi facets between an inside and an
+ * outside seed, taken from the conforming Voronoi mesh of the inside
+ * seeds (the outside seeds are its non-kept seeds), so the facets share
+ * the mesh's global vertices. */
+#include "vorocrust/sampling.h"
+#include "vorocrust/voronoi.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void vc_polysurface_free(vc_polysurface *p)
+{
+    free(p->points);
+    free(p->poly_offsets);
+    free(p->poly_vertices);
+    memset(p, 0, sizeof *p);
+}
+
+int vc_reconstruct_surface(const vc_seeds *seeds, int threads, vc_polysurface *out,
+                           vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    vc_voronoi_options vo;
+    vc_voronoi_options_default(&vo);
+    vo.threads = threads;
+    vo.progress = 0;
+    vc_polymesh m;
+    int rc = vc_voronoi_build(seeds, &vo, &m, err);
+    if (rc)
+        return rc;
+    int64_t nf = 0, nfv = 0;
+    for (int64_t f = m.n_interior_faces; f < m.n_faces; f++)
+        if (m.face_other_seed[f] >= 0) {
+            nf++;
+            nfv += m.face_offsets[f + 1] - m.face_offsets[f];
+        }
+    int64_t *newid = malloc(sizeof(int64_t) * (size_t)(m.n_points ? m.n_points : 1));
+    out->poly_offsets = malloc(sizeof(int64_t) * (size_t)(nf + 1));
+    out->poly_vertices = malloc(sizeof(int64_t) * (size_t)(nfv ? nfv : 1));
+    if (!newid || !out->poly_offsets || !out->poly_vertices) {
+        free(newid);
+        vc_polysurface_free(out);
+        vc_polymesh_free(&m);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the reconstructed surface");
+    }
+    for (int64_t i = 0; i < m.n_points; i++)
+        newid[i] = -1;
+    int64_t np = 0, k = 0, q = 0;
+    out->poly_offsets[0] = 0;
+    for (int64_t f = m.n_interior_faces; f < m.n_faces; f++) {
+        if (m.face_other_seed[f] < 0)
+            continue;
+        for (int64_t j = m.face_offsets[f]; j < m.face_offsets[f + 1]; j++) {
+            int64_t v = m.face_vertices[j];
+            if (newid[v] < 0)
+                newid[v] = np++;
+            out->poly_vertices[k++] = newid[v];
+        }
+        out->poly_offsets[++q] = k;
+    }
+    out->n_polys = nf;
+    out->n_points = np;
+    out->points = malloc(sizeof(double) * 3 * (size_t)(np ? np : 1));
+    if (!out->points) {
+        free(newid);
+        vc_polysurface_free(out);
+        vc_polymesh_free(&m);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the reconstructed surface");
+    }
+    for (int64_t i = 0; i < m.n_points; i++)
+        if (newid[i] >= 0)
+            memcpy(out->points + 3 * newid[i], m.points + 3 * i, sizeof(double) * 3);
+    free(newid);
+    vc_polymesh_free(&m);
+    return 0;
+}

@@ -1,0 +1,403 @@
+#include "sizing/sizing.h"
+#include "sizing/closest_point.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LEAF_SIZE 4
+
+static const double *vtx(const vc_sizing *z, int64_t v) { return z->s->xyz + 3 * v; }
+
+static void elem_bounds(const vc_sizing *z, int kind, int64_t id, double lo[3], double hi[3])
+{
+    int64_t v[3];
+    int nv;
+    if (kind == VC_ELEM_CORNER) {
+        v[0] = id;
+        nv = 1;
+    } else if (kind == VC_ELEM_EDGE) {
+        v[0] = z->f->edge_vertex[2 * id];
+        v[1] = z->f->edge_vertex[2 * id + 1];
+        nv = 2;
+    } else {
+        for (int k = 0; k < 3; k++)
+            v[k] = z->s->tri[3 * id + k];
+        nv = 3;
+    }
+    for (int d = 0; d < 3; d++)
+        lo[d] = hi[d] = vtx(z, v[0])[d];
+    for (int k = 1; k < nv; k++)
+        for (int d = 0; d < 3; d++) {
+            double x = vtx(z, v[k])[d];
+            lo[d] = x < lo[d] ? x : lo[d];
+            hi[d] = x > hi[d] ? x : hi[d];
+        }
+}
+
+double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const double p[3])
+{
+    if (kind == VC_ELEM_CORNER) {
+        const double *a = vtx(z, id);
+        double d[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    }
+    if (kind == VC_ELEM_EDGE)
+        return vc_closest_on_segment(p, vtx(z, z->f->edge_vertex[2 * id]),
+                                     vtx(z, z->f->edge_vertex[2 * id + 1]), NULL);
+    const int64_t *t = z->s->tri + 3 * id;
+    return vc_closest_on_triangle(p, vtx(z, t[0]), vtx(z, t[1]), vtx(z, t[2]), NULL);
+}
+
+/* Top-down build: split the elements at the median of the longest axis of
+ * their centres. Elements are (kind, id, centre) records sorted in place. */
+typedef struct build_elem {
+    double c[3];
+    double lo[3], hi[3];
+    signed char kind;
+    int64_t id;
+} build_elem;
+
+static int g_axis; /* only used inside the qsort of one build (single thread) */
+static int cmp_axis(const void *a, const void *b)
+{
+    double x = ((const build_elem *)a)->c[g_axis], y = ((const build_elem *)b)->c[g_axis];
+    if (x < y)
+        return -1;
+    if (x > y)
+        return 1;
+    int64_t i = ((const build_elem *)a)->id, j = ((const build_elem *)b)->id;
+    int ki = ((const build_elem *)a)->kind, kj = ((const build_elem *)b)->kind;
+    if (ki != kj)
+        return ki < kj ? -1 : 1;
+    return (i > j) - (i < j);
+}
+
+static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t count)
+{
+    int64_t me = z->n_nodes++;
+    vc_bvh_node *nd = &z->nodes[me];
+    for (int d = 0; d < 3; d++) {
+        nd->lo[d] = INFINITY;
+        nd->hi[d] = -INFINITY;
+    }
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = start; i < start + count; i++)
+        for (int d = 0; d < 3; d++) {
+            nd->lo[d] = fmin(nd->lo[d], e[i].lo[d]);
+            nd->hi[d] = fmax(nd->hi[d], e[i].hi[d]);
+            clo[d] = fmin(clo[d], e[i].c[d]);
+            chi[d] = fmax(chi[d], e[i].c[d]);
+        }
+    if (count <= LEAF_SIZE) {
+        nd->start = start;
+        nd->count = count;
+        nd->left = nd->right = -1;
+        return me;
+    }
+    int axis = 0;
+    for (int d = 1; d < 3; d++)
+        if (chi[d] - clo[d] > chi[axis] - clo[axis])
+            axis = d;
+    g_axis = axis;
+    qsort(e + start, (size_t)count, sizeof(build_elem), cmp_axis);
+    int64_t half = count / 2;
+    nd->start = start;
+    nd->count = 0;
+    int64_t l = build_node(z, e, start, half);
+    int64_t r = build_node(z, e, start + half, count - half);
+    z->nodes[me].left = l;
+    z->nodes[me].right = r;
+    return me;
+}
+
+static void csr_free(int64_t **a, int64_t **b)
+{
+    free(*a);
+    free(*b);
+    *a = *b = NULL;
+}
+
+int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
+                   double sharp_angle_deg, double smooth_angle_deg)
+{
+    memset(z, 0, sizeof *z);
+    z->s = s;
+    z->f = f;
+    z->cos_sharp = cos(sharp_angle_deg * 3.14159265358979323846 / 180.0);
+    z->cos_smooth = cos(smooth_angle_deg * 3.14159265358979323846 / 180.0);
+    int64_t nv = s->n_vertices, nt = s->n_triangles, ne = f->n_edges;
+
+    /* Orientation: the signed volume of the patch-oriented triangles. */
+    double vol = 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < nv; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    z->diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t w[3];
+        vc_features_oriented_triangle(f, s, t, w);
+        const double *a = vtx(z, w[0]), *b = vtx(z, w[1]), *c = vtx(z, w[2]);
+        double ax = a[0] - lo[0], ay = a[1] - lo[1], az = a[2] - lo[2];
+        double bx = b[0] - lo[0], by = b[1] - lo[1], bz = b[2] - lo[2];
+        double cx = c[0] - lo[0], cy = c[1] - lo[1], cz = c[2] - lo[2];
+        vol += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    }
+    z->orientation = vol < 0 ? -1.0 : 1.0;
+
+    z->tri_out_normal = malloc(sizeof(double) * 3 * (size_t)(nt ? nt : 1));
+    z->edge_tangent = calloc(3 * (size_t)(ne ? ne : 1), sizeof(double));
+    z->vtri_start = calloc((size_t)nv + 1, sizeof(int64_t));
+    z->vtri = malloc(sizeof(int64_t) * 3 * (size_t)(nt ? nt : 1));
+    z->vedge_start = calloc((size_t)nv + 1, sizeof(int64_t));
+    z->vedge = malloc(sizeof(int64_t) * 2 * (size_t)(f->n_sharp_edges ? f->n_sharp_edges : 1));
+    if (!z->tri_out_normal || !z->edge_tangent || !z->vtri_start || !z->vtri ||
+        !z->vedge_start || !z->vedge) {
+        vc_sizing_free(z);
+        return -1;
+    }
+    for (int64_t t = 0; t < nt; t++)
+        for (int d = 0; d < 3; d++)
+            z->tri_out_normal[3 * t + d] = z->orientation * f->tri_normal[3 * t + d];
+    for (int64_t e = 0; e < ne; e++) {
+        if (!f->edge_sharp[e])
+            continue;
+        const double *a = vtx(z, f->edge_vertex[2 * e]), *b = vtx(z, f->edge_vertex[2 * e + 1]);
+        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double sg = f->edge_crease_dir[e] < 0 ? -1.0 : 1.0;
+        if (l > 0)
+            for (int k = 0; k < 3; k++)
+                z->edge_tangent[3 * e + k] = sg * d[k] / l;
+    }
+    /* vertex -> triangles, vertex -> sharp edges */
+    for (int64_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            z->vtri_start[s->tri[3 * t + k] + 1]++;
+    for (int64_t v = 0; v < nv; v++)
+        z->vtri_start[v + 1] += z->vtri_start[v];
+    {
+        int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nv ? nv : 1));
+        if (!fill) {
+            vc_sizing_free(z);
+            return -1;
+        }
+        memcpy(fill, z->vtri_start, sizeof(int64_t) * (size_t)nv);
+        for (int64_t t = 0; t < nt; t++)
+            for (int k = 0; k < 3; k++)
+                z->vtri[fill[s->tri[3 * t + k]]++] = t;
+        for (int64_t e = 0; e < ne; e++)
+            if (f->edge_sharp[e]) {
+                z->vedge_start[f->edge_vertex[2 * e] + 1]++;
+                z->vedge_start[f->edge_vertex[2 * e + 1] + 1]++;
+            }
+        for (int64_t v = 0; v < nv; v++)
+            z->vedge_start[v + 1] += z->vedge_start[v];
+        memcpy(fill, z->vedge_start, sizeof(int64_t) * (size_t)nv);
+        for (int64_t e = 0; e < ne; e++)
+            if (f->edge_sharp[e]) {
+                z->vedge[fill[f->edge_vertex[2 * e]]++] = e;
+                z->vedge[fill[f->edge_vertex[2 * e + 1]]++] = e;
+            }
+        free(fill);
+    }
+
+    /* The elements and their tree. */
+    int64_t n = nt + f->n_sharp_edges + f->n_corners;
+    build_elem *be = malloc(sizeof(build_elem) * (size_t)(n ? n : 1));
+    z->elem_kind = malloc((size_t)(n ? n : 1));
+    z->elem_id = malloc(sizeof(int64_t) * (size_t)(n ? n : 1));
+    z->nodes = malloc(sizeof(vc_bvh_node) * (size_t)(2 * n + 1));
+    if (!be || !z->elem_kind || !z->elem_id || !z->nodes) {
+        free(be);
+        vc_sizing_free(z);
+        return -1;
+    }
+    int64_t m = 0;
+    for (int64_t v = 0; v < nv; v++)
+        if (f->vertex_corner[v])
+            be[m].kind = VC_ELEM_CORNER, be[m++].id = v;
+    for (int64_t e = 0; e < ne; e++)
+        if (f->edge_sharp[e])
+            be[m].kind = VC_ELEM_EDGE, be[m++].id = e;
+    for (int64_t t = 0; t < nt; t++)
+        be[m].kind = VC_ELEM_TRIANGLE, be[m++].id = t;
+    for (int64_t i = 0; i < m; i++) {
+        elem_bounds(z, be[i].kind, be[i].id, be[i].lo, be[i].hi);
+        for (int d = 0; d < 3; d++)
+            be[i].c[d] = 0.5 * (be[i].lo[d] + be[i].hi[d]);
+    }
+    z->n_elems = m;
+    if (m > 0)
+        build_node(z, be, 0, m);
+    for (int64_t i = 0; i < m; i++) {
+        z->elem_kind[i] = be[i].kind;
+        z->elem_id[i] = be[i].id;
+    }
+    free(be);
+    return 0;
+}
+
+void vc_sizing_free(vc_sizing *z)
+{
+    free(z->tri_out_normal);
+    free(z->edge_tangent);
+    csr_free(&z->vtri_start, &z->vtri);
+    csr_free(&z->vedge_start, &z->vedge);
+    free(z->elem_kind);
+    free(z->elem_id);
+    free(z->nodes);
+    memset(z, 0, sizeof *z);
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Is triangle t co-smooth with an edge or corner point whose adjacent
+ * triangles are given? */
+static int tri_cosmooth_with_list(const vc_sizing *z, const int64_t *tris, int64_t n, int64_t t)
+{
+    int64_t pt = z->f->tri_patch[t];
+    const double *nt = z->tri_out_normal + 3 * t;
+    for (int64_t i = 0; i < n; i++) {
+        int64_t u = tris[i];
+        if (z->f->tri_patch[u] == pt && dot3(z->tri_out_normal + 3 * u, nt) >= z->cos_smooth)
+            return 1;
+    }
+    return 0;
+}
+
+int vc_sizing_cosmooth(const vc_sizing *z, const vc_surface_point *sp, int kind, int64_t id)
+{
+    const vc_features *f = z->f;
+    if (kind == VC_ELEM_CORNER)
+        return sp->kind == VC_ELEM_CORNER && sp->id == id;
+    if (kind == VC_ELEM_EDGE) {
+        if (sp->kind == VC_ELEM_TRIANGLE)
+            return 0;
+        const double *te = z->edge_tangent + 3 * id;
+        if (sp->kind == VC_ELEM_EDGE)
+            return f->edge_crease[sp->id] == f->edge_crease[id] &&
+                   dot3(z->edge_tangent + 3 * sp->id, te) >= z->cos_sharp;
+        for (int64_t k = z->vedge_start[sp->id]; k < z->vedge_start[sp->id + 1]; k++) {
+            int64_t e = z->vedge[k];
+            if (f->edge_crease[e] == f->edge_crease[id] &&
+                dot3(z->edge_tangent + 3 * e, te) >= z->cos_sharp)
+                return 1;
+        }
+        return 0;
+    }
+    /* a triangle */
+    if (sp->kind == VC_ELEM_TRIANGLE)
+        return f->tri_patch[sp->id] == f->tri_patch[id] &&
+               dot3(z->tri_out_normal + 3 * sp->id, z->tri_out_normal + 3 * id) >= z->cos_smooth;
+    if (sp->kind == VC_ELEM_EDGE)
+        return tri_cosmooth_with_list(z, f->edge_tri + f->edge_tri_start[sp->id],
+                                      f->edge_tri_start[sp->id + 1] - f->edge_tri_start[sp->id],
+                                      id);
+    return tri_cosmooth_with_list(z, z->vtri + z->vtri_start[sp->id],
+                                  z->vtri_start[sp->id + 1] - z->vtri_start[sp->id], id);
+}
+
+static double box_dist2(const vc_bvh_node *nd, const double p[3])
+{
+    double d2 = 0;
+    for (int d = 0; d < 3; d++) {
+        double e = p[d] < nd->lo[d] ? nd->lo[d] - p[d] : (p[d] > nd->hi[d] ? p[d] - nd->hi[d] : 0);
+        d2 += e * e;
+    }
+    return d2;
+}
+
+double vc_sizing_conflict_distance(const vc_sizing *z, const vc_surface_point *sp,
+                                   const double p[3], double bound)
+{
+    if (z->n_elems == 0)
+        return bound;
+    double best2 = bound * bound;
+    int64_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_bvh_node *nd = &z->nodes[stack[--top]];
+        if (box_dist2(nd, p) >= best2)
+            continue;
+        if (nd->count > 0) {
+            for (int64_t i = nd->start; i < nd->start + nd->count; i++) {
+                int kind = z->elem_kind[i];
+                int64_t id = z->elem_id[i];
+                double d2 = vc_sizing_element_dist2(z, kind, id, p);
+                if (d2 < best2 && !vc_sizing_cosmooth(z, sp, kind, id))
+                    best2 = d2;
+            }
+            continue;
+        }
+        /* nearer child last, so it is popped first */
+        double dl = box_dist2(&z->nodes[nd->left], p), dr = box_dist2(&z->nodes[nd->right], p);
+        if (top + 2 > 128)
+            continue; /* cannot happen: the tree depth is about log2(n) */
+        if (dl < dr) {
+            stack[top++] = nd->right;
+            stack[top++] = nd->left;
+        } else {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+        }
+    }
+    return sqrt(best2);
+}
+
+void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
+                             void (*fn)(void *ctx, int kind, int64_t id), void *ctx)
+{
+    if (z->n_elems == 0)
+        return;
+    double r2 = r * r;
+    int64_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_bvh_node *nd = &z->nodes[stack[--top]];
+        if (box_dist2(nd, p) > r2)
+            continue;
+        if (nd->count > 0) {
+            for (int64_t i = nd->start; i < nd->start + nd->count; i++)
+                fn(ctx, z->elem_kind[i], z->elem_id[i]);
+            continue;
+        }
+        if (top + 2 <= 128) {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+        }
+    }
+}
+
+void vc_sizing_point_normal(const vc_sizing *z, const vc_surface_point *sp, double n[3])
+{
+    const int64_t *tris;
+    int64_t cnt;
+    if (sp->kind == VC_ELEM_TRIANGLE) {
+        tris = &sp->id;
+        cnt = 1;
+    } else if (sp->kind == VC_ELEM_EDGE) {
+        tris = z->f->edge_tri + z->f->edge_tri_start[sp->id];
+        cnt = z->f->edge_tri_start[sp->id + 1] - z->f->edge_tri_start[sp->id];
+    } else {
+        tris = z->vtri + z->vtri_start[sp->id];
+        cnt = z->vtri_start[sp->id + 1] - z->vtri_start[sp->id];
+    }
+    n[0] = n[1] = n[2] = 0;
+    for (int64_t i = 0; i < cnt; i++)
+        for (int d = 0; d < 3; d++)
+            n[d] += z->tri_out_normal[3 * tris[i] + d];
+    double l = sqrt(dot3(n, n));
+    if (l > 0)
+        for (int d = 0; d < 3; d++)
+            n[d] /= l;
+}

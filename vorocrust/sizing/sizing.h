@@ -1,0 +1,83 @@
+/* Sizing for the ball refinement (thesis 6.2.3, 6.3.1, 6.3.2): the
+ * distance from a surface point p to the nearest point of the input that is
+ * not co-smooth with p, so that a ball of radius 0.49 times that distance
+ * satisfies the smooth-coverage condition C1 when it is created.
+ *
+ * Instead of the thesis' supersampled point clouds, the query runs on the
+ * input's own elements (sharp corners, sharp edges, triangles) through a
+ * bounding-volume hierarchy, with exact point-to-element distances: no
+ * sampling error and no million-point clouds. The co-smoothness of an
+ * element with p is decided from the strata and vectors of both:
+ *  - a corner is co-smooth only with the ball at that corner;
+ *  - a sharp edge is co-smooth with a point of the same crease whose
+ *    tangent is within theta_sharp of its own (for a corner: with one of
+ *    the corner's crease edges), never with a surface point;
+ *  - a triangle is co-smooth with a point of the same patch whose normal
+ *    (for an edge or corner point: one of its adjacent triangles' normals
+ *    on that patch) is within the smooth angle of its own.
+ * The whole element counts as not co-smooth: a conservative distance. */
+#ifndef VC_SIZING_SIZING_H
+#define VC_SIZING_SIZING_H
+
+#include <stdint.h>
+#include "vorocrust/features.h"
+#include "vorocrust/surface.h"
+
+enum { VC_ELEM_CORNER = 0, VC_ELEM_EDGE = 1, VC_ELEM_TRIANGLE = 2 };
+
+typedef struct vc_bvh_node {
+    double lo[3], hi[3];
+    int64_t start, count; /* leaf: elements [start, start + count); inner: count = 0 */
+    int64_t left, right;  /* children (inner nodes) */
+} vc_bvh_node;
+
+typedef struct vc_sizing {
+    const vc_surface *s;
+    const vc_features *f;
+    double cos_sharp, cos_smooth;
+    double *tri_out_normal;   /* 3 per triangle: outward unit normal */
+    double *edge_tangent;     /* 3 per edge: unit, along its crease (sharp edges) */
+    /* vertex -> incident triangles and incident sharp edges (CSR) */
+    int64_t *vtri_start, *vtri;
+    int64_t *vedge_start, *vedge;
+    /* the elements, in tree order */
+    int64_t n_elems;
+    signed char *elem_kind;
+    int64_t *elem_id;
+    int64_t n_nodes;
+    vc_bvh_node *nodes;
+    double diag;              /* bounding-box diagonal of the surface */
+    double orientation;       /* +1 if the patch orientation is outward, -1 otherwise */
+} vc_sizing;
+
+/* A point of the surface, described by the element it lies on. */
+typedef struct vc_surface_point {
+    int kind;        /* VC_ELEM_* */
+    int64_t id;      /* corner vertex, sharp edge or triangle */
+} vc_surface_point;
+
+int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
+                   double sharp_angle_deg, double smooth_angle_deg);
+void vc_sizing_free(vc_sizing *z);
+
+/* Is element (kind, id) co-smooth with the point p described by sp? */
+int vc_sizing_cosmooth(const vc_sizing *z, const vc_surface_point *sp, int kind, int64_t id);
+
+/* Distance from p to the nearest element not co-smooth with sp, or bound
+ * when none is closer than bound. */
+double vc_sizing_conflict_distance(const vc_sizing *z, const vc_surface_point *sp,
+                                   const double p[3], double bound);
+
+/* Squared distance from p to element (kind, id). */
+double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const double p[3]);
+
+/* Calls fn(ctx, kind, id) for every element whose bounding box is within
+ * distance r of p. */
+void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
+                             void (*fn)(void *ctx, int kind, int64_t id), void *ctx);
+
+/* Outward normal at the point (for an edge or corner: the normalised mean
+ * of its triangles' normals). */
+void vc_sizing_point_normal(const vc_sizing *z, const vc_surface_point *sp, double n[3]);
+
+#endif
