@@ -34,12 +34,136 @@ typedef struct cell_job {
     const double *xyz;
     double box_lo[3], box_hi[3];
     double dup_dist2;
+    double slack; /* rounding allowance on bin boxes (absolute) */
 } cell_job;
+
+/* Beyond the first shell of bins, a seed t (at p relative to the seed) can
+ * only cut the cell if some vertex x is closer to t than to the seed:
+ * |x - p| < |x|, i.e. t lies in the clearance ball of x (centre x, radius
+ * |x|). Bins are tested against the balls of the vertices that can reach
+ * them (4 |x|^2 >= the bin's squared distance), and the rings of bins stop
+ * where no ball reaches. Only seeds that would leave the cell unchanged
+ * are skipped, so the cuts made, and their order, are the same as when
+ * every seed passing the radius test is tried. */
+typedef struct prune {
+    vc_cell_buf ball;  /* 4 per vertex: x, y, z (relative), |x|^2 (grown) */
+    int n;             /* vertices with 4 |x|^2 >= h^2 (the others cannot reach) */
+    int dirty;         /* the cell changed since the balls were listed */
+    int range_ok;      /* range[] is up to date */
+    int range[3][2];   /* bins any ball reaches (clamped to the grid) */
+} prune;
+
+/* Relative slack for the ball tests: far above rounding, far below the
+ * cutting tolerance's effect (a vertex must be tol |p| beyond the plane). */
+#define BALL_GROW (1.0 + 1e-9)
+/* Cells whose squared radius exceeds BIG_CELL bin sizes squared use the
+ * ball test in the first rings of bins too. */
+#define BIG_CELL 2.25
+
+static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune *pr)
+{
+    if (!pr->dirty)
+        return;
+    const double h2 = job->grid->h * job->grid->h;
+    if (pr->ball.cap < cell->nt) {
+        free(pr->ball.data);
+        pr->ball.cap = cell->nt + 64;
+        pr->ball.data = malloc((size_t)pr->ball.cap * 4 * sizeof(double));
+        if (!pr->ball.data)
+            abort(); /* out of memory for a few hundred doubles */
+    }
+    double *b = pr->ball.data;
+    int n = 0;
+    for (int t = 0; t < cell->nt; t++) {
+        const double *x = cell->pt + 3 * t;
+        double r2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * BALL_GROW;
+        if (4.0 * r2 < 0.9 * h2)
+            continue;
+        b[4 * n] = x[0];
+        b[4 * n + 1] = x[1];
+        b[4 * n + 2] = x[2];
+        b[4 * n + 3] = r2;
+        n++;
+    }
+    pr->n = n;
+    pr->dirty = 0;
+    pr->range_ok = 0;
+}
+
+/* May a seed of bin (i, j, k) cut the cell of the seed at xs? d2: the
+ * squared distance from xs to the bin (a lower bound of |p|^2). */
+static int bin_reachable(const cell_job *job, const vc_convex_cell *cell, prune *pr,
+                         const double *xs, int i, int j, int k, double d2)
+{
+    prune_refresh(job, cell, pr);
+    const vc_seed_grid *g = job->grid;
+    const int b[3] = {i, j, k};
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; d++) {
+        lo[d] = (g->lo[d] + b[d] * g->h) - xs[d] - job->slack;
+        hi[d] = lo[d] + g->h + 2 * job->slack;
+    }
+    const double *x = pr->ball.data;
+    for (int v = 0; v < pr->n; v++, x += 4) {
+        if (4.0 * x[3] < d2)
+            continue;
+        double e2 = 0;
+        for (int d = 0; d < 3; d++) {
+            double e = x[d] < lo[d] ? lo[d] - x[d] : (x[d] > hi[d] ? x[d] - hi[d] : 0);
+            e2 += e * e;
+        }
+        if (e2 <= x[3])
+            return 1;
+    }
+    return 0;
+}
+
+/* The bins any clearance ball reaches, per axis (clamped to the grid). */
+static void prune_range(const cell_job *job, const vc_convex_cell *cell, prune *pr,
+                        const double *xs)
+{
+    prune_refresh(job, cell, pr);
+    if (pr->range_ok)
+        return;
+    const vc_seed_grid *g = job->grid;
+    for (int d = 0; d < 3; d++) {
+        pr->range[d][0] = g->n[d];
+        pr->range[d][1] = -1;
+    }
+    /* A ball meets the grid's box G only where, along axis d, it is within
+     * sqrt(r^2 - (its squared distance to G across the other axes)) of
+     * its centre. */
+    const double *x = pr->ball.data;
+    for (int v = 0; v < pr->n; v++, x += 4) {
+        double r = sqrt(x[3]) * BALL_GROW + job->slack;
+        double c[3], e2[3], sum = 0;
+        for (int d = 0; d < 3; d++) {
+            c[d] = xs[d] + x[d] - g->lo[d];
+            double top = g->n[d] * g->h;
+            double e = c[d] < 0 ? -c[d] : (c[d] > top ? c[d] - top : 0);
+            e2[d] = e * e;
+            sum += e2[d];
+        }
+        if (sum > r * r)
+            continue; /* misses the grid */
+        for (int d = 0; d < 3; d++) {
+            double w = sqrt(r * r - (sum - e2[d])) * BALL_GROW + job->slack;
+            double a = floor((c[d] - w) / g->h) - 1, z = floor((c[d] + w) / g->h) + 1;
+            int ia = a < 0 ? 0 : (a >= g->n[d] ? g->n[d] - 1 : (int)a);
+            int iz = z < 0 ? 0 : (z >= g->n[d] ? g->n[d] - 1 : (int)z);
+            if (ia < pr->range[d][0])
+                pr->range[d][0] = ia;
+            if (iz > pr->range[d][1])
+                pr->range[d][1] = iz;
+        }
+    }
+    pr->range_ok = 1;
+}
 
 /* Cuts the cell with the bisector of seed t (at relative position p,
  * squared distance d2); returns CELL_*. */
-static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, int64_t t, const double p[3],
-                         double d2, double tol, int64_t *other)
+static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, prune *pr, int64_t t,
+                         const double p[3], double d2, double tol, int64_t *other)
 {
     if (d2 <= job->dup_dist2) {
         *other = t;
@@ -50,6 +174,8 @@ static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, int64_t t, c
         return CELL_NUMERIC;
     if (r == -2)
         return CELL_EMPTY;
+    if (r == 1)
+        pr->dirty = 1;
     return CELL_OK;
 }
 
@@ -60,7 +186,7 @@ static inline int may_cut(const vc_convex_cell *cell, double d2)
 }
 
 /* Visits the seeds of one bin; returns CELL_*. */
-static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, int64_t s,
+static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, prune *pr, int64_t s,
                         const double *xs, int64_t bin, double tol, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
@@ -73,7 +199,7 @@ static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, int64_t s,
         double d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
         if (!may_cut(cell, d2))
             continue;
-        int r = cut_with_seed(job, cell, t, p, d2, tol, other);
+        int r = cut_with_seed(job, cell, pr, t, p, d2, tol, other);
         if (r != CELL_OK)
             return r;
     }
@@ -118,7 +244,7 @@ static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, in
  * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
  * the farther seeds are mostly rejected by the radius test alone. */
 static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
-                        int64_t s, double tol, int64_t *other)
+                        prune *pr, int64_t s, double tol, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
     const double *xs = job->xyz + 3 * s;
@@ -181,11 +307,13 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
             continue;
         const double *xt = g->xyz + 3 * sorted[m].k;
         double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
-        int r = cut_with_seed(job, cell, g->seed_index[sorted[m].k], p, sorted[m].d2, tol, other);
+        int r = cut_with_seed(job, cell, pr, g->seed_index[sorted[m].k], p, sorted[m].d2, tol,
+                              other);
         if (r != CELL_OK)
             return r;
     }
 
+    pr->dirty = 1;
     for (; o < g->n_offsets; o++) {
         const vc_grid_offset *off = &g->offsets[o];
         if (!may_cut(cell, off->dmin2 * h2))
@@ -193,13 +321,18 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
         if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
             continue;
-        if (!may_cut(cell, bin_dist2(g, xs, i, j, k)))
+        double bd2 = bin_dist2(g, xs, i, j, k);
+        if (!may_cut(cell, bd2))
             continue;
-        int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k), tol, other);
+        /* The ball test costs more than it saves on ordinary cells. */
+        if (cell->rmax2 > BIG_CELL * h2 && !bin_reachable(job, cell, pr, xs, i, j, k, bd2))
+            continue;
+        int r = cut_with_bin(job, cell, pr, s, xs, vc_seed_grid_bin(g, i, j, k), tol, other);
         if (r != CELL_OK)
             return r;
     }
-    /* Beyond the precomputed offsets: whole rings of bins, outward. */
+    /* Beyond the precomputed offsets: whole rings of bins, outward, within
+     * the bins the clearance balls reach. */
     int max_n = g->n[0];
     if (g->n[1] > max_n)
         max_n = g->n[1];
@@ -209,20 +342,32 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         double dmin = (ring - 1) * g->h;
         if (!may_cut(cell, dmin * dmin))
             break;
-        for (int k = b[2] - ring; k <= b[2] + ring; k++) {
-            if (k < 0 || k >= g->n[2])
-                continue;
-            for (int j = b[1] - ring; j <= b[1] + ring; j++) {
-                if (j < 0 || j >= g->n[1])
-                    continue;
+        prune_range(job, cell, pr, xs);
+        /* The range is only recomputed per ring: a stale one is larger. */
+        const int(*rg)[2] = pr->range;
+        if (b[0] - rg[0][0] < ring && rg[0][1] - b[0] < ring && b[1] - rg[1][0] < ring &&
+            rg[1][1] - b[1] < ring && b[2] - rg[2][0] < ring && rg[2][1] - b[2] < ring)
+            break; /* no ball reaches this ring or beyond */
+        int k0 = b[2] - ring > rg[2][0] ? b[2] - ring : rg[2][0];
+        int k1 = b[2] + ring < rg[2][1] ? b[2] + ring : rg[2][1];
+        int j0 = b[1] - ring > rg[1][0] ? b[1] - ring : rg[1][0];
+        int j1 = b[1] + ring < rg[1][1] ? b[1] + ring : rg[1][1];
+        for (int k = k0; k <= k1; k++) {
+            for (int j = j0; j <= j1; j++) {
                 int on_shell_jk = abs(k - b[2]) == ring || abs(j - b[1]) == ring;
                 int step = on_shell_jk ? 1 : 2 * ring;
-                for (int i = b[0] - ring; i <= b[0] + ring; i += step) {
-                    if (i < 0 || i >= g->n[0])
+                int i0 = b[0] - ring, i1 = b[0] + ring;
+                if (on_shell_jk) {
+                    i0 = i0 > rg[0][0] ? i0 : rg[0][0];
+                    i1 = i1 < rg[0][1] ? i1 : rg[0][1];
+                }
+                for (int i = i0; i <= i1; i += step) {
+                    if (i < rg[0][0] || i > rg[0][1])
                         continue;
-                    if (!may_cut(cell, bin_dist2(g, xs, i, j, k)))
+                    double bd2 = bin_dist2(g, xs, i, j, k);
+                    if (!may_cut(cell, bd2) || !bin_reachable(job, cell, pr, xs, i, j, k, bd2))
                         continue;
-                    int r = cut_with_bin(job, cell, s, xs, vc_seed_grid_bin(g, i, j, k),
+                    int r = cut_with_bin(job, cell, pr, s, xs, vc_seed_grid_bin(g, i, j, k),
                                          tol, other);
                     if (r != CELL_OK)
                         return r;
@@ -345,6 +490,16 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     }
     job.xyz = seeds->xyz;
     job.dup_dist2 = (1e-12 * diag) * (1e-12 * diag);
+    {
+        double amax = 0;
+        for (int d = 0; d < 3; d++) {
+            if (fabs(slo[d]) > amax)
+                amax = fabs(slo[d]);
+            if (fabs(shi[d]) > amax)
+                amax = fabs(shi[d]);
+        }
+        job.slack = 1e-13 * amax + 1e-12 * diag;
+    }
 
     vc_seed_grid grid;
     if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, SEEDS_PER_BIN) != 0)
@@ -397,6 +552,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_convex_cell cell;
         vc_convex_cell_init(&cell);
         vc_cell_buf cand_buf = {NULL, 0};
+        prune pr;
+        memset(&pr, 0, sizeof pr);
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const int64_t k = build_order[m];
@@ -406,7 +563,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
              * with a coarser tolerance before giving up. */
             for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC; tol *= 100)
             {
-                r = compute_cell(&job, &cell, &cand_buf, s, tol, &other[k]);
+                r = compute_cell(&job, &cell, &cand_buf, &pr, s, tol, &other[k]);
                 if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
                     r = CELL_NUMERIC;
             }
@@ -423,6 +580,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         }
         vc_convex_cell_free(&cell);
         free(cand_buf.data);
+        free(pr.ball.data);
     }
 
     int rc = 0;
