@@ -134,10 +134,9 @@ static inline double dist2(const double *a, const double *b)
 typedef struct cell_hdr {
     const double *v;
     const int64_t *plane;
-    const int *face_start;
-    const int *fv;
+    const uint16_t *face_start;
+    const uint16_t *fv;
     int64_t vbase;  /* copy index of its vertex 0 */
-    int64_t abase;  /* its data in the arena (bytes) */
     int64_t fbase;  /* index of its face 0 among all cells' faces */
     int64_t k;      /* cell index */
     int64_t seed;   /* seed index (increasing with k) */
@@ -165,31 +164,6 @@ typedef struct assembly {
     int64_t *parent;   /* union-find over the copies; later, point ids */
     cell_acc *acc;
 } assembly;
-
-/* The cells' data are copied, in the spatial order, into one arena: in
- * cache and in few pages for the passes below. */
-static int64_t cell_bytes(const vc_cell_result *c)
-{
-    int64_t b = (int64_t)c->nv * 3 * (int64_t)sizeof(double) + (int64_t)c->nf * (int64_t)sizeof(int64_t) +
-                ((int64_t)c->nf + 1 + c->face_start[c->nf]) * (int64_t)sizeof(int);
-    return (b + 7) & ~(int64_t)7;
-}
-
-static void copy_cell(cell_hdr *c, char *dst)
-{
-    const int nfv = c->face_start[c->nf];
-    double *v = (double *)dst;
-    int64_t *plane = (int64_t *)(v + 3 * c->nv);
-    int *fs = (int *)(plane + c->nf), *fv = fs + c->nf + 1;
-    memcpy(v, c->v, (size_t)c->nv * 3 * sizeof(double));
-    memcpy(plane, c->plane, (size_t)c->nf * sizeof(int64_t));
-    memcpy(fs, c->face_start, (size_t)(c->nf + 1) * sizeof(int));
-    memcpy(fv, c->fv, (size_t)nfv * sizeof(int));
-    c->v = v;
-    c->plane = plane;
-    c->face_start = fs;
-    c->fv = fv;
-}
 
 /* Face of cell c made by seed s, or -1. */
 static int face_with_plane(const cell_hdr *c, int64_t s)
@@ -241,7 +215,7 @@ static void match_nearest(int64_t *parent, const cell_hdr *ca, int fa, const cel
 static void match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
                        double tol2)
 {
-    const int *pa = ca->fv + ca->face_start[fa], *pb = cb->fv + cb->face_start[fb];
+    const uint16_t *pa = ca->fv + ca->face_start[fa], *pb = cb->fv + cb->face_start[fb];
     const int n = ca->face_start[fa + 1] - ca->face_start[fa];
     if (n == cb->face_start[fb + 1] - cb->face_start[fb] && n >= 3) {
         const double *x0 = ca->v + 3 * pa[0];
@@ -655,11 +629,11 @@ static void cell_geometry(const vc_polymesh *m, int64_t c)
 
 int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                           double merge_tol, vc_polymesh *out, vc_error *err)
+                           vc_cell_store *store, double merge_tol, vc_polymesh *out,
+                           vc_error *err)
 {
     assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL};
     cell_hdr *h = NULL;
-    char *arena = NULL;
     int32_t *mpos = NULL;
     int64_t *n_outer = NULL;
     unsigned char *used = NULL;
@@ -697,16 +671,13 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     for (int64_t m = 0; m < n_kept; m++) {
         const int64_t k = order ? order[m] : m;
         const vc_cell_result *c = &cells[k];
-        h[m] = (cell_hdr){c->v, c->plane, c->face_start, c->fv, 0, cell_bytes(c), 0, k, kept_seed[k],
+        h[m] = (cell_hdr){c->v, c->plane, c->face_start, c->fv, 0, 0, k, kept_seed[k],
                           merge_tol * c->scale, c->nv, c->nf};
         mpos[kept_seed[k]] = (int32_t)m;
         as.acc[m] = (cell_acc){0, 0, 0, 0, 0, 0, 0, 0};
     }
-    int64_t n_copies = 0, n_faces_all = 0, n_bytes = 0;
+    int64_t n_copies = 0, n_faces_all = 0;
     for (int64_t m = 0; m < n_kept; m++) {
-        int64_t b = h[m].abase;
-        h[m].abase = n_bytes;
-        n_bytes += b;
         h[m].vbase = n_copies;
         h[m].fbase = n_faces_all;
         n_copies += h[m].nv;
@@ -716,17 +687,15 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
         if (h[m].nf > max_nf)
             max_nf = h[m].nf;
     }
-    arena = BIG_ARRAY(n_bytes, char);
     as.parent = BIG_ARRAY(n_copies, int64_t);
     as.nbr = BIG_ARRAY(n_faces_all, int32_t);
     as.twin = BIG_ARRAY(n_faces_all, int32_t);
     as.flen = BIG_ARRAY(n_faces_all, int32_t);
-    if (!arena || !as.parent || !as.nbr || !as.twin || !as.flen)
+    if (!as.parent || !as.nbr || !as.twin || !as.flen)
         goto nomem;
 #pragma omp parallel for schedule(static)
     for (int64_t m = 0; m < n_kept; m++) {
         cell_hdr *c = &h[m];
-        copy_cell(c, arena + c->abase);
         for (int v = 0; v < c->nv; v++)
             as.parent[c->vbase + v] = c->vbase + v;
         for (int f = 0; f < c->nf; f++) {
@@ -925,6 +894,16 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     }
     free(used);
     used = NULL;
+    /* The faces' geometry is computed from the points: the cells' own
+     * coordinates are no longer needed. */
+    if (store && store->coord) {
+        for (int64_t b = 0; b < store->n_blocks; b++) {
+            free(store->coord[b]);
+            store->coord[b] = NULL;
+        }
+        for (int64_t m = 0; m < n_kept; m++)
+            h[m].v = NULL;
+    }
     PHASE("points");
 
     /* Faces: records, vertex lists, cell lists and geometry. */
@@ -1033,7 +1012,6 @@ nomem:
     vc_polymesh_free(out);
 done:
     free(h);
-    free(arena);
     free(mpos);
     free(n_outer);
     free(as.acc);

@@ -27,7 +27,14 @@ void vc_voronoi_options_default(vc_voronoi_options *opt)
     memset(opt, 0, sizeof *opt);
 }
 
-enum { CELL_OK = 0, CELL_DUPLICATE = 1, CELL_NUMERIC = 2, CELL_EMPTY = 3 };
+enum {
+    CELL_OK = 0,
+    CELL_DUPLICATE = 1,
+    CELL_NUMERIC = 2,
+    CELL_EMPTY = 3,
+    CELL_NOMEM = 4,
+    CELL_TOO_BIG = 5
+};
 
 typedef struct cell_job {
     const vc_seed_grid *grid;
@@ -378,30 +385,64 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     return CELL_OK;
 }
 
-/* Copies the finished cell into one allocation owned by res. */
-static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s,
-                      vc_cell_result *res)
+/* The finished cells of one chunk of the build order are appended to two
+ * per-thread scratch buffers (coordinates; planes and face lists), then
+ * copied into one exact-size block each: few allocations, in the spatial
+ * order the stitching reads them in, and the coordinates can be released
+ * on their own once the points are written. */
+typedef struct byte_buf {
+    char *data;
+    size_t len, cap;
+} byte_buf;
+
+static char *byte_buf_grow(byte_buf *b, size_t add)
 {
-    size_t bytes = (size_t)cell->nv * 3 * sizeof(double) + (size_t)cell->nf * sizeof(int64_t) +
-                   (size_t)(cell->nf + 1 + cell->nfv) * sizeof(int);
-    char *mem = malloc(bytes);
-    if (!mem)
+    if (b->len + add > b->cap) {
+        size_t n = b->cap ? 2 * b->cap : (size_t)1 << 16;
+        while (n < b->len + add)
+            n *= 2;
+        char *q = realloc(b->data, n);
+        if (!q)
+            return NULL;
+        b->data = q;
+        b->cap = n;
+    }
+    char *p = b->data + b->len;
+    b->len += add;
+    return p;
+}
+
+static size_t topo_bytes(int nf, int nfv)
+{
+    size_t b = (size_t)nf * sizeof(int64_t) + (size_t)(nf + 1 + nfv) * sizeof(uint16_t);
+    return (b + 7) & ~(size_t)7;
+}
+
+/* Appends the finished cell to the scratch buffers (res gets the counts and
+ * the scale; its pointers are set when the chunk is stored). Returns 0, or
+ * -1 when out of memory. */
+static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, byte_buf *coord,
+                      byte_buf *topo, vc_cell_result *res)
+{
+    double *v = (double *)byte_buf_grow(coord, (size_t)cell->nv * 3 * sizeof(double));
+    char *t = byte_buf_grow(topo, topo_bytes(cell->nf, cell->nfv));
+    if (!v || !t)
         return -1;
     res->nv = cell->nv;
     res->nf = cell->nf;
     res->nfv = cell->nfv;
-    res->v = (double *)mem;
-    res->plane = (int64_t *)(mem + (size_t)cell->nv * 3 * sizeof(double));
-    res->face_start = (int *)(res->plane + cell->nf);
-    res->fv = res->face_start + cell->nf + 1;
+    int64_t *plane = (int64_t *)t;
+    uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
     const double *xs = xyz + 3 * s;
     double scale2 = INFINITY, r2 = 0;
     for (int i = 0; i < cell->nv; i++)
         for (int d = 0; d < 3; d++)
-            res->v[3 * i + d] = xs[d] + cell->v[3 * i + d];
-    memcpy(res->plane, cell->face_plane, (size_t)cell->nf * sizeof(int64_t));
-    memcpy(res->face_start, cell->face_start, (size_t)(cell->nf + 1) * sizeof(int));
-    memcpy(res->fv, cell->fv, (size_t)cell->nfv * sizeof(int));
+            v[3 * i + d] = xs[d] + cell->v[3 * i + d];
+    memcpy(plane, cell->face_plane, (size_t)cell->nf * sizeof(int64_t));
+    for (int f = 0; f <= cell->nf; f++)
+        fs[f] = (uint16_t)cell->face_start[f];
+    for (int i = 0; i < cell->nfv; i++)
+        fv[i] = (uint16_t)cell->fv[i];
     /* The local size: distance to the nearest seed that makes a face, or
      * the cell's diameter when only walls bound it. */
     for (int f = 0; f < cell->nf; f++) {
@@ -418,6 +459,9 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s,
     res->scale = isfinite(scale2) ? sqrt(scale2) : 2.0 * sqrt(r2);
     return 0;
 }
+
+/* Cells per chunk of the build order (one thread builds a chunk). */
+#define CHUNK 256
 
 /* About 3 seeds per bin: measured fastest on uniform random seeds (1 and 5
  * are 5 to 15% slower). */
@@ -547,6 +591,17 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
 #ifdef _OPENMP
     double t_start = omp_get_wtime();
 #endif
+    const int64_t n_chunks = (n_kept + CHUNK - 1) / CHUNK;
+    vc_cell_store store = {n_chunks, calloc((size_t)n_chunks, sizeof(void *)),
+                           calloc((size_t)n_chunks, sizeof(void *))};
+    if (!store.coord || !store.topo) {
+        free(store.coord);
+        free(store.topo);
+        store.coord = store.topo = NULL;
+        store.n_blocks = 0;
+        for (int64_t k = 0; k < n_kept; k++)
+            status[k] = CELL_NOMEM;
+    }
 #pragma omp parallel num_threads(threads)
     {
         vc_convex_cell cell;
@@ -554,34 +609,73 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_cell_buf cand_buf = {NULL, 0};
         prune pr;
         memset(&pr, 0, sizeof pr);
-#pragma omp for schedule(dynamic, 256)
-        for (int64_t m = 0; m < n_kept; m++) {
-            const int64_t k = build_order[m];
-            const int64_t s = kept_seed[k];
-            int r = CELL_NUMERIC;
-            /* A cut that cannot be closed is a tolerance problem: retry
-             * with a coarser tolerance before giving up. */
-            for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC; tol *= 100)
-            {
-                r = compute_cell(&job, &cell, &cand_buf, &pr, s, tol, &other[k]);
-                if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
-                    r = CELL_NUMERIC;
-            }
-            if (r == CELL_OK && store_cell(&cell, seeds->xyz, s, &cells[k]) != 0)
-                r = CELL_EMPTY;
-            status[k] = r;
-            if (opt.progress) {
-                int64_t d;
+        byte_buf coord = {NULL, 0, 0}, topo = {NULL, 0, 0};
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t ch = 0; ch < store.n_blocks; ch++) {
+            const int64_t m0 = ch * CHUNK, m1 = m0 + CHUNK < n_kept ? m0 + CHUNK : n_kept;
+            coord.len = topo.len = 0;
+            int chunk_ok = 1;
+            for (int64_t m = m0; m < m1; m++) {
+                const int64_t k = build_order[m];
+                const int64_t s = kept_seed[k];
+                int r = CELL_NUMERIC;
+                /* A cut that cannot be closed is a tolerance problem: retry
+                 * with a coarser tolerance before giving up. */
+                for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
+                     tol *= 100) {
+                    r = compute_cell(&job, &cell, &cand_buf, &pr, s, tol, &other[k]);
+                    if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
+                        r = CELL_NUMERIC;
+                }
+                /* Local vertex indices are 16-bit in the stored cell. */
+                if (r == CELL_OK && cell.nfv > 65535)
+                    r = CELL_TOO_BIG;
+                if (r == CELL_OK &&
+                    store_cell(&cell, seeds->xyz, s, &coord, &topo, &cells[k]) != 0)
+                    r = CELL_NOMEM;
+                if (r != CELL_OK)
+                    chunk_ok = 0;
+                status[k] = r;
+                if (opt.progress) {
+                    int64_t d;
 #pragma omp atomic capture
-                d = ++done;
-                if (next_report > 0 && d % next_report == 0)
-                    fprintf(stderr, "voronoi: %lld / %lld cells\n", (long long)d, (long long)n_kept);
+                    d = ++done;
+                    if (next_report > 0 && d % next_report == 0)
+                        fprintf(stderr, "voronoi: %lld / %lld cells\n", (long long)d,
+                                (long long)n_kept);
+                }
+            }
+            if (!chunk_ok)
+                continue; /* the build fails: the cells are not needed */
+            char *cb = malloc(coord.len ? coord.len : 1), *tb = malloc(topo.len ? topo.len : 1);
+            if (!cb || !tb) {
+                free(cb);
+                free(tb);
+                for (int64_t m = m0; m < m1; m++)
+                    status[build_order[m]] = CELL_NOMEM;
+                continue;
+            }
+            memcpy(cb, coord.data, coord.len);
+            memcpy(tb, topo.data, topo.len);
+            store.coord[ch] = cb;
+            store.topo[ch] = tb;
+            for (int64_t m = m0; m < m1; m++) {
+                vc_cell_result *c = &cells[build_order[m]];
+                c->v = (double *)cb;
+                c->plane = (int64_t *)tb;
+                c->face_start = (uint16_t *)(c->plane + c->nf);
+                c->fv = c->face_start + c->nf + 1;
+                cb += (size_t)c->nv * 3 * sizeof(double);
+                tb += topo_bytes(c->nf, c->nfv);
             }
         }
         vc_convex_cell_free(&cell);
         free(cand_buf.data);
         free(pr.ball.data);
+        free(coord.data);
+        free(topo.data);
     }
+    vc_seed_grid_free(&grid); /* not needed by the stitching */
 
     int rc = 0;
     for (int64_t k = 0; k < n_kept && rc == 0; k++) {
@@ -593,6 +687,13 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         else if (status[k] == CELL_NUMERIC)
             rc = vc_error_set(err, VC_EINTERNAL,
                               "the cell of seed %lld (%g %g %g) could not be built robustly",
+                              (long long)s, x[0], x[1], x[2]);
+        else if (status[k] == CELL_NOMEM)
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory storing %lld cells",
+                              (long long)n_kept);
+        else if (status[k] == CELL_TOO_BIG)
+            rc = vc_error_set(err, VC_EINTERNAL,
+                              "the cell of seed %lld (%g %g %g) has too many vertices",
                               (long long)s, x[0], x[1], x[2]);
         else if (status[k] == CELL_EMPTY)
             rc = vc_error_set(err, VC_EINTERNAL, "the cell of seed %lld (%g %g %g) is empty",
@@ -612,18 +713,17 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         int saved_threads = omp_get_max_threads();
         omp_set_num_threads(threads);
 #endif
-        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, build_order, MERGE_TOL, out, err);
+        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, build_order, &store,
+                                    MERGE_TOL, out, err);
 #ifdef _OPENMP
         omp_set_num_threads(saved_threads);
 #endif
     }
-    for (int64_t k = 0; k < n_kept; k++)
-        free(cells[k].v);
+    vc_cell_store_free(&store);
     free(cells);
     free(status);
     free(other);
     free(kept_seed);
     free(build_order);
-    vc_seed_grid_free(&grid);
     return rc;
 }
