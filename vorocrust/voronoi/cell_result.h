@@ -19,28 +19,59 @@ typedef struct vc_cell_result {
     double scale;       /* local cell size: distance to the nearest face's seed */
 } vc_cell_result;
 
-/* Where the cells' data live: per chunk of the build order, one block of
- * coordinates (the cells' v) and one of the rest. The stitching frees the
- * coordinate blocks (and clears their pointers) once it no longer needs
- * them. */
+/* Where the cells' data live: the blocks of consecutive cells, carved out
+ * of large regions (one pool for the coordinates, one for the rest), so
+ * that freeing a pool returns its memory to the system at once. The
+ * stitching frees the coordinate pool once it no longer needs it. */
+typedef struct vc_region_pool {
+    char **region;
+    int64_t n, cap;
+    size_t used; /* bytes taken from the last region */
+    size_t size; /* size of the last region */
+} vc_region_pool;
+
 typedef struct vc_cell_store {
-    int64_t n_blocks;
-    void **coord;
-    void **topo;
+    vc_region_pool coord, topo;
 } vc_cell_store;
 
-static inline void vc_cell_store_free(vc_cell_store *st)
+/* Regions larger than glibc's largest mmap threshold (32 MiB), so that
+ * free() unmaps them. */
+#define VC_REGION_BYTES ((size_t)64 << 20)
+
+/* bytes (a multiple of 8) from the pool; NULL when out of memory. Not
+ * thread-safe. */
+static inline void *vc_region_take(vc_region_pool *p, size_t bytes)
 {
-    for (int64_t b = 0; b < st->n_blocks; b++) {
-        if (st->coord)
-            free(st->coord[b]);
-        if (st->topo)
-            free(st->topo[b]);
+    if (p->n == 0 || p->size - p->used < bytes) {
+        if (p->n == p->cap) {
+            int64_t cap = p->cap ? 2 * p->cap : 16;
+            char **r = (char **)realloc(p->region, (size_t)cap * sizeof *r);
+            if (!r)
+                return NULL;
+            p->region = r;
+            p->cap = cap;
+        }
+        size_t size = bytes > VC_REGION_BYTES ? bytes : VC_REGION_BYTES;
+        char *q = (char *)malloc(size);
+        if (!q)
+            return NULL;
+        p->region[p->n++] = q;
+        p->size = size;
+        p->used = 0;
     }
-    free(st->coord);
-    free(st->topo);
-    st->coord = st->topo = NULL;
-    st->n_blocks = 0;
+    void *out = p->region[p->n - 1] + p->used;
+    p->used += bytes;
+    return out;
+}
+
+static inline void vc_region_pool_free(vc_region_pool *p)
+{
+    for (int64_t i = 0; i < p->n; i++)
+        free(p->region[i]);
+    free(p->region);
+    p->region = NULL;
+    p->n = p->cap = 0;
+    p->used = p->size = 0;
 }
 
 /* Stitches the independently computed cells of the kept seeds into out:

@@ -88,6 +88,22 @@ static double wall_time(void)
 #endif
 }
 
+/* Resident memory in MiB (for the timing lines; 0 where unknown). */
+static double rss_mib(void)
+{
+    double mib = 0;
+#ifdef __linux__
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (f) {
+        long size = 0, resident = 0;
+        if (fscanf(f, "%ld %ld", &size, &resident) == 2)
+            mib = (double)resident * 4096.0 / (1024.0 * 1024.0);
+        fclose(f);
+    }
+#endif
+    return mib;
+}
+
 /* ---------------------------------------------------------------------
  * Union-find over the vertex copies. */
 
@@ -646,7 +662,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     do {                                                                                     \
         if (timing) {                                                                        \
             double t_now = wall_time();                                                      \
-            fprintf(stderr, "  assembly: %-8s %.3f s\n", name, t_now - t_prev);              \
+            fprintf(stderr, "  assembly: %-8s %.3f s  rss %.0f MiB\n", name, t_now - t_prev,  \
+                    rss_mib());                                                              \
             t_prev = t_now;                                                                  \
         }                                                                                    \
     } while (0)
@@ -896,11 +913,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
     used = NULL;
     /* The faces' geometry is computed from the points: the cells' own
      * coordinates are no longer needed. */
-    if (store && store->coord) {
-        for (int64_t b = 0; b < store->n_blocks; b++) {
-            free(store->coord[b]);
-            store->coord[b] = NULL;
-        }
+    if (store) {
+        vc_region_pool_free(&store->coord);
         for (int64_t m = 0; m < n_kept; m++)
             h[m].v = NULL;
     }

@@ -592,16 +592,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     double t_start = omp_get_wtime();
 #endif
     const int64_t n_chunks = (n_kept + CHUNK - 1) / CHUNK;
-    vc_cell_store store = {n_chunks, calloc((size_t)n_chunks, sizeof(void *)),
-                           calloc((size_t)n_chunks, sizeof(void *))};
-    if (!store.coord || !store.topo) {
-        free(store.coord);
-        free(store.topo);
-        store.coord = store.topo = NULL;
-        store.n_blocks = 0;
-        for (int64_t k = 0; k < n_kept; k++)
-            status[k] = CELL_NOMEM;
-    }
+    vc_cell_store store;
+    memset(&store, 0, sizeof store);
 #pragma omp parallel num_threads(threads)
     {
         vc_convex_cell cell;
@@ -611,7 +603,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         memset(&pr, 0, sizeof pr);
         byte_buf coord = {NULL, 0, 0}, topo = {NULL, 0, 0};
 #pragma omp for schedule(dynamic, 1)
-        for (int64_t ch = 0; ch < store.n_blocks; ch++) {
+        for (int64_t ch = 0; ch < n_chunks; ch++) {
             const int64_t m0 = ch * CHUNK, m1 = m0 + CHUNK < n_kept ? m0 + CHUNK : n_kept;
             coord.len = topo.len = 0;
             int chunk_ok = 1;
@@ -647,18 +639,19 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             }
             if (!chunk_ok)
                 continue; /* the build fails: the cells are not needed */
-            char *cb = malloc(coord.len ? coord.len : 1), *tb = malloc(topo.len ? topo.len : 1);
+            char *cb, *tb;
+#pragma omp critical(vc_cell_store)
+            {
+                cb = vc_region_take(&store.coord, coord.len);
+                tb = vc_region_take(&store.topo, topo.len);
+            }
             if (!cb || !tb) {
-                free(cb);
-                free(tb);
                 for (int64_t m = m0; m < m1; m++)
                     status[build_order[m]] = CELL_NOMEM;
                 continue;
             }
             memcpy(cb, coord.data, coord.len);
             memcpy(tb, topo.data, topo.len);
-            store.coord[ch] = cb;
-            store.topo[ch] = tb;
             for (int64_t m = m0; m < m1; m++) {
                 vc_cell_result *c = &cells[build_order[m]];
                 c->v = (double *)cb;
@@ -719,7 +712,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         omp_set_num_threads(saved_threads);
 #endif
     }
-    vc_cell_store_free(&store);
+    vc_region_pool_free(&store.coord);
+    vc_region_pool_free(&store.topo);
     free(cells);
     free(status);
     free(other);
