@@ -32,20 +32,20 @@ static void usage(FILE *f)
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
-        "  --smooth-angle DEG  normal deviation bounding the ball size on curved patches,\n"
-        "                      0 < DEG <= theta_sharp (default %g)\n"
+        "  --max-error E       approximation error bound, a fraction of the bounding-box\n"
+        "                      diagonal, 0 <= E < 1 (default %g; 0: none, as in the thesis)\n"
         "  --lipschitz L       0 < L < 1 (default %g)\n"
         "  --max-size H        largest ball radius (default: the bounding-box diagonal)\n"
         "  --seed N            random seed (default %llu)\n"
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n",
-        d.sharp_angle, d.smooth_angle, d.lipschitz, (unsigned long long)d.seed);
+        d.sharp_angle, d.max_error, d.lipschitz, (unsigned long long)d.seed);
 }
 
 static int takes_value(const char *a)
 {
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
-                                             "--sharp-angle", "--smooth-angle", "--lipschitz",
+                                             "--sharp-angle", "--max-error", "--lipschitz",
                                              "--max-size", "--seed", "--threads"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
@@ -103,17 +103,20 @@ int vc_cmd_mesh(int argc, char **argv)
             seeds_path = argv[++i];
         } else if (!strcmp(a, "--balls")) {
             balls_path = argv[++i];
-        } else if (!strcmp(a, "--sharp-angle") || !strcmp(a, "--smooth-angle")) {
-            double x;
-            if (vc_cli_parse_double(v, &x) || !(x > 0 && x < 180)) {
-                fprintf(stderr, "vorocrust: %s needs a number of degrees in (0, 180), got '%s'\n",
-                        a, v);
+        } else if (!strcmp(a, "--sharp-angle")) {
+            if (vc_cli_parse_double(v, &opt.sharp_angle) ||
+                !(opt.sharp_angle > 0 && opt.sharp_angle < 180)) {
+                fprintf(stderr, "vorocrust: --sharp-angle needs a number of degrees in (0, 180), "
+                        "got '%s'\n", v);
                 return 2;
             }
-            if (a[2] == 's' && a[3] == 'h')
-                opt.sharp_angle = x;
-            else
-                opt.smooth_angle = x;
+            i++;
+        } else if (!strcmp(a, "--max-error")) {
+            if (vc_cli_parse_double(v, &opt.max_error) ||
+                !(opt.max_error >= 0 && opt.max_error < 1)) {
+                fprintf(stderr, "vorocrust: --max-error needs a number in [0, 1), got '%s'\n", v);
+                return 2;
+            }
             i++;
         } else if (!strcmp(a, "--lipschitz")) {
             if (vc_cli_parse_double(v, &opt.lipschitz) || !(opt.lipschitz > 0 && opt.lipschitz < 1)) {
@@ -173,8 +176,6 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: missing -o OUT.vtu (or --surface-only)\n");
         return 2;
     }
-    if (opt.smooth_angle > opt.sharp_angle)
-        opt.smooth_angle = opt.sharp_angle;
     const char *outputs[4] = {out_path, surf_path, seeds_path, balls_path};
     for (int i = 0; i < 4; i++) {
         struct stat st;

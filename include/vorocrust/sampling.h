@@ -31,9 +31,10 @@ enum { VC_BALL_CORNER = 0, VC_BALL_EDGE = 1, VC_BALL_SURFACE = 2 };
 
 typedef struct vc_sampling_options {
     double sharp_angle;   /* theta_sharp in degrees (features and co-smoothness), default 60 */
-    double smooth_angle;  /* normal deviation, in degrees, beyond which two points of one
-                             patch are not co-smooth for the sizing (default 30: it bounds
-                             the approximation error on curved patches); <= sharp_angle */
+    double max_error;     /* approximation error bound, as a fraction of the bounding-box
+                             diagonal: a ball may not reach the input farther than this
+                             from its centre's tangent plane (surface balls) or tangent
+                             line (edge balls); default 0.004; <= 0: no bound */
     double lipschitz;     /* L, 0 < L < 1, default 0.25 */
     double max_size;      /* sz: largest ball radius; <= 0: the bounding-box diagonal */
     double alpha;         /* deep-coverage constant, default 1 - sqrt(3)/2 */

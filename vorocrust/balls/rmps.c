@@ -12,8 +12,8 @@
  * distance away from every lower stratum.
  *
  * Radius of a new sample p (6.2.3, 6.2.6): min(sz, 0.49 |p - q*|,
- * min_q (r_q + L |p - q|)), q* the nearest element not co-smooth with p
- * (sizing/sizing.h); if an existing centre q lies alpha-deeply inside, p is
+ * min_q (r_q + L |p - q|)), q* the nearest element not co-smooth with p,
+ * and capped by the approximation-error criterion (sizing/sizing.h); if an existing centre q lies alpha-deeply inside, p is
  * dropped with probability 0.1 and otherwise r_p is cut to
  * |p - q| / (1 - alpha) (density regulation and the spacing part of C4). */
 #include "vorocrust/sampling.h"
@@ -189,8 +189,7 @@ static int nearest_centre(void *ctx, int64_t i)
 static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3])
 {
     double r = S->sz;
-    double dstar = vc_sizing_conflict_distance(&S->z, sp, x, r / 0.49);
-    r = fmin(r, 0.49 * dstar);
+    r = vc_sizing_radius_bound(&S->z, sp, x, r);
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
              : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
                                           : VC_BALL_SURFACE;
@@ -355,9 +354,7 @@ static int mps(sampler *S, pool *P, int nv)
         pool tmp = *P;
         *P = next;
         next = tmp;
-        if (getenv("VC_MPS_DEBUG"))
-            fprintf(stderr, "mps nv=%d round %d: pool %lld, balls %lld\n", nv, round,
-                    (long long)P->n, (long long)S->bs.b.n);
+
     }
     free(cum);
     free(next.f);
@@ -541,7 +538,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
 void vc_sampling_options_default(vc_sampling_options *opt)
 {
     opt->sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE;
-    opt->smooth_angle = 30.0;
+    opt->max_error = 0.004;
     opt->lipschitz = 0.25;
     opt->max_size = 0;
     opt->alpha = 1 - sqrt(3.0) / 2;
@@ -588,9 +585,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (!(opt->sharp_angle > 0 && opt->sharp_angle < 180))
         return vc_error_set(err, VC_EPARAM, "--sharp-angle must be in (0, 180), got %g",
                             opt->sharp_angle);
-    if (!(opt->smooth_angle > 0 && opt->smooth_angle <= opt->sharp_angle))
-        return vc_error_set(err, VC_EPARAM, "--smooth-angle must be in (0, sharp angle], got %g",
-                            opt->smooth_angle);
+    if (!(opt->max_error < 1) || !isfinite(opt->max_error))
+        return vc_error_set(err, VC_EPARAM, "--max-error must be below 1, got %g", opt->max_error);
     if (!(opt->alpha > 0 && opt->alpha < 1))
         return vc_error_set(err, VC_EPARAM, "alpha must be in (0, 1), got %g", opt->alpha);
     if (!(opt->max_size >= 0) || !isfinite(opt->max_size))
@@ -610,7 +606,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     S.st = st;
     vc_rng_init(&S.rng, opt->seed, 0);
     double t0 = now();
-    if (vc_sizing_init(&S.z, s, f, opt->sharp_angle, opt->smooth_angle))
+    if (vc_sizing_init(&S.z, s, f, opt->sharp_angle, opt->max_error))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the sizing structures");
     S.sz = opt->max_size > 0 ? opt->max_size : S.z.diag;
     double lo[3] = {INFINITY, INFINITY, INFINITY};
@@ -634,7 +630,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             continue;
         vc_surface_point sp = {VC_ELEM_CORNER, v};
         const double *x = s->xyz + 3 * v;
-        double r = fmin(S.sz, 0.49 * vc_sizing_conflict_distance(&S.z, &sp, x, S.sz / 0.49));
+        double r = vc_sizing_radius_bound(&S.z, &sp, x, S.sz);
         rc = add_ball(&S, x, r, &sp);
     }
     if (!rc && (rc = grow_scratch(&old_r, &shrunk, S.bs.b.n)) == 0)

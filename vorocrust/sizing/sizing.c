@@ -119,13 +119,13 @@ static void csr_free(int64_t **a, int64_t **b)
 }
 
 int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
-                   double sharp_angle_deg, double smooth_angle_deg)
+                   double sharp_angle_deg, double max_error)
 {
     memset(z, 0, sizeof *z);
     z->s = s;
     z->f = f;
     z->cos_sharp = cos(sharp_angle_deg * 3.14159265358979323846 / 180.0);
-    z->cos_smooth = cos(smooth_angle_deg * 3.14159265358979323846 / 180.0);
+    z->cos_smooth = z->cos_sharp;
     int64_t nv = s->n_vertices, nt = s->n_triangles, ne = f->n_edges;
 
     /* Orientation: the signed volume of the patch-oriented triangles. */
@@ -138,6 +138,7 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
         }
     z->diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    z->eps = max_error > 0 ? max_error * z->diag : INFINITY;
     for (int64_t t = 0; t < nt; t++) {
         int64_t w[3];
         vc_features_oriented_triangle(f, s, t, w);
@@ -400,4 +401,148 @@ void vc_sizing_point_normal(const vc_sizing *z, const vc_surface_point *sp, doub
     if (l > 0)
         for (int d = 0; d < 3; d++)
             n[d] /= l;
+}
+
+/* ---------------------------------------------------------------------
+ * Radius bound with the approximation-error criterion. */
+
+/* Distance from p to the part of triangle t where side * (n . (x - p)) > eps
+ * (INFINITY when that part is empty). */
+static double dist_outside_slab(const vc_sizing *z, int64_t t, const double p[3], const double n[3],
+                                double side)
+{
+    double v[3][3], sv[3];
+    int any = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *x = vtx(z, z->s->tri[3 * t + k]);
+        for (int d = 0; d < 3; d++)
+            v[k][d] = x[d];
+        sv[k] = side * (n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2])) - z->eps;
+        any |= sv[k] > 0;
+    }
+    if (!any)
+        return INFINITY;
+    /* clip the triangle to sv >= 0: at most 4 vertices */
+    double poly[4][3];
+    int m = 0;
+    for (int k = 0; k < 3; k++) {
+        int k2 = (k + 1) % 3;
+        if (sv[k] >= 0) {
+            for (int d = 0; d < 3; d++)
+                poly[m][d] = v[k][d];
+            m++;
+        }
+        if ((sv[k] >= 0) != (sv[k2] >= 0)) {
+            double a = sv[k] / (sv[k] - sv[k2]);
+            for (int d = 0; d < 3; d++)
+                poly[m][d] = v[k][d] + a * (v[k2][d] - v[k][d]);
+            m++;
+        }
+    }
+    double best = INFINITY;
+    if (m == 1)
+        return sqrt((poly[0][0] - p[0]) * (poly[0][0] - p[0]) + (poly[0][1] - p[1]) * (poly[0][1] - p[1]) +
+                    (poly[0][2] - p[2]) * (poly[0][2] - p[2]));
+    if (m == 2)
+        return sqrt(vc_closest_on_segment(p, poly[0], poly[1], NULL));
+    for (int k = 1; k + 1 < m; k++)
+        best = fmin(best, vc_closest_on_triangle(p, poly[0], poly[k], poly[k + 1], NULL));
+    return sqrt(best);
+}
+
+/* Distance from p to the part of sharp edge e farther than eps from the
+ * line through p with direction tp (INFINITY when empty). */
+static double dist_outside_cylinder(const vc_sizing *z, int64_t e, const double p[3],
+                                    const double tp[3])
+{
+    const double *a = vtx(z, z->f->edge_vertex[2 * e]), *b = vtx(z, z->f->edge_vertex[2 * e + 1]);
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double w[3] = {a[0] - p[0], a[1] - p[1], a[2] - p[2]};
+    double wt = dot3(w, tp), ut = dot3(u, tp);
+    double w2[3], u2[3];
+    for (int d = 0; d < 3; d++) {
+        w2[d] = w[d] - wt * tp[d];
+        u2[d] = u[d] - ut * tp[d];
+    }
+    double A = dot3(u2, u2), B = 2 * dot3(w2, u2), C = dot3(w2, w2) - z->eps * z->eps;
+    double ivl[2][2];
+    int ni = 0;
+    if (A <= 1e-30 * (dot3(u, u) + 1e-300)) {
+        if (C <= 0)
+            return INFINITY;
+        ivl[ni][0] = 0, ivl[ni][1] = 1, ni++;
+    } else {
+        double disc = B * B - 4 * A * C;
+        if (disc < 0) {
+            ivl[ni][0] = 0, ivl[ni][1] = 1, ni++;
+        } else {
+            double sq = sqrt(disc);
+            double t1 = (-B - sq) / (2 * A), t2 = (-B + sq) / (2 * A);
+            if (t1 > 0)
+                ivl[ni][0] = 0, ivl[ni][1] = fmin(t1, 1), ni++;
+            if (t2 < 1)
+                ivl[ni][0] = fmax(t2, 0), ivl[ni][1] = 1, ni++;
+        }
+    }
+    double uu = dot3(u, u), best = INFINITY;
+    double tstar = uu > 0 ? -dot3(w, u) / uu : 0;
+    for (int k = 0; k < ni; k++) {
+        if (ivl[k][0] > ivl[k][1])
+            continue;
+        double t = fmin(fmax(tstar, ivl[k][0]), ivl[k][1]);
+        double x[3] = {w[0] + t * u[0], w[1] + t * u[1], w[2] + t * u[2]};
+        best = fmin(best, sqrt(dot3(x, x)));
+    }
+    return best;
+}
+
+double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, const double p[3],
+                              double bound)
+{
+    if (z->n_elems == 0)
+        return bound;
+    double best = bound;
+    const double *np = sp->kind == VC_ELEM_TRIANGLE ? z->tri_out_normal + 3 * sp->id : NULL;
+    const double *tp = sp->kind == VC_ELEM_EDGE ? z->edge_tangent + 3 * sp->id : NULL;
+    int64_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_bvh_node *nd = &z->nodes[stack[--top]];
+        double bd = sqrt(box_dist2(nd, p));
+        if (0.49 * bd >= best)
+            continue;
+        if (nd->count > 0) {
+            for (int64_t i = nd->start; i < nd->start + nd->count; i++) {
+                int kind = z->elem_kind[i];
+                int64_t id = z->elem_id[i];
+                double d = sqrt(vc_sizing_element_dist2(z, kind, id, p));
+                if (0.49 * d >= best)
+                    continue;
+                if (!vc_sizing_cosmooth(z, sp, kind, id)) {
+                    best = 0.49 * d;
+                    continue;
+                }
+                if (d >= best || !isfinite(z->eps))
+                    continue;
+                if (np && kind == VC_ELEM_TRIANGLE)
+                    best = fmin(best, fmin(dist_outside_slab(z, id, p, np, 1.0),
+                                           dist_outside_slab(z, id, p, np, -1.0)));
+                else if (tp && kind == VC_ELEM_EDGE)
+                    best = fmin(best, dist_outside_cylinder(z, id, p, tp));
+            }
+            continue;
+        }
+        double dl = box_dist2(&z->nodes[nd->left], p), dr = box_dist2(&z->nodes[nd->right], p);
+        if (top + 2 > 128)
+            continue;
+        if (dl < dr) {
+            stack[top++] = nd->right;
+            stack[top++] = nd->left;
+        } else {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+        }
+    }
+    return best;
 }

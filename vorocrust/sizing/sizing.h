@@ -14,8 +14,18 @@
  *    the corner's crease edges), never with a surface point;
  *  - a triangle is co-smooth with a point of the same patch whose normal
  *    (for an edge or corner point: one of its adjacent triangles' normals
- *    on that patch) is within the smooth angle of its own.
- * The whole element counts as not co-smooth: a conservative distance. */
+ *    on that patch) is within theta_sharp of its own.
+ * The whole element counts as not co-smooth: a conservative distance.
+ *
+ * The radius bound adds an approximation-error criterion (beyond the
+ * thesis, whose theta_sharp alone lets balls span 60 degrees of a curved
+ * patch): a surface ball at p may not reach the part of a co-smooth
+ * triangle lying farther than eps from the tangent plane at p, and an edge
+ * ball may not reach the part of its crease farther than eps from the
+ * tangent line. The reconstructed facets are planar through ball centres,
+ * so this bounds how far they stray from the input. Unlike a smaller
+ * co-smoothness angle, it gives no vanishing radii next to a non-sharp
+ * bend of a coarse tessellation. */
 #ifndef VC_SIZING_SIZING_H
 #define VC_SIZING_SIZING_H
 
@@ -35,6 +45,7 @@ typedef struct vc_sizing {
     const vc_surface *s;
     const vc_features *f;
     double cos_sharp, cos_smooth;
+    double eps;               /* absolute approximation error for the radius bound */
     double *tri_out_normal;   /* 3 per triangle: outward unit normal */
     double *edge_tangent;     /* 3 per edge: unit, along its crease (sharp edges) */
     /* vertex -> incident triangles and incident sharp edges (CSR) */
@@ -56,8 +67,9 @@ typedef struct vc_surface_point {
     int64_t id;      /* corner vertex, sharp edge or triangle */
 } vc_surface_point;
 
+/* max_error: eps as a fraction of the bounding-box diagonal (<= 0: none). */
 int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
-                   double sharp_angle_deg, double smooth_angle_deg);
+                   double sharp_angle_deg, double max_error);
 void vc_sizing_free(vc_sizing *z);
 
 /* Is element (kind, id) co-smooth with the point p described by sp? */
@@ -67,6 +79,11 @@ int vc_sizing_cosmooth(const vc_sizing *z, const vc_surface_point *sp, int kind,
  * when none is closer than bound. */
 double vc_sizing_conflict_distance(const vc_sizing *z, const vc_surface_point *sp,
                                    const double p[3], double bound);
+
+/* The largest radius, up to bound, of a ball at p that respects 0.49 times
+ * the distance to non-co-smooth elements and the error criterion. */
+double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, const double p[3],
+                              double bound);
 
 /* Squared distance from p to element (kind, id). */
 double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const double p[3]);

@@ -1,0 +1,310 @@
+"""End-to-end test of `vorocrust mesh --surface-only` (VoroCrust surface
+sampling) on the shared models, checked independently of the C code:
+
+ - the reconstructed surface (OBJ) is a closed 2-manifold, consistently
+   oriented, with the input's Euler characteristic (edges counted here);
+ - every ball centre (balls CSV) is a vertex of it, and so is every sharp
+   corner (the corner balls sit on input vertices; their number is the one
+   `vorocrust info --features` prints);
+ - the summary reports no half-covered seed pair;
+ - the two-sided Hausdorff distance to the input, measured with VTK's
+   vtkImplicitPolyDataDistance on dense samples of both surfaces, is at most
+   0.5% of the input's bounding-box diagonal;
+ - triangle quality Q = 6S/(sqrt(3) h P) (P the half-perimeter; polygons
+   fanned from their centroid) and the angle percentages, against recorded
+   expectations with a margin;
+ - the seeds CSV: inside seeds (label 1) inside the input surface, outside
+   seeds outside, by VTK's signed distance;
+ - 1 and 2 threads give byte-identical outputs; same --seed, same output;
+ - bad input: open surface (the error names the boundary edge count),
+   missing file, bad options, unwritable output; nothing written then.
+Environment: VC_BIN, VC_MODELS, VC_TMP."""
+import math
+import os
+import re
+import subprocess
+import sys
+
+import vtk
+
+BIN = os.environ["VC_BIN"]
+MODELS = os.environ["VC_MODELS"]
+TMP = os.environ.get("VC_TMP", "/tmp")
+failures = []
+
+# Recorded surface quality with the default parameters and --seed 1:
+# (Q min, % angles < 30, % angles > 90). The test allows a margin.
+EXPECTED = {
+    "sphere.obj": (0.396, 0.9, 5.4),
+    "cube.off": (0.242, 12.8, 8.3),
+    "onebox.obj": (0.227, 15.1, 9.1),
+    "bracket.obj": (0.166, 6.8, 8.0),
+    "bumpy-cube.obj": (0.399, 0.6, 5.2),
+}
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+
+
+def run(*args, timeout=600):
+    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def read_surface(path):
+    """Vertices and polygons of an OBJ or OFF file (the formats used here)."""
+    pts, polys = [], []
+    with open(path) as f:
+        text = f.read()
+    if path.endswith(".off"):
+        toks = [l.split("#")[0].split() for l in text.splitlines()]
+        toks = [t for t in toks if t]
+        start = 1 if toks[0][0].upper() == "OFF" else 0
+        nv, nf = int(toks[start][0]), int(toks[start][1])
+        for t in toks[start + 1:start + 1 + nv]:
+            pts.append(tuple(map(float, t[:3])))
+        for t in toks[start + 1 + nv:start + 1 + nv + nf]:
+            k = int(t[0])
+            polys.append([int(x) for x in t[1:1 + k]])
+        return pts, polys
+    for line in text.splitlines():
+        t = line.split()
+        if not t:
+            continue
+        if t[0] == "v":
+            pts.append(tuple(map(float, t[1:4])))
+        elif t[0] == "f":
+            polys.append([int(x.split("/")[0]) - 1 for x in t[1:]])
+    return pts, polys
+
+
+def fan(pts, polys):
+    """Triangles: triangles as they are, other polygons fanned from their centroid."""
+    tris = []
+    for p in polys:
+        if len(p) == 3:
+            tris.append(tuple(pts[i] for i in p))
+            continue
+        c = tuple(sum(pts[i][k] for i in p) / len(p) for k in range(3))
+        for j in range(len(p)):
+            tris.append((c, pts[p[j]], pts[p[(j + 1) % len(p)]]))
+    return tris
+
+
+def polydata(pts, polys):
+    P = vtk.vtkPoints()
+    for x in pts:
+        P.InsertNextPoint(*x)
+    C = vtk.vtkCellArray()
+    for p in polys:
+        C.InsertNextCell(len(p))
+        for i in p:
+            C.InsertCellPoint(i)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(P)
+    pd.SetPolys(C)
+    tf = vtk.vtkTriangleFilter()
+    tf.SetInputData(pd)
+    tf.Update()
+    return tf.GetOutput()
+
+
+def samples(pts, polys):
+    """Vertices, edge midpoints and points inside every triangle."""
+    out = list(pts)
+    for a, b, c in fan(pts, polys):
+        for (u, v, w) in ((1 / 3, 1 / 3, 1 / 3), (0.5, 0.5, 0), (0, 0.5, 0.5), (0.5, 0, 0.5),
+                          (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6), (1 / 6, 1 / 6, 2 / 3)):
+            out.append(tuple(u * a[k] + v * b[k] + w * c[k] for k in range(3)))
+    return out
+
+
+def max_distance(points, surface):
+    d = vtk.vtkImplicitPolyDataDistance()
+    d.SetInput(surface)
+    return max(abs(d.EvaluateFunction(p)) for p in points)
+
+
+def quality(tris):
+    qmin, n_ang, lo, hi = 1e300, 0, 0, 0
+    for a, b, c in tris:
+        l = [math.dist(b, c), math.dist(a, c), math.dist(a, b)]
+        s = sum(l) / 2
+        S = math.sqrt(max(s * (s - l[0]) * (s - l[1]) * (s - l[2]), 0))
+        h = max(l)
+        qmin = min(qmin, 6 * S / (math.sqrt(3) * h * s) if h > 0 else 0)
+        for k in range(3):
+            x, y = l[(k + 1) % 3], l[(k + 2) % 3]
+            ang = math.degrees(math.acos(max(-1, min(1, (x * x + y * y - l[k] ** 2) / (2 * x * y)))))
+            n_ang += 1
+            lo += ang < 30
+            hi += ang > 90
+    return qmin, 100 * lo / n_ang, 100 * hi / n_ang
+
+
+def topology(pts, polys):
+    edges = {}
+    for f, p in enumerate(polys):
+        for j in range(len(p)):
+            a, b = p[j], p[(j + 1) % len(p)]
+            edges.setdefault((min(a, b), max(a, b)), []).append(1 if a < b else -1)
+    bad = sum(1 for e in edges.values() if len(e) != 2)
+    misoriented = sum(1 for e in edges.values() if len(e) == 2 and e[0] == e[1])
+    # vertex links: the polygons around each vertex form one cycle
+    around = {}
+    for p in polys:
+        for j in range(len(p)):
+            around.setdefault(p[j], []).append((p[j - 1], p[(j + 1) % len(p)]))
+    pinched = 0
+    for v, corners in around.items():
+        nxt = {prev: nx for prev, nx in corners}
+        start = corners[0][0]
+        cur, steps = start, 0
+        while steps <= len(corners):
+            cur = nxt.get(cur)
+            steps += 1
+            if cur is None or cur == start:
+                break
+        if cur != start or steps != len(corners):
+            pinched += 1
+    return len(pts) - len(edges) + len(polys), bad, misoriented, pinched
+
+
+def info_features(path):
+    rc, out, err = run("info", path, "--features")
+    m = re.search(r"^sharp corners: (\d+)$", out, re.M)
+    e = re.search(r"^euler characteristic: (-?\d+)$", out, re.M)
+    return int(m.group(1)), int(e.group(1))
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = f.read().splitlines()
+    return rows[0].split(","), [r.split(",") for r in rows[1:]]
+
+
+def mesh(model, tag, *extra):
+    surf = os.path.join(TMP, "mesh_%s.obj" % tag)
+    balls = os.path.join(TMP, "mesh_%s_balls.csv" % tag)
+    seeds = os.path.join(TMP, "mesh_%s_seeds.csv" % tag)
+    rc, out, err = run("mesh", os.path.join(MODELS, model), "--surface-only", "--surface", surf,
+                       "--balls", balls, "--seeds", seeds, *extra)
+    return rc, err, surf, balls, seeds
+
+
+for model, (q_rec, lo_rec, hi_rec) in EXPECTED.items():
+    path = os.path.join(MODELS, model)
+    rc, err, surf, balls_csv, seeds_csv = mesh(model, model.replace(".", "_"))
+    check(rc == 0, "%s: exit %d: %s" % (model, rc, err))
+    if rc != 0:
+        continue
+    print(err.strip().splitlines()[-6:] if err else "", flush=True)
+    m = re.search(r"half-covered seed pairs (\d+)", err)
+    check(m is not None and int(m.group(1)) == 0, "%s: half-covered pairs left: %r" % (model, m and m.group(1)))
+    n_corners, euler_in = info_features(path)
+    pts, polys = read_surface(surf)
+    euler, bad, misoriented, pinched = topology(pts, polys)
+    check(bad == 0 and misoriented == 0 and pinched == 0,
+          "%s: not a closed consistently oriented 2-manifold: %d bad edges, %d misoriented, %d "
+          "non-manifold vertices" % (model, bad, misoriented, pinched))
+    check(euler == euler_in, "%s: euler %d, input %d" % (model, euler, euler_in))
+    # ball centres and sharp corners are vertices
+    _, rows = read_csv(balls_csv)
+    vset = {}
+    for i, p in enumerate(pts):
+        vset[tuple(round(x, 9) for x in p)] = i
+    ipts, ipolys = read_surface(path)
+    missing = 0
+    corners = 0
+    for r in rows:
+        c = tuple(float(x) for x in r[:3])
+        found = any(math.dist(c, pts[vset[k]]) <= 1e-9 * (1 + max(map(abs, c)))
+                    for k in [tuple(round(x, 9) for x in c)] if k in vset)
+        if not found:
+            found = min(math.dist(c, p) for p in pts) <= 1e-9 * (1 + max(map(abs, c)))
+        missing += not found
+        if r[4] == "corner":
+            corners += 1
+            check(math.dist(c, ipts[int(r[5])]) == 0, "%s: corner ball off its vertex" % model)
+    check(missing == 0, "%s: %d ball centres are not surface vertices" % (model, missing))
+    check(corners == n_corners, "%s: %d corner balls, %d sharp corners" % (model, corners, n_corners))
+    # Hausdorff distance
+    inp = polydata(ipts, ipolys)
+    rec = polydata(pts, polys)
+    lo = [min(p[k] for p in ipts) for k in range(3)]
+    hi = [max(p[k] for p in ipts) for k in range(3)]
+    diag = math.dist(lo, hi)
+    h = max(max_distance(samples(pts, polys), inp), max_distance(samples(ipts, ipolys), rec))
+    print("%s: Hausdorff %.4f%% of the diagonal" % (model, 100 * h / diag))
+    check(h <= 0.005 * diag, "%s: Hausdorff distance %.3g%% of the diagonal > 0.5%%" % (model, 100 * h / diag))
+    # quality against the recorded figures
+    qmin, p_lo, p_hi = quality(fan(pts, polys))
+    print("%s: Q min %.3f, angles < 30: %.1f%%, > 90: %.1f%%" % (model, qmin, p_lo, p_hi))
+    check(qmin >= 0.85 * q_rec, "%s: Q min %.3f below the recorded %.3f" % (model, qmin, q_rec))
+    check(p_lo <= lo_rec + 3 and p_hi <= hi_rec + 3,
+          "%s: angle percentages %.1f / %.1f above the recorded %.1f / %.1f" % (model, p_lo, p_hi, lo_rec, hi_rec))
+    # seeds on the right side of the input
+    _, srows = read_csv(seeds_csv)
+    sd = vtk.vtkImplicitPolyDataDistance()
+    sd.SetInput(inp)
+    wrong = 0
+    flip = 1.0
+    # vtkImplicitPolyDataDistance is negative inside for outward normals;
+    # inward-oriented inputs (onebox, torus) flip the sign.
+    vol = vtk.vtkMassProperties()
+    vol.SetInputData(inp)
+    vol.Update()
+    # the signed volume decides the orientation
+    sv = 0.0
+    for a, b, c in fan(ipts, ipolys):
+        sv += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+               + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    flip = 1.0 if sv > 0 else -1.0
+    for r in srows:
+        v = flip * sd.EvaluateFunction(float(r[0]), float(r[1]), float(r[2]))
+        wrong += (r[3] == "1") != (v < 0)
+    check(wrong == 0, "%s: %d of %d seeds on the wrong side of the input" % (model, wrong, len(srows)))
+
+# Determinism: 1 and 2 threads, same seed twice; another seed differs.
+outs = []
+for t in ("1", "2", "2"):
+    rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det%s_%d" % (t, len(outs)), "--threads", t, "--quiet")
+    check(rc == 0 and err == "", "determinism run: exit %d %r" % (rc, err))
+    outs.append(b"".join(open(p, "rb").read() for p in (surf, balls_csv, seeds_csv)))
+check(outs[0] == outs[1] == outs[2], "bracket: outputs differ between runs or thread counts")
+rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det_seed2", "--seed", "2", "--quiet")
+check(rc == 0 and open(balls_csv, "rb").read() not in outs[0], "--seed 2 gives the same balls")
+
+# Bad input: one line naming the file and the problem, exit non-zero, nothing written.
+open_obj = os.path.join(TMP, "mesh_open.obj")
+with open(open_obj, "w") as f:
+    f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n")
+bad_cases = [
+    (["mesh", open_obj, "--surface-only", "--surface", os.path.join(TMP, "x.obj")], 1,
+     "3 boundary edges"),
+    (["mesh", os.path.join(TMP, "nope.obj"), "--surface-only", "--surface", os.path.join(TMP, "x.obj")], 1,
+     "nope.obj"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+      "--lipschitz", "1.5"], 2, "--lipschitz"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+      "--sharp-angle", "abc"], 2, "--sharp-angle"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+      "--max-size", "-1"], 2, "--max-size"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only"], 2, "--surface"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface",
+      os.path.join(TMP, "no_such_dir", "x.obj")], 1, "no_such_dir"),
+]
+for args, want_rc, want in bad_cases:
+    rc, out, err = run(*args)
+    lines = err.strip().splitlines()
+    check(rc == want_rc and len(lines) == 1 and want in err and lines[0].startswith("vorocrust: "),
+          "bad input %r: exit %d, stderr %r" % (args[1:], rc, err))
+    check(not os.path.exists(os.path.join(TMP, "x.obj")), "bad input %r left an output" % (args[1:],))
+
+if failures:
+    print("e2e_mesh: %d failure(s)" % len(failures), file=sys.stderr)
+    sys.exit(1)
+print("e2e_mesh: all checks passed")
