@@ -1,0 +1,323 @@
+/* Two-sided Hausdorff distance between triangle surfaces.
+ *
+ * Samples: the barycentric grid of every triangle with n = ceil(longest
+ * edge / spacing) subdivisions per edge (its corners are the vertices, its
+ * border points the edge points). Every point of the triangle is then
+ * within the circumradius-like bound (longest edge / n) / sqrt(3) of a
+ * grid point (the farthest point from the corners of a triangle with
+ * longest edge l is at most l / sqrt(3) away from them).
+ *
+ * Distances to the other surface: a bounding-volume hierarchy over its
+ * triangles, built by sorting the triangle centroids along a Morton curve
+ * and halving the sorted range (a balanced tree, no tuning), queried
+ * nearest-child first with pruning on box distance. A sample closer to the
+ * other surface than the running maximum cannot change the result, so its
+ * search stops at the first triangle that close (usually the previous
+ * sample's nearest triangle): most samples cost one distance. */
+#include "vorocrust/quality.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "quality/vec3.h"
+
+#define BVH_LEAF 4
+#define SAMPLE_BUDGET 4000000.0
+
+typedef struct bvh_node {
+    float lo[3], hi[3];   /* slightly padded box (float is enough for pruning) */
+    int32_t left, right;  /* children, or -1; leaves hold tri[first .. first+count) */
+    int32_t first, count;
+} bvh_node;
+
+typedef struct bvh {
+    const vc_surface *s;
+    int64_t *tri;         /* triangle ids in Morton order */
+    bvh_node *node;
+    int32_t n_nodes;
+} bvh;
+
+typedef struct morton_key {
+    uint64_t code;
+    int64_t id;
+} morton_key;
+
+static int cmp_key(const void *x, const void *y)
+{
+    const morton_key *a = x, *b = y;
+    if (a->code != b->code)
+        return a->code < b->code ? -1 : 1;
+    return (a->id > b->id) - (a->id < b->id);
+}
+
+/* Spreads the low 21 bits of v to every third bit. */
+static uint64_t spread3(uint64_t v)
+{
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count)
+{
+    int32_t id = h->n_nodes++;
+    bvh_node *nd = &h->node[id];
+    nd->first = first;
+    nd->count = count;
+    nd->left = nd->right = -1;
+    if (count > BVH_LEAF) {
+        int32_t half = count / 2;
+        int32_t l = bvh_build_range(h, first, half);
+        int32_t r = bvh_build_range(h, first + half, count - half);
+        nd = &h->node[id];
+        nd->left = l;
+        nd->right = r;
+        for (int d = 0; d < 3; d++) {
+            nd->lo[d] = fminf(h->node[l].lo[d], h->node[r].lo[d]);
+            nd->hi[d] = fmaxf(h->node[l].hi[d], h->node[r].hi[d]);
+        }
+        return id;
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int32_t k = first; k < first + count; k++)
+        for (int c = 0; c < 3; c++) {
+            const double *p = h->s->xyz + 3 * h->s->tri[3 * h->tri[k] + c];
+            for (int d = 0; d < 3; d++) {
+                lo[d] = fmin(lo[d], p[d]);
+                hi[d] = fmax(hi[d], p[d]);
+            }
+        }
+    for (int d = 0; d < 3; d++) {
+        /* round outward so the float box still contains the triangles */
+        float fl = (float)lo[d], fh = (float)hi[d];
+        nd->lo[d] = (double)fl > lo[d] ? nextafterf(fl, -INFINITY) : fl;
+        nd->hi[d] = (double)fh < hi[d] ? nextafterf(fh, INFINITY) : fh;
+    }
+    return id;
+}
+
+static int bvh_build(bvh *h, const vc_surface *s)
+{
+    memset(h, 0, sizeof *h);
+    h->s = s;
+    int64_t n = s->n_triangles;
+    if (n > INT32_MAX / 2)
+        return VC_ENOMEM;
+    morton_key *key = malloc(sizeof *key * (size_t)n);
+    h->tri = malloc(sizeof *h->tri * (size_t)n);
+    h->node = malloc(sizeof *h->node * (size_t)(2 * n + 1));
+    if (!key || !h->tri || !h->node) {
+        free(key);
+        return VC_ENOMEM;
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    double scale = ext > 0 ? 2097151.0 / ext : 0;
+#pragma omp parallel for schedule(static)
+    for (int64_t t = 0; t < n; t++) {
+        uint64_t code = 0;
+        for (int d = 0; d < 3; d++) {
+            double c = 0;
+            for (int k = 0; k < 3; k++)
+                c += s->xyz[3 * s->tri[3 * t + k] + d];
+            double q = (c / 3.0 - lo[d]) * scale;
+            q = q < 0 ? 0 : q > 2097151.0 ? 2097151.0 : q;
+            code |= spread3((uint64_t)q) << d;
+        }
+        key[t].code = code;
+        key[t].id = t;
+    }
+    qsort(key, (size_t)n, sizeof *key, cmp_key);
+    for (int64_t t = 0; t < n; t++)
+        h->tri[t] = key[t].id;
+    free(key);
+    bvh_build_range(h, 0, (int32_t)n);
+    return VC_OK;
+}
+
+static void bvh_free(bvh *h)
+{
+    free(h->tri);
+    free(h->node);
+}
+
+static double box_dist2(const bvh_node *nd, const double p[3])
+{
+    double s = 0;
+    for (int d = 0; d < 3; d++) {
+        double v = p[d] < nd->lo[d] ? nd->lo[d] - p[d] : p[d] > nd->hi[d] ? p[d] - nd->hi[d] : 0;
+        s += v * v;
+    }
+    return s;
+}
+
+static double tri_distance(const vc_surface *s, int64_t t, const double p[3])
+{
+    const int64_t *v = s->tri + 3 * t;
+    return vc_point_triangle_distance(p, s->xyz + 3 * v[0], s->xyz + 3 * v[1], s->xyz + 3 * v[2]);
+}
+
+/* The distance from p to the hierarchy's surface when it exceeds
+ * `threshold`; otherwise some value <= threshold (the search stops as soon
+ * as a triangle that close is found: such a sample cannot raise the
+ * maximum). *hint is a triangle to try first (or -1); it is updated to the
+ * nearest triangle found. */
+static double bvh_distance_above(const bvh *h, const double p[3], double threshold,
+                                 int64_t *hint)
+{
+    int32_t stack[128];
+    int top = 0;
+    double best = INFINITY;
+    if (*hint >= 0) {
+        best = tri_distance(h->s, *hint, p);
+        if (best <= threshold)
+            return best;
+    }
+    stack[top++] = 0;
+    while (top > 0) {
+        const bvh_node *nd = &h->node[stack[--top]];
+        if (box_dist2(nd, p) >= best * best)
+            continue;
+        if (nd->left < 0) {
+            for (int32_t k = nd->first; k < nd->first + nd->count; k++) {
+                double d = tri_distance(h->s, h->tri[k], p);
+                if (d < best) {
+                    best = d;
+                    *hint = h->tri[k];
+                    if (best <= threshold)
+                        return best;
+                }
+            }
+            continue;
+        }
+        double dl = box_dist2(&h->node[nd->left], p), dr = box_dist2(&h->node[nd->right], p);
+        /* push the farther child first so the nearer one is searched first */
+        if (dl <= dr) {
+            stack[top++] = nd->right;
+            stack[top++] = nd->left;
+        } else {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+        }
+    }
+    return best;
+}
+
+static double tri_longest_edge(const vc_surface *s, int64_t t)
+{
+    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                 *c = s->xyz + 3 * s->tri[3 * t + 2];
+    return sqrt(fmax(v3_dist2(a, b), fmax(v3_dist2(b, c), v3_dist2(c, a))));
+}
+
+static int64_t subdivisions(double longest, double spacing)
+{
+    double n = ceil(longest / spacing);
+    return n < 1 ? 1 : n > 1e6 ? 1000000 : (int64_t)n;
+}
+
+static double count_samples(const vc_surface *s, double spacing)
+{
+    double total = 0;
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        double n = (double)subdivisions(tri_longest_edge(s, t), spacing);
+        total += (n + 1) * (n + 2) / 2;
+    }
+    return total;
+}
+
+/* max over the samples of `from` of the distance to the hierarchy `to`. */
+static double one_sided(const vc_surface *from, const bvh *to, double spacing, int64_t *n_samples)
+{
+    double worst = 0;
+    int64_t count = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst) reduction(+ : count)
+    for (int64_t t = 0; t < from->n_triangles; t++) {
+        const double *a = from->xyz + 3 * from->tri[3 * t], *b = from->xyz + 3 * from->tri[3 * t + 1],
+                     *c = from->xyz + 3 * from->tri[3 * t + 2];
+        int64_t n = subdivisions(tri_longest_edge(from, t), spacing);
+        int64_t hint = -1; /* neighbouring samples have the same nearest triangle */
+        for (int64_t i = 0; i <= n; i++)
+            for (int64_t j = 0; i + j <= n; j++) {
+                double u = (double)i / (double)n, v = (double)j / (double)n, w = 1.0 - u - v;
+                double p[3];
+                for (int d = 0; d < 3; d++)
+                    p[d] = w * a[d] + u * b[d] + v * c[d];
+                /* Only a sample farther than this thread's current maximum
+                 * matters, so the search may stop early: the maximum is
+                 * still exact, whatever the thread count or order. */
+                double dist = bvh_distance_above(to, p, worst, &hint);
+                if (dist > worst)
+                    worst = dist;
+                count++;
+            }
+    }
+    *n_samples = count;
+    return worst;
+}
+
+static double bbox_diagonal(const vc_surface *s)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t t = 0; t < 3 * s->n_triangles; t++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * s->tri[t] + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * s->tri[t] + d]);
+        }
+    double e[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    return v3_norm(e);
+}
+
+int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
+                 vc_hausdorff_result *out, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!a || !b || a->n_triangles < 1 || b->n_triangles < 1)
+        return vc_error_set(err, VC_EINPUT, "Hausdorff distance: a surface has no triangle");
+    double diag = bbox_diagonal(a);
+    if (!(spacing > 0)) {
+        spacing = diag > 0 ? 1e-3 * diag : 1.0;
+        /* Coarsen until neither side exceeds the budget (samples scale as
+         * 1 / spacing^2, plus at least 3 per triangle). */
+        for (int it = 0; it < 40; it++) {
+            double na = count_samples(a, spacing), nb = count_samples(b, spacing);
+            double worst = fmax(na, nb);
+            double floor_samples = 3.0 * (double)(a->n_triangles > b->n_triangles ? a->n_triangles
+                                                                                   : b->n_triangles);
+            if (worst <= SAMPLE_BUDGET || worst <= 1.05 * floor_samples)
+                break;
+            spacing *= fmax(1.1, sqrt(worst / SAMPLE_BUDGET));
+        }
+    }
+    bvh ha, hb;
+    int rc = bvh_build(&ha, a);
+    if (!rc)
+        rc = bvh_build(&hb, b);
+    else
+        memset(&hb, 0, sizeof hb);
+    if (rc) {
+        bvh_free(&ha);
+        bvh_free(&hb);
+        return vc_error_set(err, VC_ENOMEM, "Hausdorff distance: out of memory");
+    }
+    out->a_to_b = one_sided(a, &hb, spacing, &out->n_samples_a);
+    out->b_to_a = one_sided(b, &ha, spacing, &out->n_samples_b);
+    bvh_free(&ha);
+    bvh_free(&hb);
+    out->distance = fmax(out->a_to_b, out->b_to_a);
+    out->diagonal = diag;
+    out->normalised = diag > 0 ? out->distance / diag : 0;
+    out->spacing = spacing;
+    out->error_bound = spacing / sqrt(3.0);
+    return VC_OK;
+}
