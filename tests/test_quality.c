@@ -629,6 +629,7 @@ static void test_hausdorff(void)
     CHECK(h.error_bound > 0 && h.error_bound <= h.spacing);
 
     /* a translated copy: exactly the translation (parallel faces) */
+    vc_surface_free(&b);
     icosphere(2, 1.0, &b);
     for (int64_t i = 0; i < b.n_vertices; i++)
         b.xyz[3 * i] += 0.125;
