@@ -12,6 +12,7 @@ static void usage(FILE *f)
         "  info INPUT          describe a triangle surface (OBJ, OFF, STL, PLY)\n"
         "  voronoi SEEDS.csv   build the conforming Voronoi mesh of seeds\n"
         "  mesh INPUT          VoroCrust: sample a closed surface, place seeds, mesh\n"
+        "  quality MESH.vtu    mesh quality report (polyhedra, tetrahedra)\n"
         "run 'vorocrust COMMAND --help' for the options of a command\n");
 }
 
@@ -32,6 +33,8 @@ int main(int argc, char **argv)
         return vc_cmd_voronoi(argc - 1, argv + 1);
     if (!strcmp(cmd, "mesh"))
         return vc_cmd_mesh(argc - 1, argv + 1);
+    if (!strcmp(cmd, "quality"))
+        return vc_cmd_quality(argc - 1, argv + 1);
     fprintf(stderr, "vorocrust: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

@@ -1,0 +1,413 @@
+/* vorocrust quality: the quality report of a polyhedral or tetrahedral
+ * .vtu mesh, optionally against the input surface it approximates. */
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "commands.h"
+#include "vorocrust/quality.h"
+#include "vorocrust/surface.h"
+#include "vorocrust/vtu_reader.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: vorocrust quality MESH.vtu [--input SURFACE] [--threads N]\n"
+        "  MESH.vtu          VTK XML unstructured grid of polyhedra (42) and/or tetrahedra (10)\n"
+        "  --input SURFACE   also the two-sided Hausdorff distance between the mesh boundary\n"
+        "                    and this surface (.obj, .off, .stl, .ply), normalised by the\n"
+        "                    surface's bounding-box diagonal\n"
+        "  --threads N       threads (default: all cores); the report does not depend on it\n"
+        "Prints cell counts, total volume and, as min, max, mean and percentiles p1, p5,\n"
+        "p50, p95, p99: cell volume, fatness (minimum enclosing ball radius / maximum\n"
+        "inscribed ball radius), shortest edge / enclosing radius, and for tetrahedra the\n"
+        "smallest and largest dihedral angle per cell. The boundary (faces of one cell,\n"
+        "polygons fanned from their centroid) gives the triangle quality\n"
+        "Q = 6 S / (sqrt(3) h P) and the percentages of angles below 30 and above 90 degrees.\n");
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void print_stats(const char *name, const double *v, int64_t n)
+{
+    vc_stats st;
+    if (vc_stats_compute(v, n, &st) != 0) {
+        printf("%s: (out of memory)\n", name);
+        return;
+    }
+    if (st.n == 0) {
+        printf("%s: none\n", name);
+        return;
+    }
+    printf("%s: min %.6g, max %.6g, mean %.6g, p1 %.6g, p5 %.6g, p50 %.6g, p95 %.6g, p99 %.6g\n",
+           name, st.min, st.max, st.mean, st.p1, st.p5, st.p50, st.p95, st.p99);
+}
+
+/* ---- boundary faces: faces listed by exactly one cell ------------------------ */
+
+typedef struct face_key {
+    uint64_t hash;
+    int64_t face;
+} face_key;
+
+static int cmp_face_key(const void *x, const void *y)
+{
+    const face_key *a = x, *b = y;
+    if (a->hash != b->hash)
+        return a->hash < b->hash ? -1 : 1;
+    return (a->face > b->face) - (a->face < b->face);
+}
+
+/* The face's ids sorted into buf (faces are small: insertion sort). */
+static int64_t sorted_ids(const vc_vtu_mesh *m, int64_t f, int64_t *buf)
+{
+    int64_t n = m->face_offsets[f + 1] - m->face_offsets[f];
+    for (int64_t i = 0; i < n; i++) {
+        int64_t x = m->face_vertices[m->face_offsets[f] + i], j = i;
+        while (j > 0 && buf[j - 1] > x) {
+            buf[j] = buf[j - 1];
+            j--;
+        }
+        buf[j] = x;
+    }
+    return n;
+}
+
+/* Sets uses[f] to the number of faces (itself included) with the same
+ * vertex set; returns the number of distinct faces, or -1 (out of memory). */
+static int64_t count_face_uses(const vc_vtu_mesh *m, int64_t *uses)
+{
+    int64_t nf = m->n_faces, maxlen = 0;
+    for (int64_t f = 0; f < nf; f++)
+        if (m->face_offsets[f + 1] - m->face_offsets[f] > maxlen)
+            maxlen = m->face_offsets[f + 1] - m->face_offsets[f];
+    face_key *key = malloc(sizeof *key * (size_t)(nf ? nf : 1));
+    int64_t *a = malloc(sizeof *a * (size_t)(2 * maxlen + 2));
+    if (!key || !a) {
+        free(key);
+        free(a);
+        return -1;
+    }
+    int64_t *b = a + maxlen + 1;
+    for (int64_t f = 0; f < nf; f++) {
+        int64_t n = sorted_ids(m, f, a);
+        uint64_t h = 1469598103934665603ULL ^ (uint64_t)n;
+        for (int64_t i = 0; i < n; i++) {
+            h ^= (uint64_t)a[i] + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+            h *= 1099511628211ULL;
+        }
+        key[f].hash = h;
+        key[f].face = f;
+    }
+    qsort(key, (size_t)nf, sizeof *key, cmp_face_key);
+    int64_t distinct = 0;
+    for (int64_t i = 0; i < nf;) {
+        int64_t j = i;
+        while (j < nf && key[j].hash == key[i].hash)
+            j++;
+        /* within a hash run, group exactly equal vertex sets (runs are
+         * almost always 1 or 2 long) */
+        for (int64_t k = i; k < j; k++)
+            uses[key[k].face] = 0;
+        for (int64_t k = i; k < j; k++) {
+            if (uses[key[k].face])
+                continue;
+            int64_t nk = sorted_ids(m, key[k].face, a), count = 1;
+            for (int64_t l = k + 1; l < j; l++) {
+                if (uses[key[l].face])
+                    continue;
+                int64_t nl = sorted_ids(m, key[l].face, b);
+                if (nl == nk && !memcmp(a, b, sizeof *a * (size_t)nk))
+                    count++, uses[key[l].face] = -1;
+            }
+            uses[key[k].face] = count;
+            for (int64_t l = k + 1; l < j; l++)
+                if (uses[key[l].face] == -1)
+                    uses[key[l].face] = count;
+            distinct++;
+        }
+        i = j;
+    }
+    free(key);
+    free(a);
+    return distinct;
+}
+
+/* The boundary faces as a triangle surface on the mesh points (polygons
+ * fanned from their vertex average, which is appended as a point). */
+static int boundary_surface(const vc_vtu_mesh *m, const int64_t *uses, vc_surface *s)
+{
+    int64_t nt = 0, nextra = 0;
+    for (int64_t f = 0; f < m->n_faces; f++) {
+        if (uses[f] != 1)
+            continue;
+        int64_t n = m->face_offsets[f + 1] - m->face_offsets[f];
+        nt += n == 3 ? 1 : n;
+        nextra += n == 3 ? 0 : 1;
+    }
+    s->n_vertices = m->n_points + nextra;
+    s->n_triangles = nt;
+    s->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices ? s->n_vertices : 1));
+    s->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt ? nt : 1));
+    if (!s->xyz || !s->tri)
+        return -1;
+    memcpy(s->xyz, m->points, sizeof(double) * 3 * (size_t)m->n_points);
+    int64_t t = 0, v = m->n_points;
+    for (int64_t f = 0; f < m->n_faces; f++) {
+        if (uses[f] != 1)
+            continue;
+        const int64_t *id = m->face_vertices + m->face_offsets[f];
+        int64_t n = m->face_offsets[f + 1] - m->face_offsets[f];
+        if (n == 3) {
+            memcpy(s->tri + 3 * t++, id, 3 * sizeof *id);
+            continue;
+        }
+        double *c = s->xyz + 3 * v;
+        c[0] = c[1] = c[2] = 0;
+        for (int64_t i = 0; i < n; i++)
+            for (int d = 0; d < 3; d++)
+                c[d] += m->points[3 * id[i] + d] / (double)n;
+        for (int64_t i = 0; i < n; i++) {
+            s->tri[3 * t] = v;
+            s->tri[3 * t + 1] = id[i];
+            s->tri[3 * t + 2] = id[(i + 1) % n];
+            t++;
+        }
+        v++;
+    }
+    return 0;
+}
+
+int vc_cmd_quality(int argc, char **argv)
+{
+    const char *mesh_path = NULL, *input_path = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--input") || !strcmp(a, "--threads")) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust quality --help')\n", a);
+                return 2;
+            }
+            const char *v = argv[++i];
+            if (!strcmp(a, "--input")) {
+                input_path = v;
+                continue;
+            }
+            char *end;
+            errno = 0;
+            long t = strtol(v, &end, 10);
+            if (errno || end == v || *end || t < 1 || t > 4096) {
+                fprintf(stderr, "vorocrust: --threads: '%s' is not a count from 1 to 4096\n", v);
+                return 2;
+            }
+#ifdef _OPENMP
+            omp_set_num_threads((int)t);
+#endif
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust quality --help')\n", a);
+            return 2;
+        } else if (!mesh_path) {
+            mesh_path = a;
+        } else {
+            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+            return 2;
+        }
+    }
+    if (!mesh_path) {
+        fprintf(stderr, "vorocrust: missing the mesh MESH.vtu (see 'vorocrust quality --help')\n");
+        return 2;
+    }
+
+    vc_error err = {0, ""};
+    vc_vtu_mesh m;
+    vc_surface input = {0, NULL, 0, NULL}, boundary = {0, NULL, 0, NULL};
+    vc_surface_report rep;
+    double *vol = NULL, *fat = NULL, *rel = NULL, *dmin = NULL, *dmax = NULL, *q = NULL;
+    int64_t *uses = NULL;
+    int rc = 1;
+    double t0 = now();
+    if (vc_vtu_read(mesh_path, &m, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        return 1;
+    }
+    /* Read the input before the work, so a bad one fails fast. */
+    if (input_path) {
+        if (vc_surface_read(input_path, &input, &rep, &err) != 0) {
+            fprintf(stderr, "vorocrust: %s\n", err.msg);
+            goto out;
+        }
+        for (int i = 0; i < rep.n_warnings; i++)
+            fprintf(stderr, "vorocrust: warning: %s\n", rep.warnings[i]);
+    }
+    if (m.n_skipped)
+        fprintf(stderr, "vorocrust: warning: %s: %" PRId64 " cells of other types skipped "
+                "(first: VTK cell type %d); only polyhedra (42) and tetrahedra (10) are measured\n",
+                mesh_path, m.n_skipped, m.first_skipped_type);
+
+    const int64_t nc = m.n_cells;
+    int64_t n_tet = 0;
+    for (int64_t c = 0; c < nc; c++)
+        n_tet += m.cell_type[c] == VC_VTK_TETRA;
+    size_t cn = (size_t)nc;
+    vol = malloc(sizeof *vol * cn);
+    fat = malloc(sizeof *fat * cn);
+    rel = malloc(sizeof *rel * cn);
+    dmin = malloc(sizeof *dmin * cn);
+    dmax = malloc(sizeof *dmax * cn);
+    uses = malloc(sizeof *uses * (size_t)(m.n_faces ? m.n_faces : 1));
+    if (!vol || !fat || !rel || !dmin || !dmax || !uses) {
+        fprintf(stderr, "vorocrust: %s: out of memory\n", mesh_path);
+        goto out;
+    }
+    int64_t n_failed = 0, n_inverted = 0, first_failed = -1;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : n_failed, n_inverted)
+    for (int64_t c = 0; c < nc; c++) {
+        vc_cell cell;
+        cell.points = m.points;
+        cell.n_vertices = 0;
+        cell.vertices = NULL;
+        cell.n_faces = m.cell_faces[c + 1] - m.cell_faces[c];
+        cell.face_offsets = m.face_offsets + m.cell_faces[c];
+        cell.face_vertices = m.face_vertices;
+        vc_cell_measures cm;
+        double signed_volume = vc_cell_volume(&cell, NULL);
+        n_inverted += signed_volume < 0;
+        vol[c] = fabs(signed_volume);
+        if (vc_cell_measure(&cell, &cm) == 0) {
+            fat[c] = cm.fatness;
+            rel[c] = cm.shortest_edge_rel;
+        } else {
+            fat[c] = rel[c] = NAN; /* left out of the statistics, counted */
+            n_failed++;
+        }
+        dmin[c] = dmax[c] = NAN;
+        if (m.cell_type[c] == VC_VTK_TETRA) {
+            /* the reader's first face is (1, 2, 3), the second starts with 0 */
+            const int64_t *id = m.face_vertices + m.face_offsets[m.cell_faces[c]];
+            int64_t ids[4] = {m.face_vertices[m.face_offsets[m.cell_faces[c] + 1]], id[0], id[1],
+                              id[2]};
+            double p[4][3], deg[6];
+            for (int k = 0; k < 4; k++)
+                memcpy(p[k], m.points + 3 * ids[k], sizeof p[k]);
+            vc_tetra_dihedral_angles(p, deg, &dmin[c], &dmax[c]);
+        }
+    }
+    for (int64_t c = 0; c < nc && n_failed; c++)
+        if (isnan(fat[c])) {
+            first_failed = m.cell_file_index[c];
+            break;
+        }
+    double total_volume = 0;
+    for (int64_t c = 0; c < nc; c++)
+        total_volume += vol[c];
+
+    int64_t distinct = count_face_uses(&m, uses);
+    if (distinct < 0 || boundary_surface(&m, uses, &boundary) != 0) {
+        fprintf(stderr, "vorocrust: %s: out of memory\n", mesh_path);
+        goto out;
+    }
+    int64_t n_bfaces = 0, n_shared_more = 0;
+    for (int64_t f = 0; f < m.n_faces; f++) {
+        n_bfaces += uses[f] == 1;
+        n_shared_more += uses[f] > 2;
+    }
+    const int64_t nt = boundary.n_triangles;
+    q = malloc(sizeof *q * (size_t)(nt ? nt : 1));
+    if (!q) {
+        fprintf(stderr, "vorocrust: %s: out of memory\n", mesh_path);
+        goto out;
+    }
+    int64_t below30 = 0, above90 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : below30, above90)
+    for (int64_t t = 0; t < nt; t++) {
+        const double *a = boundary.xyz + 3 * boundary.tri[3 * t];
+        const double *b = boundary.xyz + 3 * boundary.tri[3 * t + 1];
+        const double *c = boundary.xyz + 3 * boundary.tri[3 * t + 2];
+        double deg[3];
+        q[t] = vc_triangle_quality(a, b, c);
+        vc_triangle_angles(a, b, c, deg);
+        for (int k = 0; k < 3; k++) {
+            below30 += deg[k] < 30;
+            above90 += deg[k] > 90;
+        }
+    }
+    vc_hausdorff_result hd;
+    if (input_path) {
+        if (nt == 0) {
+            fprintf(stderr, "vorocrust: %s: the mesh has no boundary face to compare with %s\n",
+                    mesh_path, input_path);
+            goto out;
+        }
+        if (vc_hausdorff(&input, &boundary, 0, &hd, &err) != 0) {
+            fprintf(stderr, "vorocrust: %s: %s\n", mesh_path, err.msg);
+            goto out;
+        }
+    }
+    double t1 = now();
+
+    printf("file: %s\n", mesh_path);
+    printf("cells: %" PRId64 " (%" PRId64 " polyhedra, %" PRId64 " tetrahedra)\n", nc, nc - n_tet,
+           n_tet);
+    if (m.n_skipped)
+        printf("skipped cells: %" PRId64 " (other cell types)\n", m.n_skipped);
+    printf("vertices: %" PRId64 "\n", m.n_points);
+    printf("faces: %" PRId64 " (%" PRId64 " boundary)\n", distinct, n_bfaces);
+    if (n_shared_more)
+        printf("faces shared by more than two cells: %" PRId64 "\n", n_shared_more);
+    if (n_inverted)
+        printf("inverted cells: %" PRId64 " (faces listed inward)\n", n_inverted);
+    if (n_failed)
+        printf("unmeasured cells: %" PRId64 " (no inscribed ball: open or degenerate; first: cell %"
+               PRId64 ")\n", n_failed, first_failed);
+    printf("total volume: %.17g\n", total_volume);
+    print_stats("volume", vol, nc);
+    print_stats("fatness", fat, nc);
+    print_stats("shortest relative edge", rel, nc);
+    if (n_tet) {
+        print_stats("dihedral angle min", dmin, nc);
+        print_stats("dihedral angle max", dmax, nc);
+    }
+    printf("boundary triangles: %" PRId64 "\n", nt);
+    if (nt) {
+        print_stats("triangle quality", q, nt);
+        printf("angles below 30 degrees: %.4f%%\n", 100.0 * (double)below30 / (3.0 * (double)nt));
+        printf("angles above 90 degrees: %.4f%%\n", 100.0 * (double)above90 / (3.0 * (double)nt));
+    }
+    if (input_path) {
+        printf("input: %s\n", input_path);
+        printf("hausdorff distance: %.6g (normalised by the input's bounding-box diagonal %.6g: %.6g)\n",
+               hd.distance, hd.diagonal, hd.normalised);
+        printf("hausdorff input to mesh: %.6g, mesh to input: %.6g, sampling error at most %.3g "
+               "(%" PRId64 " + %" PRId64 " samples)\n", hd.a_to_b, hd.b_to_a, hd.error_bound,
+               hd.n_samples_a, hd.n_samples_b);
+    }
+    printf("time: %.3f s\n", t1 - t0);
+    rc = 0;
+out:
+    vc_vtu_mesh_free(&m);
+    vc_surface_free(&input);
+    vc_surface_free(&boundary);
+    free(vol);
+    free(fat);
+    free(rel);
+    free(dmin);
+    free(dmax);
+    free(q);
+    free(uses);
+    return rc;
+}
