@@ -125,7 +125,9 @@ typedef struct vc_hausdorff_result {
  * spacing / sqrt(3) of a sample, the sampled distance is at most
  * error_bound = spacing / sqrt(3) below the true one (and never above it).
  * spacing <= 0 chooses one: 1e-3 of A's bounding-box diagonal, enlarged
- * so that neither surface gets more than about 4e6 samples. Runs with
+ * so that neither surface gets more than about 1e6 samples (or 3 per
+ * triangle when it has more than 3.3e5 triangles). Vertices that are not a
+ * corner of any triangle are ignored. Runs with
  * OpenMP; the result does not depend on the thread count. Returns 0,
  * VC_EINPUT for an empty surface, VC_ENOMEM. */
 int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,

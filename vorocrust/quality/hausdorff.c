@@ -13,7 +13,8 @@
  * nearest-child first with pruning on box distance. A sample closer to the
  * other surface than the running maximum cannot change the result, so its
  * search stops at the first triangle that close (usually the previous
- * sample's nearest triangle): most samples cost one distance. */
+ * sample's nearest triangle), and whole triangles are skipped when a
+ * Lipschitz bound from their corners shows they cannot hold the maximum. */
 #include "vorocrust/quality.h"
 
 #include <math.h>
@@ -21,9 +22,10 @@
 #include <string.h>
 
 #include "quality/vec3.h"
+#include "quality/quality_internal.h"
 
 #define BVH_LEAF 4
-#define SAMPLE_BUDGET 4000000.0
+#define SAMPLE_BUDGET 1000000.0
 
 typedef struct bvh_node {
     float lo[3], hi[3];   /* slightly padded box (float is enough for pruning) */
@@ -161,56 +163,65 @@ static double box_dist2(const bvh_node *nd, const double p[3])
     return s;
 }
 
-static double tri_distance(const vc_surface *s, int64_t t, const double p[3])
+static double tri_dist2(const vc_surface *s, int64_t t, const double p[3])
 {
     const int64_t *v = s->tri + 3 * t;
-    return vc_point_triangle_distance(p, s->xyz + 3 * v[0], s->xyz + 3 * v[1], s->xyz + 3 * v[2]);
+    return vc_point_triangle_dist2(p, s->xyz + 3 * v[0], s->xyz + 3 * v[1], s->xyz + 3 * v[2]);
 }
 
 /* The distance from p to the hierarchy's surface when it exceeds
  * `threshold`; otherwise some value <= threshold (the search stops as soon
  * as a triangle that close is found: such a sample cannot raise the
  * maximum). *hint is a triangle to try first (or -1); it is updated to the
- * nearest triangle found. */
+ * nearest triangle found. Squared distances throughout; the stack keeps
+ * each node's box distance, computed once when its parent is opened. */
 static double bvh_distance_above(const bvh *h, const double p[3], double threshold,
                                  int64_t *hint)
 {
     int32_t stack[128];
+    double stack_d2[128];
     int top = 0;
-    double best = INFINITY;
+    /* (OpenMP starts a max reduction at -DBL_MAX: a negative threshold
+     * must not square into a large limit) */
+    double best2 = INFINITY, limit2 = threshold >= 0 ? threshold * threshold : -1.0;
     if (*hint >= 0) {
-        best = tri_distance(h->s, *hint, p);
-        if (best <= threshold)
-            return best;
+        best2 = tri_dist2(h->s, *hint, p);
+        if (best2 <= limit2)
+            return sqrt(best2);
     }
-    stack[top++] = 0;
+    stack[top] = 0;
+    stack_d2[top++] = box_dist2(&h->node[0], p);
     while (top > 0) {
-        const bvh_node *nd = &h->node[stack[--top]];
-        if (box_dist2(nd, p) >= best * best)
+        --top;
+        if (stack_d2[top] >= best2)
             continue;
+        const bvh_node *nd = &h->node[stack[top]];
         if (nd->left < 0) {
             for (int32_t k = nd->first; k < nd->first + nd->count; k++) {
-                double d = tri_distance(h->s, h->tri[k], p);
-                if (d < best) {
-                    best = d;
+                double d2 = tri_dist2(h->s, h->tri[k], p);
+                if (d2 < best2) {
+                    best2 = d2;
                     *hint = h->tri[k];
-                    if (best <= threshold)
-                        return best;
+                    if (best2 <= limit2)
+                        return sqrt(best2);
                 }
             }
             continue;
         }
         double dl = box_dist2(&h->node[nd->left], p), dr = box_dist2(&h->node[nd->right], p);
         /* push the farther child first so the nearer one is searched first */
-        if (dl <= dr) {
-            stack[top++] = nd->right;
-            stack[top++] = nd->left;
-        } else {
-            stack[top++] = nd->left;
-            stack[top++] = nd->right;
+        int32_t near = dl <= dr ? nd->left : nd->right, far = dl <= dr ? nd->right : nd->left;
+        double dnear = dl <= dr ? dl : dr, dfar = dl <= dr ? dr : dl;
+        if (dfar < best2) {
+            stack[top] = far;
+            stack_d2[top++] = dfar;
+        }
+        if (dnear < best2) {
+            stack[top] = near;
+            stack_d2[top++] = dnear;
         }
     }
-    return best;
+    return sqrt(best2);
 }
 
 static double tri_longest_edge(const vc_surface *s, int64_t t)
@@ -236,34 +247,73 @@ static double count_samples(const vc_surface *s, double spacing)
     return total;
 }
 
-/* max over the samples of `from` of the distance to the hierarchy `to`. */
+/* max over the samples of `from` of the distance to the hierarchy `to`;
+ * -1 when out of memory.
+ *
+ * First the exact distance of every vertex (they are samples). Since the
+ * distance is 1-Lipschitz and every point of a triangle with longest edge
+ * l is within l / sqrt(3) of a corner, no sample of a triangle can exceed
+ * max(corner distances) + l / sqrt(3); a triangle whose bound is below the
+ * running maximum is skipped whole. Skipped samples and early-stopped
+ * searches can never hold the maximum, so the result is exactly the
+ * maximum over all samples, whatever the thread count or order. */
 static double one_sided(const vc_surface *from, const bvh *to, double spacing, int64_t *n_samples)
 {
+    const int64_t nv = from->n_vertices, nt = from->n_triangles;
+    double *dv = malloc(sizeof *dv * (size_t)(nv ? nv : 1));
+    int64_t *near_tri = malloc(sizeof *near_tri * (size_t)(nv ? nv : 1));
+    if (!dv || !near_tri) {
+        free(dv);
+        free(near_tri);
+        return -1;
+    }
+    for (int64_t v = 0; v < nv; v++)
+        near_tri[v] = -2; /* not a corner of any triangle: not a sample */
+    for (int64_t k = 0; k < 3 * nt; k++)
+        near_tri[from->tri[k]] = -1;
+    double vmax = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : vmax)
+    for (int64_t v = 0; v < nv; v++) {
+        dv[v] = 0;
+        if (near_tri[v] == -2)
+            continue;
+        dv[v] = bvh_distance_above(to, from->xyz + 3 * v, -1.0, &near_tri[v]);
+        if (dv[v] > vmax)
+            vmax = dv[v];
+    }
     double worst = 0;
     int64_t count = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : worst) reduction(+ : count)
-    for (int64_t t = 0; t < from->n_triangles; t++) {
-        const double *a = from->xyz + 3 * from->tri[3 * t], *b = from->xyz + 3 * from->tri[3 * t + 1],
-                     *c = from->xyz + 3 * from->tri[3 * t + 2];
-        int64_t n = subdivisions(tri_longest_edge(from, t), spacing);
-        int64_t hint = -1; /* neighbouring samples have the same nearest triangle */
+    for (int64_t t = 0; t < nt; t++) {
+        const int64_t *id = from->tri + 3 * t;
+        const double *a = from->xyz + 3 * id[0], *b = from->xyz + 3 * id[1], *c = from->xyz + 3 * id[2];
+        double longest = tri_longest_edge(from, t);
+        int64_t n = subdivisions(longest, spacing);
+        count += (n + 1) * (n + 2) / 2;
+        double floor_ = worst > vmax ? worst : vmax;
+        double corner = fmax(dv[id[0]], fmax(dv[id[1]], dv[id[2]]));
+        if (corner + longest / sqrt(3.0) <= floor_)
+            continue;
+        int64_t hint = near_tri[id[0]]; /* neighbouring samples share their nearest triangle */
         for (int64_t i = 0; i <= n; i++)
             for (int64_t j = 0; i + j <= n; j++) {
                 double u = (double)i / (double)n, v = (double)j / (double)n, w = 1.0 - u - v;
                 double p[3];
                 for (int d = 0; d < 3; d++)
                     p[d] = w * a[d] + u * b[d] + v * c[d];
-                /* Only a sample farther than this thread's current maximum
-                 * matters, so the search may stop early: the maximum is
-                 * still exact, whatever the thread count or order. */
-                double dist = bvh_distance_above(to, p, worst, &hint);
-                if (dist > worst)
-                    worst = dist;
-                count++;
+                /* only a sample beyond this thread's maximum matters, so
+                 * the search may stop at the first triangle that close */
+                double dist = bvh_distance_above(to, p, floor_, &hint);
+                if (dist > floor_)
+                    floor_ = dist;
             }
+        if (floor_ > worst)
+            worst = floor_;
     }
+    free(dv);
+    free(near_tri);
     *n_samples = count;
-    return worst;
+    return worst > vmax ? worst : vmax;
 }
 
 static double bbox_diagonal(const vc_surface *s)
@@ -314,6 +364,8 @@ int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
     out->b_to_a = one_sided(b, &ha, spacing, &out->n_samples_b);
     bvh_free(&ha);
     bvh_free(&hb);
+    if (out->a_to_b < 0 || out->b_to_a < 0)
+        return vc_error_set(err, VC_ENOMEM, "Hausdorff distance: out of memory");
     out->distance = fmax(out->a_to_b, out->b_to_a);
     out->diagonal = diag;
     out->normalised = diag > 0 ? out->distance / diag : 0;

@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "quality/vec3.h"
+#include "quality/quality_internal.h"
 
 double vc_triangle_quality(const double a[3], const double b[3], const double c[3])
 {
@@ -53,8 +54,8 @@ static double segment_dist2(const double p[3], const double a[3], const double b
     return v3_dist2(p, q);
 }
 
-double vc_point_triangle_distance(const double p[3], const double a[3],
-                                  const double b[3], const double c[3])
+double vc_point_triangle_dist2(const double p[3], const double a[3], const double b[3],
+                               const double c[3])
 {
     double ab[3], ac[3], n[3];
     v3_sub(b, a, ab);
@@ -76,11 +77,19 @@ double vc_point_triangle_distance(const double p[3], const double a[3],
         if (inside) {
             double ap[3];
             v3_sub(p, a, ap);
-            return fabs(v3_dot(ap, n)) / sqrt(n2);
+            double h = v3_dot(ap, n);
+            return h * h / n2;
         }
     }
     double d2 = segment_dist2(p, a, b);
-    d2 = fmin(d2, segment_dist2(p, b, c));
-    d2 = fmin(d2, segment_dist2(p, c, a));
-    return sqrt(d2);
+    double e2 = segment_dist2(p, b, c);
+    double f2 = segment_dist2(p, c, a);
+    d2 = e2 < d2 ? e2 : d2;
+    return f2 < d2 ? f2 : d2;
+}
+
+double vc_point_triangle_distance(const double p[3], const double a[3],
+                                  const double b[3], const double c[3])
+{
+    return sqrt(vc_point_triangle_dist2(p, a, b, c));
 }
