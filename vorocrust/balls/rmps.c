@@ -458,6 +458,8 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
 {
     vc_balls *b = &S->bs.b;
     int64_t n = b->n, changed = 0;
+    if (n == 0)
+        return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
     double *newr = malloc(sizeof(double) * (size_t)(n ? n : 1));
     if (!newr)
@@ -509,6 +511,9 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
 {
     vc_balls *b = &S->bs.b;
     int64_t n = b->n;
+    *n_half = 0;
+    if (n == 0)
+        return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
     sliver_ctx c = {b, NULL, 0};
     c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
