@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "vorocrust/features.h"
 #include "vorocrust/io.h"
+#include "vorocrust/quality.h"
 #include "vorocrust/sampling.h"
 #include "vorocrust/surface.h"
 #include "vorocrust/voronoi.h"
@@ -51,28 +52,6 @@ static int takes_value(const char *a)
         if (!strcmp(a, with_value[i]))
             return 1;
     return 0;
-}
-
-/* Triangle quality Q = 6 S / (sqrt(3) h P), P the half-perimeter. */
-static double tri_quality(const double *a, const double *b, const double *c, double ang[3])
-{
-    const double *p[3] = {a, b, c};
-    double l[3];
-    for (int k = 0; k < 3; k++) {
-        const double *u = p[(k + 1) % 3], *v = p[(k + 2) % 3];
-        l[k] = sqrt((u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]) +
-                    (u[2] - v[2]) * (u[2] - v[2]));
-    }
-    double s = 0.5 * (l[0] + l[1] + l[2]);
-    double area2 = s * (s - l[0]) * (s - l[1]) * (s - l[2]);
-    double S = area2 > 0 ? sqrt(area2) : 0;
-    double h = fmax(l[0], fmax(l[1], l[2]));
-    for (int k = 0; k < 3; k++) {
-        double x = l[(k + 1) % 3], y = l[(k + 2) % 3];
-        double cs = (x * x + y * y - l[k] * l[k]) / (2 * x * y);
-        ang[k] = acos(fmax(-1, fmin(1, cs))) * 180 / 3.14159265358979323846;
-    }
-    return h > 0 && s > 0 ? 6 * S / (sqrt(3.0) * h * s) : 0;
 }
 
 int vc_cmd_mesh(int argc, char **argv)
@@ -318,7 +297,8 @@ int vc_cmd_mesh(int argc, char **argv)
                     p2 = ps.points + 3 * ps.poly_vertices[a + (j + 1) % n];
                 }
                 double ang[3];
-                double q = tri_quality(p0, p1, p2, ang);
+                double q = vc_triangle_quality(p0, p1, p2);
+                vc_triangle_angles(p0, p1, p2, ang);
                 qmin = fmin(qmin, q);
                 qsum += q;
                 ntri++;
