@@ -5,6 +5,9 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 #include "vorocrust/error.h"
 #include "vorocrust/polymesh.h"
@@ -18,6 +21,30 @@ typedef struct vc_cell_result {
     uint16_t *fv;       /* nfv local vertex indices */
     double scale;       /* local cell size: distance to the nearest face's seed */
 } vc_cell_result;
+
+/* Large arrays that are touched once, in passes: on Linux they are backed
+ * by transparent huge pages when the system allows it, which makes first
+ * touches several times cheaper (4 KiB page faults cost more than the
+ * stitching's work per byte). Freed with free(). */
+#define VC_BIG_ALLOC_MIN ((size_t)4 << 20)
+#define VC_HUGE_PAGE ((size_t)2 << 20)
+
+static inline void *vc_big_alloc(size_t bytes)
+{
+    if (bytes == 0)
+        bytes = 1;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes >= VC_BIG_ALLOC_MIN) {
+        size_t rounded = (bytes + VC_HUGE_PAGE - 1) & ~(VC_HUGE_PAGE - 1);
+        void *p = NULL;
+        if (posix_memalign(&p, VC_HUGE_PAGE, rounded) != 0)
+            return NULL;
+        (void)madvise(p, rounded, MADV_HUGEPAGE);
+        return p;
+    }
+#endif
+    return malloc(bytes);
+}
 
 /* Where the cells' data live: the blocks of consecutive cells, carved out
  * of large regions (one pool for the coordinates, one for the rest), so
@@ -52,7 +79,7 @@ static inline void *vc_region_take(vc_region_pool *p, size_t bytes)
             p->cap = cap;
         }
         size_t size = bytes > VC_REGION_BYTES ? bytes : VC_REGION_BYTES;
-        char *q = (char *)malloc(size);
+        char *q = (char *)vc_big_alloc(size);
         if (!q)
             return NULL;
         p->region[p->n++] = q;

@@ -57,27 +57,7 @@
  * which makes first touches several times cheaper. They are freed with
  * free(), like any other allocation (the mesh's arrays are among them). */
 
-#define BIG_ALLOC_MIN ((size_t)4 << 20)
-#define HUGE_PAGE ((size_t)2 << 20)
-
-static void *big_alloc(size_t bytes)
-{
-    if (bytes == 0)
-        bytes = 1;
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= BIG_ALLOC_MIN) {
-        size_t rounded = (bytes + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
-        void *p = NULL;
-        if (posix_memalign(&p, HUGE_PAGE, rounded) != 0)
-            return NULL;
-        (void)madvise(p, rounded, MADV_HUGEPAGE);
-        return p;
-    }
-#endif
-    return malloc(bytes);
-}
-
-#define BIG_ARRAY(n, type) ((type *)big_alloc((size_t)(n) * sizeof(type)))
+#define BIG_ARRAY(n, type) ((type *)vc_big_alloc((size_t)(n) * sizeof(type)))
 
 static double wall_time(void)
 {

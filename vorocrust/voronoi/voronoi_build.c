@@ -1,6 +1,9 @@
 /* The Voronoi engine's driver: checks the seeds, computes every kept cell on
  * its own (in parallel: a cell depends only on the seeds), then stitches
  * them into one conforming mesh. */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE 1 /* madvise, in cell_result.h */
+#endif
 #include "vorocrust/voronoi.h"
 
 #include <math.h>
@@ -551,9 +554,11 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     job.grid = &grid;
 
     int64_t *kept_seed = malloc((size_t)n_kept * sizeof(int64_t));
-    vc_cell_result *cells = calloc((size_t)n_kept, sizeof(vc_cell_result));
-    int *status = calloc((size_t)n_kept, sizeof(int));
-    int64_t *other = calloc((size_t)n_kept, sizeof(int64_t));
+    /* Every entry is written before it is read (status for every cell,
+     * the result of a cell built, other of a duplicate). */
+    vc_cell_result *cells = vc_big_alloc((size_t)n_kept * sizeof(vc_cell_result));
+    int *status = vc_big_alloc((size_t)n_kept * sizeof(int));
+    int64_t *other = vc_big_alloc((size_t)n_kept * sizeof(int64_t));
     /* Cells are built in bin order, so that consecutive cells read the
      * same seeds from cache; each result goes to its kept index. */
     int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
