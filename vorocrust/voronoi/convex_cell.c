@@ -10,6 +10,7 @@
  * the new plane. */
 #include "convex_cell.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,7 +34,7 @@ void vc_convex_cell_init(vc_convex_cell *c) { memset(c, 0, sizeof *c); }
 
 void vc_convex_cell_free(vc_convex_cell *c)
 {
-    vc_cell_buf *bufs[] = {&c->b_plane,      &c->b_plane_id, &c->b_tri,      &c->b_pt,
+    vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_pt,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_start, &c->b_fv,
                            &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_new_pt,
@@ -43,15 +44,17 @@ void vc_convex_cell_free(vc_convex_cell *c)
     memset(c, 0, sizeof *c);
 }
 
+static inline double norm2(const double *x)
+{
+    return x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+}
+
+/* rmax2 from the per-vertex squared distances. */
 static void update_rmax2(vc_convex_cell *c)
 {
     double r2 = 0;
-    const double *x = c->pt;
-    for (int i = 0; i < c->nt; i++, x += 3) {
-        double d = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-        if (d > r2)
-            r2 = d;
-    }
+    for (int i = 0; i < c->nt; i++)
+        r2 = c->r2[i] > r2 ? c->r2[i] : r2;
     c->rmax2 = r2;
 }
 
@@ -62,6 +65,7 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     c->plane_id = reserve(&c->b_plane_id, 6, sizeof(int64_t));
     c->tri = reserve(&c->b_tri, 8, 3 * sizeof(int));
     c->pt = reserve(&c->b_pt, 8, 3 * sizeof(double));
+    c->r2 = reserve(&c->b_r2, 8, sizeof(double));
     /* Plane 2 * axis is the lower wall (normal -e_axis), 2 * axis + 1 the
      * upper one. */
     for (int a = 0; a < 3; a++) {
@@ -91,6 +95,7 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
         x[0] = bx ? hi[0] : lo[0];
         x[1] = by ? hi[1] : lo[1];
         x[2] = bz ? hi[2] : lo[2];
+        c->r2[k] = norm2(x);
     }
     c->nt = 8;
     update_rmax2(c);
@@ -118,17 +123,23 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     double *dist = reserve(&c->b_dist, nt, sizeof(double));
     int *conflict = reserve(&c->b_conflict, nt, sizeof(int));
     int n_out = 0, n_in = 0;
+    /* Distances first (a branch-free loop), then the removed vertices,
+     * only when the plane cuts. */
     const double *x = c->pt;
+    double smax = -INFINITY;
     for (int t = 0; t < nt; t++, x += 3) {
         double s = x[0] * p[0] + x[1] * p[1] + x[2] * p[2] - half;
         dist[t] = s;
-        if (s > thr)
+        smax = s > smax ? s : smax;
+    }
+    if (!(smax > thr))
+        return 0;
+    for (int t = 0; t < nt; t++) {
+        if (dist[t] > thr)
             conflict[n_out++] = t;
         else
-            n_in += s < -thr;
+            n_in += dist[t] < -thr;
     }
-    if (n_out == 0)
-        return 0;
     if (n_in == 0)
         return -2;
 
@@ -209,6 +220,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                 found++;
             }
         }
+        if (found == n_boundary)
+            break; /* directed edges are unique: nothing more to find */
     }
     if (found != n_boundary)
         return -1;
@@ -252,6 +265,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     const int new_nt = nt - n_out + n_boundary;
     c->tri = reserve(&c->b_tri, new_nt, 3 * sizeof(int));
     c->pt = reserve(&c->b_pt, new_nt, 3 * sizeof(double));
+    c->r2 = reserve(&c->b_r2, new_nt, sizeof(double));
     int w = conflict[0];
     for (int t = conflict[0] + 1, ci = 1; t < nt; t++) {
         if (ci < n_out && conflict[ci] == t) {
@@ -260,10 +274,13 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         }
         memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
         memcpy(c->pt + 3 * w, c->pt + 3 * t, 3 * sizeof(double));
+        c->r2[w] = c->r2[t];
         w++;
     }
     memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
     memcpy(c->pt + 3 * w, new_pt, (size_t)n_boundary * 3 * sizeof(double));
+    for (int k = 0; k < n_boundary; k++)
+        c->r2[w + k] = norm2(new_pt + 3 * k);
     c->nt = new_nt;
     update_rmax2(c);
     return 1;

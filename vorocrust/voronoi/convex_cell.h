@@ -33,6 +33,7 @@ typedef struct vc_convex_cell {
     int nt;
     int *tri;            /* 3 * nt */
     double *pt;          /* 3 * nt */
+    double *r2;          /* nt: squared distance of each vertex */
     double rmax2;        /* largest squared distance of a vertex */
 
     /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i;
@@ -45,7 +46,7 @@ typedef struct vc_convex_cell {
     int *fv;
 
     /* Storage and scratch reused by every cut. */
-    vc_cell_buf b_plane, b_plane_id, b_tri, b_pt;
+    vc_cell_buf b_plane, b_plane_id, b_tri, b_pt, b_r2;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
     vc_cell_buf b_face_plane, b_face_start, b_fv, b_entry, b_count;
