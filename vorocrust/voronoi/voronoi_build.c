@@ -56,7 +56,8 @@ typedef struct cell_job {
  * are skipped, so the cuts made, and their order, are the same as when
  * every seed passing the radius test is tried. */
 typedef struct prune {
-    vc_cell_buf ball;  /* 4 per vertex: x, y, z (relative), |x|^2 (grown) */
+    vc_cell_buf ball;  /* 4 per vertex: x, y, z (relative), |x|^2 (grown), by
+                          decreasing |x| */
     int n;             /* vertices with 4 |x|^2 >= h^2 (the others cannot reach) */
     int dirty;         /* the cell changed since the balls were listed */
     int range_ok;      /* range[] is up to date */
@@ -89,11 +90,15 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
         double r2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * BALL_GROW;
         if (4.0 * r2 < 0.9 * h2)
             continue;
-        b[4 * n] = x[0];
-        b[4 * n + 1] = x[1];
-        b[4 * n + 2] = x[2];
-        b[4 * n + 3] = r2;
-        n++;
+        /* Insertion by decreasing radius: a bin test stops at the first
+         * ball too small to reach the bin. */
+        int w = n++;
+        for (; w > 0 && b[4 * (w - 1) + 3] < r2; w--)
+            memcpy(b + 4 * w, b + 4 * (w - 1), 4 * sizeof(double));
+        b[4 * w] = x[0];
+        b[4 * w + 1] = x[1];
+        b[4 * w + 2] = x[2];
+        b[4 * w + 3] = r2;
     }
     pr->n = n;
     pr->dirty = 0;
@@ -116,7 +121,7 @@ static int bin_reachable(const cell_job *job, const vc_convex_cell *cell, prune 
     const double *x = pr->ball.data;
     for (int v = 0; v < pr->n; v++, x += 4) {
         if (4.0 * x[3] < d2)
-            continue;
+            break; /* this ball and the smaller ones cannot reach the bin */
         double e2 = 0;
         for (int d = 0; d < 3; d++) {
             double e = x[d] < lo[d] ? lo[d] - x[d] : (x[d] > hi[d] ? x[d] - hi[d] : 0);
