@@ -311,6 +311,53 @@ static void test_single_and_duplicates(void)
     vc_seeds_free(&s);
 }
 
+/* Without a box: the seeds' bounding box grown by its diagonal, so the hull
+ * cells reach far out and the search for their neighbours is pruned by the
+ * vertices' clearance balls. Two dense clusters far apart plus sparse
+ * seeds: a missed cut would make cells overlap, so the volumes must still
+ * sum to the box's; the same box given explicitly gives the same mesh. */
+static void test_no_box(void)
+{
+    const int64_t n = 3000;
+    vc_seeds s;
+    vc_seeds_alloc(&s, n, NULL);
+    vc_rng rng;
+    vc_rng_init(&rng, 11, 2);
+    for (int64_t i = 0; i < n; i++) {
+        double c = i < n / 2 ? 0.0 : (i < n - 40 ? 5.0 : -1.0);
+        double w = i < n - 40 ? 0.3 : 8.0;
+        for (int d = 0; d < 3; d++)
+            s.xyz[3 * i + d] = c + w * vc_rng_uniform(&rng);
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < n; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s.xyz[3 * i + d]);
+            hi[d] = fmax(hi[d], s.xyz[3 * i + d]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double box[6], vol = 1;
+    for (int d = 0; d < 3; d++) {
+        box[d] = lo[d] - diag;
+        box[d + 3] = hi[d] + diag;
+        vol *= box[d + 3] - box[d];
+    }
+    vc_polymesh m1, m2, m3;
+    if (build_checked("no box", &s, NULL, 1, vol, &m1) == 0) {
+        if (build_checked("no box, 2 threads", &s, NULL, 2, vol, &m2) == 0) {
+            CHECK(same_mesh(&m1, &m2), "no box: 1-thread and 2-thread meshes differ");
+            vc_polymesh_free(&m2);
+        }
+        if (build_checked("no box, explicit box", &s, box, 1, vol, &m3) == 0) {
+            CHECK(same_mesh(&m1, &m3), "no box: differs from the same box given explicitly");
+            vc_polymesh_free(&m3);
+        }
+        vc_polymesh_free(&m1);
+    }
+    vc_seeds_free(&s);
+}
+
 int main(void)
 {
     test_single_and_duplicates();
@@ -320,6 +367,7 @@ int main(void)
     test_random(2000, 42);
     test_random(20000, 43);
     test_cospherical();
+    test_no_box();
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
