@@ -22,9 +22,11 @@
 #include <inttypes.h>
 #include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include "util/number_span.h"
@@ -295,7 +297,29 @@ static int src_word(byte_source *s, int header64, uint64_t *w)
     return 0;
 }
 
-#define FAIL(code, ...) vc_error_set(err, code, __VA_ARGS__)
+/* vc_error_set, keeping the message one printable line (it may quote
+ * bytes of a damaged file). */
+static int vtu_fail(vc_error *err, int code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static int vtu_fail(vc_error *err, int code, const char *fmt, ...)
+{
+    if (!err)
+        return code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+    err->code = code;
+    for (char *c = err->msg; *c; c++)
+        if ((unsigned char)*c < 32 || *c == 127)
+            *c = '?';
+    return code;
+}
+
+#define FAIL(code, ...) vtu_fail(err, code, __VA_ARGS__)
 
 /* Decodes the binary array behind src into a new buffer. */
 static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
@@ -988,6 +1012,11 @@ int vc_vtu_read(const char *path, vc_vtu_mesh *out, vc_error *err)
     memset(&f, 0, sizeof f);
     f.path = path;
     int rc = VC_OK;
+    struct stat st;
+    if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
+        rc = FAIL(VC_EIO, "%s: cannot read: not a regular file", path);
+        goto out;
+    }
     if (fseek(fp, 0, SEEK_END) != 0) {
         rc = FAIL(VC_EIO, "%s: cannot read: %s", path, strerror(errno));
         goto out;
