@@ -62,14 +62,6 @@ typedef struct face_key {
     int64_t face;
 } face_key;
 
-static int cmp_face_key(const void *x, const void *y)
-{
-    const face_key *a = x, *b = y;
-    if (a->hash != b->hash)
-        return a->hash < b->hash ? -1 : 1;
-    return (a->face > b->face) - (a->face < b->face);
-}
-
 /* The face's ids sorted into buf (faces are small: insertion sort). */
 static int64_t sorted_ids(const vc_vtu_mesh *m, int64_t f, int64_t *buf)
 {
@@ -85,8 +77,41 @@ static int64_t sorted_ids(const vc_vtu_mesh *m, int64_t f, int64_t *buf)
     return n;
 }
 
+/* Stable LSD radix sort of the keys by hash, 16 bits per pass: equal
+ * hashes keep face order, so the result is deterministic. */
+static int radix_sort_keys(face_key *key, int64_t n)
+{
+    face_key *tmp = malloc(sizeof *tmp * (size_t)(n ? n : 1));
+    int64_t *count = malloc(sizeof *count * 65536);
+    if (!tmp || !count) {
+        free(tmp);
+        free(count);
+        return -1;
+    }
+    for (int shift = 0; shift < 64; shift += 16) {
+        memset(count, 0, sizeof *count * 65536);
+        for (int64_t i = 0; i < n; i++)
+            count[(key[i].hash >> shift) & 0xffff]++;
+        int64_t sum = 0;
+        for (int d = 0; d < 65536; d++) {
+            int64_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (int64_t i = 0; i < n; i++)
+            tmp[count[(key[i].hash >> shift) & 0xffff]++] = key[i];
+        face_key *t = key;
+        memcpy(t, tmp, sizeof *tmp * (size_t)n);
+    }
+    free(tmp);
+    free(count);
+    return 0;
+}
+
 /* Sets uses[f] to the number of faces (itself included) with the same
- * vertex set; returns the number of distinct faces, or -1 (out of memory). */
+ * vertex set; returns the number of distinct faces, or -1 (out of memory).
+ * Faces are bucketed by a hash of their sorted ids, then compared exactly
+ * within each bucket (buckets in parallel: each owns its faces). */
 static int64_t count_face_uses(const vc_vtu_mesh *m, int64_t *uses)
 {
     int64_t nf = m->n_faces, maxlen = 0;
@@ -94,55 +119,80 @@ static int64_t count_face_uses(const vc_vtu_mesh *m, int64_t *uses)
         if (m->face_offsets[f + 1] - m->face_offsets[f] > maxlen)
             maxlen = m->face_offsets[f + 1] - m->face_offsets[f];
     face_key *key = malloc(sizeof *key * (size_t)(nf ? nf : 1));
-    int64_t *a = malloc(sizeof *a * (size_t)(2 * maxlen + 2));
-    if (!key || !a) {
+    int64_t *run = malloc(sizeof *run * (size_t)(nf + 1));
+    if (!key || !run) {
         free(key);
-        free(a);
+        free(run);
         return -1;
     }
-    int64_t *b = a + maxlen + 1;
-    for (int64_t f = 0; f < nf; f++) {
-        int64_t n = sorted_ids(m, f, a);
-        uint64_t h = 1469598103934665603ULL ^ (uint64_t)n;
-        for (int64_t i = 0; i < n; i++) {
-            h ^= (uint64_t)a[i] + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-            h *= 1099511628211ULL;
-        }
-        key[f].hash = h;
-        key[f].face = f;
-    }
-    qsort(key, (size_t)nf, sizeof *key, cmp_face_key);
-    int64_t distinct = 0;
-    for (int64_t i = 0; i < nf;) {
-        int64_t j = i;
-        while (j < nf && key[j].hash == key[i].hash)
-            j++;
-        /* within a hash run, group exactly equal vertex sets (runs are
-         * almost always 1 or 2 long) */
-        for (int64_t k = i; k < j; k++)
-            uses[key[k].face] = 0;
-        for (int64_t k = i; k < j; k++) {
-            if (uses[key[k].face])
+    int oom = 0;
+#pragma omp parallel reduction(| : oom)
+    {
+        int64_t *a = malloc(sizeof *a * (size_t)(maxlen + 1));
+        oom |= !a;
+#pragma omp for schedule(static)
+        for (int64_t f = 0; f < nf; f++) {
+            if (!a)
                 continue;
-            int64_t nk = sorted_ids(m, key[k].face, a), count = 1;
-            for (int64_t l = k + 1; l < j; l++) {
-                if (uses[key[l].face])
-                    continue;
-                int64_t nl = sorted_ids(m, key[l].face, b);
-                if (nl == nk && !memcmp(a, b, sizeof *a * (size_t)nk))
-                    count++, uses[key[l].face] = -1;
+            int64_t n = sorted_ids(m, f, a);
+            uint64_t h = 1469598103934665603ULL ^ (uint64_t)n;
+            for (int64_t i = 0; i < n; i++) {
+                h ^= (uint64_t)a[i] + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+                h *= 1099511628211ULL;
             }
-            uses[key[k].face] = count;
-            for (int64_t l = k + 1; l < j; l++)
-                if (uses[key[l].face] == -1)
-                    uses[key[l].face] = count;
-            distinct++;
+            key[f].hash = h;
+            key[f].face = f;
         }
-        i = j;
+        free(a);
+    }
+    if (oom || radix_sort_keys(key, nf) != 0) {
+        free(key);
+        free(run);
+        return -1;
+    }
+    int64_t nrun = 0;
+    for (int64_t i = 0; i < nf; i++)
+        if (i == 0 || key[i].hash != key[i - 1].hash)
+            run[nrun++] = i;
+    run[nrun] = nf;
+    int64_t distinct = 0;
+#pragma omp parallel reduction(+ : distinct) reduction(| : oom)
+    {
+        int64_t *a = malloc(sizeof *a * (size_t)(2 * maxlen + 2));
+        oom |= !a;
+#pragma omp for schedule(dynamic, 4096)
+        for (int64_t r = 0; r < nrun; r++) {
+            if (!a)
+                continue;
+            int64_t *b = a + maxlen + 1;
+            int64_t i = run[r], j = run[r + 1];
+            /* group exactly equal vertex sets (runs are almost always 1 or
+             * 2 long) */
+            for (int64_t k = i; k < j; k++)
+                uses[key[k].face] = 0;
+            for (int64_t k = i; k < j; k++) {
+                if (uses[key[k].face])
+                    continue;
+                int64_t nk = sorted_ids(m, key[k].face, a), count = 1;
+                for (int64_t l = k + 1; l < j; l++) {
+                    if (uses[key[l].face])
+                        continue;
+                    int64_t nl = sorted_ids(m, key[l].face, b);
+                    if (nl == nk && !memcmp(a, b, sizeof *a * (size_t)nk))
+                        count++, uses[key[l].face] = -1;
+                }
+                uses[key[k].face] = count;
+                for (int64_t l = k + 1; l < j; l++)
+                    if (uses[key[l].face] == -1)
+                        uses[key[l].face] = count;
+                distinct++;
+            }
+        }
+        free(a);
     }
     free(key);
-    free(a);
-    return distinct;
+    free(run);
+    return oom ? -1 : distinct;
 }
 
 /* The boundary faces as a triangle surface on the mesh points (polygons
@@ -286,16 +336,18 @@ int vc_cmd_quality(int argc, char **argv)
         cell.face_offsets = m.face_offsets + m.cell_faces[c];
         cell.face_vertices = m.face_vertices;
         vc_cell_measures cm;
-        double signed_volume = vc_cell_volume(&cell, NULL);
-        n_inverted += signed_volume < 0;
-        vol[c] = fabs(signed_volume);
+        double signed_volume;
         if (vc_cell_measure(&cell, &cm) == 0) {
+            signed_volume = cm.signed_volume;
             fat[c] = cm.fatness;
             rel[c] = cm.shortest_edge_rel;
         } else {
+            signed_volume = vc_cell_volume(&cell, NULL);
             fat[c] = rel[c] = NAN; /* left out of the statistics, counted */
             n_failed++;
         }
+        n_inverted += signed_volume < 0;
+        vol[c] = fabs(signed_volume);
         dmin[c] = dmax[c] = NAN;
         if (m.cell_type[c] == VC_VTK_TETRA) {
             /* the reader's first face is (1, 2, 3), the second starts with 0 */

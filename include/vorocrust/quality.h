@@ -75,6 +75,7 @@ int vc_max_inscribed_ball(const vc_cell *cell, vc_ball *ball);
 /* Every measure of one cell. */
 typedef struct vc_cell_measures {
     double volume;          /* |signed volume| */
+    double signed_volume;   /* negative when the faces are listed inward */
     double centroid[3];
     vc_ball enclosing;      /* minimum enclosing ball of the vertices */
     vc_ball inscribed;      /* maximum inscribed ball */

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "quality/quality_internal.h"
 #include "quality/vec3.h"
 
 double vc_cell_volume(const vc_cell *cell, double centroid[3])
@@ -51,6 +52,7 @@ double vc_cell_volume(const vc_cell *cell, double centroid[3])
 int vc_cell_measure(const vc_cell *cell, vc_cell_measures *out)
 {
     double vol = vc_cell_volume(cell, out->centroid);
+    out->signed_volume = vol;
     out->volume = fabs(vol);
     int rc;
     if (cell->vertices)
@@ -62,7 +64,7 @@ int vc_cell_measure(const vc_cell *cell, vc_cell_measures *out)
                                    &out->enclosing);
     if (rc)
         return rc;
-    rc = vc_max_inscribed_ball(cell, &out->inscribed);
+    rc = vc_max_inscribed_ball_oriented(cell, vol < 0 ? -1.0 : 1.0, &out->inscribed);
     if (rc)
         return rc;
     out->fatness = out->inscribed.radius > 0 ? out->enclosing.radius / out->inscribed.radius
@@ -73,7 +75,7 @@ int vc_cell_measure(const vc_cell *cell, vc_cell_measures *out)
         for (int64_t k = b; k < e; k++) {
             const double *p = cell->points + 3 * cell->face_vertices[k];
             const double *q = cell->points + 3 * cell->face_vertices[k + 1 < e ? k + 1 : b];
-            shortest2 = fmin(shortest2, v3_dist2(p, q));
+            shortest2 = dmin(shortest2, v3_dist2(p, q));
         }
     }
     out->shortest_edge = sqrt(shortest2);

@@ -65,7 +65,7 @@ static int circumball(const double *const *q, int k, vc_ball *b)
     double scale2 = 0;
     for (int i = 1; i < k; i++) {
         v3_sub(q[i], q[0], v[i - 1]);
-        scale2 = fmax(scale2, v3_dot(v[i - 1], v[i - 1]));
+        scale2 = dmax(scale2, v3_dot(v[i - 1], v[i - 1]));
     }
     for (int i = 0; i < k - 1; i++) {
         for (int j = 0; j < k - 1; j++)
@@ -82,7 +82,7 @@ static int circumball(const double *const *q, int k, vc_ball *b)
     }
     b->radius = 0;
     for (int i = 0; i < k; i++)
-        b->radius = fmax(b->radius, sqrt(v3_dist2(b->center, q[i])));
+        b->radius = dmax(b->radius, sqrt(v3_dist2(b->center, q[i])));
     return 1;
 }
 
@@ -155,8 +155,8 @@ int vc_min_enclosing_ball(int64_t n, const double *xyz, const int64_t *ids, vc_b
         int64_t id = ids ? ids[i] : i;
         ctx.order[i] = id;
         for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], xyz[3 * id + d]);
-            hi[d] = fmax(hi[d], xyz[3 * id + d]);
+            lo[d] = dmin(lo[d], xyz[3 * id + d]);
+            hi[d] = dmax(hi[d], xyz[3 * id + d]);
         }
     }
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +

@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "quality/quality_internal.h"
 #include "quality/vec3.h"
 
 #define LP_ROWS 4
@@ -101,6 +102,11 @@ static int lp_run(lp_tableau *t, int allowed)
 
 int vc_max_inscribed_ball(const vc_cell *cell, vc_ball *ball)
 {
+    return vc_max_inscribed_ball_oriented(cell, vc_cell_volume(cell, NULL) < 0 ? -1.0 : 1.0, ball);
+}
+
+int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *ball)
+{
     const double *P = cell->points;
     int64_t nf = cell->n_faces;
     ball->center[0] = ball->center[1] = ball->center[2] = 0;
@@ -121,11 +127,10 @@ int vc_max_inscribed_ball(const vc_cell *cell, vc_ball *ball)
         o[d] /= (double)cnt;
     double s = 0;
     for (int64_t k = cell->face_offsets[0]; k < cell->face_offsets[nf]; k++)
-        s = fmax(s, v3_dist2(P + 3 * cell->face_vertices[k], o));
+        s = dmax(s, v3_dist2(P + 3 * cell->face_vertices[k], o));
     s = sqrt(s);
     if (!(s > 0) || !isfinite(s))
         return VC_EINPUT;
-    double orient = vc_cell_volume(cell, NULL) < 0 ? -1.0 : 1.0;
 
     /* Face planes in the scaled frame (Newell normals: exact for planar
      * faces, a best fit for slightly warped ones). */

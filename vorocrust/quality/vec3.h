@@ -7,6 +7,18 @@
 #define VC_PI 3.14159265358979323846
 #define VC_DEG (180.0 / VC_PI)
 
+/* Plain max / min (fmax and fmin are library calls without -ffast-math;
+ * NaN handling is not needed where these are used). */
+static inline double dmax(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+static inline double dmin(double a, double b)
+{
+    return a < b ? a : b;
+}
+
 static inline void v3_sub(const double a[3], const double b[3], double out[3])
 {
     out[0] = a[0] - b[0];
