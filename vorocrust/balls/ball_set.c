@@ -212,6 +212,8 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
             continue;
         double h = cell_size(bs, l);
         double R = reach + radius_factor * h; /* radii at this level are below h */
+        if (R < 0)
+            continue;
         int64_t lo[3], hi[3];
         double cells = 1;
         for (int d = 0; d < 3; d++) {

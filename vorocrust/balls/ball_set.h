@@ -45,7 +45,8 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
 
 /* Calls fn(ctx, i) for every ball whose centre is within distance
  * reach + its radius * radius_factor of p (a superset filter: fn tests the
- * exact condition). Stops early when fn returns non-zero, and returns that. */
+ * exact condition; levels where that distance is negative for every radius
+ * are skipped). Stops early when fn returns non-zero, and returns that. */
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                       double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx);
 

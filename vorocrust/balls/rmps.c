@@ -53,7 +53,28 @@ typedef struct sampler {
     vc_rng rng;
     vc_sampling_stats *st;
     int oom;
+    /* balls added or shrunk by sliver elimination since the last Lipschitz
+     * pass: only they can constrain other radii */
+    unsigned char *dirty;
+    int64_t dirty_cap;
 } sampler;
+
+static int mark_dirty(sampler *S, int64_t i)
+{
+    if (i >= S->dirty_cap) {
+        int64_t c = S->dirty_cap ? 2 * S->dirty_cap : 4096;
+        while (c <= i)
+            c *= 2;
+        unsigned char *q = realloc(S->dirty, (size_t)c);
+        if (!q)
+            return -1;
+        memset(q + S->dirty_cap, 0, (size_t)(c - S->dirty_cap));
+        S->dirty = q;
+        S->dirty_cap = c;
+    }
+    S->dirty[i] = 1;
+    return 0;
+}
 
 static double now(void)
 {
@@ -214,7 +235,8 @@ static int add_ball(sampler *S, const double x[3], double r, const vc_surface_po
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
              : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
                                           : VC_BALL_SURFACE;
-    if (vc_ball_set_add(&S->bs, x, r, kind, sp->id, n) < 0) {
+    int64_t i = vc_ball_set_add(&S->bs, x, r, kind, sp->id, n);
+    if (i < 0 || mark_dirty(S, i)) {
         S->oom = 1;
         return -1;
     }
@@ -452,7 +474,31 @@ static int resample_around(sampler *S, const double *old_r, const unsigned char 
  * Local Lipschitz condition C3 among balls of the same kind:
  * r_p <= r_q + L |p - q| (across kinds it would make the small edge balls
  * shrink the surface balls next to them and back, without end).
- * One pass from a snapshot gives the exact L-Lipschitz envelope. */
+ *
+ * The condition held among the balls after the previous pass, so only the
+ * balls added or shrunk since (dirty) can bind: each dirty ball q lowers
+ * r_p to r_q + L |p - q| wherever that is smaller. One pass is exact: the
+ * minimum over q of r_q + L |p - q| is itself L-Lipschitz, so the balls
+ * lowered here need no second pass. A ball p with radius at most h (its
+ * level's bound) can be bound by q only within (h - r_q) / L. */
+
+typedef struct lipschitz_ctx {
+    const vc_balls *b;
+    int64_t q;
+    double L;
+    double *newr;
+} lipschitz_ctx;
+
+static int lower_neighbour(void *ctx, int64_t p)
+{
+    lipschitz_ctx *c = ctx;
+    if (p == c->q || c->b->kind[p] != c->b->kind[c->q])
+        return 0;
+    double lim = c->b->radius[c->q] + c->L * dist(c->b->center + 3 * p, c->b->center + 3 * c->q);
+    if (lim < c->newr[p])
+        c->newr[p] = lim;
+    return 0;
+}
 
 static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrunk)
 {
@@ -461,14 +507,18 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    double *newr = malloc(sizeof(double) * (size_t)(n ? n : 1));
+    double *newr = malloc(sizeof(double) * (size_t)n);
     if (!newr)
         return -1;
-    for (int64_t i = 0; i < n; i++) {
-        radius_ctx rc = {b, b->center + 3 * i, b->kind[i], old_r[i], S->opt.lipschitz, 0, 0};
-        vc_ball_set_query(&S->bs, b->center + 3 * i, old_r[i] / S->opt.lipschitz, 0.0,
-                          lipschitz_bound, &rc);
-        newr[i] = rc.r;
+    memcpy(newr, b->radius, sizeof(double) * (size_t)n);
+    double L = S->opt.lipschitz;
+    for (int64_t q = 0; q < n && q < S->dirty_cap; q++) {
+        if (!S->dirty[q])
+            continue;
+        S->dirty[q] = 0;
+        lipschitz_ctx c = {b, q, L, newr};
+        vc_ball_set_query(&S->bs, b->center + 3 * q, -b->radius[q] / L, 1.0 / L, lower_neighbour,
+                          &c);
     }
     for (int64_t i = 0; i < n; i++) {
         if (newr[i] < old_r[i] * (1 - 1e-12)) {
@@ -529,7 +579,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
         if (c.target[i] < b->radius[i]) {
             shrunk[i] = 1;
             changed++;
-            if (vc_ball_set_resize(&S->bs, i, c.target[i]))
+            if (vc_ball_set_resize(&S->bs, i, c.target[i]) || mark_dirty(S, i))
                 changed = -1;
         }
     *n_half = c.n_half;
@@ -696,6 +746,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     }
     free(old_r);
     free(shrunk);
+    free(S.dirty);
     vc_sizing_free(&S.z);
     if (rc) {
         vc_ball_set_free(&S.bs);
