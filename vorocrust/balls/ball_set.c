@@ -207,7 +207,9 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                       double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx)
 {
-    for (int l = 0; l < VC_BALL_LEVELS; l++) {
+    /* coarse levels first: the large balls are the likely answer of a
+     * covering test, which stops at the first ball found */
+    for (int l = VC_BALL_LEVELS - 1; l >= 0; l--) {
         if (bs->level_n[l] == 0)
             continue;
         double h = cell_size(bs, l);
