@@ -16,7 +16,7 @@
 typedef struct vc_cell_result {
     int nv, nf, nfv;    /* nfv <= 65535 */
     double *v;          /* 3 * nv, absolute positions */
-    int64_t *plane;     /* nf: neighbour seed index, or a wall code (< 0) */
+    int32_t *plane;     /* nf: neighbour seed index, or a wall code (< 0) */
     uint16_t *face_start; /* nf + 1 */
     uint16_t *fv;       /* nfv local vertex indices */
     double scale;       /* local cell size: distance to the nearest face's seed */
@@ -105,10 +105,10 @@ static inline void vc_region_pool_free(vc_region_pool *p)
  * copies of one Voronoi vertex in different cells are identified (within
  * merge_tol times the local cell size), zero-length edges and zero-area
  * faces are dropped, and every face between two kept cells is stored once.
- * cells[k] is the cell of the k-th kept seed, kept_seed[k] its seed index;
- * order lists the cells in a spatially coherent order (NULL: 0..n_kept-1):
- * vertex copies are numbered in that order, so that neighbouring cells'
- * copies are close in memory. store: where the cells' data live (its
+ * order lists the kept cells in a spatially coherent order (NULL:
+ * 0..n_kept-1) and cells[m] is the cell of kept seed order[m] (the k-th
+ * kept seed is kept_seed[k]): vertex copies are numbered in that order, so
+ * that neighbouring cells' copies are close in memory. store: where the cells' data live (its
  * coordinate blocks are freed once the points are written; NULL: never).
  * Runs on threads (OpenMP); the result does not depend on their number. */
 int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,

@@ -129,7 +129,7 @@ static inline double dist2(const double *a, const double *b)
 /* A cell, at its position m in the spatial order. */
 typedef struct cell_hdr {
     const double *v;
-    const int64_t *plane;
+    const int32_t *plane;
     const uint16_t *face_start;
     const uint16_t *fv;
     int64_t vbase;  /* copy index of its vertex 0 */
@@ -270,7 +270,7 @@ static void prefetch_cells(const assembly *as, int64_t m)
         int32_t om = as->nbr[c->fbase + f];
         if (om > m) {
             const cell_hdr *d = &as->h[om];
-            prefetch_lines(d->plane, (size_t)d->nf * sizeof(int64_t));
+            prefetch_lines(d->plane, (size_t)d->nf * sizeof(int32_t));
             prefetch_lines(d->face_start, (size_t)(d->nf + 1) * sizeof(int));
             prefetch_lines(d->v, (size_t)d->nv * 3 * sizeof(double));
             prefetch_lines(as->parent + d->vbase, (size_t)d->nv * sizeof(int64_t));
@@ -667,7 +667,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
 #pragma omp parallel for schedule(static)
     for (int64_t m = 0; m < n_kept; m++) {
         const int64_t k = order ? order[m] : m;
-        const vc_cell_result *c = &cells[k];
+        const vc_cell_result *c = &cells[m];
         h[m] = (cell_hdr){c->v, c->plane, c->face_start, c->fv, 0, 0, k, kept_seed[k],
                           merge_tol * c->scale, c->nv, c->nf};
         mpos[kept_seed[k]] = (int32_t)m;

@@ -422,7 +422,7 @@ static char *byte_buf_grow(byte_buf *b, size_t add)
 
 static size_t topo_bytes(int nf, int nfv)
 {
-    size_t b = (size_t)nf * sizeof(int64_t) + (size_t)(nf + 1 + nfv) * sizeof(uint16_t);
+    size_t b = (size_t)nf * sizeof(int32_t) + (size_t)(nf + 1 + nfv) * sizeof(uint16_t);
     return (b + 7) & ~(size_t)7;
 }
 
@@ -439,14 +439,15 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, 
     res->nv = cell->nv;
     res->nf = cell->nf;
     res->nfv = cell->nfv;
-    int64_t *plane = (int64_t *)t;
+    int32_t *plane = (int32_t *)t;
     uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
     const double *xs = xyz + 3 * s;
     double scale2 = INFINITY, r2 = 0;
     for (int i = 0; i < cell->nv; i++)
         for (int d = 0; d < 3; d++)
             v[3 * i + d] = xs[d] + cell->v[3 * i + d];
-    memcpy(plane, cell->face_plane, (size_t)cell->nf * sizeof(int64_t));
+    for (int f = 0; f < cell->nf; f++)
+        plane[f] = (int32_t)cell->face_plane[f]; /* seed indices < 2^31 (checked) */
     for (int f = 0; f <= cell->nf; f++)
         fs[f] = (uint16_t)cell->face_start[f];
     for (int i = 0; i < cell->nfv; i++)
@@ -487,6 +488,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     const int64_t n = seeds->n;
     if (n <= 0)
         return vc_error_set(err, VC_EINPUT, "no seeds");
+    if (n > INT32_MAX)
+        return vc_error_set(err, VC_EPARAM, "%lld seeds: at most %d are supported", (long long)n,
+                            INT32_MAX);
 
     double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
     int64_t n_kept = 0;
@@ -565,7 +569,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     int *status = vc_big_alloc((size_t)n_kept * sizeof(int));
     int64_t *other = vc_big_alloc((size_t)n_kept * sizeof(int64_t));
     /* Cells are built in bin order, so that consecutive cells read the
-     * same seeds from cache; each result goes to its kept index. */
+     * same seeds from cache; the results are kept in that order. */
     int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
     int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
     if (!kept_seed || !cells || !status || !other || !build_order || !kept_index) {
@@ -633,7 +637,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 if (r == CELL_OK && cell.nfv > 65535)
                     r = CELL_TOO_BIG;
                 if (r == CELL_OK &&
-                    store_cell(&cell, seeds->xyz, s, &coord, &topo, &cells[k]) != 0)
+                    store_cell(&cell, seeds->xyz, s, &coord, &topo, &cells[m]) != 0)
                     r = CELL_NOMEM;
                 if (r != CELL_OK)
                     chunk_ok = 0;
@@ -663,9 +667,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             memcpy(cb, coord.data, coord.len);
             memcpy(tb, topo.data, topo.len);
             for (int64_t m = m0; m < m1; m++) {
-                vc_cell_result *c = &cells[build_order[m]];
+                vc_cell_result *c = &cells[m];
                 c->v = (double *)cb;
-                c->plane = (int64_t *)tb;
+                c->plane = (int32_t *)tb;
                 c->face_start = (uint16_t *)(c->plane + c->nf);
                 c->fv = c->face_start + c->nf + 1;
                 cb += (size_t)c->nv * 3 * sizeof(double);
