@@ -322,18 +322,17 @@ int vc_convex_cell_faces(vc_convex_cell *c)
             continue;
         c->face_plane[f] = c->plane_id[i];
         c->face_start[f] = n;
-        /* Chain the steps: from entry k, the next holds from == k's to. */
+        /* Chain the steps: from entry k, the next holds from == k's to
+         * (the first such entry: at[] is filled backwards). */
+        int *at = fill; /* per plane, reused: only entries in [s0, s1) count */
+        for (int m = s1 - 1; m >= s0; m--)
+            at[entry[3 * m]] = m;
         int k = s0;
         for (int j = 0; j < len; j++) {
             c->fv[n++] = entry[3 * k + 2];
             const int to = entry[3 * k + 1];
-            int nk = -1;
-            for (int m = s0; m < s1; m++)
-                if (entry[3 * m] == to) {
-                    nk = m;
-                    break;
-                }
-            if (nk < 0)
+            const int nk = at[to];
+            if (nk < s0 || nk >= s1 || entry[3 * nk] != to)
                 return -1;
             k = nk;
         }
