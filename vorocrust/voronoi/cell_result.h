@@ -108,10 +108,11 @@ static inline void vc_region_pool_free(vc_region_pool *p)
  * order lists the kept cells in a spatially coherent order (NULL:
  * 0..n_kept-1) and cells[m] is the cell of kept seed order[m] (the k-th
  * kept seed is kept_seed[k]): vertex copies are numbered in that order, so
- * that neighbouring cells' copies are close in memory. store: where the cells' data live (its
+ * that neighbouring cells' copies are close in memory. *cells is freed (and
+ * set to NULL) once read. store: where the cells' data live (its
  * coordinate blocks are freed once the points are written; NULL: never).
  * Runs on threads (OpenMP); the result does not depend on their number. */
-int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
+int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, vc_polymesh *out,
                            vc_error *err);

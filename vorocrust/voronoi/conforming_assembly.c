@@ -623,11 +623,12 @@ static void cell_geometry(const vc_polymesh *m, int64_t c)
         m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
 }
 
-int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
+int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, vc_polymesh *out,
                            vc_error *err)
 {
+    const vc_cell_result *cells = *cells_owned;
     assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL};
     cell_hdr *h = NULL;
     int32_t *mpos = NULL;
@@ -701,6 +702,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, const vc_cell_result *cells,
             as.twin[c->fbase + f] = -1;
         }
     }
+    free(*cells_owned); /* everything needed is in the headers now */
+    *cells_owned = NULL;
+    cells = NULL;
     PHASE("setup");
 
     /* Identify copies: short edges inside a cell, then the faces shared

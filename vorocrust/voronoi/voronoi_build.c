@@ -706,6 +706,10 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             rc = vc_error_set(err, VC_EINTERNAL, "the cell of seed %lld (%g %g %g) is empty",
                               (long long)s, x[0], x[1], x[2]);
     }
+    free(status);
+    free(other);
+    status = NULL;
+    other = NULL;
     if (rc == 0) {
         if (opt.progress) {
 #ifdef _OPENMP
@@ -720,7 +724,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         int saved_threads = omp_get_max_threads();
         omp_set_num_threads(threads);
 #endif
-        rc = vc_assemble_conforming(seeds, cells, kept_seed, n_kept, build_order, &store,
+        /* The stitching frees cells once it has read them. */
+        rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
                                     MERGE_TOL, out, err);
 #ifdef _OPENMP
         omp_set_num_threads(saved_threads);
@@ -729,8 +734,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);
     free(cells);
-    free(status);
-    free(other);
     free(kept_seed);
     free(build_order);
     return rc;
