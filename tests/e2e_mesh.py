@@ -298,6 +298,8 @@ bad_cases = [
       os.path.join(TMP, "no_such_dir", "x.obj")], 1, "no_such_dir"),
 ]
 for args, want_rc, want in bad_cases:
+    if os.path.exists(os.path.join(TMP, "x.obj")):
+        os.remove(os.path.join(TMP, "x.obj"))
     rc, out, err = run(*args)
     lines = err.strip().splitlines()
     check(rc == want_rc and len(lines) == 1 and want in err and lines[0].startswith("vorocrust: "),

@@ -229,7 +229,8 @@ int vc_cmd_mesh(int argc, char **argv)
     for (int64_t i = 0; i < seeds.n; i++)
         n_inside += seeds.label[i] != 0;
     double t4 = vc_cli_now();
-    if (vc_reconstruct_surface(&seeds, opt.threads, &ps, &err)) {
+    int64_t n_repaired = 0;
+    if (vc_reconstruct_surface(&seeds, opt.threads, &ps, &n_repaired, &err)) {
         fprintf(stderr, "vorocrust: %s: reconstructing the surface: %s\n", in_path, err.msg);
         goto out;
     }
@@ -315,7 +316,7 @@ int vc_cmd_mesh(int argc, char **argv)
                 "for slivers %lld in %d iterations%s; half-covered seed pairs %lld\n"
                 "  seeds: %lld (%lld inside, %lld outside)\n"
                 "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
-                "%s, %lld components\n"
+                "%s, %lld components, %lld T-junction vertices repaired\n"
                 "  surface quality: Q min %.3f mean %.3f; angles < 30 deg %.1f%%, > 90 deg %.1f%% "
                 "(%lld triangles, polygons fanned from their centroid)\n"
                 "  time (s): read %.3f, features %.3f, sizing %.3f, corner protection %.3f, edge "
@@ -332,7 +333,7 @@ int vc_cmd_mesh(int argc, char **argv)
                         topo.n_misoriented_edges == 0 && topo.n_nonmanifold_vertices == 0
                     ? "closed 2-manifold, consistently oriented"
                     : "NOT a closed consistently oriented 2-manifold",
-                (long long)topo.n_components, qmin, ntri ? qsum / (double)ntri : 0,
+                (long long)topo.n_components, (long long)n_repaired, qmin, ntri ? qsum / (double)ntri : 0,
                 nang ? 100.0 * (double)below30 / (double)nang : 0,
                 nang ? 100.0 * (double)above90 / (double)nang : 0, (long long)ntri, t1 - t0,
                 st.t_features, st.t_sizing, st.t_corners, st.t_edges, st.t_surface,
