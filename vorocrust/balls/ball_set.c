@@ -205,7 +205,8 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
 }
 
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
-                      double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx)
+                      double radius_factor, double min_radius, int (*fn)(void *ctx, int64_t i),
+                      void *ctx)
 {
     /* coarse levels first: the large balls are the likely answer of a
      * covering test, which stops at the first ball found */
@@ -213,6 +214,8 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
         if (bs->level_n[l] == 0)
             continue;
         double h = cell_size(bs, l);
+        if (h < min_radius)
+            break; /* every radius at this level and below is smaller */
         double R = reach + radius_factor * h; /* radii at this level are below h */
         if (R < 0)
             continue;

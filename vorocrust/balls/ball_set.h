@@ -46,8 +46,9 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
 /* Calls fn(ctx, i) for every ball whose centre is within distance
  * reach + its radius * radius_factor of p (a superset filter: fn tests the
  * exact condition; levels where that distance is negative for every radius
- * are skipped). Stops early when fn returns non-zero, and returns that. */
+ * are skipped; so are levels whose radii are all below min_radius). Stops early when fn returns non-zero, and returns that. */
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
-                      double radius_factor, int (*fn)(void *ctx, int64_t i), void *ctx);
+                      double radius_factor, double min_radius, int (*fn)(void *ctx, int64_t i),
+                      void *ctx);
 
 #endif

@@ -127,7 +127,7 @@ static int covers_point(void *ctx, int64_t i)
 static int point_covered(const sampler *S, const double x[3], int kind)
 {
     cover_ctx c = {&S->bs.b, x, kind, 1 - S->alpha};
-    return vc_ball_set_query(&S->bs, x, 0, 1.0, covers_point, &c);
+    return vc_ball_set_query(&S->bs, x, 0, 1.0, 0.0, covers_point, &c);
 }
 
 typedef struct subface_cover_ctx {
@@ -162,7 +162,8 @@ static int subface_covered(const sampler *S, const subface *sf, int nv, int kind
     for (int m = 0; m < nv; m++)
         reach = fmax(reach, dist(c, sf->v + 3 * m));
     subface_cover_ctx cc = {&S->bs.b, sf->v, nv, kind, 1 - S->alpha};
-    return vc_ball_set_query(&S->bs, c, reach, 1.0, covers_subface, &cc);
+    /* a ball holding every vertex has a radius of at least reach / 2 */
+    return vc_ball_set_query(&S->bs, c, reach, 1.0, 0.5 * reach, covers_subface, &cc);
 }
 
 /* ---------------------------------------------------------------------
@@ -215,10 +216,10 @@ static double new_radius(sampler *S, const vc_surface_point *sp, const double x[
              : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
                                           : VC_BALL_SURFACE;
     radius_ctx rc = {&S->bs.b, x, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, lipschitz_bound, &rc);
+    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
     r = rc.r;
     spacing_ctx sc = {&S->bs.b, x, INFINITY};
-    vc_ball_set_query(&S->bs, x, r, 0.0, nearest_centre, &sc);
+    vc_ball_set_query(&S->bs, x, r, 0.0, 0.0, nearest_centre, &sc);
     double deep = 1 - S->alpha;
     if (sc.nearest < deep * r) {
         if (vc_rng_uniform(&S->rng) < 0.1)
@@ -517,8 +518,8 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
             continue;
         S->dirty[q] = 0;
         lipschitz_ctx c = {b, q, L, newr};
-        vc_ball_set_query(&S->bs, b->center + 3 * q, -b->radius[q] / L, 1.0 / L, lower_neighbour,
-                          &c);
+        vc_ball_set_query(&S->bs, b->center + 3 * q, -b->radius[q] / L, 1.0 / L, b->radius[q],
+                          lower_neighbour, &c);
     }
     for (int64_t i = 0; i < n; i++) {
         if (newr[i] < old_r[i] * (1 - 1e-12)) {

@@ -132,7 +132,7 @@ int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_tripl
     for (int64_t i = 0; i < b->n; i++) {
         L.self = i;
         L.n = 0;
-        vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, collect_overlapping, &L);
+        vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, 0.0, collect_overlapping, &L);
         if (L.oom) {
             free(L.ids);
             return -1;
