@@ -8,9 +8,9 @@
  * longest edge l is at most l / sqrt(3) away from them).
  *
  * Distances to the other surface: a bounding-volume hierarchy over its
- * triangles, built by sorting the triangle centroids along a Morton curve
- * and halving the sorted range (a balanced tree, no tuning), queried
- * nearest-child first with pruning on box distance. A sample closer to the
+ * triangles, split at the median centroid along the longest axis (a
+ * balanced tree, no tuning), queried nearest-child first with pruning on
+ * box distance. A sample closer to the
  * other surface than the running maximum cannot change the result, so its
  * search stops at the first triangle that close (usually the previous
  * sample's nearest triangle), and whole triangles are skipped when a
@@ -40,32 +40,52 @@ typedef struct bvh {
     int32_t n_nodes;
 } bvh;
 
-typedef struct morton_key {
-    uint64_t code;
-    int64_t id;
-} morton_key;
-
-static int cmp_key(const void *x, const void *y)
+/* Key of triangle t along axis: its centroid coordinate, ties by id, so
+ * every key is distinct and the partition is deterministic. */
+static inline int key_less(const double *cen, int axis, int64_t t, int64_t u)
 {
-    const morton_key *a = x, *b = y;
-    if (a->code != b->code)
-        return a->code < b->code ? -1 : 1;
-    return (a->id > b->id) - (a->id < b->id);
+    double a = cen[3 * t + axis], b = cen[3 * u + axis];
+    return a < b || (a == b && t < u);
 }
 
-/* Spreads the low 21 bits of v to every third bit. */
-static uint64_t spread3(uint64_t v)
+/* Reorders tri[0..n) so that tri[k] is the k-th smallest by key and
+ * everything before it is smaller (quickselect, median-of-three pivot). */
+static void select_kth(int64_t *tri, int64_t n, int64_t k, const double *cen, int axis)
 {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
+    int64_t lo = 0, hi = n - 1;
+    while (hi > lo) {
+        int64_t mid = lo + (hi - lo) / 2;
+        /* median of three to tri[mid] */
+        if (key_less(cen, axis, tri[mid], tri[lo])) { int64_t x = tri[mid]; tri[mid] = tri[lo]; tri[lo] = x; }
+        if (key_less(cen, axis, tri[hi], tri[lo])) { int64_t x = tri[hi]; tri[hi] = tri[lo]; tri[lo] = x; }
+        if (key_less(cen, axis, tri[hi], tri[mid])) { int64_t x = tri[hi]; tri[hi] = tri[mid]; tri[mid] = x; }
+        int64_t pivot = tri[mid];
+        int64_t i = lo, j = hi;
+        while (i <= j) {
+            while (key_less(cen, axis, tri[i], pivot))
+                i++;
+            while (key_less(cen, axis, pivot, tri[j]))
+                j--;
+            if (i <= j) {
+                int64_t x = tri[i];
+                tri[i] = tri[j];
+                tri[j] = x;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return;
+    }
 }
 
-static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count)
+/* Builds the subtree of tri[first .. first+count): split at the median
+ * centroid along the longest axis of the centroids' box. */
+static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count, const double *cen)
 {
     int32_t id = h->n_nodes++;
     bvh_node *nd = &h->node[id];
@@ -73,9 +93,20 @@ static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count)
     nd->count = count;
     nd->left = nd->right = -1;
     if (count > BVH_LEAF) {
+        double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int32_t k = first; k < first + count; k++)
+            for (int d = 0; d < 3; d++) {
+                clo[d] = dmin(clo[d], cen[3 * h->tri[k] + d]);
+                chi[d] = dmax(chi[d], cen[3 * h->tri[k] + d]);
+            }
+        int axis = 0;
+        for (int d = 1; d < 3; d++)
+            if (chi[d] - clo[d] > chi[axis] - clo[axis])
+                axis = d;
         int32_t half = count / 2;
-        int32_t l = bvh_build_range(h, first, half);
-        int32_t r = bvh_build_range(h, first + half, count - half);
+        select_kth(h->tri + first, count, half, cen, axis);
+        int32_t l = bvh_build_range(h, first, half, cen);
+        int32_t r = bvh_build_range(h, first + half, count - half, cen);
         nd = &h->node[id];
         nd->left = l;
         nd->right = r;
@@ -90,8 +121,8 @@ static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count)
         for (int c = 0; c < 3; c++) {
             const double *p = h->s->xyz + 3 * h->s->tri[3 * h->tri[k] + c];
             for (int d = 0; d < 3; d++) {
-                lo[d] = fmin(lo[d], p[d]);
-                hi[d] = fmax(hi[d], p[d]);
+                lo[d] = dmin(lo[d], p[d]);
+                hi[d] = dmax(hi[d], p[d]);
             }
         }
     for (int d = 0; d < 3; d++) {
@@ -110,40 +141,25 @@ static int bvh_build(bvh *h, const vc_surface *s)
     int64_t n = s->n_triangles;
     if (n > INT32_MAX / 2)
         return VC_ENOMEM;
-    morton_key *key = malloc(sizeof *key * (size_t)n);
+    double *cen = malloc(sizeof *cen * 3 * (size_t)n);
     h->tri = malloc(sizeof *h->tri * (size_t)n);
     h->node = malloc(sizeof *h->node * (size_t)(2 * n + 1));
-    if (!key || !h->tri || !h->node) {
-        free(key);
+    if (!cen || !h->tri || !h->node) {
+        free(cen);
         return VC_ENOMEM;
     }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t v = 0; v < s->n_vertices; v++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
-            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
-        }
-    double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-    double scale = ext > 0 ? 2097151.0 / ext : 0;
 #pragma omp parallel for schedule(static)
     for (int64_t t = 0; t < n; t++) {
-        uint64_t code = 0;
+        h->tri[t] = t;
         for (int d = 0; d < 3; d++) {
             double c = 0;
             for (int k = 0; k < 3; k++)
                 c += s->xyz[3 * s->tri[3 * t + k] + d];
-            double q = (c / 3.0 - lo[d]) * scale;
-            q = q < 0 ? 0 : q > 2097151.0 ? 2097151.0 : q;
-            code |= spread3((uint64_t)q) << d;
+            cen[3 * t + d] = c / 3.0;
         }
-        key[t].code = code;
-        key[t].id = t;
     }
-    qsort(key, (size_t)n, sizeof *key, cmp_key);
-    for (int64_t t = 0; t < n; t++)
-        h->tri[t] = key[t].id;
-    free(key);
-    bvh_build_range(h, 0, (int32_t)n);
+    bvh_build_range(h, 0, (int32_t)n, cen);
+    free(cen);
     return VC_OK;
 }
 
