@@ -37,7 +37,13 @@ static int level_of(const vc_ball_set *bs, double r)
     return l;
 }
 
-static double cell_size(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 1); }
+/* Cells twice the level's largest radius: a ball reaching a point has its
+ * centre within one radius of it, so 2 cells per axis (8 in all) hold every
+ * candidate of a point query. */
+static double cell_size(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 2); }
+
+/* The largest radius of a level. */
+static double level_radius(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 1); }
 
 static int64_t cell_coord(double x, double h)
 {
@@ -213,10 +219,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
     for (int l = VC_BALL_LEVELS - 1; l >= 0; l--) {
         if (bs->level_n[l] == 0)
             continue;
-        double h = cell_size(bs, l);
-        if (h < min_radius)
+        double h = cell_size(bs, l), rl = level_radius(bs, l);
+        if (rl < min_radius)
             break; /* every radius at this level and below is smaller */
-        double R = reach + radius_factor * h; /* radii at this level are below h */
+        double R = reach + radius_factor * rl; /* radii at this level are below rl */
         if (R < 0)
             continue;
         int64_t lo[3], hi[3];

@@ -3,9 +3,9 @@
  * Radii vary over orders of magnitude (tiny balls at sharp corners, large
  * ones on flat patches), so one uniform grid does not fit: balls are
  * indexed in levels by radius, level k holding radii in
- * [unit 2^k, unit 2^(k+1)) in a grid of cell size unit 2^(k+1), so a ball
- * touching a point always lies in one of the 27 cells around it at its
- * level. A query at a level whose cell range would exceed the number of
+ * [unit 2^k, unit 2^(k+1)) in a grid of cell size unit 2^(k+2), so the
+ * centre of a ball touching a point always lies in one of the 8 cells
+ * nearest to it at its level. A query at a level whose cell range would exceed the number of
  * balls there scans that level's list instead. */
 #ifndef VC_BALLS_BALL_SET_H
 #define VC_BALLS_BALL_SET_H
