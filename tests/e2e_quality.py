@@ -17,7 +17,8 @@
       enclosing ball by brute force), boundary triangle quality and angle
       percentages agree with an independent computation in Python;
   (d) mixed cells (a polyhedron, a tetrahedron and a skipped hexahedron),
-      thread-count independence;
+      inward cells (counted, measured the same), open or inconsistently
+      oriented cells (counted), thread-count independence;
   and bad input: exit 1 (2 for usage), one stderr line "vorocrust: ..."
   naming the file and the problem.
 
@@ -502,6 +503,39 @@ if rep:
     # the corner tetrahedron's smallest enclosing ball is its slanted face's circumcircle
     r_in = 1 / (3 + math.sqrt(3))
     check_stats("mixed", "fatness", rep.get("fatness"), stats([math.sqrt(3), math.sqrt(2 / 3) / r_in]), 1e-5)
+
+# a cube with its faces listed inward, and a cube missing a face
+def cube_grid(face_lists):
+    g = vtk.vtkUnstructuredGrid()
+    g.SetPoints(pts)
+    for fs in face_lists:
+        ids = vtk.vtkIdList()
+        ids.InsertNextId(len(fs))
+        for f in fs:
+            ids.InsertNextId(len(f))
+            for i in f:
+                ids.InsertNextId(i)
+        g.InsertNextCell(42, ids)
+    w = vtk.vtkXMLUnstructuredGridWriter()
+    w.SetFileName(path("cubes.vtu"))
+    w.SetInputData(g)
+    w.Write()
+    return path("cubes.vtu")
+
+
+rep = quality("inward", cube_grid([[f[::-1] for f in faces]]))
+if rep:
+    check(rep.get("inverted cells") == "1 (faces listed inward)", "inward cube: %r" % rep.get("inverted cells"))
+    check("open cells" not in rep, "inward cube reported open")
+    check(close(float(rep["total volume"]), 1.0, 1e-14), "inward cube: volume %r" % rep["total volume"])
+    check_stats("inward", "fatness", rep.get("fatness"), {k: math.sqrt(3) for k in STAT_KEYS}, 1e-5)
+rep = quality("open", cube_grid([faces, faces[:5]]))
+if rep:
+    check(re.match(r"1 \(an edge not shared by exactly two faces in opposite directions: .*; first: cell 1\)$",
+                   rep.get("open cells", "")), "open cube: %r" % rep.get("open cells"))
+rep = quality("mixed orientation", cube_grid([faces[:3] + [f[::-1] for f in faces[3:]]]))
+if rep:
+    check(rep.get("open cells", "").startswith("1 "), "cube with mixed orientations: %r" % rep.get("open cells"))
 
 # ---- bad input ----------------------------------------------------------------------
 

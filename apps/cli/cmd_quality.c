@@ -55,6 +55,60 @@ static void print_stats(const char *name, const double *v, int64_t n)
            name, st.min, st.max, st.mean, st.p1, st.p5, st.p50, st.p95, st.p99);
 }
 
+/* ---- closed, consistently oriented cells ------------------------------------ */
+
+typedef struct cell_edge {
+    int64_t from, to; /* from = -1: empty slot */
+} cell_edge;
+
+/* Slots of the edge hash table for cells of up to `corners` face-vertex
+ * entries: a power of two at least twice that. */
+static int64_t edge_table_size(int64_t corners)
+{
+    int64_t size = 16;
+    while (size < 2 * corners)
+        size *= 2;
+    return size;
+}
+
+static int64_t edge_slot(const cell_edge *table, int64_t mask, int64_t from, int64_t to)
+{
+    uint64_t h = (uint64_t)from * 0x9e3779b97f4a7c15ULL ^ (uint64_t)to * 0xc2b2ae3d27d4eb4fULL;
+    int64_t i = (int64_t)(h >> 17) & mask;
+    while (table[i].from >= 0 && (table[i].from != from || table[i].to != to))
+        i = (i + 1) & mask;
+    return i;
+}
+
+/* Whether every edge of cell c is walked exactly twice, once each way (a
+ * closed surface with consistently oriented faces, which the volume and
+ * the face planes rely on): every directed edge appears once and so does
+ * its reverse. table has edge_table_size(corners of c) slots. */
+static int cell_is_closed(const vc_vtu_mesh *m, int64_t c, cell_edge *table)
+{
+    int64_t corners = m->face_offsets[m->cell_faces[c + 1]] - m->face_offsets[m->cell_faces[c]];
+    int64_t size = edge_table_size(corners), mask = size - 1;
+    for (int64_t i = 0; i < size; i++)
+        table[i].from = -1;
+    if (corners == 0 || corners % 2)
+        return 0;
+    for (int64_t f = m->cell_faces[c]; f < m->cell_faces[c + 1]; f++) {
+        int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+        for (int64_t k = b; k < e; k++) {
+            int64_t u = m->face_vertices[k], v = m->face_vertices[k + 1 < e ? k + 1 : b];
+            int64_t i = edge_slot(table, mask, u, v);
+            if (u == v || table[i].from >= 0)
+                return 0; /* a repeated vertex, or the same edge walked twice the same way */
+            table[i].from = u;
+            table[i].to = v;
+        }
+    }
+    for (int64_t i = 0; i < size; i++)
+        if (table[i].from >= 0 && table[edge_slot(table, mask, table[i].to, table[i].from)].from < 0)
+            return 0;
+    return 1;
+}
+
 /* ---- boundary faces: faces listed by exactly one cell ------------------------ */
 
 typedef struct face_key {
@@ -289,6 +343,7 @@ int vc_cmd_quality(int argc, char **argv)
     vc_surface_report rep;
     double *vol = NULL, *fat = NULL, *rel = NULL, *dmin = NULL, *dmax = NULL, *q = NULL;
     int64_t *uses = NULL;
+    unsigned char *open_flag = NULL;
     int rc = 1;
     double t0 = now();
     if (vc_vtu_read(mesh_path, &m, &err) != 0) {
@@ -321,13 +376,30 @@ int vc_cmd_quality(int argc, char **argv)
     dmin = malloc(sizeof *dmin * cn);
     dmax = malloc(sizeof *dmax * cn);
     uses = malloc(sizeof *uses * (size_t)(m.n_faces ? m.n_faces : 1));
-    if (!vol || !fat || !rel || !dmin || !dmax || !uses) {
+    open_flag = calloc(cn ? cn : 1, 1);
+    if (!vol || !fat || !rel || !dmin || !dmax || !uses || !open_flag) {
         fprintf(stderr, "vorocrust: %s: out of memory\n", mesh_path);
         goto out;
     }
-    int64_t n_failed = 0, n_inverted = 0, first_failed = -1;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : n_failed, n_inverted)
+    int64_t n_failed = 0, n_inverted = 0, first_failed = -1, n_open = 0, first_open = -1;
+    int64_t max_corners = 0; /* face-vertex entries of the largest cell */
     for (int64_t c = 0; c < nc; c++) {
+        int64_t k = m.face_offsets[m.cell_faces[c + 1]] - m.face_offsets[m.cell_faces[c]];
+        max_corners = k > max_corners ? k : max_corners;
+    }
+    int oom = 0;
+#pragma omp parallel reduction(+ : n_failed, n_inverted, n_open) reduction(| : oom)
+    {
+    cell_edge *edges = malloc(sizeof *edges * (size_t)edge_table_size(max_corners));
+    oom |= !edges;
+#pragma omp for schedule(dynamic, 64)
+    for (int64_t c = 0; c < nc; c++) {
+        if (!edges)
+            continue;
+        if (!cell_is_closed(&m, c, edges)) {
+            n_open++;
+            open_flag[c] = 1;
+        }
         vc_cell cell;
         cell.points = m.points;
         cell.n_vertices = 0;
@@ -360,6 +432,17 @@ int vc_cmd_quality(int argc, char **argv)
             vc_tetra_dihedral_angles(p, deg, &dmin[c], &dmax[c]);
         }
     }
+    free(edges);
+    }
+    if (oom) {
+        fprintf(stderr, "vorocrust: %s: out of memory\n", mesh_path);
+        goto out;
+    }
+    for (int64_t c = 0; c < nc && n_open; c++)
+        if (open_flag[c]) {
+            first_open = m.cell_file_index[c];
+            break;
+        }
     for (int64_t c = 0; c < nc && n_failed; c++)
         if (isnan(fat[c])) {
             first_failed = m.cell_file_index[c];
@@ -424,6 +507,10 @@ int vc_cmd_quality(int argc, char **argv)
     printf("faces: %" PRId64 " (%" PRId64 " boundary)\n", distinct, n_bfaces);
     if (n_shared_more)
         printf("faces shared by more than two cells: %" PRId64 "\n", n_shared_more);
+    if (n_open)
+        printf("open cells: %" PRId64 " (an edge not shared by exactly two faces in opposite "
+               "directions: volume and fatness unreliable; first: cell %" PRId64 ")\n", n_open,
+               first_open);
     if (n_inverted)
         printf("inverted cells: %" PRId64 " (faces listed inward)\n", n_inverted);
     if (n_failed)
@@ -465,5 +552,6 @@ out:
     free(dmax);
     free(q);
     free(uses);
+    free(open_flag);
     return rc;
 }
