@@ -346,11 +346,8 @@ int vc_cmd_quality(int argc, char **argv)
     unsigned char *open_flag = NULL;
     int rc = 1;
     double t0 = now();
-    if (vc_vtu_read(mesh_path, &m, &err) != 0) {
-        fprintf(stderr, "vorocrust: %s\n", err.msg);
-        return 1;
-    }
-    /* Read the input before the work, so a bad one fails fast. */
+    memset(&m, 0, sizeof m);
+    /* The input first: it is usually the smaller file, so a bad one fails fast. */
     if (input_path) {
         if (vc_surface_read(input_path, &input, &rep, &err) != 0) {
             fprintf(stderr, "vorocrust: %s\n", err.msg);
@@ -358,6 +355,10 @@ int vc_cmd_quality(int argc, char **argv)
         }
         for (int i = 0; i < rep.n_warnings; i++)
             fprintf(stderr, "vorocrust: warning: %s\n", rep.warnings[i]);
+    }
+    if (vc_vtu_read(mesh_path, &m, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        goto out;
     }
     if (m.n_skipped)
         fprintf(stderr, "vorocrust: warning: %s: %" PRId64 " cells of other types skipped "
