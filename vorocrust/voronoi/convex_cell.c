@@ -12,6 +12,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <string.h>
 
 /* Makes room for need elements of elem bytes; returns the data pointer. */
@@ -34,7 +37,7 @@ void vc_convex_cell_init(vc_convex_cell *c) { memset(c, 0, sizeof *c); }
 
 void vc_convex_cell_free(vc_convex_cell *c)
 {
-    vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_pt,
+    vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_px,  &c->b_py, &c->b_pz,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_start, &c->b_fv,
                            &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_new_pt,
@@ -64,7 +67,9 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     c->plane = reserve(&c->b_plane, 6, 4 * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, 6, sizeof(int64_t));
     c->tri = reserve(&c->b_tri, 8, 3 * sizeof(int));
-    c->pt = reserve(&c->b_pt, 8, 3 * sizeof(double));
+    c->px = reserve(&c->b_px, 8, sizeof(double));
+    c->py = reserve(&c->b_py, 8, sizeof(double));
+    c->pz = reserve(&c->b_pz, 8, sizeof(double));
     c->r2 = reserve(&c->b_r2, 8, sizeof(double));
     /* Plane 2 * axis is the lower wall (normal -e_axis), 2 * axis + 1 the
      * upper one. */
@@ -91,10 +96,10 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
             t[1] = 4 + bz;
             t[2] = 2 + by;
         }
-        double *x = c->pt + 3 * k;
-        x[0] = bx ? hi[0] : lo[0];
-        x[1] = by ? hi[1] : lo[1];
-        x[2] = bz ? hi[2] : lo[2];
+        double x[3] = {bx ? hi[0] : lo[0], by ? hi[1] : lo[1], bz ? hi[2] : lo[2]};
+        c->px[k] = x[0];
+        c->py[k] = x[1];
+        c->pz[k] = x[2];
         c->r2[k] = norm2(x);
     }
     c->nt = 8;
@@ -123,17 +128,39 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     double *dist = reserve(&c->b_dist, nt, sizeof(double));
     int *conflict = reserve(&c->b_conflict, nt, sizeof(int));
     int n_out = 0, n_in = 0;
-    /* Distances first (a branch-free loop), then the removed vertices,
-     * only when the plane cuts. */
-    const double *x = c->pt;
-    double smax = -INFINITY;
-    for (int t = 0; t < nt; t++, x += 3) {
-        double s = x[0] * p[0] + x[1] * p[1] + x[2] * p[2] - half;
-        dist[t] = s;
-        smax = s > smax ? s : smax;
+    /* Distances first and whether any is beyond the plane (branch-free,
+     * vectorizable loops), then the removed vertices, only when the plane
+     * cuts. */
+    {
+        const double *px = c->px, *py = c->py, *pz = c->pz;
+        const double p0 = p[0], p1 = p[1], p2c = p[2];
+        double smax = -INFINITY; /* NaN distances are ignored, as below */
+        int t = 0;
+#ifdef __SSE2__
+        /* Two vertices at a time, with the same operations in the same
+         * order as the scalar expression below. */
+        const __m128d P0 = _mm_set1_pd(p0), P1 = _mm_set1_pd(p1), P2 = _mm_set1_pd(p2c),
+                      H = _mm_set1_pd(half);
+        __m128d m = _mm_set1_pd(-INFINITY);
+        for (; t + 1 < nt; t += 2) {
+            __m128d s2 = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(px + t), P0),
+                                    _mm_mul_pd(_mm_loadu_pd(py + t), P1));
+            s2 = _mm_sub_pd(_mm_add_pd(s2, _mm_mul_pd(_mm_loadu_pd(pz + t), P2)), H);
+            _mm_storeu_pd(dist + t, s2);
+            m = _mm_max_pd(s2, m); /* s2 > m ? s2 : m, per lane */
+        }
+        double mm[2];
+        _mm_storeu_pd(mm, m);
+        smax = mm[0] > mm[1] ? mm[0] : mm[1];
+#endif
+        for (; t < nt; t++) {
+            double s = px[t] * p0 + py[t] * p1 + pz[t] * p2c - half;
+            dist[t] = s;
+            smax = s > smax ? s : smax;
+        }
+        if (!(smax > thr))
+            return 0;
     }
-    if (!(smax > thr))
-        return 0;
     for (int t = 0; t < nt; t++) {
         if (dist[t] > thr)
             conflict[n_out++] = t;
@@ -249,7 +276,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         double u = -s_in / (s_out - s_in);
         if (u < 0)
             u = 0;
-        const double *xi = c->pt + 3 * tin, *xo = c->pt + 3 * tout;
+        const double xi[3] = {c->px[tin], c->py[tin], c->pz[tin]};
+        const double xo[3] = {c->px[tout], c->py[tout], c->pz[tout]};
         double *y = new_pt + 3 * k;
         y[0] = xi[0] + u * (xo[0] - xi[0]);
         y[1] = xi[1] + u * (xo[1] - xi[1]);
@@ -264,7 +292,9 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
      * append the fan. */
     const int new_nt = nt - n_out + n_boundary;
     c->tri = reserve(&c->b_tri, new_nt, 3 * sizeof(int));
-    c->pt = reserve(&c->b_pt, new_nt, 3 * sizeof(double));
+    c->px = reserve(&c->b_px, new_nt, sizeof(double));
+    c->py = reserve(&c->b_py, new_nt, sizeof(double));
+    c->pz = reserve(&c->b_pz, new_nt, sizeof(double));
     c->r2 = reserve(&c->b_r2, new_nt, sizeof(double));
     int w = conflict[0];
     for (int t = conflict[0] + 1, ci = 1; t < nt; t++) {
@@ -273,14 +303,19 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
             continue;
         }
         memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
-        memcpy(c->pt + 3 * w, c->pt + 3 * t, 3 * sizeof(double));
+        c->px[w] = c->px[t];
+        c->py[w] = c->py[t];
+        c->pz[w] = c->pz[t];
         c->r2[w] = c->r2[t];
         w++;
     }
     memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
-    memcpy(c->pt + 3 * w, new_pt, (size_t)n_boundary * 3 * sizeof(double));
-    for (int k = 0; k < n_boundary; k++)
+    for (int k = 0; k < n_boundary; k++) {
+        c->px[w + k] = new_pt[3 * k];
+        c->py[w + k] = new_pt[3 * k + 1];
+        c->pz[w + k] = new_pt[3 * k + 2];
         c->r2[w + k] = norm2(new_pt + 3 * k);
+    }
     c->nt = new_nt;
     update_rmax2(c);
     return 1;
@@ -344,6 +379,5 @@ int vc_convex_cell_faces(vc_convex_cell *c)
     c->nf = f;
     c->nfv = n;
     c->nv = nt;
-    c->v = c->pt;
     return 0;
 }

@@ -32,21 +32,21 @@ typedef struct vc_convex_cell {
      * is det(n_a, n_b, n_c) > 0) and the vertex point. */
     int nt;
     int *tri;            /* 3 * nt */
-    double *pt;          /* 3 * nt */
+    double *px, *py, *pz; /* nt each: the vertex points, by coordinate */
     double *r2;          /* nt: squared distance of each vertex */
     double rmax2;        /* largest squared distance of a vertex */
 
-    /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i;
+    /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i (its point is
+     * px[i], py[i], pz[i]);
      * face k is fv[face_start[k] .. face_start[k+1]-1], counter-clockwise
      * seen from outside, made by plane face_plane[k]. */
     int nv, nf, nfv;
-    double *v;
     int64_t *face_plane;
     int *face_start;
     int *fv;
 
     /* Storage and scratch reused by every cut. */
-    vc_cell_buf b_plane, b_plane_id, b_tri, b_pt, b_r2;
+    vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
     vc_cell_buf b_face_plane, b_face_start, b_fv, b_entry, b_count;
@@ -70,7 +70,7 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
 int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                        double tol);
 
-/* Fills the face form (nv, nf, nfv, v, face_plane, face_start, fv) from
+/* Fills the face form (nv, nf, nfv, face_plane, face_start, fv) from
  * the current cell. Returns 0, or -1 if a face cycle is inconsistent. */
 int vc_convex_cell_faces(vc_convex_cell *c);
 

@@ -86,7 +86,7 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
     double *b = pr->ball.data;
     int n = 0;
     for (int t = 0; t < cell->nt; t++) {
-        const double *x = cell->pt + 3 * t;
+        const double x[3] = {cell->px[t], cell->py[t], cell->pz[t]};
         double r2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * BALL_GROW;
         if (4.0 * r2 < 0.9 * h2)
             continue;
@@ -443,9 +443,11 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, 
     uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
     const double *xs = xyz + 3 * s;
     double scale2 = INFINITY, r2 = 0;
-    for (int i = 0; i < cell->nv; i++)
-        for (int d = 0; d < 3; d++)
-            v[3 * i + d] = xs[d] + cell->v[3 * i + d];
+    for (int i = 0; i < cell->nv; i++) {
+        v[3 * i] = xs[0] + cell->px[i];
+        v[3 * i + 1] = xs[1] + cell->py[i];
+        v[3 * i + 2] = xs[2] + cell->pz[i];
+    }
     for (int f = 0; f < cell->nf; f++)
         plane[f] = (int32_t)cell->face_plane[f]; /* seed indices < 2^31 (checked) */
     for (int f = 0; f <= cell->nf; f++)
