@@ -13,7 +13,9 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/features.h"
+#include "vorocrust/interior.h"
 #include "vorocrust/io.h"
+#include "vorocrust/polymesh.h"
 #include "vorocrust/quality.h"
 #include "vorocrust/sampling.h"
 #include "vorocrust/surface.h"
@@ -29,7 +31,10 @@ static void usage(FILE *f)
         "  --surface-only      stop after the surface: sampling, seeds, reconstructed surface\n"
         "  --surface OUT       the reconstructed surface: OBJ polygons, or VTK_POLYGON cells\n"
         "                      when OUT ends in .vtu\n"
-        "  -o, --output OUT.vtu  the Voronoi mesh of the inside seeds (no interior seeds yet)\n"
+        "  -o, --output OUT.vtu  the volume mesh: the Voronoi cells of the inside surface seeds\n"
+        "                      and the interior seeds\n"
+        "  --interior lattice|none  interior seeds on a cubic lattice (default) or none\n"
+        "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -47,7 +52,8 @@ static int takes_value(const char *a)
 {
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz",
-                                             "--max-size", "--seed", "--threads"};
+                                             "--max-size", "--seed", "--threads", "--interior",
+                                             "--interior-spacing"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -58,7 +64,8 @@ int vc_cmd_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL;
-    int surface_only = 0, quiet = 0;
+    int surface_only = 0, quiet = 0, interior_lattice = 1;
+    double interior_spacing = 0;
     vc_sampling_options opt;
     vc_sampling_options_default(&opt);
     for (int i = 1; i < argc; i++) {
@@ -78,6 +85,24 @@ int vc_cmd_mesh(int argc, char **argv)
             out_path = argv[++i];
         } else if (!strcmp(a, "--surface")) {
             surf_path = argv[++i];
+        } else if (!strcmp(a, "--interior")) {
+            if (!strcmp(v, "lattice"))
+                interior_lattice = 1;
+            else if (!strcmp(v, "none"))
+                interior_lattice = 0;
+            else {
+                fprintf(stderr, "vorocrust: --interior: '%s' is not lattice or none (the octree "
+                        "interior is not implemented yet)\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--interior-spacing")) {
+            if (vc_cli_parse_double(v, &interior_spacing) || !(interior_spacing > 0)) {
+                fprintf(stderr, "vorocrust: --interior-spacing needs a positive number, got '%s'\n",
+                        v);
+                return 2;
+            }
+            i++;
         } else if (!strcmp(a, "--seeds")) {
             seeds_path = argv[++i];
         } else if (!strcmp(a, "--balls")) {
@@ -225,7 +250,7 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
         goto out;
     }
-    int64_t n_inside = 0;
+    int64_t n_inside = 0, n_surface_seeds = seeds.n;
     for (int64_t i = 0; i < seeds.n; i++)
         n_inside += seeds.label[i] != 0;
     double t4 = vc_cli_now();
@@ -245,18 +270,30 @@ int vc_cmd_mesh(int argc, char **argv)
             goto write_failed;
         written[n_written++] = surf_path;
     }
-    if (seeds_path) {
-        if (vc_seeds_write_csv(seeds_path, &seeds, &err))
-            goto write_failed;
-        written[n_written++] = seeds_path;
-    }
     if (balls_path) {
         if (vc_balls_write_csv(&balls, balls_path, &err))
             goto write_failed;
         written[n_written++] = balls_path;
     }
     double t6 = vc_cli_now(), t7 = t6;
-    int64_t n_cells = 0;
+    int64_t n_cells = 0, n_interior = 0;
+    double mesh_volume = 0;
+    vc_seeds all = {0, NULL, NULL};
+    if (out_path && interior_lattice) {
+        double h = interior_spacing > 0 ? interior_spacing
+                                        : vc_interior_default_spacing(&balls, opt.max_size);
+        if (vc_interior_lattice(&balls, &seeds, h, &all, &n_interior, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto cleanup_outputs;
+        }
+        vc_seeds_free(&seeds);
+        seeds = all;
+    }
+    if (seeds_path) {
+        if (vc_seeds_write_csv(seeds_path, &seeds, &err))
+            goto write_failed;
+        written[n_written++] = seeds_path;
+    }
     if (out_path) {
         vc_voronoi_options vo;
         vc_voronoi_options_default(&vo);
@@ -268,6 +305,14 @@ int vc_cmd_mesh(int argc, char **argv)
             goto cleanup_outputs;
         }
         n_cells = m.n_cells;
+        for (int64_t c = 0; c < m.n_cells; c++)
+            mesh_volume += m.cell_volume[c];
+        char report[1024];
+        int64_t problems = vc_polymesh_validate(&m, 0, report, sizeof report);
+        if (problems)
+            fprintf(stderr, "vorocrust: warning: %s: the volume mesh fails validation (%lld "
+                    "problems; degenerate seeds the engine does not resolve yet), first: %.*s\n",
+                    in_path, (long long)problems, (int)strcspn(report, "\n"), report);
         int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
         vc_polymesh_free(&m);
         if (wrc)
@@ -314,7 +359,7 @@ int vc_cmd_mesh(int argc, char **argv)
                 "vorocrust mesh: %s\n"
                 "  balls: %lld (corner %lld, edge %lld, surface %lld); shrunk for Lipschitz %lld, "
                 "for slivers %lld in %d iterations%s; half-covered seed pairs %lld\n"
-                "  seeds: %lld (%lld inside, %lld outside)\n"
+                "  surface seeds: %lld (%lld inside, %lld outside)\n"
                 "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
                 "%s, %lld components, %lld T-junction vertices repaired\n"
                 "  surface quality: Q min %.3f mean %.3f; angles < 30 deg %.1f%%, > 90 deg %.1f%% "
@@ -325,8 +370,8 @@ int vc_cmd_mesh(int argc, char **argv)
                 in_path, (long long)balls.n, (long long)st.n_corner, (long long)st.n_edge,
                 (long long)st.n_surface, (long long)st.n_shrunk_lipschitz,
                 (long long)st.n_shrunk_sliver, st.sliver_iterations,
-                st.safe_mode ? " (safe mode)" : "", (long long)n_half, (long long)seeds.n,
-                (long long)n_inside, (long long)(seeds.n - n_inside), (long long)topo.n_vertices,
+                st.safe_mode ? " (safe mode)" : "", (long long)n_half, (long long)n_surface_seeds,
+                (long long)n_inside, (long long)(n_surface_seeds - n_inside), (long long)topo.n_vertices,
                 (long long)topo.n_faces, (long long)topo.n_edges, (long long)topo.euler,
                 (long long)rep.euler,
                 topo.n_boundary_edges == 0 && topo.n_nonmanifold_edges == 0 &&
@@ -338,9 +383,26 @@ int vc_cmd_mesh(int argc, char **argv)
                 nang ? 100.0 * (double)above90 / (double)nang : 0, (long long)ntri, t1 - t0,
                 st.t_features, st.t_sizing, st.t_corners, st.t_edges, st.t_surface,
                 st.t_lipschitz, st.t_slivers, t4 - t3, t5 - t4, t6 - t5, "");
-        if (out_path)
-            fprintf(stderr, "  volume mesh: %lld cells (inside surface seeds only), %.3f s\n",
-                    (long long)n_cells, t7 - t6);
+        if (out_path) {
+            /* volume enclosed by the reconstructed surface, polygons fanned */
+            double sv = 0;
+            for (int64_t k = 0; k < ps.n_polys; k++) {
+                int64_t a = ps.poly_offsets[k], n = ps.poly_offsets[k + 1] - a;
+                const double *p0 = ps.points + 3 * ps.poly_vertices[a];
+                for (int64_t j = 1; j + 1 < n; j++) {
+                    const double *p1 = ps.points + 3 * ps.poly_vertices[a + j];
+                    const double *p2 = ps.points + 3 * ps.poly_vertices[a + j + 1];
+                    sv += (p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
+                           p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+                           p0[2] * (p1[0] * p2[1] - p1[1] * p2[0])) / 6;
+                }
+            }
+            fprintf(stderr,
+                    "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
+                    "surface %.12g, input %.12g), %.3f s\n",
+                    (long long)n_cells, (long long)n_interior, mesh_volume, sv, rep.volume,
+                    t7 - t6);
+        }
     }
     rc = 0;
     goto out;
