@@ -112,7 +112,8 @@ typedef struct vc_hausdorff_result {
     double normalised;    /* distance / (bounding-box diagonal of A) */
     double diagonal;      /* bounding-box diagonal of A */
     double spacing;       /* sample spacing used */
-    double error_bound;   /* the true distance lies in [distance, distance + error_bound] */
+    double error_bound;   /* the true distance lies in [distance, distance + error_bound];
+                           * at most spacing / sqrt(3) */
     int64_t n_samples_a, n_samples_b;
 } vc_hausdorff_result;
 

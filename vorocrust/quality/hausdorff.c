@@ -273,7 +273,8 @@ static double count_samples(const vc_surface *s, double spacing)
  * running maximum is skipped whole. Skipped samples and early-stopped
  * searches can never hold the maximum, so the result is exactly the
  * maximum over all samples, whatever the thread count or order. */
-static double one_sided(const vc_surface *from, const bvh *to, double spacing, int64_t *n_samples)
+static double one_sided(const vc_surface *from, const bvh *to, double spacing, int64_t *n_samples,
+                        double *sub_edge)
 {
     const int64_t nv = from->n_vertices, nt = from->n_triangles;
     double *dv = malloc(sizeof *dv * (size_t)(nv ? nv : 1));
@@ -297,14 +298,16 @@ static double one_sided(const vc_surface *from, const bvh *to, double spacing, i
         if (dv[v] > vmax)
             vmax = dv[v];
     }
-    double worst = 0;
+    double worst = 0, longest_sub = 0;
     int64_t count = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst) reduction(+ : count)
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst, longest_sub) reduction(+ : count)
     for (int64_t t = 0; t < nt; t++) {
         const int64_t *id = from->tri + 3 * t;
         const double *a = from->xyz + 3 * id[0], *b = from->xyz + 3 * id[1], *c = from->xyz + 3 * id[2];
         double longest = tri_longest_edge(from, t);
         int64_t n = subdivisions(longest, spacing);
+        if (longest / (double)n > longest_sub)
+            longest_sub = longest / (double)n; /* <= spacing unless n hit its cap */
         count += (n + 1) * (n + 2) / 2;
         double floor_ = worst > vmax ? worst : vmax;
         double corner = fmax(dv[id[0]], fmax(dv[id[1]], dv[id[2]]));
@@ -329,6 +332,7 @@ static double one_sided(const vc_surface *from, const bvh *to, double spacing, i
     free(dv);
     free(near_tri);
     *n_samples = count;
+    *sub_edge = longest_sub;
     return worst > vmax ? worst : vmax;
 }
 
@@ -376,8 +380,9 @@ int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
         bvh_free(&hb);
         return vc_error_set(err, VC_ENOMEM, "Hausdorff distance: out of memory");
     }
-    out->a_to_b = one_sided(a, &hb, spacing, &out->n_samples_a);
-    out->b_to_a = one_sided(b, &ha, spacing, &out->n_samples_b);
+    double sub_a = 0, sub_b = 0;
+    out->a_to_b = one_sided(a, &hb, spacing, &out->n_samples_a, &sub_a);
+    out->b_to_a = one_sided(b, &ha, spacing, &out->n_samples_b, &sub_b);
     bvh_free(&ha);
     bvh_free(&hb);
     if (out->a_to_b < 0 || out->b_to_a < 0)
@@ -386,6 +391,7 @@ int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
     out->diagonal = diag;
     out->normalised = diag > 0 ? out->distance / diag : 0;
     out->spacing = spacing;
-    out->error_bound = spacing / sqrt(3.0);
+    /* the longest edge of any sampling sub-triangle, over sqrt(3) */
+    out->error_bound = dmax(sub_a, sub_b) / sqrt(3.0);
     return VC_OK;
 }
