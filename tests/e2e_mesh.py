@@ -314,6 +314,17 @@ for model in ("sphere.obj", "cube.off", "onebox.obj"):
     except vtkcheck.CheckError as e:
         check(False, "%s volume mesh: %s" % (model, e))
 
+# Patch smoothing before sampling: sphere.obj, 6 rounds of adaptive Loop.
+rc, err, surf, balls_csv, seeds_csv = mesh("sphere.obj", "smooth6", "--smooth-iterations", "6")
+check(rc == 0 and "13520 after 6 smoothing rounds" in err, "smoothing run: exit %d: %s" % (rc, err))
+if rc == 0:
+    pts, polys = read_surface(surf)
+    euler, bad, misoriented, pinched = topology(pts, polys)
+    check(euler == 2 and bad == 0 and misoriented == 0 and pinched == 0,
+          "smoothed sphere: euler %d, %d bad edges, %d misoriented, %d pinched" % (euler, bad, misoriented, pinched))
+    qmin, _, _ = quality(fan(pts, polys))
+    check(qmin >= 0.4, "smoothed sphere: Q min %.3f" % qmin)
+
 # Determinism: 1 and 2 threads, same seed twice; another seed differs.
 outs = []
 for t in ("1", "2", "2"):
@@ -340,6 +351,10 @@ bad_cases = [
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
       "--max-size", "-1"], 2, "--max-size"),
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only"], 2, "--surface"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+      "--smooth-iterations", "13"], 2, "--smooth-iterations"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
+      "--interior", "octree"], 2, "--interior"),
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface",
       os.path.join(TMP, "no_such_dir", "x.obj")], 1, "no_such_dir"),
 ]

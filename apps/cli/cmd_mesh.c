@@ -18,6 +18,7 @@
 #include "vorocrust/polymesh.h"
 #include "vorocrust/quality.h"
 #include "vorocrust/sampling.h"
+#include "vorocrust/smoothing.h"
 #include "vorocrust/surface.h"
 #include "vorocrust/voronoi.h"
 
@@ -38,6 +39,9 @@ static void usage(FILE *f)
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
+        "  --smooth-iterations N  rounds of adaptive, feature-preserving Loop subdivision\n"
+        "                      of the patches before sampling, 0 to %d (default 0; the\n"
+        "                      thesis uses %d, but Loop moves the surface off the input)\n"
         "  --max-error E       approximation error bound, a fraction of the bounding-box\n"
         "                      diagonal, 0 <= E < 1 (default %g; 0: none, as in the thesis)\n"
         "  --lipschitz L       0 < L < 1 (default %g)\n"
@@ -45,14 +49,15 @@ static void usage(FILE *f)
         "  --seed N            random seed (default %llu)\n"
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n",
-        d.sharp_angle, d.max_error, d.lipschitz, (unsigned long long)d.seed);
+        d.sharp_angle, VC_SMOOTH_MAX_ITERATIONS, VC_SMOOTH_DEFAULT_ITERATIONS, d.max_error,
+        d.lipschitz, (unsigned long long)d.seed);
 }
 
 static int takes_value(const char *a)
 {
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz",
-                                             "--max-size", "--seed", "--threads", "--interior",
+                                             "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
@@ -65,6 +70,10 @@ int vc_cmd_mesh(int argc, char **argv)
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL;
     int surface_only = 0, quiet = 0, interior_lattice = 1;
+    /* 0 by default, not the thesis' 6: Loop subdivision approximates, it
+     * pulls the surface off the input (sphere.obj: 0.78% of the diagonal,
+     * 3.3% of the volume after 6 rounds), beyond the 0.5% error budget. */
+    int smooth_iterations = 0;
     double interior_spacing = 0;
     vc_sampling_options opt;
     vc_sampling_options_default(&opt);
@@ -85,6 +94,15 @@ int vc_cmd_mesh(int argc, char **argv)
             out_path = argv[++i];
         } else if (!strcmp(a, "--surface")) {
             surf_path = argv[++i];
+        } else if (!strcmp(a, "--smooth-iterations")) {
+            long it;
+            if (vc_cli_parse_int(v, 0, VC_SMOOTH_MAX_ITERATIONS, &it)) {
+                fprintf(stderr, "vorocrust: --smooth-iterations needs an integer from 0 to %d, "
+                        "got '%s'\n", VC_SMOOTH_MAX_ITERATIONS, v);
+                return 2;
+            }
+            smooth_iterations = (int)it;
+            i++;
         } else if (!strcmp(a, "--interior")) {
             if (!strcmp(v, "lattice"))
                 interior_lattice = 1;
@@ -238,6 +256,21 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
         goto out;
     }
+    int64_t n_input_triangles = s.n_triangles;
+    if (smooth_iterations > 0) {
+        vc_surface sm;
+        if (vc_surface_smooth(&s, &f, smooth_iterations, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &sm, &err)) {
+            fprintf(stderr, "vorocrust: %s: smoothing: %s\n", in_path, err.msg);
+            goto out;
+        }
+        vc_features_free(&f);
+        vc_surface_free(&s);
+        s = sm;
+        if (vc_features_detect(&s, opt.sharp_angle, &f, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto out;
+        }
+    }
     double t2 = vc_cli_now();
     if (vc_sample_surface(&s, &f, &opt, &balls, &st, &err)) {
         fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
@@ -356,7 +389,7 @@ int vc_cmd_mesh(int argc, char **argv)
             }
         }
         fprintf(stderr,
-                "vorocrust mesh: %s\n"
+                "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds)\n"
                 "  balls: %lld (corner %lld, edge %lld, surface %lld); shrunk for Lipschitz %lld, "
                 "for slivers %lld in %d iterations%s; half-covered seed pairs %lld\n"
                 "  surface seeds: %lld (%lld inside, %lld outside)\n"
@@ -364,10 +397,11 @@ int vc_cmd_mesh(int argc, char **argv)
                 "%s, %lld components, %lld T-junction vertices repaired\n"
                 "  surface quality: Q min %.3f mean %.3f; angles < 30 deg %.1f%%, > 90 deg %.1f%% "
                 "(%lld triangles, polygons fanned from their centroid)\n"
-                "  time (s): read %.3f, features %.3f, sizing %.3f, corner protection %.3f, edge "
+                "  time (s): read %.3f, features and smoothing %.3f, sizing %.3f, corner protection %.3f, edge "
                 "protection %.3f, surface coverage %.3f, Lipschitz fixes %.3f, sliver elimination "
                 "%.3f, seeds %.3f, surface %.3f, write %.3f%s\n",
-                in_path, (long long)balls.n, (long long)st.n_corner, (long long)st.n_edge,
+                in_path, (long long)n_input_triangles, (long long)s.n_triangles, smooth_iterations,
+                (long long)balls.n, (long long)st.n_corner, (long long)st.n_edge,
                 (long long)st.n_surface, (long long)st.n_shrunk_lipschitz,
                 (long long)st.n_shrunk_sliver, st.sliver_iterations,
                 st.safe_mode ? " (safe mode)" : "", (long long)n_half, (long long)n_surface_seeds,
