@@ -22,10 +22,13 @@
  * triangle with two or three edges split by red neighbours becomes red
  * too (repeated until stable), and a triangle with exactly one split edge
  * is bisected ("green", 2 triangles from the split edge's midpoint to the
- * opposite vertex). The result never has a T-junction. Green triangles are
- * ordinary triangles in the next round (they are not merged back first).
- * Only vertices of red triangles move; the others keep their positions,
- * so a surface with nothing to refine is returned unchanged.
+ * opposite vertex). The result never has a T-junction. A piece of a green
+ * cut that gets a split edge in a later round is refined red, not cut
+ * again (repeated bisection would halve its angles each round); green
+ * cuts are not merged back first, so the smallest triangle angle can
+ * still drop (see the guard below for the other source). Only vertices of
+ * red triangles move; the others keep their positions, so a surface with
+ * nothing to refine is returned unchanged.
  *
  * Feature guard: after each round, vc_features_detect at f->sharp_angle
  * must find exactly the input corners (same vertex indices) and sharp
@@ -35,9 +38,12 @@
  * a bend that ends at a fixed corner); there the triangles around the
  * vertices involved are frozen (kept as they are in this and all later
  * rounds; a refined neighbour with two split edges is then cut into 3) and
- * the round is redone, a ring wider each time. So the smallest dihedral
- * angle inside patches never decreases but can stay where it was next to
- * such features.
+ * the round is redone, a ring wider each time (after 8 tries the round is
+ * dropped and smoothing stops). A bend next to a frozen triangle does not
+ * ask for refinement. So the smallest dihedral angle inside patches can
+ * stay where it was next to such features (on fertility.off at 60
+ * degrees: 120.5 before and after, while the length of patch edges bent
+ * by more than 10 degrees drops from 16290 to 1224).
  *
  * Output layout: the first in->n_vertices vertices of out are the input's
  * vertices in their order (moved by the rules, corners unmoved); new
@@ -45,9 +51,9 @@
  * (orientation) of the input triangle it comes from, so a closed,
  * manifold, consistently oriented input gives one too, with the same Euler
  * characteristic, and a feature detection at the same theta_sharp finds
- * the same corners (same indices) and creases (refined), see the guard. The result is
- * deterministic (no threads, no randomness). Rounds stop early when
- * nothing is refined. */
+ * the same corners (same indices) and creases (refined), see the guard.
+ * The result is deterministic (no threads, no randomness). Rounds stop
+ * early when nothing is refined. */
 #ifndef VORO_CRUST_SMOOTHING_H
 #define VORO_CRUST_SMOOTHING_H
 

@@ -20,10 +20,11 @@
  *  2. an edge is "bent" when it is not a crease edge, has two triangles and
  *     their normals (the second flipped when both walk the edge the same
  *     way) differ by at least 180 - flat_angle degrees (the dihedral
- *     angle is at most flat_angle); a triangle with a
- *     bent edge is red;
+ *     angle is at most flat_angle) and no frozen triangle is on it; a
+ *     triangle with a bent edge is red;
  *  3. closure: the edges of red triangles are split; a triangle with two or
- *     three split edges becomes red; repeated with a work list;
+ *     three split edges becomes red, and so does a piece of an earlier
+ *     green cut with one; repeated with a work list;
  *  4. positions, all from the old surface: odd (edge) points by Loop's edge
  *     rule, or the midpoint on crease edges; even points of vertices on a
  *     split edge by Loop's vertex rule, the B-spline crease rule on crease
