@@ -298,6 +298,12 @@ for model in ("sphere.obj", "cube.off", "onebox.obj"):
         if rc != 0:
             break
         vols.append(open(vtu, "rb").read())
+        m = re.search(r"fatness max ([0-9.]+) mean ([0-9.]+) \(interior cells: max ([0-9.]+)", err)
+        check(m is not None, "%s: no fatness in the summary" % model)
+        if m:
+            # thesis bound: 14.1 for interior cells, 13.65 at the boundary
+            check(float(m.group(1)) <= 14 and float(m.group(3)) <= 14,
+                  "%s: fatness max %s (interior %s) above 14" % (model, m.group(1), m.group(3)))
     if len(vols) != 2:
         continue
     check(vols[0] == vols[1], "%s: the volume mesh differs between 1 and 2 threads" % model)

@@ -65,6 +65,91 @@ static int takes_value(const char *a)
     return 0;
 }
 
+/* Cell quality of the volume mesh: volume and fatness extremes, fatness
+ * over the interior cells (no face on the boundary), shortest edge
+ * relative to the enclosing radius. */
+typedef struct mesh_quality {
+    double vol_min, vol_max;
+    double fat_max, fat_sum, fat_int_max, fat_int_sum, edge_rel_min;
+    int64_t n, n_int, n_unmeasured;
+} mesh_quality;
+
+static void measure_mesh(const vc_polymesh *m, mesh_quality *q)
+{
+    memset(q, 0, sizeof *q);
+    q->vol_min = q->edge_rel_min = INFINITY;
+    int64_t cap_f = 64, cap_v = 512;
+    int64_t *foff = malloc(sizeof(int64_t) * (size_t)(cap_f + 1));
+    int64_t *fv = malloc(sizeof(int64_t) * (size_t)cap_v);
+    int64_t *vs = malloc(sizeof(int64_t) * (size_t)cap_v);
+    if (!foff || !fv || !vs)
+        goto done;
+    for (int64_t c = 0; c < m->n_cells; c++) {
+        int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1], nfv = 0, nf = f1 - f0;
+        int boundary = 0;
+        for (int64_t k = f0; k < f1; k++) {
+            int64_t f = m->cell_faces[k];
+            nfv += m->face_offsets[f + 1] - m->face_offsets[f];
+            boundary |= m->face_neighbour[f] < 0;
+        }
+        if (nf > cap_f || nfv > cap_v) {
+            cap_f = nf > cap_f ? 2 * nf : cap_f;
+            cap_v = nfv > cap_v ? 2 * nfv : cap_v;
+            int64_t *a = realloc(foff, sizeof(int64_t) * (size_t)(cap_f + 1));
+            int64_t *b = realloc(fv, sizeof(int64_t) * (size_t)cap_v);
+            int64_t *d = realloc(vs, sizeof(int64_t) * (size_t)cap_v);
+            if (a)
+                foff = a;
+            if (b)
+                fv = b;
+            if (d)
+                vs = d;
+            if (!a || !b || !d)
+                goto done;
+        }
+        int64_t n = 0;
+        foff[0] = 0;
+        for (int64_t k = f0; k < f1; k++) {
+            int64_t f = m->cell_faces[k], a = m->face_offsets[f], len = m->face_offsets[f + 1] - a;
+            int rev = m->face_owner[f] != c;
+            for (int64_t j = 0; j < len; j++)
+                fv[n + j] = m->face_vertices[a + (rev ? len - 1 - j : j)];
+            n += len;
+            foff[k - f0 + 1] = n;
+        }
+        /* distinct vertices */
+        int64_t nv = 0;
+        for (int64_t j = 0; j < n; j++) {
+            int seen = 0;
+            for (int64_t i = 0; i < nv && !seen; i++)
+                seen = vs[i] == fv[j];
+            if (!seen)
+                vs[nv++] = fv[j];
+        }
+        vc_cell cell = {m->points, nv, vs, nf, foff, fv};
+        vc_cell_measures cm;
+        if (vc_cell_measure(&cell, &cm) != 0 || !isfinite(cm.fatness)) {
+            q->n_unmeasured++;
+            continue;
+        }
+        q->n++;
+        q->vol_min = fmin(q->vol_min, cm.volume);
+        q->vol_max = fmax(q->vol_max, cm.volume);
+        q->fat_max = fmax(q->fat_max, cm.fatness);
+        q->fat_sum += cm.fatness;
+        q->edge_rel_min = fmin(q->edge_rel_min, cm.shortest_edge_rel);
+        if (!boundary) {
+            q->n_int++;
+            q->fat_int_max = fmax(q->fat_int_max, cm.fatness);
+            q->fat_int_sum += cm.fatness;
+        }
+    }
+done:
+    free(foff);
+    free(fv);
+    free(vs);
+}
+
 int vc_cmd_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
@@ -311,6 +396,8 @@ int vc_cmd_mesh(int argc, char **argv)
     double t6 = vc_cli_now(), t7 = t6;
     int64_t n_cells = 0, n_interior = 0;
     double mesh_volume = 0;
+    mesh_quality mq;
+    memset(&mq, 0, sizeof mq);
     vc_seeds all = {0, NULL, NULL};
     if (out_path && interior_lattice) {
         double h = interior_spacing > 0 ? interior_spacing
@@ -346,6 +433,8 @@ int vc_cmd_mesh(int argc, char **argv)
             fprintf(stderr, "vorocrust: warning: %s: the volume mesh fails validation (%lld "
                     "problems; degenerate seeds the engine does not resolve yet), first: %.*s\n",
                     in_path, (long long)problems, (int)strcspn(report, "\n"), report);
+        if (!quiet)
+            measure_mesh(&m, &mq);
         int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
         vc_polymesh_free(&m);
         if (wrc)
@@ -436,6 +525,13 @@ int vc_cmd_mesh(int argc, char **argv)
                     "surface %.12g, input %.12g), %.3f s\n",
                     (long long)n_cells, (long long)n_interior, mesh_volume, sv, rep.volume,
                     t7 - t6);
+            fprintf(stderr,
+                    "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "
+                    "(interior cells: max %.3f mean %.3f); shortest edge / enclosing radius "
+                    "min %.3g%s\n",
+                    mq.vol_min, mq.vol_max, mq.fat_max, mq.n ? mq.fat_sum / (double)mq.n : 0,
+                    mq.fat_int_max, mq.n_int ? mq.fat_int_sum / (double)mq.n_int : 0,
+                    mq.edge_rel_min, mq.n_unmeasured ? " (some cells could not be measured)" : "");
         }
     }
     rc = 0;
