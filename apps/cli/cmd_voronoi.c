@@ -26,6 +26,7 @@ static void usage(FILE *f)
         "  -o, --output OUT.vtu    the mesh (VTK_POLYHEDRON cells)\n"
         "  --box X0 Y0 Z0 X1 Y1 Z1 clip every cell to this box (all seeds must lie in it)\n"
         "  --connections OUT.csv   interior faces: cells, seeds, area, seed distance, centroid, normal\n"
+        "  --foam CASE_DIR         OpenFOAM case: CASE_DIR/constant/polyMesh (and system/controlDict)\n"
         "  --encoding zlib|raw     binary encoding of the .vtu (default zlib)\n"
         "  --threads N             threads (default: all cores); the mesh does not depend on it\n"
         "  --no-validate           skip the mesh validator\n"
@@ -36,7 +37,7 @@ static void usage(FILE *f)
 static int takes_value(const char *a)
 {
     static const char *const with_value[] = {"-o", "--output", "--connections", "--threads",
-                                             "--encoding"};
+                                             "--encoding", "--foam"};
     for (size_t i = 0; i < sizeof with_value / sizeof with_value[0]; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -45,7 +46,7 @@ static int takes_value(const char *a)
 
 int vc_cmd_voronoi(int argc, char **argv)
 {
-    const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL;
+    const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL, *foam_path = NULL;
     vc_voronoi_options opt;
     vc_voronoi_options_default(&opt);
     vc_vtu_encoding enc = VC_VTU_ZLIB;
@@ -60,6 +61,8 @@ int vc_cmd_voronoi(int argc, char **argv)
             out_path = argv[++i];
         } else if (!strcmp(a, "--connections") && i + 1 < argc) {
             conn_path = argv[++i];
+        } else if (!strcmp(a, "--foam") && i + 1 < argc) {
+            foam_path = argv[++i];
         } else if (!strcmp(a, "--box")) {
             if (i + 6 >= argc) {
                 fprintf(stderr, "vorocrust: --box needs 6 numbers\n");
@@ -138,6 +141,37 @@ int vc_cmd_voronoi(int argc, char **argv)
             return 1;
         }
     }
+    if (foam_path) {
+        /* An existing directory (its polyMesh is replaced) or a new one in a
+         * writable directory; never a file. */
+        struct stat st;
+        if (!*foam_path) {
+            fprintf(stderr, "vorocrust: --foam: the case directory is empty\n");
+            return 2;
+        }
+        if (stat(foam_path, &st) == 0) {
+            if (!S_ISDIR(st.st_mode)) {
+                fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: Not a directory\n",
+                        foam_path);
+                return 1;
+            }
+            if (access(foam_path, W_OK | X_OK) != 0) {
+                fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: %s\n", foam_path,
+                        strerror(errno));
+                return 1;
+            }
+        } else if (!vc_cli_directory_writable(foam_path)) {
+            fprintf(stderr,
+                    "vorocrust: %s: cannot write the OpenFOAM case: directory missing or not "
+                    "writable\n",
+                    foam_path);
+            return 1;
+        }
+        if (!strcmp(foam_path, out_path) || (conn_path && !strcmp(foam_path, conn_path))) {
+            fprintf(stderr, "vorocrust: %s: named by --foam and by another output\n", foam_path);
+            return 2;
+        }
+    }
     if (conn_path && !strcmp(conn_path, out_path)) {
         fprintf(stderr, "vorocrust: %s: named by both -o and --connections\n", out_path);
         return 2;
@@ -178,6 +212,13 @@ int vc_cmd_voronoi(int argc, char **argv)
     if (conn_path && vc_write_connections_csv(&mesh, conn_path, &err) != 0) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         remove(out_path); /* all outputs or none */
+        goto out;
+    }
+    if (foam_path && vc_write_openfoam(&mesh, foam_path, &err) != 0) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        remove(out_path); /* all outputs or none */
+        if (conn_path)
+            remove(conn_path);
         goto out;
     }
     double t4 = vc_cli_now();

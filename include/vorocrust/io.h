@@ -34,6 +34,24 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
                              vc_error *err);
 
+/* Writes the mesh as an OpenFOAM case: CASE_DIR/constant/polyMesh/{points,
+ * faces, owner, neighbour, boundary} in OpenFOAM's ASCII format (classes
+ * vectorField, faceList, labelList with the nPoints/nCells/nFaces/
+ * nInternalFaces note, polyBoundaryMesh), and CASE_DIR/system/controlDict
+ * (minimal, enough for checkMesh) when the case has none. Interior faces
+ * come first in upper-triangular order (owner < neighbour, sorted by owner
+ * then neighbour), oriented owner -> neighbour; boundary faces follow,
+ * grouped by patch: "surface" (faces against non-kept seeds), then one
+ * patch per used wall of the clipping box ("xmin", "xmax", "ymin", "ymax",
+ * "zmin", "zmax"), all of type patch. Coordinates have 17 significant
+ * digits (they read back as the same doubles); unused points are dropped.
+ * CASE_DIR may be missing (the case is assembled in CASE_DIR.tmp.XXXXXX
+ * and renamed) or an existing directory (its constant/polyMesh is replaced
+ * as a whole, other files are kept). A failure leaves nothing behind.
+ * Errors: VC_EIO naming the path, VC_EINPUT for an inconsistent mesh,
+ * VC_ENOMEM. */
+int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err);
+
 /* Helpers for the temporary-file-and-rename pattern. vc_tmpfile_open
  * creates "<path>.tmp.XXXXXX" and opens it for binary writing;
  * vc_tmpfile_commit closes and renames it (removing it on failure);

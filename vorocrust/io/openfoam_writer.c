@@ -1,0 +1,998 @@
+/* OpenFOAM polyMesh writer: CASE_DIR/constant/polyMesh/{points, faces,
+ * owner, neighbour, boundary} in OpenFOAM's ASCII format, and a minimal
+ * CASE_DIR/system/controlDict when the case has none (every OpenFOAM
+ * utility, checkMesh included, reads it).
+ *
+ * Face order (what OpenFOAM requires): the interior faces first, in
+ * upper-triangular order (sorted by owner, then neighbour, owner <
+ * neighbour), each oriented from its owner to its neighbour; then the
+ * boundary faces grouped by patch, each pointing out of the domain.
+ * vc_polymesh already stores its interior faces that way; the writer checks
+ * it and only sorts or flips faces when a mesh does not.
+ *
+ * Patches come from one function, foam_patch_key(): a boundary face against
+ * a non-kept seed belongs to "surface", a face on the clipping box to the
+ * wall's patch ("xmin" ... "zmax"). Only the patches that have faces are
+ * written, in the order surface, xmin, xmax, ymin, ymax, zmin, zmax, all of
+ * type "patch". Within a patch, faces keep the mesh's order (by owner).
+ *
+ * Atomicity: a new case is assembled in a sibling directory
+ * "CASE_DIR.tmp.XXXXXX" and renamed to CASE_DIR at the end. Into an
+ * existing case, the new polyMesh is assembled in
+ * "constant/polyMesh.tmp.XXXXXX" and swapped with the old one (which is
+ * then removed with its contents); a missing system/controlDict is added
+ * through a temporary file. A failure removes whatever was created.
+ *
+ * Numbers are formatted by hand (17 significant digits for coordinates,
+ * enough to read back the same doubles) into a large buffer: printf is
+ * several times slower. */
+#include "vorocrust/io.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <float.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#define FOAM_BUF ((size_t)1 << 20)
+#define FOAM_NUM_MAX 32 /* longest formatted number, with separator */
+
+/* ---- numbers ------------------------------------------------------------ */
+
+static char *foam_fmt_u64(char *p, uint64_t v)
+{
+    char tmp[24];
+    int n = 0;
+    do {
+        tmp[n++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    while (n)
+        *p++ = tmp[--n];
+    return p;
+}
+
+static char *foam_fmt_i64(char *p, int64_t v)
+{
+    if (v < 0) {
+        *p++ = '-';
+        return foam_fmt_u64(p, (uint64_t)0 - (uint64_t)v);
+    }
+    return foam_fmt_u64(p, (uint64_t)v);
+}
+
+#if LDBL_MANT_DIG >= 64
+/* 10^n for 0 <= n <= 27: exact in a 64-bit-mantissa long double
+ * (5^27 < 2^64). */
+static long double foam_pow10_small(int n)
+{
+    long double r = 1.0L;
+    for (int i = 0; i < n; i++)
+        r *= 10.0L;
+    return r;
+}
+
+/* v * 10^n, |n| <= 54: at most two roundings of relative size 2^-64. */
+static long double foam_scale10(long double v, int n)
+{
+    static long double pw[28];
+    static int ready = 0;
+    if (!ready) { /* benign: every thread computes the same exact values */
+        for (int i = 0; i < 28; i++)
+            pw[i] = foam_pow10_small(i);
+        ready = 1;
+    }
+    int a = n < 0 ? -n : n;
+    long double f = a > 27 ? pw[27] * pw[a - 27] : pw[a];
+    return n < 0 ? v / f : v * f;
+}
+#endif
+
+/* x with 17 significant digits in the style of printf's "%.17g" (fixed
+ * notation for exponents -4 .. 16, else d.ddde+XX; trailing zeros dropped).
+ * With a 64-bit long double mantissa the 17-digit integer is exact to
+ * within 0.51 units of its last digit, less than half a double ulp, so the
+ * text reads back as x. Otherwise, and for exponents beyond +-38, printf. */
+static char *foam_fmt_double(char *p, double x)
+{
+    if (x == 0) {
+        *p++ = '0';
+        return p;
+    }
+#if LDBL_MANT_DIG >= 64
+    double ax = fabs(x);
+    if (isfinite(x) && ax > 1e-38 && ax < 1e38) {
+        int e2;
+        (void)frexp(ax, &e2);
+        int k = (int)floor((e2 - 1) * 0.30102999566398120);
+        long double s = foam_scale10((long double)ax, 16 - k);
+        if (s < 1e16L) {
+            k--;
+            s = foam_scale10((long double)ax, 16 - k);
+        } else if (s >= 1e17L) {
+            k++;
+            s = foam_scale10((long double)ax, 16 - k);
+        }
+        uint64_t d = (uint64_t)(s + 0.5L);
+        if (d >= 100000000000000000ULL) {
+            d /= 10;
+            k++;
+        }
+        char dig[17];
+        for (int i = 16; i >= 0; i--) {
+            dig[i] = (char)('0' + d % 10);
+            d /= 10;
+        }
+        int nd = 17;
+        while (nd > 1 && dig[nd - 1] == '0')
+            nd--;
+        if (x < 0)
+            *p++ = '-';
+        if (k >= -4 && k < 17) {
+            if (k >= 0) {
+                for (int i = 0; i <= k; i++)
+                    *p++ = i < nd ? dig[i] : '0';
+                if (nd > k + 1) {
+                    *p++ = '.';
+                    for (int i = k + 1; i < nd; i++)
+                        *p++ = dig[i];
+                }
+            } else {
+                *p++ = '0';
+                *p++ = '.';
+                for (int i = 0; i < -k - 1; i++)
+                    *p++ = '0';
+                for (int i = 0; i < nd; i++)
+                    *p++ = dig[i];
+            }
+        } else {
+            *p++ = dig[0];
+            if (nd > 1) {
+                *p++ = '.';
+                for (int i = 1; i < nd; i++)
+                    *p++ = dig[i];
+            }
+            *p++ = 'e';
+            *p++ = k < 0 ? '-' : '+';
+            int ak = k < 0 ? -k : k;
+            if (ak < 10)
+                *p++ = '0';
+            p = foam_fmt_u64(p, (uint64_t)ak);
+        }
+        return p;
+    }
+#endif
+    return p + snprintf(p, FOAM_NUM_MAX, "%.17g", x);
+}
+
+/* Exposed for the unit test through a declaration there (not in io.h). */
+size_t vc_foam_format_double(char *out, double x);
+size_t vc_foam_format_double(char *out, double x)
+{
+    char *e = foam_fmt_double(out, x);
+    *e = 0;
+    return (size_t)(e - out);
+}
+
+/* ---- buffered output ---------------------------------------------------- */
+
+typedef struct foam_out {
+    FILE *fp;
+    char *buf;
+    size_t len, cap;
+    int err_no; /* first write error */
+} foam_out;
+
+static void foam_flush(foam_out *o)
+{
+    if (o->len && !o->err_no && fwrite(o->buf, 1, o->len, o->fp) != o->len)
+        o->err_no = errno ? errno : EIO;
+    o->len = 0;
+}
+
+/* Room for need more bytes at o->buf + o->len; 0 on success. */
+static int foam_reserve(foam_out *o, size_t need)
+{
+    if (o->len + need <= o->cap)
+        return 0;
+    foam_flush(o);
+    if (need > o->cap) {
+        char *b = realloc(o->buf, need);
+        if (!b)
+            return -1;
+        o->buf = b;
+        o->cap = need;
+    }
+    return 0;
+}
+
+static void foam_puts(foam_out *o, const char *s)
+{
+    size_t n = strlen(s);
+    if (foam_reserve(o, n) == 0) {
+        memcpy(o->buf + o->len, s, n);
+        o->len += n;
+    } else if (!o->err_no) {
+        o->err_no = ENOMEM;
+    }
+}
+
+/* The FoamFile header. note may be NULL. */
+static void foam_header(foam_out *o, const char *cls, const char *location, const char *object,
+                        const char *note)
+{
+    char h[1024];
+    snprintf(h, sizeof h,
+             "/* OpenFOAM mesh file written by vorocrust (conforming Voronoi mesh) */\n"
+             "FoamFile\n"
+             "{\n"
+             "    version     2.0;\n"
+             "    format      ascii;\n"
+             "    class       %s;\n"
+             "%s%s%s"
+             "    location    \"%s\";\n"
+             "    object      %s;\n"
+             "}\n\n",
+             cls, note ? "    note        \"" : "", note ? note : "", note ? "\";\n" : "",
+             location, object);
+    foam_puts(o, h);
+}
+
+/* ---- patches -------------------------------------------------------------- */
+
+enum { FOAM_KEY_SURFACE = 0, FOAM_KEY_WALL0 = 1, FOAM_N_KEYS = 7 };
+static const char *const foam_key_names[FOAM_N_KEYS] = {"surface", "xmin", "xmax", "ymin",
+                                                        "ymax",    "zmin", "zmax"};
+
+/* The one place that decides a boundary face's patch: its key in
+ * foam_key_names, or -1 for an unknown wall code. */
+static int foam_patch_key(const vc_polymesh *m, int64_t f)
+{
+    int64_t o = m->face_other_seed ? m->face_other_seed[f] : 0;
+    if (o >= 0)
+        return FOAM_KEY_SURFACE;
+    int64_t k = VC_WALL_XMIN - o;
+    if (k >= 0 && k < 6)
+        return FOAM_KEY_WALL0 + (int)k;
+    return -1;
+}
+
+/* ---- the mesh as OpenFOAM sees it ---------------------------------------- */
+
+typedef struct foam_plan {
+    int64_t n_points;   /* used points */
+    int64_t *point_map; /* old index -> written index, or NULL if all used */
+    int64_t *point_of;  /* written index -> old index, or NULL */
+    int64_t n_faces, n_internal;
+    int64_t *order;      /* written face -> mesh face */
+    unsigned char *flip; /* written interior face is reversed (owner/neighbour swapped) */
+    int n_patches;
+    const char *patch_name[FOAM_N_KEYS];
+    int64_t patch_size[FOAM_N_KEYS], patch_start[FOAM_N_KEYS];
+} foam_plan;
+
+static void foam_plan_free(foam_plan *pl)
+{
+    free(pl->point_map);
+    free(pl->point_of);
+    free(pl->order);
+    free(pl->flip);
+    memset(pl, 0, sizeof *pl);
+}
+
+static const vc_polymesh *foam_sort_mesh; /* qsort has no context argument */
+static const unsigned char *foam_sort_flip;
+
+static void foam_face_cells(const vc_polymesh *m, const unsigned char *flip, int64_t f,
+                            int64_t *own, int64_t *nei)
+{
+    int64_t a = m->face_owner[f], b = m->face_neighbour[f];
+    if (flip[f]) {
+        *own = b;
+        *nei = a;
+    } else {
+        *own = a;
+        *nei = b;
+    }
+}
+
+static int foam_cmp_interior(const void *pa, const void *pb)
+{
+    int64_t fa = *(const int64_t *)pa, fb = *(const int64_t *)pb;
+    int64_t oa, na, ob, nb;
+    foam_face_cells(foam_sort_mesh, foam_sort_flip, fa, &oa, &na);
+    foam_face_cells(foam_sort_mesh, foam_sort_flip, fb, &ob, &nb);
+    if (oa != ob)
+        return oa < ob ? -1 : 1;
+    if (na != nb)
+        return na < nb ? -1 : 1;
+    return fa < fb ? -1 : fa > fb;
+}
+
+static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl, vc_error *err)
+{
+    memset(pl, 0, sizeof *pl);
+    if (m->n_points < 0 || m->n_faces < 0 || m->n_cells <= 0 || m->n_interior_faces < 0 ||
+        m->n_interior_faces > m->n_faces)
+        return vc_error_set(err, VC_EINPUT, "%s: bad mesh counts (%" PRId64 " points, %" PRId64
+                            " faces, %" PRId64 " interior, %" PRId64 " cells)",
+                            path, m->n_points, m->n_faces, m->n_interior_faces, m->n_cells);
+    if (!m->points || !m->face_offsets || !m->face_vertices || !m->face_owner ||
+        (m->n_interior_faces > 0 && !m->face_neighbour))
+        return vc_error_set(err, VC_EINPUT, "%s: mesh lacks points or faces", path);
+    int64_t nf = m->n_faces, ni = m->n_interior_faces;
+    pl->n_faces = nf;
+    pl->n_internal = ni;
+    pl->order = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *pl->order);
+    pl->flip = calloc((size_t)(nf > 0 ? nf : 1), 1);
+    unsigned char *used = calloc((size_t)(m->n_points > 0 ? m->n_points : 1), 1);
+    int *key = malloc((size_t)(nf - ni > 0 ? nf - ni : 1) * sizeof *key);
+    if (!pl->order || !pl->flip || !used || !key) {
+        free(used);
+        free(key);
+        foam_plan_free(pl);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    }
+    int rc = VC_OK;
+    for (int64_t f = 0; f < nf && rc == VC_OK; f++) {
+        int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+        int64_t own = m->face_owner[f], nei = f < ni ? m->face_neighbour[f] : -1;
+        if (e - b < 3 || b < 0)
+            rc = vc_error_set(err, VC_EINPUT, "%s: face %" PRId64 " has %" PRId64 " vertices",
+                              path, f, e - b);
+        else if (own < 0 || own >= m->n_cells || (f < ni && (nei < 0 || nei >= m->n_cells)))
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: face %" PRId64 " has cells %" PRId64 ", %" PRId64
+                              " (of %" PRId64 ")",
+                              path, f, own, nei, m->n_cells);
+        else if (f < ni && own == nei)
+            rc = vc_error_set(err, VC_EINPUT, "%s: interior face %" PRId64
+                              " has cell %" PRId64 " on both sides", path, f, own);
+        for (int64_t i = b; i < e && rc == VC_OK; i++) {
+            int64_t v = m->face_vertices[i];
+            if (v < 0 || v >= m->n_points)
+                rc = vc_error_set(err, VC_EINPUT, "%s: face %" PRId64 " has vertex %" PRId64
+                                  " (of %" PRId64 ")", path, f, v, m->n_points);
+            else
+                used[v] = 1;
+        }
+        if (rc == VC_OK && f >= ni) {
+            key[f - ni] = foam_patch_key(m, f);
+            if (key[f - ni] < 0)
+                rc = vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64
+                                  " has an unknown wall code %" PRId64, path, f,
+                                  m->face_other_seed[f]);
+        }
+    }
+    for (int64_t i = 0; i < m->n_points && rc == VC_OK; i++)
+        if (!isfinite(m->points[3 * i]) || !isfinite(m->points[3 * i + 1]) ||
+            !isfinite(m->points[3 * i + 2]))
+            rc = vc_error_set(err, VC_EINPUT, "%s: point %" PRId64 " is not finite", path, i);
+    if (rc != VC_OK) {
+        free(used);
+        free(key);
+        foam_plan_free(pl);
+        return rc;
+    }
+
+    /* Points: OpenFOAM counts unused points as an error; drop them. */
+    int64_t n_used = 0;
+    for (int64_t i = 0; i < m->n_points; i++)
+        n_used += used[i];
+    pl->n_points = n_used;
+    if (n_used < m->n_points) {
+        pl->point_map = malloc((size_t)m->n_points * sizeof *pl->point_map);
+        pl->point_of = malloc((size_t)(n_used > 0 ? n_used : 1) * sizeof *pl->point_of);
+        if (!pl->point_map || !pl->point_of) {
+            free(used);
+            free(key);
+            foam_plan_free(pl);
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+        }
+        int64_t k = 0;
+        for (int64_t i = 0; i < m->n_points; i++) {
+            pl->point_map[i] = used[i] ? k : -1;
+            if (used[i])
+                pl->point_of[k++] = i;
+        }
+    }
+    free(used);
+
+    /* Interior faces: owner < neighbour, upper-triangular order. */
+    int sorted = 1;
+    int64_t po = -1, pn = -1;
+    for (int64_t f = 0; f < ni; f++) {
+        pl->flip[f] = m->face_owner[f] > m->face_neighbour[f];
+        pl->order[f] = f;
+        int64_t o, n;
+        foam_face_cells(m, pl->flip, f, &o, &n);
+        if (o < po || (o == po && n <= pn))
+            sorted = 0; /* equal pairs (two faces between two cells) also land here */
+        po = o;
+        pn = n;
+    }
+    if (!sorted) {
+        foam_sort_mesh = m;
+        foam_sort_flip = pl->flip;
+        qsort(pl->order, (size_t)ni, sizeof *pl->order, foam_cmp_interior);
+        for (int64_t f = 1; f < ni; f++) {
+            int64_t oa, na, ob, nb;
+            foam_face_cells(m, pl->flip, pl->order[f - 1], &oa, &na);
+            foam_face_cells(m, pl->flip, pl->order[f], &ob, &nb);
+            if (oa == ob && na == nb) {
+                rc = vc_error_set(err, VC_EINPUT, "%s: cells %" PRId64 " and %" PRId64
+                                  " share more than one face", path, oa, na);
+                break;
+            }
+        }
+    }
+
+    /* Boundary faces: grouped by patch key, mesh order within a patch. */
+    int64_t count[FOAM_N_KEYS] = {0}, next[FOAM_N_KEYS];
+    for (int64_t f = ni; f < nf; f++)
+        count[key[f - ni]]++;
+    int64_t start = ni;
+    for (int k = 0; k < FOAM_N_KEYS; k++) {
+        next[k] = start;
+        if (count[k] > 0) {
+            pl->patch_name[pl->n_patches] = foam_key_names[k];
+            pl->patch_size[pl->n_patches] = count[k];
+            pl->patch_start[pl->n_patches] = start;
+            pl->n_patches++;
+        }
+        start += count[k];
+    }
+    for (int64_t f = ni; f < nf; f++)
+        pl->order[next[key[f - ni]]++] = f;
+    free(key);
+    if (rc != VC_OK)
+        foam_plan_free(pl);
+    return rc;
+}
+
+/* ---- the files ------------------------------------------------------------ */
+
+static void foam_write_points(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
+{
+    foam_header(o, "vectorField", "constant/polyMesh", "points", NULL);
+    char *p;
+    if (foam_reserve(o, 64) != 0)
+        goto nomem;
+    p = foam_fmt_i64(o->buf + o->len, pl->n_points);
+    *p++ = '\n';
+    *p++ = '(';
+    *p++ = '\n';
+    o->len = (size_t)(p - o->buf);
+    for (int64_t i = 0; i < pl->n_points; i++) {
+        const double *x = m->points + 3 * (pl->point_of ? pl->point_of[i] : i);
+        if (foam_reserve(o, 3 * FOAM_NUM_MAX + 8) != 0)
+            goto nomem;
+        p = o->buf + o->len;
+        *p++ = '(';
+        p = foam_fmt_double(p, x[0]);
+        *p++ = ' ';
+        p = foam_fmt_double(p, x[1]);
+        *p++ = ' ';
+        p = foam_fmt_double(p, x[2]);
+        *p++ = ')';
+        *p++ = '\n';
+        o->len = (size_t)(p - o->buf);
+    }
+    foam_puts(o, ")\n");
+    return;
+nomem:
+    if (!o->err_no)
+        o->err_no = ENOMEM;
+}
+
+static void foam_write_faces(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
+{
+    foam_header(o, "faceList", "constant/polyMesh", "faces", NULL);
+    char *p;
+    if (foam_reserve(o, 64) != 0)
+        goto nomem;
+    p = foam_fmt_i64(o->buf + o->len, pl->n_faces);
+    *p++ = '\n';
+    *p++ = '(';
+    *p++ = '\n';
+    o->len = (size_t)(p - o->buf);
+    for (int64_t i = 0; i < pl->n_faces; i++) {
+        int64_t f = pl->order[i];
+        int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1], n = e - b;
+        if (foam_reserve(o, (size_t)(n + 2) * 21 + 8) != 0)
+            goto nomem;
+        p = o->buf + o->len;
+        p = foam_fmt_i64(p, n);
+        *p++ = '(';
+        for (int64_t j = 0; j < n; j++) {
+            /* A flipped face is written in reverse, starting at the same vertex. */
+            int64_t v = m->face_vertices[pl->flip[f] ? (j == 0 ? b : e - j) : b + j];
+            if (pl->point_map)
+                v = pl->point_map[v];
+            if (j)
+                *p++ = ' ';
+            p = foam_fmt_i64(p, v);
+        }
+        *p++ = ')';
+        *p++ = '\n';
+        o->len = (size_t)(p - o->buf);
+    }
+    foam_puts(o, ")\n");
+    return;
+nomem:
+    if (!o->err_no)
+        o->err_no = ENOMEM;
+}
+
+/* owner (every face) or neighbour (interior faces). */
+static void foam_write_cells(foam_out *o, const vc_polymesh *m, const foam_plan *pl, int owner)
+{
+    char note[256];
+    snprintf(note, sizeof note,
+             "nPoints:%" PRId64 "  nCells:%" PRId64 "  nFaces:%" PRId64
+             "  nInternalFaces:%" PRId64,
+             pl->n_points, m->n_cells, pl->n_faces, pl->n_internal);
+    foam_header(o, "labelList", "constant/polyMesh", owner ? "owner" : "neighbour", note);
+    int64_t n = owner ? pl->n_faces : pl->n_internal;
+    char *p;
+    if (foam_reserve(o, 64) != 0)
+        goto nomem;
+    p = foam_fmt_i64(o->buf + o->len, n);
+    *p++ = '\n';
+    *p++ = '(';
+    *p++ = '\n';
+    o->len = (size_t)(p - o->buf);
+    for (int64_t i = 0; i < n; i++) {
+        int64_t f = pl->order[i], c;
+        if (i < pl->n_internal) {
+            int64_t own, nei;
+            foam_face_cells(m, pl->flip, f, &own, &nei);
+            c = owner ? own : nei;
+        } else {
+            c = m->face_owner[f];
+        }
+        if (foam_reserve(o, 24) != 0)
+            goto nomem;
+        p = foam_fmt_i64(o->buf + o->len, c);
+        *p++ = '\n';
+        o->len = (size_t)(p - o->buf);
+    }
+    foam_puts(o, ")\n");
+    return;
+nomem:
+    if (!o->err_no)
+        o->err_no = ENOMEM;
+}
+
+static void foam_write_boundary(foam_out *o, const foam_plan *pl)
+{
+    foam_header(o, "polyBoundaryMesh", "constant/polyMesh", "boundary", NULL);
+    char line[256];
+    snprintf(line, sizeof line, "%d\n(\n", pl->n_patches);
+    foam_puts(o, line);
+    for (int k = 0; k < pl->n_patches; k++) {
+        snprintf(line, sizeof line,
+                 "    %s\n    {\n        type            patch;\n"
+                 "        nFaces          %" PRId64 ";\n        startFace       %" PRId64
+                 ";\n    }\n",
+                 pl->patch_name[k], pl->patch_size[k], pl->patch_start[k]);
+        foam_puts(o, line);
+    }
+    foam_puts(o, ")\n");
+}
+
+/* The system/ files OpenFOAM's mesh tools need (checkMesh reads all
+ * three): minimal, for the user to complete for a solver run. */
+enum { FOAM_N_SYSTEM = 3 };
+static const char *const foam_system_files[FOAM_N_SYSTEM] = {"controlDict", "fvSchemes",
+                                                             "fvSolution"};
+
+static void foam_write_system(foam_out *o, int which)
+{
+    foam_header(o, "dictionary", "system", foam_system_files[which], NULL);
+    if (which == 0)
+        foam_puts(o,
+                  "// Minimal settings, enough for checkMesh and the mesh utilities;\n"
+                  "// set application, endTime, deltaT etc. for a solver run.\n"
+                  "startFrom       startTime;\n"
+                  "startTime       0;\n"
+                  "stopAt          endTime;\n"
+                  "endTime         1;\n"
+                  "deltaT          1;\n"
+                  "writeControl    timeStep;\n"
+                  "writeInterval   1;\n"
+                  "purgeWrite      0;\n"
+                  "writeFormat     ascii;\n"
+                  "writePrecision  17;\n"
+                  "writeCompression off;\n"
+                  "timeFormat      general;\n"
+                  "timePrecision   6;\n"
+                  "runTimeModifiable false;\n");
+    else if (which == 1)
+        foam_puts(o,
+                  "// Placeholder discretisation schemes: choose them for your solver.\n"
+                  "ddtSchemes           { default Euler; }\n"
+                  "gradSchemes          { default Gauss linear; }\n"
+                  "divSchemes           { default none; }\n"
+                  "laplacianSchemes     { default Gauss linear corrected; }\n"
+                  "interpolationSchemes { default linear; }\n"
+                  "snGradSchemes        { default corrected; }\n");
+    else
+        foam_puts(o, "// Placeholder: add the solvers and algorithm settings of your solver.\n"
+                     "solvers\n{\n}\n");
+}
+
+/* ---- files and directories ------------------------------------------------ */
+
+static char *foam_join(const char *a, const char *b)
+{
+    size_t na = strlen(a), nb = strlen(b);
+    char *s = malloc(na + nb + 2);
+    if (!s)
+        return NULL;
+    memcpy(s, a, na);
+    s[na] = '/';
+    memcpy(s + na + 1, b, nb + 1);
+    return s;
+}
+
+/* Removes path and, for a directory, everything under it (no symlink is
+ * followed). Errors are ignored: this is cleanup. */
+static void foam_remove_tree(const char *path, int depth)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return;
+    if (S_ISDIR(st.st_mode) && depth < 32) {
+        DIR *d = opendir(path);
+        if (d) {
+            struct dirent *e;
+            while ((e = readdir(d)) != NULL) {
+                if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+                    continue;
+                char *sub = foam_join(path, e->d_name);
+                if (sub) {
+                    foam_remove_tree(sub, depth + 1);
+                    free(sub);
+                }
+            }
+            closedir(d);
+        }
+        rmdir(path);
+    } else {
+        unlink(path);
+    }
+}
+
+typedef enum { FOAM_POINTS, FOAM_FACES, FOAM_OWNER, FOAM_NEIGHBOUR, FOAM_BOUNDARY,
+               FOAM_SYSTEM0 } foam_file; /* FOAM_SYSTEM0 + i: foam_system_files[i] */
+
+/* Writes one file at path (a fresh name in a staging directory, or a
+ * vc_tmpfile when tmp is set). report names the file in messages. */
+static int foam_write_file(const char *path, const char *report, foam_file what,
+                           const vc_polymesh *m, const foam_plan *pl, int tmp, vc_error *err)
+{
+    vc_tmpfile t = {0};
+    FILE *fp;
+    if (tmp) {
+        if (vc_tmpfile_open(&t, path, err) != 0)
+            return err ? err->code : VC_EIO;
+        fp = (FILE *)t.fp;
+    } else {
+        fp = fopen(path, "wb");
+        if (!fp)
+            return vc_error_set(err, VC_EIO, "%s: cannot write: %s", report, strerror(errno));
+    }
+    foam_out o = {fp, malloc(FOAM_BUF), 0, FOAM_BUF, 0};
+    if (!o.buf) {
+        if (tmp)
+            vc_tmpfile_abort(&t);
+        else
+            fclose(fp);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", report);
+    }
+    switch (what) {
+    case FOAM_POINTS: foam_write_points(&o, m, pl); break;
+    case FOAM_FACES: foam_write_faces(&o, m, pl); break;
+    case FOAM_OWNER: foam_write_cells(&o, m, pl, 1); break;
+    case FOAM_NEIGHBOUR: foam_write_cells(&o, m, pl, 0); break;
+    case FOAM_BOUNDARY: foam_write_boundary(&o, pl); break;
+    default: foam_write_system(&o, (int)what - FOAM_SYSTEM0); break;
+    }
+    foam_flush(&o);
+    free(o.buf);
+    int e = o.err_no;
+    if (tmp) {
+        if (e) {
+            vc_tmpfile_abort(&t);
+        } else if (vc_tmpfile_commit(&t, err) != 0) {
+            return err ? err->code : VC_EIO; /* the message names the path */
+        }
+    } else {
+        if (fflush(fp) != 0 && !e)
+            e = errno ? errno : EIO;
+        if (fclose(fp) != 0 && !e)
+            e = errno ? errno : EIO;
+    }
+    if (e == ENOMEM)
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", report);
+    if (e)
+        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", report, strerror(e));
+    return VC_OK;
+}
+
+static const char *const foam_mesh_files[5] = {"points", "faces", "owner", "neighbour",
+                                               "boundary"};
+
+/* Writes the five polyMesh files into the existing directory dir. */
+static int foam_write_polymesh(const char *dir, const char *case_dir, const vc_polymesh *m,
+                               const foam_plan *pl, vc_error *err)
+{
+    for (int i = 0; i < 5; i++) {
+        char *path = foam_join(dir, foam_mesh_files[i]);
+        char report[4200];
+        snprintf(report, sizeof report, "%s/constant/polyMesh/%s", case_dir,
+                 foam_mesh_files[i]);
+        if (!path)
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+        int rc = foam_write_file(path, report, (foam_file)i, m, pl, 0, err);
+        free(path);
+        if (rc != VC_OK)
+            return rc;
+    }
+    return VC_OK;
+}
+
+/* The process umask, read without changing it (Linux); 022 elsewhere. */
+static mode_t foam_umask(void)
+{
+    FILE *fp = fopen("/proc/self/status", "r");
+    if (fp) {
+        char line[256];
+        unsigned int mask;
+        while (fgets(line, sizeof line, fp)) {
+            if (sscanf(line, "Umask: %o", &mask) == 1) {
+                fclose(fp);
+                return (mode_t)(mask & 0777);
+            }
+        }
+        fclose(fp);
+    }
+    return 022;
+}
+
+/* Writes the system/ files into the directory dir; with only_missing, the
+ * ones that do not exist yet, each through a temporary file. added[i] tells
+ * which were written. */
+static int foam_write_system_files(const char *dir, const char *case_dir, const vc_polymesh *m,
+                                   const foam_plan *pl, int only_missing, int *added,
+                                   vc_error *err)
+{
+    for (int i = 0; i < FOAM_N_SYSTEM; i++)
+        added[i] = 0;
+    for (int i = 0; i < FOAM_N_SYSTEM; i++) {
+        char *path = foam_join(dir, foam_system_files[i]);
+        char report[4200];
+        snprintf(report, sizeof report, "%s/system/%s", case_dir, foam_system_files[i]);
+        if (!path)
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+        struct stat st;
+        int rc = VC_OK;
+        if (!only_missing || lstat(path, &st) != 0) {
+            rc = foam_write_file(path, report,
+                                 (foam_file)(FOAM_SYSTEM0 + i), m, pl, only_missing, err);
+            added[i] = rc == VC_OK;
+        }
+        free(path);
+        if (rc != VC_OK)
+            return rc;
+    }
+    return VC_OK;
+}
+
+static int foam_mkdir(const char *path, const char *report, vc_error *err)
+{
+    if (mkdir(path, 0777) != 0)
+        return vc_error_set(err, VC_EIO, "%s: cannot create: %s", report, strerror(errno));
+    return VC_OK;
+}
+
+/* A new case: everything in CASE_DIR.tmp.XXXXXX, renamed at the end. */
+static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const foam_plan *pl,
+                               vc_error *err)
+{
+    size_t n = strlen(case_dir);
+    char *stage = malloc(n + sizeof ".tmp.XXXXXX");
+    if (!stage)
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+    memcpy(stage, case_dir, n);
+    memcpy(stage + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
+    if (!mkdtemp(stage)) {
+        int e = errno;
+        free(stage);
+        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(e));
+    }
+    (void)chmod(stage, 0777 & ~foam_umask()); /* mkdtemp gives 0700 */
+    char *constant = foam_join(stage, "constant");
+    char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
+    char *system = foam_join(stage, "system");
+    int added[FOAM_N_SYSTEM];
+    int rc = VC_OK;
+    if (!constant || !poly || !system)
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+    if (rc == VC_OK)
+        rc = foam_mkdir(constant, case_dir, err);
+    if (rc == VC_OK)
+        rc = foam_mkdir(poly, case_dir, err);
+    if (rc == VC_OK)
+        rc = foam_mkdir(system, case_dir, err);
+    if (rc == VC_OK)
+        rc = foam_write_polymesh(poly, case_dir, m, pl, err);
+    if (rc == VC_OK)
+        rc = foam_write_system_files(system, case_dir, m, pl, 0, added, err);
+    if (rc == VC_OK && rename(stage, case_dir) != 0)
+        rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(errno));
+    if (rc != VC_OK)
+        foam_remove_tree(stage, 0);
+    free(constant);
+    free(poly);
+    free(system);
+    free(stage);
+    return rc;
+}
+
+/* An existing case directory: a new constant/polyMesh swapped in, and
+ * system/controlDict added when missing. */
+static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, const foam_plan *pl,
+                                vc_error *err)
+{
+    char *constant = foam_join(case_dir, "constant");
+    char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
+    char *system = foam_join(case_dir, "system");
+    char *stage = NULL, *old = NULL;
+    int made_constant = 0, made_system = 0, have_old = 0;
+    int added[FOAM_N_SYSTEM] = {0};
+    struct stat st;
+    int rc = VC_OK;
+    if (!constant || !poly || !system)
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+
+    /* constant/ and constant/polyMesh must be directories when present. */
+    if (rc == VC_OK) {
+        if (stat(constant, &st) == 0) {
+            if (!S_ISDIR(st.st_mode))
+                rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", constant);
+        } else if (errno == ENOENT) {
+            rc = foam_mkdir(constant, constant, err);
+            made_constant = rc == VC_OK;
+        } else {
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", constant, strerror(errno));
+        }
+    }
+    if (rc == VC_OK) {
+        if (lstat(poly, &st) == 0) {
+            if (!S_ISDIR(st.st_mode))
+                rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", poly);
+            else
+                have_old = 1;
+        } else if (errno != ENOENT) {
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
+        }
+    }
+    if (rc == VC_OK) {
+        size_t n = strlen(poly);
+        stage = malloc(n + sizeof ".tmp.XXXXXX");
+        old = malloc(n + sizeof ".old.XXXXXX");
+        if (!stage || !old) {
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+        } else {
+            memcpy(stage, poly, n);
+            memcpy(stage + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
+            memcpy(old, poly, n);
+            memcpy(old + n, ".old.XXXXXX", sizeof ".old.XXXXXX");
+            if (!mkdtemp(stage)) {
+                rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
+                free(stage);
+                stage = NULL;
+            } else {
+                (void)chmod(stage, 0777 & ~foam_umask()); /* mkdtemp gives 0700 */
+            }
+        }
+    }
+    if (rc == VC_OK)
+        rc = foam_write_polymesh(stage, case_dir, m, pl, err);
+
+    /* The system/ files, only those missing. */
+    if (rc == VC_OK) {
+        if (stat(system, &st) != 0) {
+            rc = foam_mkdir(system, system, err);
+            made_system = rc == VC_OK;
+        } else if (!S_ISDIR(st.st_mode)) {
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", system);
+        }
+    }
+    if (rc == VC_OK)
+        rc = foam_write_system_files(system, case_dir, m, pl, 1, added, err);
+
+    /* The swap: old polyMesh aside, new one in, old one removed. */
+    if (rc == VC_OK && have_old) {
+        if (!mkdtemp(old))
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
+        else if (rename(poly, old) != 0) {
+            rc = vc_error_set(err, VC_EIO, "%s: cannot replace: %s", poly, strerror(errno));
+            rmdir(old);
+        }
+    }
+    if (rc == VC_OK && rename(stage, poly) != 0) {
+        rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
+        if (have_old)
+            (void)rename(old, poly); /* put the old mesh back */
+    }
+    if (rc == VC_OK) {
+        if (have_old)
+            foam_remove_tree(old, 0);
+    } else {
+        if (stage)
+            foam_remove_tree(stage, 0);
+        for (int i = 0; i < FOAM_N_SYSTEM && system; i++)
+            if (added[i]) {
+                char *f = foam_join(system, foam_system_files[i]);
+                if (f)
+                    unlink(f);
+                free(f);
+            }
+        if (made_system)
+            rmdir(system);
+        if (made_constant)
+            rmdir(constant);
+    }
+    free(constant);
+    free(poly);
+    free(system);
+    free(stage);
+    free(old);
+    return rc;
+}
+
+int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err)
+{
+    if (!m || !case_dir || !*case_dir)
+        return vc_error_set(err, VC_EPARAM, "OpenFOAM case directory is empty");
+    /* "case/" names the same directory as "case"; the staging name needs the
+     * latter. */
+    size_t n = strlen(case_dir);
+    while (n > 1 && case_dir[n - 1] == '/')
+        n--;
+    char *dir = malloc(n + 1);
+    if (!dir)
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
+    memcpy(dir, case_dir, n);
+    dir[n] = 0;
+    case_dir = dir;
+    foam_plan pl;
+    int rc = foam_plan_build(m, case_dir, &pl, err);
+    if (rc != VC_OK) {
+        free(dir);
+        return rc;
+    }
+    struct stat st;
+    if (stat(case_dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", case_dir);
+        else
+            rc = foam_write_into_case(case_dir, m, &pl, err);
+    } else if (errno == ENOENT) {
+        rc = foam_write_new_case(case_dir, m, &pl, err);
+    } else {
+        rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(errno));
+    }
+    foam_plan_free(&pl);
+    free(dir);
+    return rc;
+}
