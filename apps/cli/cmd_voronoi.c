@@ -44,6 +44,28 @@ static int takes_value(const char *a)
     return 0;
 }
 
+/* Whether the directory that would hold path (trailing slashes ignored)
+ * exists, is a directory and is writable. */
+static int parent_directory_writable(const char *path)
+{
+    char dir[4096];
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        n--;
+    while (n > 0 && path[n - 1] != '/')
+        n--;
+    while (n > 1 && path[n - 1] == '/')
+        n--;
+    if (n == 0)
+        return access(".", W_OK | X_OK) == 0;
+    if (n >= sizeof dir)
+        return 0;
+    memcpy(dir, path, n);
+    dir[n] = 0;
+    struct stat st;
+    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) && access(dir, W_OK | X_OK) == 0;
+}
+
 int vc_cmd_voronoi(int argc, char **argv)
 {
     const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL, *foam_path = NULL;
@@ -160,7 +182,7 @@ int vc_cmd_voronoi(int argc, char **argv)
                         strerror(errno));
                 return 1;
             }
-        } else if (!vc_cli_directory_writable(foam_path)) {
+        } else if (!parent_directory_writable(foam_path)) {
             fprintf(stderr,
                     "vorocrust: %s: cannot write the OpenFOAM case: directory missing or not "
                     "writable\n",

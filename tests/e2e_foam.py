@@ -1,0 +1,517 @@
+"""End-to-end tests of the OpenFOAM output, `vorocrust voronoi --foam CASE_DIR`.
+
+Every case is judged by OpenFOAM's own checkMesh (Debian package openfoam:
+exit 0 and "Mesh OK.") and read back here: the FoamFile headers (class,
+object, the owner/neighbour note), the counts against the .vtu of the same
+run (read with VTK 9.1), every point equal to the .vtu's (17 digits read
+back exactly), every cell's faces equal to the .vtu cell's faces with the
+same orientation, owner < neighbour in upper-triangular order, every face
+pointing from its owner's centre towards its neighbour's (or out of the
+domain), boundary patches contiguous after the interior faces and summing to
+the boundary face count, wall patches on their wall.
+
+Meshes: (a) random seeds in a box (with a minimum spacing, and
+uniform ones, whose Voronoi cells may fail checkMesh's skewness limit: the
+only failure allowed there), (b) a cubic lattice (hexahedra),
+(c) models/ball-seeds.csv (co-spherical VoroCrust seeds, patch "surface"),
+(d) labelled seeds with label 0 (patch "surface" and wall patches),
+(e) writing into an existing case (polyMesh replaced, the user's system/
+files and 0/ kept). Bad cases: CASE_DIR's parent missing, CASE_DIR a file,
+constant/polyMesh a file in an existing case (fails after the .vtu is
+written: no output is left).
+
+checkMesh: $VC_CHECKMESH if set; otherwise the OpenFOAM environment script
+(etc/bashrc of /usr/share/openfoam on Debian 12, or /usr/lib/openfoam/
+openfoam*/, /opt/openfoam*/, ...) is sourced once and checkMesh found on
+its PATH. Debian 12 installs /usr/bin/checkMesh, which needs WM_PROJECT_DIR
+(set by the script) to find its etc/controlDict.
+
+Environment: VC_BIN, VC_SOURCE, VC_TMP.
+"""
+import glob
+import math
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import vtk  # noqa: E402
+import vtkcheck  # noqa: E402
+
+BIN = os.environ["VC_BIN"]
+SOURCE = os.environ["VC_SOURCE"]
+TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_foam")
+shutil.rmtree(TMP, ignore_errors=True)
+os.makedirs(TMP)
+failures = []
+summary = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+    return cond
+
+
+# ---- checkMesh -----------------------------------------------------------
+
+def find_checkmesh():
+    """(path of checkMesh, environment to run it in), or exits with a clear
+    message."""
+    env = dict(os.environ)
+    scripts = []
+    for pattern in ("/usr/lib/openfoam/openfoam*/etc/bashrc", "/usr/share/openfoam/etc/bashrc",
+                    "/usr/lib/openfoam*/etc/bashrc", "/opt/openfoam*/etc/bashrc",
+                    "/opt/OpenFOAM/OpenFOAM-*/etc/bashrc", "/usr/local/OpenFOAM/*/etc/bashrc"):
+        scripts += sorted(glob.glob(pattern), reverse=True)  # newest version first
+    tried = []
+    for script in scripts:
+        p = subprocess.run(["bash", "-c", 'source "$0" >/dev/null 2>&1; env -0', script],
+                           capture_output=True, timeout=60)
+        tried.append(script)
+        if p.returncode != 0:
+            continue
+        senv = dict(kv.split("=", 1) for kv in p.stdout.decode().split("\0") if "=" in kv)
+        if "WM_PROJECT_DIR" in senv:
+            env = senv
+            break
+    exe = os.environ.get("VC_CHECKMESH") or shutil.which("checkMesh", path=env.get("PATH"))
+    if not exe or not os.access(exe, os.X_OK):
+        print("FAIL: OpenFOAM's checkMesh not found (set VC_CHECKMESH, or install the Debian "
+              "package openfoam: bash .ci/install-deps); environment scripts tried: %s"
+              % (", ".join(tried) or "none found"), file=sys.stderr)
+        sys.exit(1)
+    if "WM_PROJECT_DIR" not in env:
+        print("FAIL: %s: no OpenFOAM environment script (etc/bashrc) found, checkMesh cannot "
+              "find its etc/ files" % exe, file=sys.stderr)
+        sys.exit(1)
+    # The sanitizer settings of the ASan build are not meant for OpenFOAM.
+    for k in ("ASAN_OPTIONS", "UBSAN_OPTIONS", "LD_PRELOAD"):
+        env.pop(k, None)
+    return exe, env
+
+
+CHECKMESH, FOAM_ENV = find_checkmesh()
+print("checkMesh: %s (WM_PROJECT_DIR=%s)" % (CHECKMESH, FOAM_ENV.get("WM_PROJECT_DIR")))
+
+
+def checkmesh(name, case, cells, allow_skew=False):
+    p = subprocess.run([CHECKMESH, "-case", case], capture_output=True, text=True,
+                       env=FOAM_ENV, cwd=TMP, timeout=600)
+    out = p.stdout + p.stderr
+    with open(os.path.join(TMP, name + ".checkMesh.log"), "w") as f:
+        f.write(out)
+    failed = [ln.strip() for ln in out.split("\n") if ln.strip().startswith("***")]
+    if allow_skew and p.returncode == 0 and "\nFailed 1 mesh checks." in out and \
+            len(failed) == 1 and "highly skew faces" in failed[0]:
+        summary.append("%s: checkMesh fails only the skewness check: %s" % (name, failed[0]))
+        ok = True
+    else:
+        ok = check(p.returncode == 0 and "\nMesh OK." in out and "Failed" not in out
+                   and not failed, "%s: checkMesh exit %d, no 'Mesh OK.':\n%s"
+                   % (name, p.returncode, out[-3000:]))
+    m = re.search(r"^\s*cells:\s+(\d+)", out, re.M)
+    check(m and int(m.group(1)) == cells, "%s: checkMesh counts %s cells, expected %d"
+          % (name, m.group(1) if m else "no", cells))
+
+    def grab(pattern):
+        mm = re.search(pattern, out, re.M)
+        return mm.group(1) if mm else "?"
+    summary.append("%s: checkMesh %s; cells %s, faces %s (internal %s), points %s; "
+                   "non-orthogonality max %s, skewness max %s, aspect ratio max %s"
+                   % (name, "Mesh OK." if "\nMesh OK." in out else
+                      "allowed failure (skewness)" if ok else "FAILED", grab(r"^\s*cells:\s+(\d+)"),
+                      grab(r"^\s*faces:\s+(\d+)"), grab(r"^\s*internal faces:\s+(\d+)"),
+                      grab(r"^\s*points:\s+(\d+)"), grab(r"non-orthogonality Max: ([\d.e+-]+)"),
+                      grab(r"Max skewness = ([\d.e+-]+)"), grab(r"Max aspect ratio = ([\d.e+-]+)")))
+    return out
+
+
+# ---- the files ------------------------------------------------------------
+
+def read_foam(path):
+    """(header dict, body text) of an ASCII OpenFOAM file, comments removed."""
+    with open(path) as f:
+        text = f.read()
+    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
+    text = re.sub(r"//[^\n]*", " ", text)
+    m = re.match(r"\s*FoamFile\s*\{(.*?)\}", text, re.S)
+    if not m:
+        raise ValueError("%s: no FoamFile header" % path)
+    header = {}
+    for entry in m.group(1).split(";"):
+        entry = entry.strip()
+        if entry:
+            k, v = entry.split(None, 1)
+            header[k] = v.strip().strip('"')
+    return header, text[m.end():]
+
+
+def list_body(path, body):
+    """The entries of 'N ( ... )': the text between the outer parentheses
+    and N."""
+    m = re.match(r"\s*(\d+)\s*\((.*)\)\s*$", body, re.S)
+    if not m:
+        raise ValueError("%s: not a list 'N ( ... )'" % path)
+    return int(m.group(1)), m.group(2)
+
+
+def read_case(name, case):
+    """Reads constant/polyMesh; returns a dict or None (failures recorded)."""
+    pm = os.path.join(case, "constant", "polyMesh")
+    want = {"points": "vectorField", "faces": "faceList", "owner": "labelList",
+            "neighbour": "labelList", "boundary": "polyBoundaryMesh"}
+    mesh = {}
+    try:
+        for obj, cls in want.items():
+            h, body = read_foam(os.path.join(pm, obj))
+            check(h.get("class") == cls and h.get("object") == obj and h.get("format") == "ascii"
+                  and h.get("version") == "2.0" and h.get("location") == "constant/polyMesh",
+                  "%s: %s header %r" % (name, obj, h))
+            mesh[obj + "_header"] = h
+            if obj == "boundary":
+                n, inner = list_body(obj, body)
+                patches = re.findall(r"(\w+)\s*\{([^}]*)\}", inner)
+                check(len(patches) == n, "%s: boundary announces %d patches, has %d"
+                      % (name, n, len(patches)))
+                mesh["patches"] = []
+                for pname, d in patches:
+                    kv = dict(re.findall(r"(\w+)\s+([^;]+);", d))
+                    mesh["patches"].append((pname, kv.get("type"), int(kv["nFaces"]),
+                                            int(kv["startFace"])))
+                continue
+            n, inner = list_body(obj, body)
+            if obj == "points":
+                vals = re.findall(r"\(([^()]*)\)", inner)
+                pts = [tuple(float(x) for x in v.split()) for v in vals]
+                check(all(len(p) == 3 for p in pts), "%s: a point has not 3 coordinates" % name)
+                mesh["points"] = pts
+            elif obj == "faces":
+                vals = re.findall(r"(\d+)\s*\(([^()]*)\)", inner)
+                faces = [[int(x) for x in v.split()] for _, v in vals]
+                check(all(int(k) == len(f) for (k, _), f in zip(vals, faces)),
+                      "%s: a face's size prefix is wrong" % name)
+                mesh["faces"] = faces
+            else:
+                mesh[obj] = [int(x) for x in inner.split()]
+            check(len(mesh[obj]) == n, "%s: %s announces %d entries, has %d"
+                  % (name, obj, n, len(mesh[obj])))
+    except (OSError, ValueError, KeyError) as e:
+        check(False, "%s: cannot read the case: %s" % (name, e))
+        return None
+    for obj in ("owner", "neighbour"):
+        note = mesh[obj + "_header"].get("note", "")
+        m = re.match(r"nPoints:\s*(\d+)\s+nCells:\s*(\d+)\s+nFaces:\s*(\d+)\s+"
+                     r"nInternalFaces:\s*(\d+)$", note)
+        if check(m, "%s: %s note %r" % (name, obj, note)):
+            mesh["note"] = tuple(int(x) for x in m.groups())
+    return mesh
+
+
+def newell(pts):
+    n = [0.0, 0.0, 0.0]
+    for a, b in zip(pts, pts[1:] + pts[:1]):
+        n[0] += (a[1] - b[1]) * (a[2] + b[2])
+        n[1] += (a[2] - b[2]) * (a[0] + b[0])
+        n[2] += (a[0] - b[0]) * (a[1] + b[1])
+    return n
+
+
+def mean(pts):
+    return [sum(p[k] for p in pts) / len(pts) for k in range(3)]
+
+
+def same_cycle(a, b):
+    if len(a) != len(b) or a[0] not in b:
+        return False
+    i = b.index(a[0])
+    return a == b[i:] + b[:i]
+
+
+WALLS = {"xmin": (0, 0), "xmax": (0, 1), "ymin": (1, 0), "ymax": (1, 1), "zmin": (2, 0),
+         "zmax": (2, 1)}
+
+
+def check_case(name, case, vtu, box=None, expect_patches=None):
+    """Every check of the module docstring against the .vtu of the run."""
+    mesh = read_case(name, case)
+    if mesh is None:
+        return None
+    grid = vtkcheck.read_vtu(vtu)
+    pts, faces, own, nei = mesh["points"], mesh["faces"], mesh["owner"], mesh["neighbour"]
+    nc = grid.GetNumberOfCells()
+    nf, ni = len(faces), len(nei)
+    check(mesh.get("note") == (len(pts), nc, nf, ni),
+          "%s: note %r, expected %r" % (name, mesh.get("note"), (len(pts), nc, nf, ni)))
+    check(len(own) == nf, "%s: %d owners for %d faces" % (name, len(own), nf))
+    # Points: the .vtu's, exactly.
+    check(len(pts) == grid.GetNumberOfPoints(), "%s: %d points, .vtu has %d"
+          % (name, len(pts), grid.GetNumberOfPoints()))
+    if len(pts) == grid.GetNumberOfPoints():
+        off = sum(1 for i, p in enumerate(pts) if p != grid.GetPoint(i))
+        check(off == 0, "%s: %d points differ from the .vtu's" % (name, off))
+    check(all(len(f) >= 3 and all(0 <= v < len(pts) for v in f) for f in faces),
+          "%s: a face has < 3 vertices or a vertex out of range" % name)
+    check(all(0 <= c < nc for c in own) and all(0 <= c < nc for c in nei),
+          "%s: a cell index is out of range" % name)
+    # Upper-triangular order, owner < neighbour.
+    check(all(own[f] < nei[f] for f in range(ni)), "%s: an interior face has owner >= neighbour"
+          % name)
+    pairs = list(zip(own[:ni], nei))
+    check(all(a < b for a, b in zip(pairs, pairs[1:])),
+          "%s: interior faces are not in upper-triangular order" % name)
+    # Every cell's faces are the .vtu cell's faces, same orientation
+    # (the .vtu writes each face outward for its cell).
+    per_cell = [[] for _ in range(nc)]
+    for f in range(nf):
+        per_cell[own[f]].append(faces[f])
+        if f < ni:
+            per_cell[nei[f]].append(list(reversed(faces[f])))
+    ids = vtk.vtkIdList()
+    bad = 0
+    for c in range(nc):
+        vf = vtkcheck.cell_faces(grid, c, ids)
+        by_key = {tuple(sorted(f)): f for f in vf}
+        if len(vf) != len(per_cell[c]):
+            bad += 1
+            continue
+        for f in per_cell[c]:
+            g = by_key.get(tuple(sorted(f)))
+            if g is None or not same_cycle(f, g):
+                bad += 1
+                break
+    check(bad == 0, "%s: %d cells whose faces differ from the .vtu's (set or orientation)"
+          % (name, bad))
+    # Orientation, geometrically: from the owner's centre towards the
+    # neighbour's, out of the domain on the boundary (the vertex mean of a
+    # convex cell is inside it).
+    centre = []
+    for c in range(nc):
+        vs = sorted(set(v for f in per_cell[c] for v in f))
+        centre.append(mean([pts[v] for v in vs]))
+    wrong = 0
+    for f in range(nf):
+        fp = [pts[v] for v in faces[f]]
+        n = newell(fp)
+        fc = mean(fp)
+        a = centre[own[f]]
+        b = centre[nei[f]] if f < ni else fc
+        d = [b[k] - a[k] for k in range(3)]
+        if sum(n[k] * d[k] for k in range(3)) <= 0:
+            wrong += 1
+    check(wrong == 0, "%s: %d faces do not point from owner to neighbour (or outward)"
+          % (name, wrong))
+    # Patches: contiguous after the interior faces, covering the boundary.
+    patches = mesh["patches"]
+    start = ni
+    for pname, ptype, n, s in patches:
+        check(s == start and n > 0 and ptype == "patch",
+              "%s: patch %s (type %s) starts at %d with %d faces, expected start %d"
+              % (name, pname, ptype, s, n, start))
+        start = s + n
+    check(start == nf, "%s: the patches end at face %d of %d" % (name, start, nf))
+    check(sum(p[2] for p in patches) == nf - ni, "%s: patch sizes sum to %d, boundary has %d"
+          % (name, sum(p[2] for p in patches), nf - ni))
+    names = [p[0] for p in patches]
+    if expect_patches is not None:
+        check(names == expect_patches, "%s: patches %r, expected %r"
+              % (name, names, expect_patches))
+    for pname, ptype, n, s in patches:
+        if pname in WALLS and box:
+            axis, side = WALLS[pname]
+            w = box[axis + 3 * side]
+            off = [f for f in range(s, s + n) if any(pts[v][axis] != w for v in faces[f])]
+            check(not off, "%s: %d faces of patch %s are not on the wall %s = %r"
+                  % (name, len(off), pname, "xyz"[axis], w))
+        elif pname == "surface" and box:
+            on = [f for f in range(s, s + n)
+                  if any(all(pts[v][a] == box[a + 3 * sd] for v in faces[f])
+                         for a in range(3) for sd in range(2))]
+            check(not on, "%s: %d faces of patch surface lie on the box" % (name, len(on)))
+    return mesh
+
+
+def run(*args):
+    p = subprocess.run([BIN, "voronoi", *args], capture_output=True, text=True, timeout=600)
+    return p.returncode, p.stdout, p.stderr
+
+
+def write_seeds(name, rows):
+    path = os.path.join(TMP, name)
+    with open(path, "w") as f:
+        f.write("x,y,z,label\n")
+        for r in rows:
+            f.write(",".join(repr(float(v)) for v in r[:3]) + "," + str(r[3]) + "\n")
+    return path
+
+
+def mesh_case(name, seeds_path, cells, box=None, expect_patches=None, case=None,
+              allow_skew=False):
+    vtu = os.path.join(TMP, name + ".vtu")
+    case = case or os.path.join(TMP, name)
+    args = [seeds_path, "-o", vtu, "--foam", case, "--quiet"]
+    if box:
+        args += ["--box"] + [repr(float(v)) for v in box]
+    rc, so, se = run(*args)
+    if not check(rc == 0 and se == "", "%s: exit %d, stderr %r" % (name, rc, se)):
+        return None
+    out = checkmesh(name, case, cells, allow_skew)
+    mesh = check_case(name, case, vtu, box, expect_patches)
+    left = [e for e in os.listdir(TMP) if ".tmp." in e or ".old." in e]
+    check(not left, "%s: temporaries left behind: %r" % (name, left))
+    return mesh, out
+
+
+# =========================================================================
+# (a) Random seeds in a box, no two closer than 0.6 times the mean spacing
+#     (dart throwing; VoroCrust's seeds have such a spacing too)
+# =========================================================================
+rng = random.Random(4)
+box = (0.0, 0.0, 0.0, 1.0, 1.0, 1.0)
+rand = []
+while len(rand) < 400:
+    p = (rng.random(), rng.random(), rng.random())
+    if all(sum((p[i] - q[i]) ** 2 for i in range(3)) > (0.6 * 400 ** (-1 / 3)) ** 2 for q in rand):
+        rand.append(p + (1,))
+p_rand = write_seeds("random.csv", rand)
+mesh_case("random", p_rand, 400, box, ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+# Uniform (Poisson) seeds: the writer's output is as valid, but such a
+# Voronoi mesh may hold a face skewer than checkMesh's limit (4): that is
+# the only check allowed to fail.
+rng = random.Random(4)
+poisson = [(rng.random(), rng.random(), rng.random(), 1) for _ in range(400)]
+p_poisson = write_seeds("poisson.csv", poisson)
+mesh_case("poisson", p_poisson, 400, box, ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+          allow_skew=True)
+
+# =========================================================================
+# (b) A cubic lattice: hexahedra
+# =========================================================================
+k = 6
+h = 1.0 / k
+lat = [((i + 0.5) * h, (j + 0.5) * h, (m + 0.5) * h, 1)
+       for i in range(k) for j in range(k) for m in range(k)]
+p_lat = write_seeds("lattice.csv", lat)
+r = mesh_case("lattice", p_lat, k ** 3, box, ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"])
+if r:
+    mesh, out = r
+    check(re.search(r"hexahedra:\s+%d\b" % k ** 3, out), "lattice: checkMesh sees no %d hexahedra"
+          % k ** 3)
+    check(len(mesh["faces"]) == 3 * k * k * (k + 1) and len(mesh["neighbour"]) == 3 * k * k * (k - 1),
+          "lattice: %d faces, %d interior" % (len(mesh["faces"]), len(mesh["neighbour"])))
+    check(all(p[2] == k * k for p in mesh["patches"]), "lattice: patch sizes %r" % mesh["patches"])
+
+# =========================================================================
+# (c) The bundled VoroCrust-style ball: one closed patch "surface"
+# =========================================================================
+p_ball = os.path.join(SOURCE, "models", "ball-seeds.csv")
+with open(p_ball) as f:
+    n_ball = sum(1 for row in list(f)[1:] if row.strip() and row.strip().split(",")[3] != "0")
+r = mesh_case("ball", p_ball, n_ball, None, ["surface"])
+if r:
+    check("ok (closed singly connected)" in r[1], "ball: the surface patch is not closed")
+
+# =========================================================================
+# (d) Labelled seeds: label 0 for x > 0.6, labels 1 and 2 elsewhere: the
+#     "surface" patch against the dropped seeds, walls elsewhere
+# =========================================================================
+rng = random.Random(5)
+lab = []
+for _ in range(600):
+    x, y, z = rng.random(), rng.random(), rng.random()
+    lab.append((x, y, z, 0 if x > 0.6 else rng.choice((1, 2))))
+p_lab = write_seeds("labels.csv", lab)
+kept = sum(1 for s in lab if s[3])
+r = mesh_case("labels", p_lab, kept, box, ["surface", "xmin", "ymin", "ymax", "zmin", "zmax"])
+
+# =========================================================================
+# (e) Into an existing case: polyMesh replaced as a whole, the user's
+#     system/ files and other directories kept; a trailing slash is fine
+# =========================================================================
+case = os.path.join(TMP, "existing")
+os.makedirs(os.path.join(case, "0"))
+os.makedirs(os.path.join(case, "system"))
+os.makedirs(os.path.join(case, "constant", "polyMesh", "sets"))
+with open(os.path.join(case, "0", "p"), "w") as f:
+    f.write("user field\n")
+with open(os.path.join(case, "constant", "polyMesh", "cellZones"), "w") as f:
+    f.write("stale\n")
+with open(os.path.join(case, "constant", "polyMesh", "sets", "old"), "w") as f:
+    f.write("stale\n")
+shutil.copy(os.path.join(TMP, "random", "system", "controlDict"), os.path.join(case, "system"))
+with open(os.path.join(case, "system", "controlDict"), "a") as f:
+    f.write("// user edit\n")
+r = mesh_case("existing", p_lat, k ** 3, box, ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"],
+              case=case + "/")
+if r:
+    with open(os.path.join(case, "system", "controlDict")) as f:
+        check("// user edit" in f.read(), "existing: the user's controlDict was overwritten")
+    check(os.path.isfile(os.path.join(case, "system", "fvSchemes")),
+          "existing: the missing fvSchemes was not added")
+    check(os.path.isfile(os.path.join(case, "0", "p")), "existing: 0/p is gone")
+    check(sorted(os.listdir(os.path.join(case, "constant", "polyMesh"))) ==
+          ["boundary", "faces", "neighbour", "owner", "points"],
+          "existing: polyMesh holds %r" % os.listdir(os.path.join(case, "constant", "polyMesh")))
+    check(sorted(os.listdir(os.path.join(case, "constant"))) == ["polyMesh"],
+          "existing: constant/ holds %r" % os.listdir(os.path.join(case, "constant")))
+# And again over itself with another mesh; a new case named with a slash.
+mesh_case("existing_again", p_rand, 400, box, case=case)
+mesh_case("slash", p_lat, k ** 3, box, case=os.path.join(TMP, "slash") + "/")
+
+
+# =========================================================================
+# Bad cases: one stderr line "vorocrust: ..." naming the case, non-zero
+# exit, nothing written (no .vtu, no case, no temporary)
+# =========================================================================
+def expect_error(name, case, needles, extra=()):
+    vtu = os.path.join(TMP, "bad_%s.vtu" % name)
+    before = sorted(os.listdir(TMP))
+    rc, so, se = run(p_rand, "-o", vtu, "--box", "0", "0", "0", "1", "1", "1", "--foam", case,
+                     "--quiet", *extra)
+    lines = se.strip("\n").split("\n") if se else []
+    check(rc != 0, "%s: exit code 0" % name)
+    check(len(lines) == 1 and lines[0].startswith("vorocrust: ") and case in lines[0]
+          and all(n in lines[0] for n in needles),
+          "%s: stderr %r should be one line 'vorocrust: ' naming %r with %r"
+          % (name, se, case, needles))
+    after = sorted(os.listdir(TMP))
+    check(after == before, "%s: left %r behind" % (name, sorted(set(after) - set(before))))
+
+
+expect_error("missing_parent", os.path.join(TMP, "no_such_dir", "case"),
+             ["directory missing or not writable"])
+as_file = os.path.join(TMP, "a_file")
+with open(as_file, "w") as f:
+    f.write("not a case\n")
+expect_error("case_is_file", as_file, ["Not a directory"])
+with open(as_file) as f:
+    check(f.read() == "not a case\n", "case_is_file: the file was changed")
+expect_error("parent_is_file", os.path.join(as_file, "case"), ["cannot write"])
+if os.geteuid() != 0:  # root writes anywhere
+    ro = os.path.join(TMP, "read_only")
+    os.makedirs(ro)
+    os.chmod(ro, 0o555)
+    expect_error("read_only_parent", os.path.join(ro, "case"), ["cannot write"])
+    os.chmod(ro, 0o755)
+# A failure after the .vtu is written: the .vtu and connections go too, the
+# case is left as it was.
+broken = os.path.join(TMP, "broken")
+os.makedirs(os.path.join(broken, "constant"))
+with open(os.path.join(broken, "constant", "polyMesh"), "w") as f:
+    f.write("a file\n")
+expect_error("polymesh_is_file", broken, ["polyMesh", "Not a directory"],
+             ["--connections", os.path.join(TMP, "bad_conn.csv")])
+check(sorted(os.listdir(broken)) == ["constant"] and
+      sorted(os.listdir(os.path.join(broken, "constant"))) == ["polyMesh"],
+      "polymesh_is_file: the case was changed: %r" % os.listdir(broken))
+
+for line in summary:
+    print(line)
+if failures:
+    print("%d failures" % len(failures), file=sys.stderr)
+    sys.exit(1)
+print("e2e_foam: all checks passed")
