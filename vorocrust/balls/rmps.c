@@ -542,6 +542,7 @@ typedef struct sliver_ctx {
     const vc_balls *b;
     double *target;
     int64_t n_half;
+    double where[3]; /* the first half-covered point found */
 } sliver_ctx;
 
 static void on_triplet(void *ctx, const vc_triplet *t)
@@ -549,16 +550,17 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     sliver_ctx *c = ctx;
     if ((t->cover_up < 0) == (t->cover_down < 0))
         return;
-    c->n_half++;
     int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
     const double *g = t->cover_up >= 0 ? t->up : t->down;
+    if (c->n_half++ == 0)
+        memcpy(c->where, g, sizeof c->where);
     double r = dist(c->b->center + 3 * f, g) * (1 - SHRINK_MARGIN);
     if (r < c->target[f])
         c->target[f] = r;
 }
 
 static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrunk,
-                                 int64_t *n_half)
+                                 int64_t *n_half, double where[3])
 {
     vc_balls *b = &S->bs.b;
     int64_t n = b->n;
@@ -566,7 +568,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    sliver_ctx c = {b, NULL, 0};
+    sliver_ctx c = {b, NULL, 0, {0, 0, 0}};
     c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
     if (!c.target)
         return -1;
@@ -584,6 +586,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
                 changed = -1;
         }
     *n_half = c.n_half;
+    memcpy(where, c.where, sizeof c.where);
     free(c.target);
     return changed;
 }
@@ -698,6 +701,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         rc = sample_strata(&S, NULL, NULL);
     if (opt->progress && !rc)
         fprintf(stderr, "mesh: %lld balls after the first coverage\n", (long long)S.bs.b.n);
+    const int64_t n_first = S.bs.b.n;
+    int diverged = 0, rising = 0;
+    int64_t last_half = -1;
+    double where[3] = {0, 0, 0};
 
     /* Lipschitz fixes and sliver elimination, sampling again after every
      * shrinking, until nothing changes. */
@@ -721,7 +728,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         double tb = now();
         int64_t n_half = 0;
-        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half);
+        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where);
         st->t_slivers += now() - tb;
         if (ns < 0) {
             rc = -1;
@@ -737,6 +744,18 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             fprintf(stderr, "mesh: sliver elimination %d: %lld half-covered pairs, %lld balls "
                     "shrunk, %lld balls\n", iter, (long long)n_half, (long long)ns,
                     (long long)S.bs.b.n);
+        /* Sliver elimination normally removes most half-covered pairs at
+         * every pass and adds a fraction of the balls; four passes in a row
+         * with more half-covered pairs, or an eightfold ball count, mean it
+         * does not converge (folds sharper than the smoothness the sampling
+         * needs, but below theta_sharp): stop with an explanation rather
+         * than run on. */
+        rising = last_half >= 0 && n_half > last_half ? rising + 1 : 0;
+        last_half = n_half;
+        if (rising >= 4 || S.bs.b.n > 8 * n_first + 1000) {
+            diverged = 1;
+            break;
+        }
         if (iter == opt->max_sliver_iterations && !st->safe_mode) {
             st->safe_mode = 1;
             S.alpha = opt->alpha / 2;
@@ -752,6 +771,16 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (rc) {
         vc_ball_set_free(&S.bs);
         return vc_error_set(err, VC_ENOMEM, "out of memory while sampling the surface");
+    }
+    if (diverged) {
+        int64_t nb = S.bs.b.n;
+        vc_ball_set_free(&S.bs);
+        return vc_error_set(err, VC_EINPUT,
+                            "sliver elimination does not converge (%lld balls after %d iterations, "
+                            "from %lld; half-covered seed pairs near (%.6g, %.6g, %.6g)): the "
+                            "surface bends there more sharply than the sampling can follow without "
+                            "a crease; try a smaller --sharp-angle (e.g. 30)",
+                            (long long)nb, iter, (long long)n_first, where[0], where[1], where[2]);
     }
     /* hand the balls over, trimmed */
     *out = S.bs.b;
