@@ -20,6 +20,7 @@ sampling) on the shared models, checked independently of the C code:
    polyhedron read back by VTK (tests/vtkcheck.py), cell volumes summing to
    the volume the reconstructed surface encloses within 1e-9 and to the
    input's within 1%, the same .vtu with 1 and 2 threads;
+ - `--foam` writes the same mesh as an OpenFOAM case;
  - bad input: open surface (the error names the boundary edge count),
    missing file, bad options, unwritable output; nothing written then.
 Environment: VC_BIN, VC_MODELS, VC_TMP."""
@@ -319,6 +320,18 @@ for model in ("sphere.obj", "cube.off", "onebox.obj"):
               "%s: mesh volume %.9g vs input %.9g" % (model, fig["total_volume"], iv))
     except vtkcheck.CheckError as e:
         check(False, "%s volume mesh: %s" % (model, e))
+
+# The volume mesh as an OpenFOAM case too (checkMesh itself runs in e2e_foam).
+foam = os.path.join(TMP, "mesh_foam_case")
+vtu = os.path.join(TMP, "mesh_foam.vtu")
+rc, out, err = run("mesh", os.path.join(MODELS, "sphere.obj"), "-o", vtu, "--foam", foam, "--quiet")
+check(rc == 0 and err == "", "mesh --foam: exit %d %r" % (rc, err))
+if rc == 0:
+    with open(os.path.join(foam, "constant", "polyMesh", "owner")) as f:
+        note = re.search(r"nCells:\s*(\d+)", f.read())
+    grid = vtkcheck.read_vtu(vtu)
+    check(note is not None and int(note.group(1)) == grid.GetNumberOfCells(),
+          "mesh --foam: owner note %r, .vtu cells %d" % (note and note.group(0), grid.GetNumberOfCells()))
 
 # Patch smoothing before sampling: sphere.obj, 6 rounds of adaptive Loop.
 rc, err, surf, balls_csv, seeds_csv = mesh("sphere.obj", "smooth6", "--smooth-iterations", "6")

@@ -34,6 +34,7 @@ static void usage(FILE *f)
         "                      when OUT ends in .vtu\n"
         "  -o, --output OUT.vtu  the volume mesh: the Voronoi cells of the inside surface seeds\n"
         "                      and the interior seeds\n"
+        "  --foam CASE_DIR     also write the volume mesh as OpenFOAM CASE_DIR/constant/polyMesh\n"
         "  --interior lattice|none  interior seeds on a cubic lattice (default) or none\n"
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
@@ -58,7 +59,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing"};
+                                             "--interior-spacing", "--foam"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -153,7 +154,7 @@ done:
 int vc_cmd_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
-               *balls_path = NULL;
+               *balls_path = NULL, *foam_path = NULL;
     int surface_only = 0, quiet = 0, interior_lattice = 1;
     /* 0 by default, not the thesis' 6: Loop subdivision approximates, it
      * pulls the surface off the input (sphere.obj: 0.78% of the diagonal,
@@ -177,6 +178,8 @@ int vc_cmd_mesh(int argc, char **argv)
             return 2;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             out_path = argv[++i];
+        } else if (!strcmp(a, "--foam")) {
+            foam_path = argv[++i];
         } else if (!strcmp(a, "--surface")) {
             surf_path = argv[++i];
         } else if (!strcmp(a, "--smooth-iterations")) {
@@ -282,6 +285,15 @@ int vc_cmd_mesh(int argc, char **argv)
     if (!surface_only && !out_path) {
         fprintf(stderr, "vorocrust: missing -o OUT.vtu (or --surface-only)\n");
         return 2;
+    }
+    if (foam_path && surface_only) {
+        fprintf(stderr, "vorocrust: --foam and --surface-only exclude each other\n");
+        return 2;
+    }
+    if (foam_path && !vc_cli_directory_writable(foam_path)) {
+        fprintf(stderr, "vorocrust: %s: cannot write: parent directory missing or not writable\n",
+                foam_path);
+        return 1;
     }
     const char *outputs[4] = {out_path, surf_path, seeds_path, balls_path};
     for (int i = 0; i < 4; i++) {
@@ -436,10 +448,13 @@ int vc_cmd_mesh(int argc, char **argv)
         if (!quiet)
             measure_mesh(&m, &mq);
         int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
+        if (!wrc)
+            written[n_written++] = out_path;
+        if (!wrc && foam_path)
+            wrc = vc_write_openfoam(&m, foam_path, &err);
         vc_polymesh_free(&m);
         if (wrc)
             goto write_failed;
-        written[n_written++] = out_path;
         t7 = vc_cli_now();
     }
     if (!quiet) {
