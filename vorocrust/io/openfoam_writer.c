@@ -24,8 +24,8 @@
  * through a temporary file. A failure removes whatever was created.
  *
  * Numbers are formatted by hand (17 significant digits for coordinates,
- * enough to read back the same doubles) into a large buffer: printf is
- * several times slower. */
+ * enough to read back the same doubles; printf is several times slower),
+ * blocks of entries in parallel (OpenMP), written in order. */
 #include "vorocrust/io.h"
 
 #include <dirent.h>
@@ -70,26 +70,16 @@ static char *foam_fmt_i64(char *p, int64_t v)
 #if LDBL_MANT_DIG >= 64
 /* 10^n for 0 <= n <= 27: exact in a 64-bit-mantissa long double
  * (5^27 < 2^64). */
-static long double foam_pow10_small(int n)
-{
-    long double r = 1.0L;
-    for (int i = 0; i < n; i++)
-        r *= 10.0L;
-    return r;
-}
+static const long double foam_pow10[28] = {
+    1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,  1e7L,  1e8L,  1e9L,
+    1e10L, 1e11L, 1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L,
+    1e20L, 1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
 
 /* v * 10^n, |n| <= 54: at most two roundings of relative size 2^-64. */
 static long double foam_scale10(long double v, int n)
 {
-    static long double pw[28];
-    static int ready = 0;
-    if (!ready) { /* benign: every thread computes the same exact values */
-        for (int i = 0; i < 28; i++)
-            pw[i] = foam_pow10_small(i);
-        ready = 1;
-    }
     int a = n < 0 ? -n : n;
-    long double f = a > 27 ? pw[27] * pw[a - 27] : pw[a];
+    long double f = a > 27 ? foam_pow10[27] * foam_pow10[a - 27] : foam_pow10[a];
     return n < 0 ? v / f : v * f;
 }
 #endif
@@ -466,22 +456,27 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
 
 /* ---- the files ------------------------------------------------------------ */
 
-static void foam_write_points(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
+/* The list entries, one per line; each formatter writes entry i at p and
+ * returns the end, within foam_item_bound() bytes. */
+typedef enum { FOAM_ITEM_POINT, FOAM_ITEM_FACE, FOAM_ITEM_OWNER, FOAM_ITEM_NEIGHBOUR } foam_item;
+
+static size_t foam_item_bound(const vc_polymesh *m, const foam_plan *pl, foam_item kind,
+                              int64_t i)
 {
-    foam_header(o, "vectorField", "constant/polyMesh", "points", NULL);
-    char *p;
-    if (foam_reserve(o, 64) != 0)
-        goto nomem;
-    p = foam_fmt_i64(o->buf + o->len, pl->n_points);
-    *p++ = '\n';
-    *p++ = '(';
-    *p++ = '\n';
-    o->len = (size_t)(p - o->buf);
-    for (int64_t i = 0; i < pl->n_points; i++) {
+    if (kind == FOAM_ITEM_POINT)
+        return 3 * FOAM_NUM_MAX + 4;
+    if (kind == FOAM_ITEM_FACE) {
+        int64_t f = pl->order[i];
+        return (size_t)(m->face_offsets[f + 1] - m->face_offsets[f] + 1) * 21 + 4;
+    }
+    return 22;
+}
+
+static char *foam_item_format(char *p, const vc_polymesh *m, const foam_plan *pl,
+                              foam_item kind, int64_t i)
+{
+    if (kind == FOAM_ITEM_POINT) {
         const double *x = m->points + 3 * (pl->point_of ? pl->point_of[i] : i);
-        if (foam_reserve(o, 3 * FOAM_NUM_MAX + 8) != 0)
-            goto nomem;
-        p = o->buf + o->len;
         *p++ = '(';
         p = foam_fmt_double(p, x[0]);
         *p++ = ' ';
@@ -489,33 +484,9 @@ static void foam_write_points(foam_out *o, const vc_polymesh *m, const foam_plan
         *p++ = ' ';
         p = foam_fmt_double(p, x[2]);
         *p++ = ')';
-        *p++ = '\n';
-        o->len = (size_t)(p - o->buf);
-    }
-    foam_puts(o, ")\n");
-    return;
-nomem:
-    if (!o->err_no)
-        o->err_no = ENOMEM;
-}
-
-static void foam_write_faces(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
-{
-    foam_header(o, "faceList", "constant/polyMesh", "faces", NULL);
-    char *p;
-    if (foam_reserve(o, 64) != 0)
-        goto nomem;
-    p = foam_fmt_i64(o->buf + o->len, pl->n_faces);
-    *p++ = '\n';
-    *p++ = '(';
-    *p++ = '\n';
-    o->len = (size_t)(p - o->buf);
-    for (int64_t i = 0; i < pl->n_faces; i++) {
+    } else if (kind == FOAM_ITEM_FACE) {
         int64_t f = pl->order[i];
         int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1], n = e - b;
-        if (foam_reserve(o, (size_t)(n + 2) * 21 + 8) != 0)
-            goto nomem;
-        p = o->buf + o->len;
         p = foam_fmt_i64(p, n);
         *p++ = '(';
         for (int64_t j = 0; j < n; j++) {
@@ -528,14 +499,85 @@ static void foam_write_faces(foam_out *o, const vc_polymesh *m, const foam_plan 
             p = foam_fmt_i64(p, v);
         }
         *p++ = ')';
-        *p++ = '\n';
-        o->len = (size_t)(p - o->buf);
+    } else {
+        int64_t f = pl->order[i], c;
+        if (i < pl->n_internal) {
+            int64_t own, nei;
+            foam_face_cells(m, pl->flip, f, &own, &nei);
+            c = kind == FOAM_ITEM_OWNER ? own : nei;
+        } else {
+            c = m->face_owner[f];
+        }
+        p = foam_fmt_i64(p, c);
     }
+    *p++ = '\n';
+    return p;
+}
+
+#define FOAM_BLOCK 8192 /* entries formatted by one thread at a time */
+#define FOAM_BATCH 16   /* blocks formatted in parallel, then written in order */
+
+/* "n\n(\n", the n entries, ")\n". Blocks of entries are formatted in
+ * parallel into their own buffers and written in order: the text does not
+ * depend on the number of threads. */
+static void foam_write_list(foam_out *o, const vc_polymesh *m, const foam_plan *pl,
+                            foam_item kind, int64_t n)
+{
+    char head[32];
+    char *e = foam_fmt_i64(head, n);
+    memcpy(e, "\n(\n", 4);
+    foam_puts(o, head);
+    char *bufs[FOAM_BATCH] = {0};
+    size_t caps[FOAM_BATCH] = {0}, lens[FOAM_BATCH] = {0};
+    int64_t nblocks = (n + FOAM_BLOCK - 1) / FOAM_BLOCK;
+    for (int64_t b0 = 0; b0 < nblocks && !o->err_no; b0 += FOAM_BATCH) {
+        int nb = (int)(nblocks - b0 < FOAM_BATCH ? nblocks - b0 : FOAM_BATCH);
+        int nomem = 0;
+#pragma omp parallel for schedule(dynamic) if (nb > 1) reduction(| : nomem)
+        for (int j = 0; j < nb; j++) {
+            int64_t lo = (b0 + j) * FOAM_BLOCK, hi = lo + FOAM_BLOCK < n ? lo + FOAM_BLOCK : n;
+            size_t need = 0;
+            for (int64_t i = lo; i < hi; i++)
+                need += foam_item_bound(m, pl, kind, i);
+            if (need > caps[j]) {
+                char *nbuf = realloc(bufs[j], need);
+                if (!nbuf) {
+                    nomem = 1;
+                    lens[j] = 0;
+                    continue;
+                }
+                bufs[j] = nbuf;
+                caps[j] = need;
+            }
+            char *p = bufs[j];
+            for (int64_t i = lo; i < hi; i++)
+                p = foam_item_format(p, m, pl, kind, i);
+            lens[j] = (size_t)(p - bufs[j]);
+        }
+        if (nomem) {
+            o->err_no = ENOMEM;
+            break;
+        }
+        foam_flush(o);
+        for (int j = 0; j < nb && !o->err_no; j++)
+            if (fwrite(bufs[j], 1, lens[j], o->fp) != lens[j])
+                o->err_no = errno ? errno : EIO;
+    }
+    for (int j = 0; j < FOAM_BATCH; j++)
+        free(bufs[j]);
     foam_puts(o, ")\n");
-    return;
-nomem:
-    if (!o->err_no)
-        o->err_no = ENOMEM;
+}
+
+static void foam_write_points(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
+{
+    foam_header(o, "vectorField", "constant/polyMesh", "points", NULL);
+    foam_write_list(o, m, pl, FOAM_ITEM_POINT, pl->n_points);
+}
+
+static void foam_write_faces(foam_out *o, const vc_polymesh *m, const foam_plan *pl)
+{
+    foam_header(o, "faceList", "constant/polyMesh", "faces", NULL);
+    foam_write_list(o, m, pl, FOAM_ITEM_FACE, pl->n_faces);
 }
 
 /* owner (every face) or neighbour (interior faces). */
@@ -547,35 +589,8 @@ static void foam_write_cells(foam_out *o, const vc_polymesh *m, const foam_plan 
              "  nInternalFaces:%" PRId64,
              pl->n_points, m->n_cells, pl->n_faces, pl->n_internal);
     foam_header(o, "labelList", "constant/polyMesh", owner ? "owner" : "neighbour", note);
-    int64_t n = owner ? pl->n_faces : pl->n_internal;
-    char *p;
-    if (foam_reserve(o, 64) != 0)
-        goto nomem;
-    p = foam_fmt_i64(o->buf + o->len, n);
-    *p++ = '\n';
-    *p++ = '(';
-    *p++ = '\n';
-    o->len = (size_t)(p - o->buf);
-    for (int64_t i = 0; i < n; i++) {
-        int64_t f = pl->order[i], c;
-        if (i < pl->n_internal) {
-            int64_t own, nei;
-            foam_face_cells(m, pl->flip, f, &own, &nei);
-            c = owner ? own : nei;
-        } else {
-            c = m->face_owner[f];
-        }
-        if (foam_reserve(o, 24) != 0)
-            goto nomem;
-        p = foam_fmt_i64(o->buf + o->len, c);
-        *p++ = '\n';
-        o->len = (size_t)(p - o->buf);
-    }
-    foam_puts(o, ")\n");
-    return;
-nomem:
-    if (!o->err_no)
-        o->err_no = ENOMEM;
+    foam_write_list(o, m, pl, owner ? FOAM_ITEM_OWNER : FOAM_ITEM_NEIGHBOUR,
+                    owner ? pl->n_faces : pl->n_internal);
 }
 
 static void foam_write_boundary(foam_out *o, const foam_plan *pl)
