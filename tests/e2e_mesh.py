@@ -314,6 +314,9 @@ for model in ("sphere.obj", "cube.off", "onebox.obj"):
     iv = abs(enclosed_volume(ipts, ipolys))
     try:
         fig = vtkcheck.check_vtu(vtu, expected_volume=sv)
+        fat = vtkcheck.cell_array(vtkcheck.read_vtu(vtu), "fatness")
+        check(len(fat) == fig["n_cells"] and all(1 <= x <= 14 for x in fat),
+              "%s: .vtu fatness array: %d values, range %r..%r" % (model, len(fat), min(fat), max(fat)))
         print("%s volume mesh: %d cells, volume %.12g (surface %.12g, input %.12g)"
               % (model, fig["n_cells"], fig["total_volume"], sv, iv))
         check(abs(fig["total_volume"] - iv) <= 0.01 * iv,

@@ -75,7 +75,7 @@ typedef struct mesh_quality {
     int64_t n, n_int, n_unmeasured;
 } mesh_quality;
 
-static void measure_mesh(const vc_polymesh *m, mesh_quality *q)
+static void measure_mesh(const vc_polymesh *m, mesh_quality *q, double *fatness)
 {
     memset(q, 0, sizeof *q);
     q->vol_min = q->edge_rel_min = INFINITY;
@@ -131,8 +131,12 @@ static void measure_mesh(const vc_polymesh *m, mesh_quality *q)
         vc_cell_measures cm;
         if (vc_cell_measure(&cell, &cm) != 0 || !isfinite(cm.fatness)) {
             q->n_unmeasured++;
+            if (fatness)
+                fatness[c] = NAN;
             continue;
         }
+        if (fatness)
+            fatness[c] = cm.fatness;
         q->n++;
         q->vol_min = fmin(q->vol_min, cm.volume);
         q->vol_max = fmax(q->vol_max, cm.volume);
@@ -445,8 +449,9 @@ int vc_cmd_mesh(int argc, char **argv)
             fprintf(stderr, "vorocrust: warning: %s: the volume mesh fails validation (%lld "
                     "problems; degenerate seeds the engine does not resolve yet), first: %.*s\n",
                     in_path, (long long)problems, (int)strcspn(report, "\n"), report);
-        if (!quiet)
-            measure_mesh(&m, &mq);
+        /* per-cell fatness goes into the .vtu as well */
+        m.cell_fatness = malloc(sizeof(double) * (size_t)(m.n_cells ? m.n_cells : 1));
+        measure_mesh(&m, &mq, m.cell_fatness);
         int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
         if (!wrc)
             written[n_written++] = out_path;

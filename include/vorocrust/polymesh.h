@@ -52,6 +52,9 @@ typedef struct vc_polymesh {
     int64_t *cell_seed;       /* index of the cell's seed in the input seeds */
     int32_t *cell_region;     /* the seed's label */
     double *cell_volume;      /* n_cells */
+    double *cell_fatness;     /* n_cells or NULL: enclosing / inscribed ball radius,
+                                 set by callers that measure it (vorocrust mesh);
+                                 written to the .vtu when present */
     double *cell_centroid;    /* 3 * n_cells */
 
     /* Copy of the seed positions (3 * n_seeds), for connection distances. */

@@ -242,7 +242,7 @@ static int vtu_end(vtu_stream *s)
 /* ---- XML header ------------------------------------------------------ */
 
 enum {
-    A_REGION, A_SEED, A_VOLUME, A_POINTS, A_CONN, A_OFFSETS, A_TYPES,
+    A_REGION, A_SEED, A_VOLUME, A_FATNESS, A_POINTS, A_CONN, A_OFFSETS, A_TYPES,
     A_FACES, A_FACEOFFSETS, A_COUNT
 };
 
@@ -355,6 +355,9 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     xml_array(fp, in8, "Int32", "region", 1, &opos[A_REGION]);
     xml_array(fp, in8, "Int64", "seed", 1, &opos[A_SEED]);
     xml_array(fp, in8, "Float64", "volume", 1, &opos[A_VOLUME]);
+    opos[A_FATNESS] = -1; /* optional: only when the mesh carries it */
+    if (m->cell_fatness)
+        xml_array(fp, in8, "Float64", "fatness", 1, &opos[A_FATNESS]);
     fputs("      </CellData>\n", fp);
     fputs("      <Points>\n", fp);
     xml_array(fp, in8, "Float64", "Points", 3, &opos[A_POINTS]);
@@ -416,6 +419,13 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
             vtu_put(&s, &v, 8);
         }
     if (!src) src = vtu_end(&s);
+
+    off[A_FATNESS] = 0;
+    if (m->cell_fatness) {
+        off[A_FATNESS] = vtu_begin(&s, 8 * unc);
+        vtu_put(&s, m->cell_fatness, 8 * (size_t)nc);
+        if (!src) src = vtu_end(&s);
+    }
 
     /* points */
     off[A_POINTS] = vtu_begin(&s, 24 * (uint64_t)np);
@@ -485,6 +495,8 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     /* patch the offsets in the XML header */
     if (!src && !s.err_no) {
         for (int a = 0; a < A_COUNT && !s.err_no; ++a) {
+            if (opos[a] < 0)
+                continue;
             char txt[VTU_OFFSET_ROOM + 1];
             snprintf(txt, sizeof txt, "\"%" PRIu64 "\"", off[a]);
             size_t n = strlen(txt);

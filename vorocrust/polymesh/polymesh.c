@@ -23,6 +23,7 @@ void vc_polymesh_free(vc_polymesh *m)
     free(m->cell_seed);
     free(m->cell_region);
     free(m->cell_volume);
+    free(m->cell_fatness);
     free(m->cell_centroid);
     free(m->seed_xyz);
     memset(m, 0, sizeof *m);
