@@ -14,7 +14,11 @@
  *    checked in one pass; otherwise (degenerate faces) every vertex is
  *    matched to the nearest copy on the other side, both ways;
  *  - copies on faces against a non-kept cell or the box, by position (a
- *    hash grid), for kept cells that meet only along an edge or at a vertex.
+ *    hash grid), for kept cells that meet only along an edge or at a vertex;
+ *  - then, for the faces whose two copies were matched vertex by vertex and
+ *    still differ: copies of one vertex the tolerance kept apart are united,
+ *    and a vertex of one copy lying on an edge of the other is inserted
+ *    into that edge in every face that has it (see T-junctions below).
  * The component's smallest copy index is its representative, so the result
  * does not depend on the order of the unions: they run on threads, linking
  * roots with compare-and-swap (a root is only ever linked to a smaller
@@ -158,7 +162,9 @@ typedef struct assembly {
     int32_t *twin;     /* per face: the same face in that cell, or -1 */
     int32_t *flen;     /* per face: cycle length after merging (0: gone), -1: unknown */
     int64_t *parent;   /* union-find over the copies; later, point ids */
+    unsigned char *slow; /* per face: its twin was matched vertex by vertex, not as one cycle */
     cell_acc *acc;
+    const struct split_table *sp; /* points inserted into edges (T-junctions) */
 } assembly;
 
 /* Face of cell c made by seed s, or -1. */
@@ -207,8 +213,9 @@ static void match_nearest(int64_t *parent, const cell_hdr *ca, int fa, const cel
 /* Identifies the copies on face fa of cell a and face fb (>= 0) of cell b,
  * the same face seen from both sides. In general position both are the
  * same cycle in opposite directions: one pass checks it and unites the
- * pairs. Otherwise, nearest matches both ways. */
-static void match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
+ * pairs (returns 1). Otherwise, nearest matches both ways (returns 0): the
+ * two copies may then still differ after merging (see T-junctions below). */
+static int match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
                        double tol2)
 {
     const uint16_t *pa = ca->fv + ca->face_start[fa], *pb = cb->fv + cb->face_start[fb];
@@ -232,11 +239,12 @@ static void match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_h
         if (ok) {
             for (int i = 0, j = j0; i < n; i++, j = j == 0 ? n - 1 : j - 1)
                 unite(parent, ca->vbase + pa[i], cb->vbase + pb[j]);
-            return;
+            return 1;
         }
     }
     match_nearest(parent, ca, fa, cb, fb, tol2);
     match_nearest(parent, cb, fb, ca, fa, tol2);
+    return 0;
 }
 
 /* The matching reads the data of each cell's neighbours later in the
@@ -424,15 +432,25 @@ static int match_loose_copies(const assembly *as, const int64_t *n_outer, int ma
  * representatives with repeated consecutive ones (and a last one equal to
  * the first) removed; fewer than 3 left: the face is gone. */
 
-/* Cycle length of face f of cell c (parent[] holds roots). */
+/* The root of a copy, from parent[] holding roots, before or after the used
+ * roots are numbered (a numbered root holds a negative value). */
+static inline int64_t root_of(const int64_t *parent, int64_t copy)
+{
+    int64_t p = parent[copy];
+    return p < 0 ? copy : p;
+}
+
+/* Cycle length of face f of cell c (parent[] holds roots, possibly
+ * numbered: the comparisons are between roots, so the length is the same
+ * before and after the numbering). */
 static int cycle_len(const int64_t *parent, const cell_hdr *c, int f)
 {
-    const int64_t *par = parent + c->vbase;
+    const int64_t base = c->vbase;
     const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
-    int64_t first = par[c->fv[s0]], last = first;
+    int64_t first = root_of(parent, base + c->fv[s0]), last = first;
     int n = 1;
     for (int i = s0 + 1; i < s1; i++) {
-        int64_t r = par[c->fv[i]];
+        int64_t r = root_of(parent, base + c->fv[i]);
         if (r != last) {
             n++;
             last = r;
@@ -475,6 +493,342 @@ static void write_cycle(const int64_t *parent, const cell_hdr *c, int f, int len
             last = p;
         }
     }
+}
+
+/* ---------------------------------------------------------------------
+ * T-junctions. Near-degenerate seeds (co-spherical only to about 1e-9, as
+ * VoroCrust's are: each seed is the meeting point of three spheres,
+ * computed in floating point) have true Voronoi edges a little longer than
+ * the merge tolerance, which two cells sharing a face do not always both
+ * resolve: one cell's copy of the face then has a vertex u (farther than
+ * the tolerance from every vertex of the other copy) lying on an edge
+ * v-w of the other copy. Cutting a cell is exact up to the clipping
+ * tolerance on the distance to a plane, but a vertex made where a plane
+ * crosses an edge it is nearly parallel to can land anywhere along that
+ * edge, so no merge tolerance can absorb these.
+ *
+ * Such a vertex is kept, and inserted into the edge v-w of every face of
+ * every cell that has that edge (the edge is split): each cell's own faces
+ * form a closed surface, and inserting the same points, in the same order
+ * along the edge, into both faces of a cell along an edge keeps it closed;
+ * the two copies of the shared face become the same cycle. This is exact
+ * (no tolerance decides which faces are changed, only which points lie on
+ * which edge), and it only ever runs on faces whose two copies were not
+ * matched as one cycle; general-position input has none. */
+
+typedef struct edge_split {
+    int64_t lo, hi; /* the edge's end roots, lo < hi */
+    double t;       /* where the point lies, from lo (0 < t < 1) */
+    int64_t u;      /* the point's root */
+} edge_split;
+
+typedef struct split_table {
+    edge_split *s; /* sorted by (lo, hi, t) */
+    int64_t n, cap;
+} split_table;
+
+/* Recursion depth of the insertion (a point inserted into an edge that was
+ * itself made by a split). */
+#define SPLIT_DEPTH 4
+
+static int cmp_split(const void *a, const void *b)
+{
+    const edge_split *x = a, *y = b;
+    if (x->lo != y->lo)
+        return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi)
+        return x->hi < y->hi ? -1 : 1;
+    if (x->t != y->t)
+        return x->t < y->t ? -1 : 1;
+    return (x->u > y->u) - (x->u < y->u);
+}
+
+/* What a walk over a face's output cycle does with each point: counts it,
+ * marks its root used (used != NULL) and writes its point id (dst !=
+ * NULL). */
+typedef struct emitter {
+    const int64_t *parent;
+    unsigned char *used;
+    int64_t *dst;
+    int n;
+} emitter;
+
+static inline void emit(emitter *e, int64_t r)
+{
+    if (e->used)
+        __atomic_store_n(&e->used[r], 1, __ATOMIC_RELAXED);
+    if (e->dst)
+        e->dst[e->n] = -e->parent[r] - 1;
+    e->n++;
+}
+
+/* Emits the points inserted into the edge a -> b (not a and b). */
+static void expand_edge(const split_table *sp, emitter *e, int64_t a, int64_t b, int depth)
+{
+    const int64_t lo = a < b ? a : b, hi = a < b ? b : a;
+    int64_t i0 = 0, i1 = sp->n;
+    while (i0 < i1) { /* first entry >= (lo, hi) */
+        int64_t mid = i0 + (i1 - i0) / 2;
+        const edge_split *q = &sp->s[mid];
+        if (q->lo < lo || (q->lo == lo && q->hi < hi))
+            i0 = mid + 1;
+        else
+            i1 = mid;
+    }
+    i1 = i0;
+    while (i1 < sp->n && sp->s[i1].lo == lo && sp->s[i1].hi == hi)
+        i1++;
+    if (i0 == i1)
+        return;
+    int64_t prev = a;
+    for (int64_t k = 0; k < i1 - i0; k++) {
+        const int64_t u = sp->s[a == lo ? i0 + k : i1 - 1 - k].u;
+        if (depth + 1 < SPLIT_DEPTH)
+            expand_edge(sp, e, prev, u, depth + 1);
+        emit(e, u);
+        prev = u;
+    }
+    if (depth + 1 < SPLIT_DEPTH)
+        expand_edge(sp, e, prev, b, depth + 1);
+}
+
+/* Walks the output cycle of face f of cell c (whose cycle_len is >= 3): its
+ * roots, without repeats, with the split points inserted. Returns its
+ * length. */
+static int walk_face(const split_table *sp, emitter *e, const cell_hdr *c, int f)
+{
+    const int64_t base = c->vbase;
+    const int s0 = c->face_start[f];
+    int s1 = c->face_start[f + 1];
+    const int64_t first = root_of(e->parent, base + c->fv[s0]);
+    while (s1 - 1 > s0 && root_of(e->parent, base + c->fv[s1 - 1]) == first)
+        s1--;
+    int64_t last = first;
+    emit(e, first);
+    for (int i = s0 + 1; i < s1; i++) {
+        const int64_t r = root_of(e->parent, base + c->fv[i]);
+        if (r != last) {
+            expand_edge(sp, e, last, r, 0);
+            emit(e, r);
+            last = r;
+        }
+    }
+    expand_edge(sp, e, last, first, 0);
+    return e->n;
+}
+
+/* Output cycle length of face f of cell c (0: gone). */
+static int face_len(const split_table *sp, const int64_t *parent, const cell_hdr *c, int f)
+{
+    int len = cycle_len(parent, c, f);
+    if (len > 0 && sp->n > 0) {
+        emitter e = {parent, NULL, NULL, 0};
+        len = walk_face(sp, &e, c, f);
+    }
+    return len;
+}
+
+/* Marks the roots of the output cycle of face f of cell c used. */
+static void face_mark_used(const split_table *sp, const int64_t *parent, const cell_hdr *c,
+                           int f, unsigned char *used)
+{
+    if (sp->n == 0) {
+        mark_used(parent, c, f, used);
+        return;
+    }
+    emitter e = {parent, used, NULL, 0};
+    walk_face(sp, &e, c, f);
+}
+
+/* Writes the point ids of the output cycle of face f of cell c (len
+ * entries, known), reversed when rev. */
+static void face_write(const split_table *sp, const int64_t *parent, const cell_hdr *c, int f,
+                       int len, int rev, int64_t *dst)
+{
+    if (sp->n == 0) {
+        write_cycle(parent, c, f, len, rev, dst);
+        return;
+    }
+    emitter e = {parent, NULL, dst, 0};
+    walk_face(sp, &e, c, f);
+    if (rev)
+        for (int i = 0, j = len - 1; i < j; i++, j--) {
+            int64_t x = dst[i];
+            dst[i] = dst[j];
+            dst[j] = x;
+        }
+}
+
+/* The cell whose copies include copy x. */
+static const cell_hdr *cell_of_copy(const assembly *as, int64_t x)
+{
+    int64_t lo = 0, hi = as->n - 1;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo + 1) / 2;
+        if (as->h[mid].vbase <= x)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return &as->h[lo];
+}
+
+static const double *copy_point(const assembly *as, int64_t x)
+{
+    const cell_hdr *c = cell_of_copy(as, x);
+    return c->v + 3 * (x - c->vbase);
+}
+
+/* The distinct roots of face f of cell c into *buf (grown as needed);
+ * returns their number in cycle order (consecutive repeats dropped), or -1
+ * when out of memory. */
+static int face_roots(const int64_t *parent, const cell_hdr *c, int f, int64_t **buf, int *cap)
+{
+    const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
+    if (*cap < s1 - s0) {
+        int64_t *b = realloc(*buf, (size_t)(s1 - s0) * sizeof(int64_t));
+        if (!b)
+            return -1;
+        *buf = b;
+        *cap = s1 - s0;
+    }
+    int n = 0;
+    for (int i = s0; i < s1; i++) {
+        int64_t r = root_of(parent, c->vbase + c->fv[i]);
+        if (n == 0 || r != (*buf)[n - 1])
+            (*buf)[n++] = r;
+    }
+    while (n > 1 && (*buf)[n - 1] == (*buf)[0])
+        n--;
+    return n;
+}
+
+static int add_split(split_table *sp, edge_split q)
+{
+    if (sp->n == sp->cap) {
+        int64_t cap = sp->cap ? 2 * sp->cap : 64;
+        edge_split *s = realloc(sp->s, (size_t)cap * sizeof *s);
+        if (!s)
+            return -1;
+        sp->s = s;
+        sp->cap = cap;
+    }
+    sp->s[sp->n++] = q;
+    return 0;
+}
+
+/* The roots of x[0..nx) missing from y[0..ny) that lie on an edge of the
+ * cycle y (within max_dist of it, strictly between its ends) go into sp;
+ * the others, when a vertex of y is within max_dist, are united with the
+ * nearest one (pairs into snap: two copies of one vertex, farther apart
+ * than the merge tolerance of one of the cells). */
+static int split_missing(const assembly *as, const int64_t *x, int nx, const int64_t *y, int ny,
+                         double max_dist, split_table *sp, split_table *snap, int64_t *n_unplaced)
+{
+    for (int i = 0; i < nx; i++) {
+        int found = 0;
+        for (int j = 0; j < ny && !found; j++)
+            found = x[i] == y[j];
+        if (found)
+            continue;
+        const double *p = copy_point(as, x[i]);
+        double best = max_dist * max_dist;
+        edge_split q = {-1, -1, 0, x[i]};
+        for (int j = 0; j < ny && ny >= 2; j++) {
+            const int64_t v = y[j], w = y[j + 1 < ny ? j + 1 : 0];
+            const int64_t lo = v < w ? v : w, hi = v < w ? w : v;
+            const double *a = copy_point(as, lo), *b = copy_point(as, hi);
+            double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+            double l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+            if (!(l2 > 0))
+                continue;
+            double t = (ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2]) / l2;
+            if (!(t > 0 && t < 1))
+                continue;
+            double e[3] = {ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]};
+            double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+            if (d2 <= best) {
+                best = d2;
+                q.lo = lo;
+                q.hi = hi;
+                q.t = t;
+            }
+        }
+        if (q.lo < 0) {
+            double bv = max_dist * max_dist;
+            int64_t near = -1;
+            for (int j = 0; j < ny; j++) {
+                double d2 = dist2(p, copy_point(as, y[j]));
+                if (d2 <= bv) {
+                    bv = d2;
+                    near = y[j];
+                }
+            }
+            if (near < 0) {
+                (*n_unplaced)++;
+                continue;
+            }
+            if (add_split(snap, (edge_split){x[i], near, 0, -1}) != 0)
+                return -1;
+            continue;
+        }
+        if (add_split(sp, q) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* Finds the split points: the faces between two kept cells whose copies
+ * were matched vertex by vertex and still differ after merging. Serial (such
+ * faces are rare) and in cell order, then sorted: the table does not depend
+ * on the threads. Returns -1 when out of memory. */
+static int find_splits(const assembly *as, split_table *sp, split_table *snap,
+                       int64_t *n_unplaced)
+{
+    int64_t *ra = NULL, *rb = NULL;
+    int cap_a = 0, cap_b = 0, rc = 0;
+    for (int64_t m = 0; m < as->n && rc == 0; m++) {
+        const cell_hdr *c = &as->h[m];
+        for (int f = 0; f < c->nf && rc == 0; f++) {
+            const int64_t i = c->fbase + f;
+            if (!as->slow[i] || as->nbr[i] <= m)
+                continue;
+            const cell_hdr *d = &as->h[as->nbr[i]];
+            const int g = as->twin[i];
+            int na = face_roots(as->parent, c, f, &ra, &cap_a);
+            int nb = face_roots(as->parent, d, g, &rb, &cap_b);
+            if (na < 0 || nb < 0) {
+                rc = -1;
+                break;
+            }
+            if (na < 3 && nb < 3)
+                continue; /* gone on both sides */
+            /* A vertex within this distance of an edge lies on it: far
+             * above the rounding of the positions, far below any edge that
+             * is not a T-junction. */
+            double tol = c->tol > d->tol ? c->tol : d->tol;
+            if (split_missing(as, ra, na, rb, nb, tol * 1e2, sp, snap, n_unplaced) != 0 ||
+                split_missing(as, rb, nb, ra, na, tol * 1e2, sp, snap, n_unplaced) != 0)
+                rc = -1;
+        }
+    }
+    free(ra);
+    free(rb);
+    if (rc == 0 && sp->n > 1) {
+        qsort(sp->s, (size_t)sp->n, sizeof *sp->s, cmp_split);
+        int64_t w = 1; /* the same point on the same edge, found from several faces */
+        for (int64_t k = 1; k < sp->n; k++) {
+            const edge_split *q = &sp->s[k];
+            int dup = 0;
+            for (int64_t j = w - 1; j >= 0 && sp->s[j].lo == q->lo && sp->s[j].hi == q->hi; j--)
+                dup |= sp->s[j].u == q->u;
+            if (!dup)
+                sp->s[w++] = *q;
+        }
+        sp->n = w;
+    }
+    return rc;
 }
 
 /* A face between two kept cells known only to the higher one (the owner
@@ -539,7 +893,7 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
         out_face r = {t, om, (int32_t)m, f, as->flen[fb + f], 0};
         if (r.len <= 0) {
             int g = as->twin[fb + f];
-            r.len = g >= 0 ? cycle_len(as->parent, &as->h[om], g) : 0;
+            r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g) : 0;
             if (r.len == 0)
                 continue;
             r.src = om;
@@ -629,7 +983,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            vc_error *err)
 {
     const vc_cell_result *cells = *cells_owned;
-    assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL};
+    split_table splits = {NULL, 0, 0};
+    int64_t n_unplaced = 0;
+    assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL, NULL, &splits};
     cell_hdr *h = NULL;
     int32_t *mpos = NULL;
     int64_t *n_outer = NULL;
@@ -689,7 +1045,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     as.nbr = BIG_ARRAY(n_faces_all, int32_t);
     as.twin = BIG_ARRAY(n_faces_all, int32_t);
     as.flen = BIG_ARRAY(n_faces_all, int32_t);
-    if (!as.parent || !as.nbr || !as.twin || !as.flen)
+    as.slow = BIG_ARRAY(n_faces_all, unsigned char);
+    if (!as.parent || !as.nbr || !as.twin || !as.flen || !as.slow)
         goto nomem;
 #pragma omp parallel for schedule(static)
     for (int64_t m = 0; m < n_kept; m++) {
@@ -700,6 +1057,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             int64_t t = c->plane[f];
             as.nbr[c->fbase + f] = t >= 0 ? mpos[t] : -1;
             as.twin[c->fbase + f] = -1;
+            as.slow[c->fbase + f] = 0;
         }
     }
     free(*cells_owned); /* everything needed is in the headers now */
@@ -746,7 +1104,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             if (g >= 0) {
                 as.twin[fb + f] = g;
                 as.twin[d->fbase + g] = f;
-                match_face(as.parent, c, f, d, g, tol * tol);
+                as.slow[fb + f] = (unsigned char)!match_face(as.parent, c, f, d, g, tol * tol);
             } else {
                 match_nearest(as.parent, c, f, d, -1, tol * tol);
             }
@@ -761,6 +1119,32 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = find_root(as.parent, i);
     PHASE("roots");
+    /* Copies of a shared face that still differ: unite the copies of one
+     * vertex that the tolerance kept apart, until none is left (each round
+     * unites at least two roots), then split the edges. */
+    for (int round = 0;; round++) {
+        split_table snap = {NULL, 0, 0};
+        splits.n = 0;
+        n_unplaced = 0;
+        if (find_splits(&as, &splits, &snap, &n_unplaced) != 0) {
+            free(snap.s);
+            goto nomem;
+        }
+        if (snap.n == 0 || round == 16) {
+            free(snap.s);
+            break;
+        }
+        for (int64_t i = 0; i < snap.n; i++)
+            unite(as.parent, snap.s[i].lo, snap.s[i].hi);
+        free(snap.s);
+#pragma omp parallel for schedule(static)
+        for (int64_t i = 0; i < n_copies; i++)
+            as.parent[i] = find_root(as.parent, i);
+    }
+    if (timing)
+        fprintf(stderr, "  assembly: %lld edge splits, %lld vertices on no edge\n",
+                (long long)splits.n, (long long)n_unplaced);
+    PHASE("splits");
 
     /* Which faces survive, who writes them, and the used roots. A face
      * between two kept cells is decided by its owner, except an orphan. */
@@ -778,31 +1162,31 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             const int64_t t = c->plane[f];
             int len = -1;
             if (om < 0) {
-                len = cycle_len(as.parent, c, f);
+                len = face_len(&splits, as.parent, c, f);
                 if (len > 0) {
                     n_bnd++;
                     fv_bnd += len;
-                    mark_used(as.parent, c, f, used);
+                    face_mark_used(&splits, as.parent, c, f, used);
                 }
             } else if (t > c->seed) {
-                len = cycle_len(as.parent, c, f);
+                len = face_len(&splits, as.parent, c, f);
                 const cell_hdr *src = c;
                 int sf = f, sl = len;
                 if (len == 0 && as.twin[fb + f] >= 0) {
                     src = &h[om];
                     sf = as.twin[fb + f];
-                    sl = cycle_len(as.parent, src, sf);
+                    sl = face_len(&splits, as.parent, src, sf);
                 }
                 if (sl > 0) {
                     n_int++;
                     fv_int += sl;
-                    mark_used(as.parent, src, sf, used);
+                    face_mark_used(&splits, as.parent, src, sf, used);
                     __atomic_fetch_add(&as.acc[om].n_nb, 1, __ATOMIC_RELAXED);
                 }
             } else if (as.twin[fb + f] < 0) {
-                len = cycle_len(as.parent, c, f);
+                len = face_len(&splits, as.parent, c, f);
                 if (len > 0) {
-                    mark_used(as.parent, c, f, used);
+                    face_mark_used(&splits, as.parent, c, f, used);
                     __atomic_fetch_add(&a->n_nb, 1, __ATOMIC_RELAXED);
 #pragma omp critical(vc_assembly_orphans)
                     {
@@ -958,7 +1342,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 out->face_owner[i] = c->k;
                 out->face_other_seed[i] = r->other_seed;
                 int64_t *fv = out->face_vertices + *pos;
-                write_cycle(as.parent, &h[r->src], r->src_face, r->len, r->reversed, fv);
+                face_write(&splits, as.parent, &h[r->src], r->src_face, r->len, r->reversed, fv);
                 *pos += r->len;
                 out->face_offsets[i + 1] = *pos;
                 cf[j] = i;
@@ -1017,6 +1401,8 @@ done:
     free(as.nbr);
     free(as.twin);
     free(as.flen);
+    free(as.slow);
+    free(splits.s);
     free(used);
     free(orphans);
     return rc;
