@@ -500,21 +500,29 @@ static void write_cycle(const int64_t *parent, const cell_hdr *c, int f, int len
  * VoroCrust's are: each seed is the meeting point of three spheres,
  * computed in floating point) have true Voronoi edges a little longer than
  * the merge tolerance, which two cells sharing a face do not always both
- * resolve: one cell's copy of the face then has a vertex u (farther than
- * the tolerance from every vertex of the other copy) lying on an edge
- * v-w of the other copy. Cutting a cell is exact up to the clipping
- * tolerance on the distance to a plane, but a vertex made where a plane
- * crosses an edge it is nearly parallel to can land anywhere along that
- * edge, so no merge tolerance can absorb these.
+ * resolve. Cutting a cell is exact up to the clipping tolerance on the
+ * distance of a vertex to a plane, but a vertex made where a plane crosses
+ * an edge it is nearly parallel to can land anywhere along that edge: one
+ * cell's copy of the shared face then has a vertex u that the other copy
+ * lacks, either near one of its vertices (farther than the merge
+ * tolerance of one of the two cells: the tolerances are relative to each
+ * cell's own size) or anywhere along one of its edges v-w. No merge
+ * tolerance absorbs the second kind, and either kind leaves a cell open
+ * (the shared face is written from one copy only).
  *
- * Such a vertex is kept, and inserted into the edge v-w of every face of
- * every cell that has that edge (the edge is split): each cell's own faces
- * form a closed surface, and inserting the same points, in the same order
- * along the edge, into both faces of a cell along an edge keeps it closed;
- * the two copies of the shared face become the same cycle. This is exact
- * (no tolerance decides which faces are changed, only which points lie on
- * which edge), and it only ever runs on faces whose two copies were not
- * matched as one cycle; general-position input has none. */
+ * So, for each face whose two copies were matched vertex by vertex (not as
+ * one cycle) and still differ after merging:
+ *  - u within 100 merge tolerances of a vertex of the other copy is united
+ *    with the nearest one, and the faces are compared again (rounds, until
+ *    no union is made);
+ *  - then u within that distance of an edge v-w of the other copy, strictly
+ *    between its ends, is inserted into the edge v-w of every face of every
+ *    cell that has that edge (the edge is split). Each cell's own faces
+ *    form a closed surface, and both faces of a cell along an edge get the
+ *    same points in the same order, so it stays closed, and the two copies
+ *    of the shared face become the same cycle. No tolerance decides which
+ *    faces are changed (only which points lie on which edge): the result
+ *    is exact. General-position input has no such faces. */
 
 typedef struct edge_split {
     int64_t lo, hi; /* the edge's end roots, lo < hi */
@@ -562,8 +570,13 @@ static inline void emit(emitter *e, int64_t r)
     e->n++;
 }
 
-/* Emits the points inserted into the edge a -> b (not a and b). */
-static void expand_edge(const split_table *sp, emitter *e, int64_t a, int64_t b, int depth)
+/* Emits the points inserted into the edge a -> b (not a and b), a part of
+ * the face's edge ta -> tb: a point inserted into a part is never one of
+ * the ends of the whole edge (two copies of one vertex, each found on an
+ * edge ending at the other). The result depends on the edge alone, not on
+ * the face: both faces of a cell along an edge get the same points. */
+static void expand_edge(const split_table *sp, emitter *e, int64_t a, int64_t b, int64_t ta,
+                        int64_t tb, int depth)
 {
     const int64_t lo = a < b ? a : b, hi = a < b ? b : a;
     int64_t i0 = 0, i1 = sp->n;
@@ -583,13 +596,15 @@ static void expand_edge(const split_table *sp, emitter *e, int64_t a, int64_t b,
     int64_t prev = a;
     for (int64_t k = 0; k < i1 - i0; k++) {
         const int64_t u = sp->s[a == lo ? i0 + k : i1 - 1 - k].u;
+        if (u == ta || u == tb)
+            continue;
         if (depth + 1 < SPLIT_DEPTH)
-            expand_edge(sp, e, prev, u, depth + 1);
+            expand_edge(sp, e, prev, u, ta, tb, depth + 1);
         emit(e, u);
         prev = u;
     }
     if (depth + 1 < SPLIT_DEPTH)
-        expand_edge(sp, e, prev, b, depth + 1);
+        expand_edge(sp, e, prev, b, ta, tb, depth + 1);
 }
 
 /* Walks the output cycle of face f of cell c (whose cycle_len is >= 3): its
@@ -608,12 +623,12 @@ static int walk_face(const split_table *sp, emitter *e, const cell_hdr *c, int f
     for (int i = s0 + 1; i < s1; i++) {
         const int64_t r = root_of(e->parent, base + c->fv[i]);
         if (r != last) {
-            expand_edge(sp, e, last, r, 0);
+            expand_edge(sp, e, last, r, last, r, 0);
             emit(e, r);
             last = r;
         }
     }
-    expand_edge(sp, e, last, first, 0);
+    expand_edge(sp, e, last, first, last, first, 0);
     return e->n;
 }
 
@@ -717,14 +732,14 @@ static int add_split(split_table *sp, edge_split q)
     return 0;
 }
 
-/* The roots of x[0..nx) missing from y[0..ny) that lie on an edge of the
- * cycle y (within max_dist of it, strictly between its ends) go into sp;
- * the others, when a vertex of y is within max_dist, are united with the
- * nearest one (pairs into snap: two copies of one vertex, farther apart
- * than the merge tolerance of one of the cells). */
+/* The roots of x[0..nx) missing from y[0..ny): one within max_dist of a
+ * vertex of y is a copy of it that the merge tolerance of one of the cells
+ * kept apart (the pair goes into snap, to be united); one within max_dist
+ * of an edge of y, strictly between its ends, lies on it (into sp). */
 static int split_missing(const assembly *as, const int64_t *x, int nx, const int64_t *y, int ny,
                          double max_dist, split_table *sp, split_table *snap, int64_t *n_unplaced)
 {
+    const double max2 = max_dist * max_dist;
     for (int i = 0; i < nx; i++) {
         int found = 0;
         for (int j = 0; j < ny && !found; j++)
@@ -732,7 +747,21 @@ static int split_missing(const assembly *as, const int64_t *x, int nx, const int
         if (found)
             continue;
         const double *p = copy_point(as, x[i]);
-        double best = max_dist * max_dist;
+        double best = max2;
+        int64_t near = -1;
+        for (int j = 0; j < ny; j++) {
+            double d2 = dist2(p, copy_point(as, y[j]));
+            if (d2 <= best) {
+                best = d2;
+                near = y[j];
+            }
+        }
+        if (near >= 0) {
+            if (add_split(snap, (edge_split){x[i], near, 0, -1}) != 0)
+                return -1;
+            continue;
+        }
+        best = max2;
         edge_split q = {-1, -1, 0, x[i]};
         for (int j = 0; j < ny && ny >= 2; j++) {
             const int64_t v = y[j], w = y[j + 1 < ny ? j + 1 : 0];
@@ -755,25 +784,9 @@ static int split_missing(const assembly *as, const int64_t *x, int nx, const int
                 q.t = t;
             }
         }
-        if (q.lo < 0) {
-            double bv = max_dist * max_dist;
-            int64_t near = -1;
-            for (int j = 0; j < ny; j++) {
-                double d2 = dist2(p, copy_point(as, y[j]));
-                if (d2 <= bv) {
-                    bv = d2;
-                    near = y[j];
-                }
-            }
-            if (near < 0) {
-                (*n_unplaced)++;
-                continue;
-            }
-            if (add_split(snap, (edge_split){x[i], near, 0, -1}) != 0)
-                return -1;
-            continue;
-        }
-        if (add_split(sp, q) != 0)
+        if (q.lo < 0)
+            (*n_unplaced)++;
+        else if (add_split(sp, q) != 0)
             return -1;
     }
     return 0;
