@@ -285,9 +285,10 @@ def enclosed_volume(pts, polys):
     return v
 
 
-# bracket.obj and bumpy-cube.obj are left out: their volume meshes still have
-# a few cells the engine leaves open or VTK rejects (degenerate seeds; see the
-# README's known limitations).
+# bracket.obj and bumpy-cube.obj are left out: their volume meshes pass the
+# validator, but VTK rejects a few cells (a flat vertex in the middle of an
+# edge, where the engine resolved a T-junction; see the README's known
+# limitations).
 for model in ("sphere.obj", "cube.off", "onebox.obj"):
     vols = []
     for t in ("1", "2"):
