@@ -447,7 +447,7 @@ int vc_cmd_mesh(int argc, char **argv)
         int64_t problems = vc_polymesh_validate(&m, 0, report, sizeof report);
         if (problems)
             fprintf(stderr, "vorocrust: warning: %s: the volume mesh fails validation (%lld "
-                    "problems; degenerate seeds the engine does not resolve yet), first: %.*s\n",
+                    "problems), first: %.*s\n",
                     in_path, (long long)problems, (int)strcspn(report, "\n"), report);
         /* per-cell fatness goes into the .vtu as well */
         m.cell_fatness = malloc(sizeof(double) * (size_t)(m.n_cells ? m.n_cells : 1));
