@@ -289,11 +289,14 @@ def enclosed_volume(pts, polys):
 # validator, but VTK rejects a few cells (a flat vertex in the middle of an
 # edge, where the engine resolved a T-junction; see the README's known
 # limitations).
-for model in ("sphere.obj", "cube.off", "onebox.obj"):
+# models/icosphere.obj is the project's own model of the README's first command.
+ICOSPHERE = os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj")
+for model in ("sphere.obj", "cube.off", "onebox.obj", ICOSPHERE):
     vols = []
     for t in ("1", "2"):
-        vtu = os.path.join(TMP, "mesh_vol_%s_%s.vtu" % (model.replace(".", "_"), t))
-        surf = os.path.join(TMP, "mesh_vol_%s_%s.obj" % (model.replace(".", "_"), t))
+        tag = os.path.basename(model).replace(".", "_")
+        vtu = os.path.join(TMP, "mesh_vol_%s_%s.vtu" % (tag, t))
+        surf = os.path.join(TMP, "mesh_vol_%s_%s.obj" % (tag, t))
         rc, out, err = run("mesh", os.path.join(MODELS, model), "-o", vtu, "--surface", surf,
                            "--threads", t)
         check(rc == 0 and "warning" not in err, "%s volume mesh: exit %d: %s" % (model, rc, err))
