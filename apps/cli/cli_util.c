@@ -1,6 +1,8 @@
 #include "cli_util.h"
 
 #include <errno.h>
+#include <stdio.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,4 +52,68 @@ int vc_cli_directory_writable(const char *path)
     memcpy(dir, path, n);
     dir[n] = 0;
     return access(dir, W_OK) == 0;
+}
+
+int vc_cli_check_output_file(const char *path)
+{
+    struct stat st;
+    if (!vc_cli_directory_writable(path)) {
+        fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n", path);
+        return 1;
+    }
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* Whether the directory that would hold path (trailing slashes ignored)
+ * exists, is a directory and is writable. */
+static int parent_directory_writable(const char *path)
+{
+    char dir[4096];
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        n--;
+    while (n > 0 && path[n - 1] != '/')
+        n--;
+    while (n > 1 && path[n - 1] == '/')
+        n--;
+    if (n == 0)
+        return access(".", W_OK | X_OK) == 0;
+    if (n >= sizeof dir)
+        return 0;
+    memcpy(dir, path, n);
+    dir[n] = 0;
+    struct stat st;
+    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) && access(dir, W_OK | X_OK) == 0;
+}
+
+int vc_cli_check_case_dir(const char *path)
+{
+    struct stat st;
+    if (!*path) {
+        fprintf(stderr, "vorocrust: --foam: the case directory is empty\n");
+        return 2;
+    }
+    if (stat(path, &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: Not a directory\n",
+                    path);
+            return 1;
+        }
+        if (access(path, W_OK | X_OK) != 0) {
+            fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: %s\n", path,
+                    strerror(errno));
+            return 1;
+        }
+    } else if (!parent_directory_writable(path)) {
+        fprintf(stderr,
+                "vorocrust: %s: cannot write the OpenFOAM case: directory missing or not "
+                "writable\n",
+                path);
+        return 1;
+    }
+    return 0;
 }

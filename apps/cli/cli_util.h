@@ -14,4 +14,14 @@ int vc_cli_parse_int(const char *s, long lo, long hi, long *out);
 /* Whether the directory that would hold path exists and is writable. */
 int vc_cli_directory_writable(const char *path);
 
+/* Refuses (one line on stderr, returns the exit code 1) an output file
+ * whose directory is missing or not writable, or that is a directory;
+ * returns 0 when it can be written. */
+int vc_cli_check_output_file(const char *path);
+
+/* The same for an OpenFOAM case directory: an existing writable directory
+ * (its polyMesh is replaced) or a new one in a writable directory, never a
+ * file. Returns 0, or the exit code (2 for an empty name, 1 otherwise). */
+int vc_cli_check_case_dir(const char *path);
+
 #endif

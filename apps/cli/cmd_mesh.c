@@ -294,14 +294,13 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: --foam and --surface-only exclude each other\n");
         return 2;
     }
-    if (foam_path && !vc_cli_directory_writable(foam_path)) {
-        fprintf(stderr, "vorocrust: %s: cannot write: parent directory missing or not writable\n",
-                foam_path);
-        return 1;
+    if (foam_path) {
+        int frc = vc_cli_check_case_dir(foam_path);
+        if (frc)
+            return frc;
     }
     const char *outputs[4] = {out_path, surf_path, seeds_path, balls_path};
     for (int i = 0; i < 4; i++) {
-        struct stat st;
         if (!outputs[i])
             continue;
         for (int j = 0; j < i; j++)
@@ -309,15 +308,8 @@ int vc_cmd_mesh(int argc, char **argv)
                 fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
                 return 2;
             }
-        if (!vc_cli_directory_writable(outputs[i])) {
-            fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
-                    outputs[i]);
+        if (vc_cli_check_output_file(outputs[i]))
             return 1;
-        }
-        if (stat(outputs[i], &st) == 0 && S_ISDIR(st.st_mode)) {
-            fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", outputs[i]);
-            return 1;
-        }
     }
     opt.progress = !quiet;
 

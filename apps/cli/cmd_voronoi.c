@@ -44,28 +44,6 @@ static int takes_value(const char *a)
     return 0;
 }
 
-/* Whether the directory that would hold path (trailing slashes ignored)
- * exists, is a directory and is writable. */
-static int parent_directory_writable(const char *path)
-{
-    char dir[4096];
-    size_t n = strlen(path);
-    while (n > 1 && path[n - 1] == '/')
-        n--;
-    while (n > 0 && path[n - 1] != '/')
-        n--;
-    while (n > 1 && path[n - 1] == '/')
-        n--;
-    if (n == 0)
-        return access(".", W_OK | X_OK) == 0;
-    if (n >= sizeof dir)
-        return 0;
-    memcpy(dir, path, n);
-    dir[n] = 0;
-    struct stat st;
-    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) && access(dir, W_OK | X_OK) == 0;
-}
-
 int vc_cmd_voronoi(int argc, char **argv)
 {
     const char *seeds_path = NULL, *out_path = NULL, *conn_path = NULL, *foam_path = NULL;
@@ -149,46 +127,13 @@ int vc_cmd_voronoi(int argc, char **argv)
     }
     /* Refuse unwritable outputs before the work, not after. */
     const char *outputs[2] = {out_path, conn_path};
-    for (int i = 0; i < 2; i++) {
-        struct stat st;
-        if (!outputs[i])
-            continue;
-        if (!vc_cli_directory_writable(outputs[i])) {
-            fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n",
-                    outputs[i]);
+    for (int i = 0; i < 2; i++)
+        if (outputs[i] && vc_cli_check_output_file(outputs[i]))
             return 1;
-        }
-        if (stat(outputs[i], &st) == 0 && S_ISDIR(st.st_mode)) {
-            fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", outputs[i]);
-            return 1;
-        }
-    }
     if (foam_path) {
-        /* An existing directory (its polyMesh is replaced) or a new one in a
-         * writable directory; never a file. */
-        struct stat st;
-        if (!*foam_path) {
-            fprintf(stderr, "vorocrust: --foam: the case directory is empty\n");
-            return 2;
-        }
-        if (stat(foam_path, &st) == 0) {
-            if (!S_ISDIR(st.st_mode)) {
-                fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: Not a directory\n",
-                        foam_path);
-                return 1;
-            }
-            if (access(foam_path, W_OK | X_OK) != 0) {
-                fprintf(stderr, "vorocrust: %s: cannot write the OpenFOAM case: %s\n", foam_path,
-                        strerror(errno));
-                return 1;
-            }
-        } else if (!parent_directory_writable(foam_path)) {
-            fprintf(stderr,
-                    "vorocrust: %s: cannot write the OpenFOAM case: directory missing or not "
-                    "writable\n",
-                    foam_path);
-            return 1;
-        }
+        int frc = vc_cli_check_case_dir(foam_path);
+        if (frc)
+            return frc;
         if (!strcmp(foam_path, out_path) || (conn_path && !strcmp(foam_path, conn_path))) {
             fprintf(stderr, "vorocrust: %s: named by --foam and by another output\n", foam_path);
             return 2;

@@ -1,6 +1,6 @@
 /* Interior seeds on a cubic lattice (see include/vorocrust/interior.h).
- * The nearest surface seed of a lattice point is found through a uniform
- * grid of the surface seeds, searched in growing shells. */
+ * The nearest surface seed of a lattice point is found through the Voronoi
+ * engine's grid of seed bins, searched in growing shells. */
 #include "vorocrust/interior.h"
 
 #include <math.h>
@@ -8,99 +8,39 @@
 #include <string.h>
 
 #include "balls/ball_set.h"
+#include "voronoi/seed_grid.h"
 
-typedef struct seed_grid3 {
-    double lo[3], h;
-    int64_t n[3];
-    int64_t *start; /* n0 n1 n2 + 1 */
-    int64_t *idx;
-} seed_grid3;
-
-static int64_t clampi(int64_t v, int64_t lo, int64_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
-
-static int grid_build(seed_grid3 *g, const vc_seeds *s)
+/* The nearest seed to x (ties: lowest index) and its distance, searching
+ * the grid's bins in growing shells. */
+static int64_t grid_nearest(const vc_seed_grid *g, const double x[3], double *dist)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t i = 0; i < s->n; i++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
-            hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
-        }
-    double vol = 1;
-    for (int d = 0; d < 3; d++)
-        vol *= fmax(hi[d] - lo[d], 1e-300);
-    g->h = cbrt(vol / (double)(s->n > 0 ? s->n : 1)) * 1.5; /* ~3 seeds per bin */
-    if (!(g->h > 0))
-        g->h = 1;
-    int64_t total = 1;
-    for (int d = 0; d < 3; d++) {
-        g->lo[d] = lo[d];
-        g->n[d] = (int64_t)floor((hi[d] - lo[d]) / g->h) + 1;
-        if (g->n[d] > 2048)
-            g->n[d] = 2048;
-        total *= g->n[d];
-    }
-    g->start = calloc((size_t)total + 1, sizeof(int64_t));
-    g->idx = malloc(sizeof(int64_t) * (size_t)(s->n ? s->n : 1));
-    if (!g->start || !g->idx)
-        return -1;
-    int64_t *bin = malloc(sizeof(int64_t) * (size_t)(s->n ? s->n : 1));
-    if (!bin)
-        return -1;
-    for (int64_t i = 0; i < s->n; i++) {
-        int64_t c[3];
-        for (int d = 0; d < 3; d++)
-            c[d] = clampi((int64_t)floor((s->xyz[3 * i + d] - g->lo[d]) / g->h), 0, g->n[d] - 1);
-        bin[i] = (c[2] * g->n[1] + c[1]) * g->n[0] + c[0];
-        g->start[bin[i] + 1]++;
-    }
-    for (int64_t b = 0; b < total; b++)
-        g->start[b + 1] += g->start[b];
-    int64_t *fill = malloc(sizeof(int64_t) * (size_t)total);
-    if (!fill) {
-        free(bin);
-        return -1;
-    }
-    memcpy(fill, g->start, sizeof(int64_t) * (size_t)total);
-    for (int64_t i = 0; i < s->n; i++)
-        g->idx[fill[bin[i]]++] = i;
-    free(fill);
-    free(bin);
-    return 0;
-}
-
-/* The nearest seed to x (ties: lowest index) and its distance. */
-static int64_t grid_nearest(const seed_grid3 *g, const vc_seeds *s, const double x[3], double *dist)
-{
-    int64_t c[3];
-    for (int d = 0; d < 3; d++)
-        c[d] = clampi((int64_t)floor((x[d] - g->lo[d]) / g->h), 0, g->n[d] - 1);
+    int c[3];
+    vc_seed_grid_locate(g, x, c);
     double best2 = INFINITY;
     int64_t best = -1;
-    int64_t maxn = g->n[0] > g->n[1] ? g->n[0] : g->n[1];
+    int maxn = g->n[0] > g->n[1] ? g->n[0] : g->n[1];
     maxn = maxn > g->n[2] ? maxn : g->n[2];
-    for (int64_t ring = 0; ring <= maxn; ring++) {
-        /* a seed in ring r is at least (r - 1) h away (x may lie outside the grid: then
-         * the bound is only used once something is found) */
+    for (int ring = 0; ring <= maxn; ring++) {
+        /* a seed in ring r is at least (r - 1) h away */
         if (best >= 0) {
             double lim = (double)(ring - 1) * g->h;
             if (lim > 0 && lim * lim > best2)
                 break;
         }
-        for (int64_t k = c[2] - ring; k <= c[2] + ring; k++) {
+        for (int k = c[2] - ring; k <= c[2] + ring; k++) {
             if (k < 0 || k >= g->n[2])
                 continue;
-            for (int64_t j = c[1] - ring; j <= c[1] + ring; j++) {
+            for (int j = c[1] - ring; j <= c[1] + ring; j++) {
                 if (j < 0 || j >= g->n[1])
                     continue;
-                int shell = llabs(k - c[2]) == ring || llabs(j - c[1]) == ring;
-                for (int64_t i = c[0] - ring; i <= c[0] + ring; i += (shell || ring == 0) ? 1 : 2 * ring) {
+                int shell = abs(k - c[2]) == ring || abs(j - c[1]) == ring;
+                for (int i = c[0] - ring; i <= c[0] + ring; i += (shell || ring == 0) ? 1 : 2 * ring) {
                     if (i < 0 || i >= g->n[0])
                         continue;
-                    int64_t b = (k * g->n[1] + j) * g->n[0] + i;
-                    for (int64_t m = g->start[b]; m < g->start[b + 1]; m++) {
-                        int64_t q = g->idx[m];
-                        const double *y = s->xyz + 3 * q;
+                    int64_t b = vc_seed_grid_bin(g, i, j, k);
+                    for (int64_t m = g->bin_start[b]; m < g->bin_start[b + 1]; m++) {
+                        int64_t q = g->seed_index[m];
+                        const double *y = g->xyz + 3 * m;
                         double d2 = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
                                     (x[2] - y[2]) * (x[2] - y[2]);
                         if (d2 < best2 || (d2 == best2 && q < best)) {
@@ -147,6 +87,8 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
     *n_interior = 0;
     if (!(spacing > 0) || !isfinite(spacing))
         return vc_error_set(err, VC_EPARAM, "interior spacing must be positive, got %g", spacing);
+    if (ss->n == 0)
+        return vc_error_set(err, VC_EINPUT, "no surface seeds to place interior seeds against");
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int64_t i = 0; i < balls->n; i++)
         for (int d = 0; d < 3; d++) {
@@ -164,13 +106,19 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                             count);
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < ss->n; i++)
+        for (int d = 0; d < 3; d++) {
+            slo[d] = fmin(slo[d], ss->xyz[3 * i + d]);
+            shi[d] = fmax(shi[d], ss->xyz[3 * i + d]);
+        }
     vc_ball_set bs;
-    seed_grid3 g;
+    vc_seed_grid g;
     memset(&g, 0, sizeof g);
-    if (vc_ball_set_init(&bs, lo, diag) || grid_build(&g, ss)) {
+    if (vc_ball_set_init(&bs, lo, diag) ||
+        vc_seed_grid_build(&g, ss->xyz, ss->n, slo, shi, 3.0)) {
         vc_ball_set_free(&bs);
-        free(g.start);
-        free(g.idx);
+        vc_seed_grid_free(&g);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the interior seeds");
     }
     int rc = 0;
@@ -193,7 +141,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 if (vc_ball_set_query(&bs, x, 0, 1.0, 0.0, ball_holds, &ic))
                     continue;
                 double dn;
-                int64_t q = grid_nearest(&g, ss, x, &dn);
+                int64_t q = grid_nearest(&g, x, &dn);
                 if (q < 0 || ss->label[q] == 0 || dn < 0.5 * spacing)
                     continue;
                 if (np == cap) {
@@ -209,8 +157,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 np++;
             }
     vc_ball_set_free(&bs);
-    free(g.start);
-    free(g.idx);
+    vc_seed_grid_free(&g);
     if (!rc && vc_seeds_alloc(out, ss->n + np, err) == 0) {
         memcpy(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n);
         memcpy(out->label, ss->label, sizeof(int32_t) * (size_t)ss->n);

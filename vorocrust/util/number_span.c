@@ -28,44 +28,37 @@ static char *copy_run(const char *b, const char *e, char *buf, size_t cap, size_
     return s;
 }
 
-size_t vc_strtod_span(const char *b, const char *e, double *v, int *erange)
+/* Copies the number-like run at b and parses it as a double (is_int 0)
+ * or a base-10 long long; returns the characters consumed. */
+static size_t parse_span(const char *b, const char *e, int is_int, double *dv, long long *iv,
+                         int *erange)
 {
     char buf[128];
     size_t n;
     *erange = 0;
     char *s = copy_run(b, e, buf, sizeof buf, &n);
-    if (!s || n == 0) {
-        if (s && s != buf)
-            free(s);
-        return 0;
+    size_t used = 0;
+    if (s && n > 0) {
+        char *end;
+        errno = 0;
+        if (is_int)
+            *iv = strtoll(s, &end, 10);
+        else
+            *dv = strtod(s, &end);
+        *erange = (errno == ERANGE);
+        used = (size_t)(end - s);
     }
-    char *end;
-    errno = 0;
-    *v = strtod(s, &end);
-    *erange = (errno == ERANGE);
-    size_t used = (size_t)(end - s);
-    if (s != buf)
+    if (s && s != buf)
         free(s);
     return used;
 }
 
+size_t vc_strtod_span(const char *b, const char *e, double *v, int *erange)
+{
+    return parse_span(b, e, 0, v, NULL, erange);
+}
+
 size_t vc_strtoll_span(const char *b, const char *e, long long *v, int *erange)
 {
-    char buf[64];
-    size_t n;
-    *erange = 0;
-    char *s = copy_run(b, e, buf, sizeof buf, &n);
-    if (!s || n == 0) {
-        if (s && s != buf)
-            free(s);
-        return 0;
-    }
-    char *end;
-    errno = 0;
-    *v = strtoll(s, &end, 10);
-    *erange = (errno == ERANGE);
-    size_t used = (size_t)(end - s);
-    if (s != buf)
-        free(s);
-    return used;
+    return parse_span(b, e, 1, NULL, v, erange);
 }
