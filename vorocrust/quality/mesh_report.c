@@ -1,0 +1,263 @@
+/* The quality report of a mesh read from a .vtu file: every cell measured
+ * (checked closed first: the volume and the face planes rely on it), the
+ * boundary's triangle quality and angles, and the Hausdorff distance to the
+ * input surface. */
+#include "vorocrust/mesh_report.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "quality_internal.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- closed, consistently oriented cells ------------------------------------ */
+
+typedef struct cell_edge {
+    int64_t from, to; /* from = -1: empty slot */
+} cell_edge;
+
+/* Slots of the edge hash table for cells of up to `corners` face-vertex
+ * entries: a power of two at least twice that. */
+static int64_t edge_table_size(int64_t corners)
+{
+    int64_t size = 16;
+    while (size < 2 * corners)
+        size *= 2;
+    return size;
+}
+
+static int64_t edge_slot(const cell_edge *table, int64_t mask, int64_t from, int64_t to)
+{
+    uint64_t h = (uint64_t)from * 0x9e3779b97f4a7c15ULL ^ (uint64_t)to * 0xc2b2ae3d27d4eb4fULL;
+    int64_t i = (int64_t)(h >> 17) & mask;
+    while (table[i].from >= 0 && (table[i].from != from || table[i].to != to))
+        i = (i + 1) & mask;
+    return i;
+}
+
+/* Whether every edge of cell c is walked exactly twice, once each way (a
+ * closed surface with consistently oriented faces, which the volume and
+ * the face planes rely on): every directed edge appears once and so does
+ * its reverse. table has edge_table_size(corners of c) slots. */
+static int cell_is_closed(const vc_vtu_mesh *m, int64_t c, cell_edge *table)
+{
+    int64_t corners = m->face_offsets[m->cell_faces[c + 1]] - m->face_offsets[m->cell_faces[c]];
+    int64_t size = edge_table_size(corners), mask = size - 1;
+    for (int64_t i = 0; i < size; i++)
+        table[i].from = -1;
+    if (corners == 0 || corners % 2)
+        return 0;
+    for (int64_t f = m->cell_faces[c]; f < m->cell_faces[c + 1]; f++) {
+        int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+        for (int64_t k = b; k < e; k++) {
+            int64_t u = m->face_vertices[k], v = m->face_vertices[k + 1 < e ? k + 1 : b];
+            int64_t i = edge_slot(table, mask, u, v);
+            if (u == v || table[i].from >= 0)
+                return 0; /* a repeated vertex, or the same edge walked twice the same way */
+            table[i].from = u;
+            table[i].to = v;
+        }
+    }
+    for (int64_t i = 0; i < size; i++)
+        if (table[i].from >= 0 && table[edge_slot(table, mask, table[i].to, table[i].from)].from < 0)
+            return 0;
+    return 1;
+}
+
+/* ---- the report -------------------------------------------------------------- */
+
+void vc_mesh_report_free(vc_mesh_report *r)
+{
+    if (!r)
+        return;
+    free(r->cell_fatness);
+    free(r->triangle_qualities);
+    memset(r, 0, sizeof *r);
+}
+
+/* Measures every cell: fills fat (r->cell_fatness), rel, vol, dmin, dmax
+ * (NaN when not a tetrahedron) and the cell counts of r. Returns 0 or -1
+ * (out of memory). */
+static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, double *rel,
+                         double *dmin, double *dmax)
+{
+    const int64_t nc = m->n_cells;
+    double *fat = r->cell_fatness;
+    unsigned char *open_flag = calloc(nc ? (size_t)nc : 1, 1);
+    if (!open_flag)
+        return -1;
+    int64_t n_failed = 0, n_inverted = 0, n_open = 0, n_tet = 0;
+    int64_t max_corners = 0; /* face-vertex entries of the largest cell */
+    for (int64_t c = 0; c < nc; c++) {
+        int64_t k = m->face_offsets[m->cell_faces[c + 1]] - m->face_offsets[m->cell_faces[c]];
+        max_corners = k > max_corners ? k : max_corners;
+        n_tet += m->cell_type[c] == VC_VTK_TETRA;
+    }
+    int oom = 0;
+#pragma omp parallel reduction(+ : n_failed, n_inverted, n_open) reduction(| : oom)
+    {
+    cell_edge *edges = malloc(sizeof *edges * (size_t)edge_table_size(max_corners));
+    oom |= !edges;
+#pragma omp for schedule(dynamic, 64)
+    for (int64_t c = 0; c < nc; c++) {
+        if (!edges)
+            continue;
+        if (!cell_is_closed(m, c, edges)) {
+            n_open++;
+            open_flag[c] = 1;
+        }
+        vc_cell cell;
+        cell.points = m->points;
+        cell.n_vertices = 0;
+        cell.vertices = NULL;
+        cell.n_faces = m->cell_faces[c + 1] - m->cell_faces[c];
+        cell.face_offsets = m->face_offsets + m->cell_faces[c];
+        cell.face_vertices = m->face_vertices;
+        vc_cell_measures cm;
+        double signed_volume;
+        if (vc_cell_measure(&cell, &cm) == 0) {
+            signed_volume = cm.signed_volume;
+            fat[c] = cm.fatness;
+            rel[c] = cm.shortest_edge_rel;
+        } else {
+            signed_volume = vc_cell_volume(&cell, NULL);
+            fat[c] = rel[c] = NAN; /* left out of the statistics, counted */
+            n_failed++;
+        }
+        n_inverted += signed_volume < 0;
+        vol[c] = fabs(signed_volume);
+        dmin[c] = dmax[c] = NAN;
+        if (m->cell_type[c] == VC_VTK_TETRA) {
+            /* the reader's first face is (1, 2, 3), the second starts with 0 */
+            const int64_t *id = m->face_vertices + m->face_offsets[m->cell_faces[c]];
+            int64_t ids[4] = {m->face_vertices[m->face_offsets[m->cell_faces[c] + 1]], id[0],
+                              id[1], id[2]};
+            double p[4][3], deg[6];
+            for (int k = 0; k < 4; k++)
+                memcpy(p[k], m->points + 3 * ids[k], sizeof p[k]);
+            vc_tetra_dihedral_angles(p, deg, &dmin[c], &dmax[c]);
+        }
+    }
+    free(edges);
+    }
+    r->n_cells = nc;
+    r->n_tetrahedra = n_tet;
+    r->n_open_cells = n_open;
+    r->n_inverted_cells = n_inverted;
+    r->n_unmeasured_cells = n_failed;
+    r->first_open_cell = r->first_unmeasured_cell = -1;
+    for (int64_t c = 0; c < nc && n_open; c++)
+        if (open_flag[c]) {
+            r->first_open_cell = m->cell_file_index[c];
+            break;
+        }
+    for (int64_t c = 0; c < nc && n_failed; c++)
+        if (isnan(fat[c])) {
+            r->first_unmeasured_cell = m->cell_file_index[c];
+            break;
+        }
+    r->total_volume = 0;
+    for (int64_t c = 0; c < nc; c++)
+        r->total_volume += vol[c];
+    free(open_flag);
+    return oom ? -1 : 0;
+}
+
+/* The boundary triangles' quality (r->triangle_qualities, allocated here)
+ * and angle percentages. Returns 0 or -1 (out of memory). */
+static int measure_boundary(const vc_surface *boundary, vc_mesh_report *r)
+{
+    const int64_t nt = boundary->n_triangles;
+    double *q = malloc(sizeof *q * (size_t)(nt ? nt : 1));
+    if (!q)
+        return -1;
+    r->triangle_qualities = q;
+    r->n_boundary_triangles = nt;
+    int64_t below30 = 0, above90 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : below30, above90)
+    for (int64_t t = 0; t < nt; t++) {
+        const double *a = boundary->xyz + 3 * boundary->tri[3 * t];
+        const double *b = boundary->xyz + 3 * boundary->tri[3 * t + 1];
+        const double *c = boundary->xyz + 3 * boundary->tri[3 * t + 2];
+        double deg[3];
+        q[t] = vc_triangle_quality(a, b, c);
+        vc_triangle_angles(a, b, c, deg);
+        for (int k = 0; k < 3; k++) {
+            below30 += deg[k] < 30;
+            above90 += deg[k] > 90;
+        }
+    }
+    r->angles_below_30 = nt ? 100.0 * (double)below30 / (3.0 * (double)nt) : NAN;
+    r->angles_above_90 = nt ? 100.0 * (double)above90 / (3.0 * (double)nt) : NAN;
+    return vc_stats_compute(q, nt, &r->triangle_quality) ? -1 : 0;
+}
+
+int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
+                           const vc_surface *input, const char *input_name,
+                           vc_mesh_report *out, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const int64_t nc = m->n_cells;
+    const size_t cn = nc ? (size_t)nc : 1;
+    vc_surface boundary = {0, NULL, 0, NULL};
+    double *vol = malloc(sizeof *vol * cn), *rel = malloc(sizeof *rel * cn);
+    double *dmin = malloc(sizeof *dmin * cn), *dmax = malloc(sizeof *dmax * cn);
+    int64_t *uses = malloc(sizeof *uses * (size_t)(m->n_faces ? m->n_faces : 1));
+    out->cell_fatness = malloc(sizeof *out->cell_fatness * cn);
+    int rc = VC_ENOMEM, oom = !vol || !rel || !dmin || !dmax || !uses || !out->cell_fatness;
+    double t0 = now();
+    oom = oom || measure_cells(m, out, vol, rel, dmin, dmax) != 0;
+    oom = oom || vc_stats_compute(vol, nc, &out->volume) || vc_stats_compute(out->cell_fatness,
+          nc, &out->fatness) || vc_stats_compute(rel, nc, &out->shortest_edge_rel) ||
+          vc_stats_compute(dmin, nc, &out->dihedral_min) ||
+          vc_stats_compute(dmax, nc, &out->dihedral_max);
+    double t1 = now();
+    if (!oom) {
+        out->n_points = m->n_points;
+        out->n_faces = vc_mesh_face_uses(m, uses);
+        oom = out->n_faces < 0 || vc_mesh_boundary_surface(m, uses, &boundary) != 0;
+    }
+    if (!oom) {
+        for (int64_t f = 0; f < m->n_faces; f++) {
+            out->n_boundary_faces += uses[f] == 1;
+            out->n_faces_shared_more += uses[f] > 2;
+        }
+        oom = measure_boundary(&boundary, out) != 0;
+    }
+    double t2 = now();
+    if (oom) {
+        vc_error_set(err, VC_ENOMEM, "%s: out of memory", mesh_name);
+    } else if (input && boundary.n_triangles == 0) {
+        rc = vc_error_set(err, VC_EINPUT, "%s: the mesh has no boundary face to compare with %s",
+                          mesh_name, input_name);
+    } else if (input) {
+        vc_error herr = {0, ""};
+        rc = vc_hausdorff(input, &boundary, 0, &out->hausdorff, &herr);
+        if (rc)
+            vc_error_set(err, rc, "%s: %s", mesh_name, herr.msg);
+        out->has_hausdorff = rc == 0;
+    } else {
+        rc = VC_OK;
+    }
+    double t3 = now();
+    out->time_cells = t1 - t0;
+    out->time_boundary = t2 - t1;
+    out->time_hausdorff = t3 - t2;
+    free(vol);
+    free(rel);
+    free(dmin);
+    free(dmax);
+    free(uses);
+    vc_surface_free(&boundary);
+    if (rc)
+        vc_mesh_report_free(out);
+    return rc;
+}
