@@ -8,5 +8,6 @@ int vc_cmd_info(int argc, char **argv);
 int vc_cmd_voronoi(int argc, char **argv);
 int vc_cmd_mesh(int argc, char **argv);
 int vc_cmd_quality(int argc, char **argv);
+int vc_cmd_compare(int argc, char **argv);
 
 #endif

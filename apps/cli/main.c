@@ -13,6 +13,7 @@ static void usage(FILE *f)
         "  voronoi SEEDS.csv   build the conforming Voronoi mesh of seeds\n"
         "  mesh INPUT          VoroCrust: sample a closed surface, place seeds, mesh\n"
         "  quality MESH.vtu    mesh quality report (polyhedra, tetrahedra)\n"
+        "  compare INPUT       vorocrust mesh against TetGen on the same surface\n"
         "run 'vorocrust COMMAND --help' for the options of a command\n");
 }
 
@@ -35,6 +36,8 @@ int main(int argc, char **argv)
         return vc_cmd_mesh(argc - 1, argv + 1);
     if (!strcmp(cmd, "quality"))
         return vc_cmd_quality(argc - 1, argv + 1);
+    if (!strcmp(cmd, "compare"))
+        return vc_cmd_compare(argc - 1, argv + 1);
     fprintf(stderr, "vorocrust: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

@@ -75,35 +75,73 @@ static int copy_output(const tetgenio &o, vc_tetgen_mesh *out, char *msg, size_t
     return 0;
 }
 
-extern "C" int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches,
-                                        vc_tetgen_mesh *out, char *msg, size_t msg_len)
+// The surface as TetGen's piecewise linear complex: one facet per triangle
+// (tetgenio's destructor frees every array with delete[]).
+static void fill_plc(const vc_surface *s, tetgenio *in)
 {
-    std::memset(out, 0, sizeof *out);
+    in->firstnumber = 0;
+    in->numberofpoints = (int)s->n_vertices;
+    in->pointlist = new REAL[3 * (size_t)s->n_vertices];
+    std::memcpy(in->pointlist, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
+    in->numberoffacets = (int)s->n_triangles;
+    in->facetlist = new tetgenio::facet[(size_t)s->n_triangles];
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        tetgenio::facet *f = &in->facetlist[t];
+        tetgenio::init(f);
+        f->numberofpolygons = 1;
+        f->polygonlist = new tetgenio::polygon[1];
+        tetgenio::init(f->polygonlist);
+        f->polygonlist[0].numberofvertices = 3;
+        f->polygonlist[0].vertexlist = new int[3];
+        for (int k = 0; k < 3; k++)
+            f->polygonlist[0].vertexlist[k] = (int)s->tri[3 * t + k];
+    }
+}
+
+static int too_large(const vc_surface *s, char *msg, size_t msg_len)
+{
     if (s->n_vertices > INT_MAX / 3 || s->n_triangles > INT_MAX) {
         std::snprintf(msg, msg_len, "too large for TetGen (%lld vertices, %lld triangles)",
                       (long long)s->n_vertices, (long long)s->n_triangles);
         return 1;
     }
+    return 0;
+}
+
+extern "C" int vc_tetgen_self_intersections(const vc_surface *s, int64_t *n_triangles,
+                                            char *msg, size_t msg_len)
+{
+    *n_triangles = 0;
+    if (too_large(s, msg, msg_len))
+        return 1;
     try {
         tetgenio in, o;
-        in.firstnumber = 0;
-        in.numberofpoints = (int)s->n_vertices;
-        in.pointlist = new REAL[3 * (size_t)s->n_vertices];
-        std::memcpy(in.pointlist, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
-        // tetgenio's destructor frees facetlist and every polygon with delete[].
-        in.numberoffacets = (int)s->n_triangles;
-        in.facetlist = new tetgenio::facet[(size_t)s->n_triangles];
-        for (int64_t t = 0; t < s->n_triangles; t++) {
-            tetgenio::facet *f = &in.facetlist[t];
-            tetgenio::init(f);
-            f->numberofpolygons = 1;
-            f->polygonlist = new tetgenio::polygon[1];
-            tetgenio::init(f->polygonlist);
-            f->polygonlist[0].numberofvertices = 3;
-            f->polygonlist[0].vertexlist = new int[3];
-            for (int k = 0; k < 3; k++)
-                f->polygonlist[0].vertexlist[k] = (int)s->tri[3 * t + k];
-        }
+        fill_plc(s, &in);
+        char switches[] = "dQ";
+        tetgenbehavior b;
+        b.parse_commandline(switches);
+        tetrahedralize(&b, &in, &o);
+        *n_triangles = o.numberoftrifaces;
+        return 0;
+    } catch (const std::bad_alloc &) {
+        std::snprintf(msg, msg_len, "TetGen: out of memory");
+    } catch (int code) {
+        std::snprintf(msg, msg_len, "TetGen: %s (code %d)", tetgen_failure(code), code);
+    } catch (...) {
+        std::snprintf(msg, msg_len, "TetGen: unexpected exception");
+    }
+    return 1;
+}
+
+extern "C" int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches,
+                                        vc_tetgen_mesh *out, char *msg, size_t msg_len)
+{
+    std::memset(out, 0, sizeof *out);
+    if (too_large(s, msg, msg_len))
+        return 1;
+    try {
+        tetgenio in, o;
+        fill_plc(s, &in);
         std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
         tetgenbehavior b;
         if (!b.parse_commandline(sw.data())) {

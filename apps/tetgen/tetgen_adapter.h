@@ -30,6 +30,14 @@ typedef struct vc_tetgen_mesh {
 int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches, vc_tetgen_mesh *out,
                              char *msg, size_t msg_len);
 
+/* The number of triangles of s that intersect another one (TetGen's -d
+ * check) into n_triangles. TetGen 1.5.0 crashes when it stops on a
+ * self-intersecting surface while meshing (it frees its memory twice on
+ * the way out), so vc-tetgen asks this first. Returns 0, or non-zero with
+ * one line in msg. */
+int vc_tetgen_self_intersections(const vc_surface *s, int64_t *n_triangles, char *msg,
+                                 size_t msg_len);
+
 /* Frees the arrays of m and zeroes it; safe on a zeroed mesh. */
 void vc_tetgen_mesh_free(vc_tetgen_mesh *m);
 
