@@ -112,10 +112,32 @@ static void print_table(const vc_compare *c)
         if (c->side[s].command[0])
             printf("command %s: %s\n", c->side[s].name, c->side[s].command);
     if (c->tetgen_target)
-        printf("tetgen target cells: %" PRId64 "\n", c->tetgen_target);
+        printf("tetgen target cells: %" PRId64 " (volume bound from: %s)\n", c->tetgen_target,
+               c->tetgen_bound_command);
     for (int s = 0; s < VC_COMPARE_SIDES; s++)
         if (!c->side[s].ok)
             printf("failed %s: %s\n", c->side[s].name, c->side[s].failure);
+}
+
+/* The bound from the log of `vc-tetgen --bound-only` ("max volume: V ...")
+ * into buf, as printed; 0, or -1 when there is none. */
+static int read_bound(const char *log_path, char *buf, size_t size)
+{
+    FILE *fp = fopen(log_path, "r");
+    char line[512];
+    int rc = -1;
+    while (fp && rc && fgets(line, sizeof line, fp)) {
+        char value[64];
+        double v;
+        if (sscanf(line, "max volume: %63s", value) == 1 && !vc_cli_parse_double(value, &v) &&
+            v > 0) {
+            snprintf(buf, size, "%s", value);
+            rc = 0;
+        }
+    }
+    if (fp)
+        fclose(fp);
+    return rc;
 }
 
 /* Removes the files compare made in its temporary directory, then it. */
@@ -232,9 +254,9 @@ int vc_cmd_compare(int argc, char **argv)
             return 1;
         }
     }
-    enum { VORO_MESH, VORO_LOG, TET_MESH, TET_LOG, N_PATHS };
+    enum { VORO_MESH, VORO_LOG, TET_MESH, TET_LOG, TET_BOUND_LOG, N_PATHS };
     static const char *const names[N_PATHS] = {"vorocrust.vtu", "vorocrust.log", "tetgen.vtu",
-                                               "tetgen.log"};
+                                               "tetgen.log", "tetgen-bound.log"};
     char paths[N_PATHS][4096];
     for (int i = 0; i < N_PATHS; i++) {
         snprintf(paths[i], sizeof paths[i], "%s/%s", work, names[i]);
@@ -275,24 +297,33 @@ int vc_cmd_compare(int argc, char **argv)
     c.tetgen_target = target ? target
                     : c.side[VC_COMPARE_VOROCRUST].ok ? c.side[VC_COMPARE_VOROCRUST].report.n_cells
                     : 0;
-    {
+    /* TetGen: the volume bound for the target is searched in a first run
+     * (several TetGen runs), so that the measured run is a single one. */
+    vc_compare_side *tet = &c.side[VC_COMPARE_TETGEN];
+    char bound_text[64] = "";
+    if (c.tetgen_target) {
         char target_text[32];
         snprintf(target_text, sizeof target_text, "%" PRId64, c.tetgen_target);
-        char *args[16];
-        int n = 0;
-        args[n++] = tetgen;
-        args[n++] = (char *)input_path;
-        args[n++] = "-o";
-        args[n++] = paths[TET_MESH];
-        if (c.tetgen_target) {
-            args[n++] = "--target-cells";
-            args[n++] = target_text;
+        char *args[] = {tetgen, (char *)input_path, "--target-cells", target_text, "--bound-only",
+                        NULL};
+        join_command(args, c.tetgen_bound_command, sizeof c.tetgen_bound_command);
+        if (!quiet)
+            fprintf(stderr, "vorocrust compare: running %s\n", c.tetgen_bound_command);
+        vc_child_result bound_run;
+        if (vc_child_run(args, paths[TET_BOUND_LOG], &bound_run) != 0 ||
+            read_bound(paths[TET_BOUND_LOG], bound_text, sizeof bound_text) != 0) {
+            snprintf(tet->failure, sizeof tet->failure, "finding the volume bound: %s",
+                     bound_run.message[0] ? bound_run.message : "no 'max volume:' line");
+            join_command(args, tet->command, sizeof tet->command);
         }
-        args[n] = NULL;
-        run_side(&c.side[VC_COMPARE_TETGEN], args, paths[TET_MESH], paths[TET_LOG], &input,
-                 input_path, quiet);
     }
-
+    if (!tet->failure[0]) {
+        char *args[] = {tetgen, (char *)input_path, "-o", paths[TET_MESH], "--max-volume",
+                        bound_text, NULL};
+        if (!bound_text[0])
+            args[4] = NULL; /* no target: TetGen's quality bound alone */
+        run_side(tet, args, paths[TET_MESH], paths[TET_LOG], &input, input_path, quiet);
+    }
     print_table(&c);
     fflush(stdout);
     int rc = 0;

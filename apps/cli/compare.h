@@ -28,6 +28,7 @@ typedef struct vc_compare {
     double input_volume;     /* the volume the input encloses */
     double input_diagonal;   /* its bounding-box diagonal */
     int64_t tetgen_target;   /* the --target-cells given to vc-tetgen, 0 for none */
+    char tetgen_bound_command[4096]; /* the run that found TetGen's volume bound */
     vc_compare_side side[VC_COMPARE_SIDES];
 } vc_compare;
 

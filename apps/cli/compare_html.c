@@ -251,6 +251,12 @@ static void write_page(FILE *fp, const vc_compare *c)
         put_escaped(fp, c->side[s].command);
         fputs("</code></li>\n", fp);
     }
+    if (c->tetgen_target) {
+        fprintf(fp, "<li>tetgen's volume bound, for about %" PRId64 " cells (vorocrust's count "
+                "unless --target-cells was given): <code>", c->tetgen_target);
+        put_escaped(fp, c->tetgen_bound_command);
+        fputs("</code></li>\n", fp);
+    }
     fputs("</ul>\n", fp);
     histogram h;
     fatness_histogram(c, &h);

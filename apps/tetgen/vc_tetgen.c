@@ -20,31 +20,38 @@
 #include "vorocrust/surface.h"
 
 /* TetGen's tetrahedra under a volume bound V and radius-edge bound 1.414
- * have a mean volume of about V / 3 (measured on sphere, icosphere and
- * bracket at 50,000 tetrahedra: V / 2.7 to V / 3.2), so a target of N
- * cells in a volume W asks for the bound 3 W / N. A coarse target gives
- * more cells than asked: TetGen keeps every input triangle as a boundary
- * face (torus.obj, 9,216 triangles, never gets below about 45,000
- * tetrahedra). */
+ * have a mean volume of about V / 3 in the interior (sphere, icosphere and
+ * bracket at 50,000 tetrahedra: V / 2.7 to V / 3.2): the first bound tried
+ * for N cells in a volume W is 3 W / N. The count is not a smooth function
+ * of V (once V is below the tetrahedra along the surface, TetGen splits the
+ * surface triangles: icosphere.obj jumps from 3,012 to 9,731 tetrahedra
+ * between two bounds 20% apart), so the bound is then searched. */
 #define MEAN_VOLUME_RATIO 3.0
+#define SEARCH_RUNS 10      /* TetGen runs at most */
+#define SEARCH_TOLERANCE 0.05 /* stop within 5% of the target */
 
 static void usage(FILE *f)
 {
     fprintf(f,
         "usage: vc-tetgen INPUT -o OUT.vtu [--target-cells N | --max-volume V]\n"
         "                 [--radius-edge R] [--quiet]\n"
+        "       vc-tetgen INPUT --target-cells N --bound-only\n"
         "Tetrahedralizes the volume a closed triangle surface (.obj, .off, .stl, .ply)\n"
         "encloses with TetGen (switches -pq<R>a<V>) and writes VTK_TETRA cells to OUT.vtu.\n"
         "  -o, --output OUT.vtu  the tetrahedral mesh (required)\n"
-        "  --target-cells N      aim at about N tetrahedra: the volume bound is\n"
-        "                        %.1f x (enclosed volume) / N\n"
+        "  --target-cells N      aim at N tetrahedra: the volume bound giving the count\n"
+        "                        closest to N (within 5%%), searched over at most %d TetGen\n"
+        "                        runs from %.0f x (enclosed volume) / N\n"
+        "  --bound-only          with --target-cells: print the volume bound found\n"
+        "                        ('max volume: V', V as --max-volume takes it) on stdout\n"
+        "                        and write nothing\n"
         "  --max-volume V        the volume bound itself (TetGen's -a)\n"
         "  --radius-edge R       radius-edge ratio bound, at least 1.1 (default 1.414;\n"
         "                        TetGen's -q)\n"
         "  --quiet               no summary on stderr\n"
         "Without --target-cells or --max-volume, only the quality bound applies.\n"
         "Exit: 0 success, 1 bad input or a TetGen failure, 2 usage error.\n",
-        MEAN_VOLUME_RATIO);
+        SEARCH_RUNS, MEAN_VOLUME_RATIO);
 }
 
 /* TetGen 1.5.0 frees its memory twice when it stops on an error it did not
@@ -59,6 +66,66 @@ static void on_tetgen_crash(int sig)
     ssize_t unused = write(STDERR_FILENO, crash_line, strlen(crash_line));
     (void)unused;
     _exit(1);
+}
+
+/* TetGen's switches for the bounds (volume bound 0: none). */
+static void make_switches(char *buf, size_t size, double radius_edge, double max_volume)
+{
+    if (max_volume > 0)
+        snprintf(buf, size, "pq%.6ga%.6gQ", radius_edge, max_volume);
+    else
+        snprintf(buf, size, "pq%.6gQ", radius_edge);
+}
+
+/* v rounded to the 6 significant digits the switches carry, so that the
+ * bound printed by --bound-only gives the same mesh again. */
+static double six_digits(double v)
+{
+    char text[32];
+    snprintf(text, sizeof text, "%.6g", v);
+    return strtod(text, NULL);
+}
+
+/* Runs TetGen under the volume bound giving the cell count closest to
+ * target: from the first guess, doubling or halving until the target is
+ * bracketed, then bisecting (geometrically); at most SEARCH_RUNS runs,
+ * stopping within SEARCH_TOLERANCE. mesh gets the best run's mesh, bound
+ * its volume bound, runs the number of runs. Returns 0 or non-zero with msg. */
+static int search_bound(const vc_surface *s, double radius_edge, double first, double target,
+                        vc_tetgen_mesh *mesh, double *bound, int *runs, char *msg, size_t msg_len)
+{
+    double lo = 0, hi = 0; /* bounds known to give too many / too few cells (0: none yet) */
+    double v = six_digits(first);
+    *bound = 0;
+    for (*runs = 1; *runs <= SEARCH_RUNS; ++*runs) {
+        char switches[128];
+        vc_tetgen_mesh m;
+        make_switches(switches, sizeof switches, radius_edge, v);
+        if (vc_tetgen_tetrahedralize(s, switches, &m, msg, msg_len) != 0)
+            return 1;
+        double n = (double)m.n_tets;
+        if (*bound == 0 || fabs(n - target) < fabs((double)mesh->n_tets - target)) {
+            vc_tetgen_mesh_free(mesh);
+            *mesh = m;
+            *bound = v;
+        } else {
+            vc_tetgen_mesh_free(&m);
+        }
+        if (fabs(n - target) <= SEARCH_TOLERANCE * target)
+            break;
+        if (n > target)
+            lo = v;
+        else
+            hi = v;
+        double next = lo > 0 && hi > 0 ? sqrt(lo * hi) : hi > 0 ? v / 2 : v * 2;
+        next = six_digits(next);
+        if (next == v)
+            break;
+        v = next;
+    }
+    if (*runs > SEARCH_RUNS)
+        *runs = SEARCH_RUNS;
+    return 0;
 }
 
 static double now(void)
@@ -98,7 +165,7 @@ int main(int argc, char **argv)
 {
     const char *input = NULL, *output = NULL;
     double target = 0, max_volume = 0, radius_edge = 1.414;
-    int quiet = 0;
+    int quiet = 0, bound_only = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -106,6 +173,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (!strcmp(a, "--bound-only")) {
+            bound_only = 1;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output") || !strcmp(a, "--target-cells") ||
                    !strcmp(a, "--max-volume") || !strcmp(a, "--radius-edge")) {
             if (i + 1 >= argc) {
@@ -144,7 +213,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: missing the INPUT surface (see 'vc-tetgen --help')\n");
         return 2;
     }
-    if (!output) {
+    if (bound_only && !(target > 0)) {
+        fprintf(stderr, "vc-tetgen: --bound-only needs --target-cells\n");
+        return 2;
+    }
+    if (!output && !bound_only) {
         fprintf(stderr, "vc-tetgen: missing -o OUT.vtu (see 'vc-tetgen --help')\n");
         return 2;
     }
@@ -153,11 +226,11 @@ int main(int argc, char **argv)
         return 2;
     }
     struct stat st;
-    if (!directory_writable(output)) {
+    if (output && !directory_writable(output)) {
         fprintf(stderr, "vc-tetgen: %s: cannot write: directory missing or not writable\n", output);
         return 1;
     }
-    if (stat(output, &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (output && stat(output, &st) == 0 && S_ISDIR(st.st_mode)) {
         fprintf(stderr, "vc-tetgen: %s: cannot write: Is a directory\n", output);
         return 1;
     }
@@ -181,14 +254,6 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: %s: the surface encloses no volume\n", input);
         goto out;
     }
-    if (target > 0)
-        max_volume = MEAN_VOLUME_RATIO * rep.volume / target;
-
-    char switches[128];
-    if (max_volume > 0)
-        snprintf(switches, sizeof switches, "pq%.6ga%.6gQ", radius_edge, max_volume);
-    else
-        snprintf(switches, sizeof switches, "pq%.6gQ", radius_edge);
     double t_read = now();
     char msg[512];
     int64_t n_crossing = 0;
@@ -209,7 +274,15 @@ int main(int argc, char **argv)
     signal(SIGSEGV, on_tetgen_crash);
     signal(SIGBUS, on_tetgen_crash);
     signal(SIGABRT, on_tetgen_crash);
-    int tetgen_rc = vc_tetgen_tetrahedralize(&s, switches, &mesh, msg, sizeof msg);
+    int runs = 1, tetgen_rc;
+    if (target > 0)
+        tetgen_rc = search_bound(&s, radius_edge, MEAN_VOLUME_RATIO * rep.volume / target, target,
+                                 &mesh, &max_volume, &runs, msg, sizeof msg);
+    else {
+        char switches[128];
+        make_switches(switches, sizeof switches, radius_edge, max_volume);
+        tetgen_rc = vc_tetgen_tetrahedralize(&s, switches, &mesh, msg, sizeof msg);
+    }
     signal(SIGSEGV, SIG_DFL);
     signal(SIGBUS, SIG_DFL);
     signal(SIGABRT, SIG_DFL);
@@ -218,6 +291,12 @@ int main(int argc, char **argv)
         goto out;
     }
     double t_mesh = now();
+    if (bound_only) {
+        printf("max volume: %.6g (%" PRId64 " tetrahedra for the target %.0f, %d TetGen runs)\n",
+               max_volume, mesh.n_tets, target, runs);
+        rc = 0;
+        goto out;
+    }
     if (vc_write_tetra_vtu(&mesh, output, &err) != 0) {
         fprintf(stderr, "vc-tetgen: %s\n", err.msg);
         goto out;
@@ -227,11 +306,13 @@ int main(int argc, char **argv)
         double volume = 0;
         for (int64_t t = 0; t < mesh.n_tets; t++)
             volume += vc_tetra_signed_volume(&mesh, t);
+        char switches[128];
+        make_switches(switches, sizeof switches, radius_edge, max_volume);
         fprintf(stderr, "vc-tetgen: %s (%" PRId64 " triangles), switches -%s\n", input,
                 s.n_triangles, switches);
         fprintf(stderr, "  %" PRId64 " points, %" PRId64 " tetrahedra", mesh.n_points, mesh.n_tets);
         if (target > 0)
-            fprintf(stderr, " (target %.0f)", target);
+            fprintf(stderr, " (target %.0f, %d TetGen runs)", target, runs);
         fprintf(stderr, ", volume %.12g (input %.12g)\n", volume, rep.volume);
         fprintf(stderr, "  time (s): read %.3f, self-intersection check %.3f, tetgen %.3f, "
                 "write %.3f\n", t_read - t0, t_check - t_read, t_mesh - t_check, t_write - t_mesh);
