@@ -97,7 +97,10 @@ static void write_svg(FILE *fp, const vc_compare *c, const histogram *h, const c
             double pct = 100.0 * (double)h->count[s][b] / (double)h->total[s];
             ymax = pct > ymax ? pct : ymax;
         }
-    ymax = round_up(ymax);
+    /* the axis ends at a multiple of a round step, at most 5 steps */
+    const double ystep = round_up(ymax / 5);
+    const int nsteps = ymax > 0 ? (int)ceil(ymax / ystep - 1e-9) : 1;
+    ymax = ystep * nsteps;
     fprintf(fp, "<svg id=\"%s\" xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
             "viewBox=\"0 0 %d %d\" role=\"img\">\n", id, SVG_WIDTH, SVG_HEIGHT, SVG_WIDTH, SVG_HEIGHT);
     fprintf(fp, "<text x=\"%d\" y=\"20\" class=\"title\">%s (percent of each mesher's %s)</text>\n",
@@ -110,11 +113,11 @@ static void write_svg(FILE *fp, const vc_compare *c, const histogram *h, const c
                 c->side[s].name, c->side[s].ok ? "" : " (failed)");
     }
     /* y grid and labels */
-    for (int k = 0; k <= 4; k++) {
-        double y = PLOT_TOP + ph - ph * k / 4.0;
+    for (int k = 0; k <= nsteps; k++) {
+        double y = PLOT_TOP + ph - ph * k / nsteps;
         fprintf(fp, "<line x1=\"%d\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" class=\"grid\"/>"
                 "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%g%%</text>\n", PLOT_LEFT, y,
-                PLOT_LEFT + pw, y, PLOT_LEFT - 6, y + 4, ymax * k / 4.0);
+                PLOT_LEFT + pw, y, PLOT_LEFT - 6, y + 4, ystep * k);
     }
     /* bars: two per bin */
     const double bw = pw / nb;

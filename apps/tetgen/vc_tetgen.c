@@ -38,7 +38,7 @@ static void usage(FILE *f)
         "       vc-tetgen INPUT --target-cells N --bound-only\n"
         "Tetrahedralizes the volume a closed triangle surface (.obj, .off, .stl, .ply)\n"
         "encloses with TetGen (switches -pq<R>a<V>) and writes VTK_TETRA cells to OUT.vtu.\n"
-        "  -o, --output OUT.vtu  the tetrahedral mesh (required)\n"
+        "  -o, --output OUT.vtu  the tetrahedral mesh (required, except with --bound-only)\n"
         "  --target-cells N      aim at N tetrahedra: the volume bound giving the count\n"
         "                        closest to N (within 5%%), searched over at most %d TetGen\n"
         "                        runs from %.0f x (enclosed volume) / N\n"
