@@ -25,7 +25,10 @@ sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtk  # noqa: E402
 import vtkcheck  # noqa: E402
 
-TETGEN = os.environ["VC_TETGEN"]
+TETGEN = os.environ.get("VC_TETGEN", "")
+if not os.path.isfile(TETGEN):
+    print("FAIL: vc-tetgen was not built (TetGen, Debian's libtet1.5-dev, is missing)", file=sys.stderr)
+    sys.exit(1)
 SOURCE = os.environ["VC_SOURCE"]
 MODELS = os.environ.get("VC_MODELS", "")
 TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_tetgen")
