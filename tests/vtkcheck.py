@@ -113,6 +113,7 @@ def cell_mass_volume(grid, c):
     """Volume of cell c by VTK's vtkMassProperties on its triangulated faces."""
     faces = cell_faces(grid, c)
     pts = vtk.vtkPoints()
+    pts.SetDataTypeToDouble()  # the default, float, loses 1e-5 of a small cell far from 0
     index = {}
     polys = vtk.vtkCellArray()
     for f in faces:
@@ -242,6 +243,37 @@ def validator_verdict(grid):
     return sorted(suspects.items()), flagged
 
 
+# vtkCellValidator's orientation test (FacesAreOrientedCorrectly) takes the
+# centre of the cell's axis-aligned bounding box for its centroid and asks
+# every face to point away from it. A thin convex cell lying across the box
+# diagonal can have that box centre outside itself, beyond one of its face
+# planes; the test then rejects it whatever the faces do (bracket.obj's
+# volume mesh has such cells). Such a verdict says nothing about the cell:
+# it is accepted when the orientation test is VTK's only complaint, the box
+# centre is outside the cell, and the exact plane test below passes.
+FACES_ORIENTED_INCORRECTLY = 32
+
+
+def bbox_centre_outside(grid, c):
+    """Is the centre of cell c's bounding box beyond one of its face planes
+    (Newell normals, outward)?"""
+    faces = cell_faces(grid, c)
+    pts = {p: grid.GetPoint(p) for f in faces for p in f}
+    xs = list(pts.values())
+    mid = [(max(x[k] for x in xs) + min(x[k] for x in xs)) / 2 for k in range(3)]
+    for f in faces:
+        n = [0.0, 0.0, 0.0]
+        for a, b in zip(f, f[1:] + f[:1]):
+            pa, pb = pts[a], pts[b]
+            n[0] += (pa[1] - pb[1]) * (pa[2] + pb[2])
+            n[1] += (pa[2] - pb[2]) * (pa[0] + pb[0])
+            n[2] += (pa[0] - pb[0]) * (pa[1] + pb[1])
+        p0 = pts[f[0]]
+        if sum((mid[k] - p0[k]) * n[k] for k in range(3)) > 0:
+            return True
+    return False
+
+
 def _shortest_edge_ratio(grid, c):
     """Shortest edge of cell c over the cell's largest coordinate extent."""
     faces = cell_faces(grid, c)
@@ -294,6 +326,8 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
     - expected_cells cells if given, every cell a VTK_POLYHEDRON;
     - every cell valid per vtkCellValidator (closed, convex, outward faces),
       in the original orientation or a rotated copy (see validator_verdict),
+      except an orientation verdict taken from a box centre outside the cell
+      (see FACES_ORIENTED_INCORRECTLY),
       and convex with outward faces by an exact plane test;
     - the cell array "volume" equals the volume its faces enclose (computed
       here) within rel_tol; VTK's vtkCellSizeFilter agrees (1e-6) or, where
@@ -327,6 +361,8 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
     # test below; anything else fails.
     tiny = []
     for c, st in bad:
+        if st == FACES_ORIENTED_INCORRECTLY and bbox_centre_outside(grid, c):
+            continue
         rel = _shortest_edge_ratio(grid, c)
         if rel >= 1e-4:
             _fail(path, "cell %d invalid per vtkCellValidator (%s) in every orientation tried, "

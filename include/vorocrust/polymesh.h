@@ -74,6 +74,27 @@ static inline int64_t vc_polymesh_face_size(const vc_polymesh *m, int64_t f)
  * from the vertex positions and topology. */
 void vc_polymesh_compute_geometry(vc_polymesh *m);
 
+/* The same for one face (area, centroid, normal), and for one cell (volume
+ * and centroid, from its faces' current geometry). */
+void vc_polymesh_update_face_geometry(vc_polymesh *m, int64_t f);
+void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c);
+
+/* Removes the straight vertices: a vertex with exactly two neighbours in
+ * the edge graph of the whole mesh lies inside an edge (every face that
+ * holds it holds the path a - v - b; in closed convex cells such a path is
+ * straight), so it is taken out of every face, which keeps every cell
+ * closed and every face the same polygon. Degenerate Voronoi vertices
+ * leave such points: four seeds on one circle (VoroCrust makes them for
+ * every pair of overlapping balls) computed in floating point have their
+ * circumcentre somewhere on the circle's axis, a true Voronoi vertex of the
+ * rounded seeds where only a zero-width face starts, which the stitching
+ * drops; and the stitching's T-junction repair inserts points into edges.
+ * A vertex is kept where removing it would leave a face with fewer than 3
+ * vertices. Points are renumbered (order kept) and the geometry of the
+ * changed faces and their cells recomputed. Returns the number of
+ * vertices removed, or -1 when out of memory (the mesh is then unchanged). */
+int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m);
+
 /* Distance between the seeds of the two cells of interior face f (the
  * two-point-flux connection length). */
 double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);

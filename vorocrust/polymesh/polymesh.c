@@ -60,45 +60,53 @@ static void face_geometry(const vc_polymesh *m, int64_t f, double av[3], double 
     }
 }
 
+void vc_polymesh_update_face_geometry(vc_polymesh *m, int64_t f)
+{
+    double a[3], c[3];
+    face_geometry(m, f, a, c);
+    double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    m->face_area[f] = area;
+    for (int d = 0; d < 3; d++) {
+        m->face_centroid[3 * f + d] = c[d];
+        m->face_normal[3 * f + d] = area > 0 ? a[d] / area : 0;
+    }
+}
+
+void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c)
+{
+    /* Pyramids from a reference point inside the cell (the average of the
+     * face centroids) to every face, with outward area vectors. */
+    int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1];
+    double ref[3] = {0, 0, 0};
+    for (int64_t i = f0; i < f1; i++)
+        for (int d = 0; d < 3; d++)
+            ref[d] += m->face_centroid[3 * m->cell_faces[i] + d];
+    for (int d = 0; d < 3; d++)
+        ref[d] /= (double)(f1 > f0 ? f1 - f0 : 1);
+    double vol = 0, cen[3] = {0, 0, 0};
+    for (int64_t i = f0; i < f1; i++) {
+        int64_t f = m->cell_faces[i];
+        double sgn = m->face_owner[f] == c ? 1.0 : -1.0;
+        const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
+        double h = (fc[0] - ref[0]) * n[0] + (fc[1] - ref[1]) * n[1] + (fc[2] - ref[2]) * n[2];
+        double pv = sgn * h * m->face_area[f] / 3.0;
+        vol += pv;
+        for (int d = 0; d < 3; d++)
+            cen[d] += pv * (ref[d] + 0.75 * (fc[d] - ref[d]));
+    }
+    m->cell_volume[c] = vol;
+    for (int d = 0; d < 3; d++)
+        m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
+}
+
 void vc_polymesh_compute_geometry(vc_polymesh *m)
 {
 #pragma omp parallel for schedule(static)
-    for (int64_t f = 0; f < m->n_faces; f++) {
-        double a[3], c[3];
-        face_geometry(m, f, a, c);
-        double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        m->face_area[f] = area;
-        for (int d = 0; d < 3; d++) {
-            m->face_centroid[3 * f + d] = c[d];
-            m->face_normal[3 * f + d] = area > 0 ? a[d] / area : 0;
-        }
-    }
+    for (int64_t f = 0; f < m->n_faces; f++)
+        vc_polymesh_update_face_geometry(m, f);
 #pragma omp parallel for schedule(static)
-    for (int64_t c = 0; c < m->n_cells; c++) {
-        /* Pyramids from a reference point inside the cell (the average of
-         * the face centroids) to every face, with outward area vectors. */
-        int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1];
-        double ref[3] = {0, 0, 0};
-        for (int64_t i = f0; i < f1; i++)
-            for (int d = 0; d < 3; d++)
-                ref[d] += m->face_centroid[3 * m->cell_faces[i] + d];
-        for (int d = 0; d < 3; d++)
-            ref[d] /= (double)(f1 > f0 ? f1 - f0 : 1);
-        double vol = 0, cen[3] = {0, 0, 0};
-        for (int64_t i = f0; i < f1; i++) {
-            int64_t f = m->cell_faces[i];
-            double sgn = m->face_owner[f] == c ? 1.0 : -1.0;
-            const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
-            double h = (fc[0] - ref[0]) * n[0] + (fc[1] - ref[1]) * n[1] + (fc[2] - ref[2]) * n[2];
-            double pv = sgn * h * m->face_area[f] / 3.0;
-            vol += pv;
-            for (int d = 0; d < 3; d++)
-                cen[d] += pv * (ref[d] + 0.75 * (fc[d] - ref[d]));
-        }
-        m->cell_volume[c] = vol;
-        for (int d = 0; d < 3; d++)
-            m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
-    }
+    for (int64_t c = 0; c < m->n_cells; c++)
+        vc_polymesh_update_cell_geometry(m, c);
 }
 
 double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f)

@@ -111,10 +111,13 @@ static inline void vc_region_pool_free(vc_region_pool *p)
  * that neighbouring cells' copies are close in memory. *cells is freed (and
  * set to NULL) once read. store: where the cells' data live (its
  * coordinate blocks are freed once the points are written; NULL: never).
+ * *n_degenerate receives the number of faces dropped whole and of points
+ * inserted into edges (T-junctions): where it is 0, no vertex lies inside
+ * an edge (see vc_polymesh_remove_straight_vertices).
  * Runs on threads (OpenMP); the result does not depend on their number. */
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, vc_polymesh *out,
-                           vc_error *err);
+                           int64_t *n_degenerate, vc_error *err);
 
 #endif

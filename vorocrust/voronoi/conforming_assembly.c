@@ -993,11 +993,12 @@ static void cell_geometry(const vc_polymesh *m, int64_t c)
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, vc_polymesh *out,
-                           vc_error *err)
+                           int64_t *n_degenerate, vc_error *err)
 {
     const vc_cell_result *cells = *cells_owned;
     split_table splits = {NULL, 0, 0};
-    int64_t n_unplaced = 0;
+    int64_t n_unplaced = 0, n_gone = 0;
+    *n_degenerate = 0;
     assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL, NULL, &splits};
     cell_hdr *h = NULL;
     int32_t *mpos = NULL;
@@ -1180,6 +1181,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     n_bnd++;
                     fv_bnd += len;
                     face_mark_used(&splits, as.parent, c, f, used);
+                } else {
+                    __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (t > c->seed) {
                 len = face_len(&splits, as.parent, c, f);
@@ -1195,6 +1198,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     fv_int += sl;
                     face_mark_used(&splits, as.parent, src, sf, used);
                     __atomic_fetch_add(&as.acc[om].n_nb, 1, __ATOMIC_RELAXED);
+                } else {
+                    __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (as.twin[fb + f] < 0) {
                 len = face_len(&splits, as.parent, c, f);
@@ -1217,6 +1222,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                             orphans[n_orphans++] =
                                 (orphan){h[om].seed, c->seed, om, (int32_t)m, f, len};
                     }
+                } else {
+                    __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             }
             as.flen[fb + f] = len;
@@ -1399,6 +1406,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     PHASE("cells");
     if (timing)
         fprintf(stderr, "  assembly: total    %.3f s\n", wall_time() - t0);
+    *n_degenerate = n_gone + splits.n;
     goto done;
 
 nomem:

@@ -18,6 +18,15 @@
 #include "convex_cell.h"
 #include "seed_grid.h"
 
+static double wall_seconds(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    return 0;
+#endif
+}
+
 /* Vertices within CLIP_TOL * |p| of the bisector of a neighbour at p count
  * as on it: co-spherical seeds give no sliver faces. Copies of a vertex
  * computed in different cells are merged within MERGE_TOL times the local
@@ -727,8 +736,23 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         omp_set_num_threads(threads);
 #endif
         /* The stitching frees cells once it has read them. */
+        int64_t n_degenerate = 0;
         rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
-                                    MERGE_TOL, out, err);
+                                    MERGE_TOL, out, &n_degenerate, err);
+        /* Degenerate seeds leave points inside edges (see polymesh.h);
+         * VTK rejects such polyhedra and they make needle triangles. Only
+         * a dropped face or a T-junction can leave one. */
+        if (rc == 0 && n_degenerate > 0) {
+            double ts = wall_seconds();
+            int64_t n_straight = vc_polymesh_remove_straight_vertices(out);
+            if (n_straight < 0) {
+                vc_polymesh_free(out);
+                rc = vc_error_set(err, VC_ENOMEM, "out of memory removing straight vertices");
+            } else if (getenv("VC_ASSEMBLY_TIMING")) {
+                fprintf(stderr, "  straight vertices: %lld removed in %.3f s\n",
+                        (long long)n_straight, wall_seconds() - ts);
+            }
+        }
 #ifdef _OPENMP
         omp_set_num_threads(saved_threads);
 #endif

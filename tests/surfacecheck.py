@@ -1,0 +1,71 @@
+"""Surface helpers shared by the end-to-end tests: reading OBJ/OFF
+polygons, fanning polygons into triangles, the surface quality figures
+(Q = 6S / (sqrt(3) h P), angle percentages) and the enclosed volume.
+Independent of vorocrust's own code (pure Python)."""
+
+import math
+
+
+def read_surface(path):
+    """Vertices and polygons of an OBJ or OFF file (the formats used here)."""
+    pts, polys = [], []
+    with open(path) as f:
+        text = f.read()
+    if path.endswith(".off"):
+        toks = [l.split("#")[0].split() for l in text.splitlines()]
+        toks = [t for t in toks if t]
+        start = 1 if toks[0][0].upper() == "OFF" else 0
+        nv, nf = int(toks[start][0]), int(toks[start][1])
+        for t in toks[start + 1:start + 1 + nv]:
+            pts.append(tuple(map(float, t[:3])))
+        for t in toks[start + 1 + nv:start + 1 + nv + nf]:
+            k = int(t[0])
+            polys.append([int(x) for x in t[1:1 + k]])
+        return pts, polys
+    for line in text.splitlines():
+        t = line.split()
+        if not t:
+            continue
+        if t[0] == "v":
+            pts.append(tuple(map(float, t[1:4])))
+        elif t[0] == "f":
+            polys.append([int(x.split("/")[0]) - 1 for x in t[1:]])
+    return pts, polys
+
+
+def fan(pts, polys):
+    """Triangles: triangles as they are, other polygons fanned from their centroid."""
+    tris = []
+    for p in polys:
+        if len(p) == 3:
+            tris.append(tuple(pts[i] for i in p))
+            continue
+        c = tuple(sum(pts[i][k] for i in p) / len(p) for k in range(3))
+        for j in range(len(p)):
+            tris.append((c, pts[p[j]], pts[p[(j + 1) % len(p)]]))
+    return tris
+
+
+def quality(tris):
+    qmin, n_ang, lo, hi = 1e300, 0, 0, 0
+    for a, b, c in tris:
+        l = [math.dist(b, c), math.dist(a, c), math.dist(a, b)]
+        s = sum(l) / 2
+        S = math.sqrt(max(s * (s - l[0]) * (s - l[1]) * (s - l[2]), 0))
+        h = max(l)
+        qmin = min(qmin, 6 * S / (math.sqrt(3) * h * s) if h > 0 else 0)
+        for k in range(3):
+            x, y = l[(k + 1) % 3], l[(k + 2) % 3]
+            ang = math.degrees(math.acos(max(-1, min(1, (x * x + y * y - l[k] ** 2) / (2 * x * y)))))
+            n_ang += 1
+            lo += ang < 30
+            hi += ang > 90
+    return qmin, 100 * lo / n_ang, 100 * hi / n_ang
+
+
+def enclosed_volume(pts, polys):
+    v = 0.0
+    for a, b, c in fan(pts, polys):
+        v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+              + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    return v
