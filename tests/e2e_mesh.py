@@ -34,7 +34,8 @@ import vtk
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtkcheck  # noqa: E402
-from surfacecheck import enclosed_volume, fan, quality, read_surface  # noqa: E402
+from surfacecheck import (enclosed_volume, fan, max_distance, polydata, quality,  # noqa: E402
+                          read_surface, samples)
 
 BIN = os.environ["VC_BIN"]
 MODELS = os.environ["VC_MODELS"]
@@ -61,40 +62,6 @@ def check(cond, what):
 def run(*args, timeout=600):
     p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=timeout)
     return p.returncode, p.stdout, p.stderr
-
-
-def polydata(pts, polys):
-    P = vtk.vtkPoints()
-    for x in pts:
-        P.InsertNextPoint(*x)
-    C = vtk.vtkCellArray()
-    for p in polys:
-        C.InsertNextCell(len(p))
-        for i in p:
-            C.InsertCellPoint(i)
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(P)
-    pd.SetPolys(C)
-    tf = vtk.vtkTriangleFilter()
-    tf.SetInputData(pd)
-    tf.Update()
-    return tf.GetOutput()
-
-
-def samples(pts, polys):
-    """Vertices, edge midpoints and points inside every triangle."""
-    out = list(pts)
-    for a, b, c in fan(pts, polys):
-        for (u, v, w) in ((1 / 3, 1 / 3, 1 / 3), (0.5, 0.5, 0), (0, 0.5, 0.5), (0.5, 0, 0.5),
-                          (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6), (1 / 6, 1 / 6, 2 / 3)):
-            out.append(tuple(u * a[k] + v * b[k] + w * c[k] for k in range(3)))
-    return out
-
-
-def max_distance(points, surface):
-    d = vtk.vtkImplicitPolyDataDistance()
-    d.SetInput(surface)
-    return max(abs(d.EvaluateFunction(p)) for p in points)
 
 
 def topology(pts, polys):

@@ -1,9 +1,12 @@
 """Surface helpers shared by the end-to-end tests: reading OBJ/OFF
 polygons, fanning polygons into triangles, the surface quality figures
-(Q = 6S / (sqrt(3) h P), angle percentages) and the enclosed volume.
-Independent of vorocrust's own code (pure Python)."""
+(Q = 6S / (sqrt(3) h P), angle percentages), the enclosed volume, and
+the two-sided distance between two surfaces measured by VTK
+(vtkImplicitPolyDataDistance). Independent of vorocrust's own code."""
 
 import math
+
+import vtk
 
 
 def read_surface(path):
@@ -69,3 +72,37 @@ def enclosed_volume(pts, polys):
         v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
               + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
     return v
+
+
+def polydata(pts, polys):
+    P = vtk.vtkPoints()
+    for x in pts:
+        P.InsertNextPoint(*x)
+    C = vtk.vtkCellArray()
+    for p in polys:
+        C.InsertNextCell(len(p))
+        for i in p:
+            C.InsertCellPoint(i)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(P)
+    pd.SetPolys(C)
+    tf = vtk.vtkTriangleFilter()
+    tf.SetInputData(pd)
+    tf.Update()
+    return tf.GetOutput()
+
+
+def samples(pts, polys):
+    """Vertices, edge midpoints and points inside every triangle."""
+    out = list(pts)
+    for a, b, c in fan(pts, polys):
+        for (u, v, w) in ((1 / 3, 1 / 3, 1 / 3), (0.5, 0.5, 0), (0, 0.5, 0.5), (0.5, 0, 0.5),
+                          (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6), (1 / 6, 1 / 6, 2 / 3)):
+            out.append(tuple(u * a[k] + v * b[k] + w * c[k] for k in range(3)))
+    return out
+
+
+def max_distance(points, surface):
+    d = vtk.vtkImplicitPolyDataDistance()
+    d.SetInput(surface)
+    return max(abs(d.EvaluateFunction(p)) for p in points)

@@ -67,13 +67,19 @@ typedef struct vc_sampling_stats {
     int sliver_iterations;
     int safe_mode;                         /* 1 when alpha / 2 was accepted */
     int64_t n_half_covered;                /* left at the end (0 on success) */
+    /* Set when sampling failed because sliver elimination diverged
+     * (n_half_covered then holds the last pass's count, n_balls_diverged
+     * the ball count at that point). */
+    int diverged;
+    int64_t n_balls_diverged;
     /* Seconds per phase, as in the thesis' Table 6.1. */
     double t_features, t_sizing, t_corners, t_edges, t_surface, t_lipschitz, t_slivers;
 } vc_sampling_stats;
 
 /* Samples the closed surface s with its features f (detected with
  * opt->sharp_angle). Fails with VC_EINPUT on an open surface (naming the
- * number of boundary edges), VC_EPARAM on bad options, VC_ENOMEM. */
+ * number of boundary edges) or when sliver elimination diverges (stats:
+ * diverged), VC_EPARAM on bad options, VC_ENOMEM. */
 int vc_sample_surface(const vc_surface *s, const vc_features *f,
                       const vc_sampling_options *opt, vc_balls *out,
                       vc_sampling_stats *stats, vc_error *err);

@@ -774,6 +774,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     }
     if (diverged) {
         int64_t nb = S.bs.b.n;
+        st->diverged = 1;
+        st->n_balls_diverged = nb;
         vc_ball_set_free(&S.bs);
         return vc_error_set(err, VC_EINPUT,
                             "sliver elimination does not converge (%lld balls after %d iterations, "
