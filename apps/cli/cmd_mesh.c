@@ -160,7 +160,7 @@ int vc_cmd_mesh(int argc, char **argv)
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL;
     int surface_only = 0, quiet = 0, interior_lattice = 1, sharp_angle_given = 0,
-        max_error_given = 0;
+        max_error_given = 0, smooth_iterations_given = 0;
     /* 0 by default, not the thesis' 6: Loop subdivision approximates, it
      * pulls the surface off the input (sphere.obj: 0.78% of the diagonal,
      * 3.3% of the volume after 6 rounds), beyond the 0.5% error budget. */
@@ -195,6 +195,7 @@ int vc_cmd_mesh(int argc, char **argv)
                 return 2;
             }
             smooth_iterations = (int)it;
+            smooth_iterations_given = 1;
             i++;
         } else if (!strcmp(a, "--interior")) {
             if (!strcmp(v, "lattice"))
@@ -348,18 +349,22 @@ int vc_cmd_mesh(int argc, char **argv)
                 "surface is undefined\n", in_path, (long long)rep.n_inconsistent_edges);
         goto out;
     }
-    /* With the default theta_sharp, flat triangles of one patch meeting at
-     * 45 to 60 degrees without a crease (fandisk.off) make sliver
-     * elimination diverge in a few spots: such a fold needs to be a crease.
-     * When the user did not choose theta_sharp and the divergence is local
-     * (under 5% of the balls in half-covered pairs; a surface that is not
-     * smooth at the scale of its triangles, like fertility.off, diverges
-     * everywhere and a lower angle does not help), sample once more with
-     * theta_sharp 45, and (unless chosen) the error cap at 0.35%: the folds
-     * left unprotected below 45 degrees meet at cone-like vertices whose
-     * tips the 0.4% cap cuts by a little more than 0.5% (fandisk.off:
-     * 0.53%; 0.36% with 0.35%). */
-    const double fallback_angle = 45, fallback_error = 0.0035;
+    /* When sliver elimination diverges and the user chose neither
+     * theta_sharp nor smoothing, sample once more, in one of two ways:
+     *  - a local divergence (under 5% of the balls in half-covered pairs):
+     *    flat triangles of one patch meeting at 45 to 60 degrees without a
+     *    crease (fandisk.off). Such a fold needs to be a crease: theta_sharp
+     *    45, and (unless chosen) the error cap at 0.35%: the folds left
+     *    below 45 degrees meet at cone-like vertices whose tips the 0.4%
+     *    cap cuts by a little more than 0.5% (fandisk.off: 0.53%; 0.36%
+     *    with 0.35%);
+     *  - a divergence everywhere: the surface is not smooth at the scale of
+     *    the balls, a coarse tessellation of a curved shape (fertility.off:
+     *    most edges bend by 10 to 60 degrees; its 60-degree "features" are
+     *    64 spurious corners). The thesis' remedy: Loop smoothing of the
+     *    patches (6 rounds), with theta_sharp 120 so that only edges
+     *    folded back beyond 120 degrees stay creases. */
+    const double fallback_angle = 45, fallback_error = 0.0035, smooth_angle = 120;
     const double first_angle = opt.sharp_angle;
     double t_failed = 0, t1 = 0, t2 = 0;
     int64_t n_input_triangles = s.n_triangles;
@@ -388,7 +393,8 @@ int vc_cmd_mesh(int argc, char **argv)
         if (vc_sample_surface(sampled, &f, &opt, &balls, &st, &err) == 0)
             break;
         int local = st.diverged && st.n_half_covered * 20 < st.n_balls_diverged;
-        if (attempt == 0 && !sharp_angle_given && local && opt.sharp_angle > fallback_angle) {
+        if (attempt == 0 && st.diverged && !sharp_angle_given && local &&
+            opt.sharp_angle > fallback_angle) {
             if (!quiet)
                 fprintf(stderr, "mesh: %s\nmesh: sampling again with --sharp-angle %g (folds of %g "
                         "to %g degrees become creases)%s\n", err.msg, fallback_angle, fallback_angle,
@@ -397,6 +403,19 @@ int vc_cmd_mesh(int argc, char **argv)
             opt.sharp_angle = fallback_angle;
             if (!max_error_given && opt.max_error > fallback_error)
                 opt.max_error = fallback_error;
+            t_failed = vc_cli_now() - t1;
+            continue;
+        }
+        if (attempt == 0 && st.diverged && !sharp_angle_given && !local &&
+            !smooth_iterations_given) {
+            if (!quiet)
+                fprintf(stderr, "mesh: %s\nmesh: sampling again with --smooth-iterations %d "
+                        "--sharp-angle %g (the surface bends too much everywhere: the thesis' "
+                        "smoothing of the patches)\n", err.msg, VC_SMOOTH_DEFAULT_ITERATIONS,
+                        smooth_angle);
+            vc_features_free(&f);
+            opt.sharp_angle = smooth_angle;
+            smooth_iterations = VC_SMOOTH_DEFAULT_ITERATIONS;
             t_failed = vc_cli_now() - t1;
             continue;
         }
@@ -525,7 +544,7 @@ int vc_cmd_mesh(int argc, char **argv)
         }
         char retry_note[64] = "", failed_time[64] = "";
         if (opt.sharp_angle != first_angle) {
-            snprintf(retry_note, sizeof retry_note, ", after %g diverged", first_angle);
+            snprintf(retry_note, sizeof retry_note, ", after sampling at %g diverged", first_angle);
             snprintf(failed_time, sizeof failed_time, ", failed sampling at %g %.3f", first_angle,
                      t_failed);
         }

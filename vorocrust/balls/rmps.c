@@ -752,7 +752,12 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
          * than run on. */
         rising = last_half >= 0 && n_half > last_half ? rising + 1 : 0;
         last_half = n_half;
-        if (rising >= 4 || S.bs.b.n > 8 * n_first + 1000) {
+        /* Two rising passes with a fifth of the balls in half-covered
+         * pairs: the whole surface bends too much at the scale of the
+         * balls (a coarse tessellation of a curved shape), no need to wait
+         * for four. */
+        if (rising >= 4 || (rising >= 2 && 5 * n_half > S.bs.b.n) ||
+            S.bs.b.n > 8 * n_first + 1000) {
             diverged = 1;
             break;
         }
