@@ -964,32 +964,6 @@ static void face_geometry(const vc_polymesh *m, int64_t f, const int64_t *fv, in
     }
 }
 
-/* vc_polymesh_compute_geometry's cell formula, for cell c of m. */
-static void cell_geometry(const vc_polymesh *m, int64_t c)
-{
-    int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1];
-    double ref[3] = {0, 0, 0};
-    for (int64_t i = f0; i < f1; i++)
-        for (int d = 0; d < 3; d++)
-            ref[d] += m->face_centroid[3 * m->cell_faces[i] + d];
-    for (int d = 0; d < 3; d++)
-        ref[d] /= (double)(f1 > f0 ? f1 - f0 : 1);
-    double vol = 0, cen[3] = {0, 0, 0};
-    for (int64_t i = f0; i < f1; i++) {
-        int64_t f = m->cell_faces[i];
-        double sgn = m->face_owner[f] == c ? 1.0 : -1.0;
-        const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
-        double h = (fc[0] - ref[0]) * n[0] + (fc[1] - ref[1]) * n[1] + (fc[2] - ref[2]) * n[2];
-        double pv = sgn * h * m->face_area[f] / 3.0;
-        vol += pv;
-        for (int d = 0; d < 3; d++)
-            cen[d] += pv * (ref[d] + 0.75 * (fc[d] - ref[d]));
-    }
-    m->cell_volume[c] = vol;
-    for (int d = 0; d < 3; d++)
-        m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
-}
-
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, vc_polymesh *out,
@@ -1400,7 +1374,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     for (int64_t k = 0; k < n_kept; k++) {
         out->cell_seed[k] = kept_seed[k];
         out->cell_region[k] = seeds->label[kept_seed[k]];
-        cell_geometry(out, k);
+        vc_polymesh_update_cell_geometry(out, k);
     }
     memcpy(out->seed_xyz, seeds->xyz, (size_t)seeds->n * 3 * sizeof(double));
     PHASE("cells");
