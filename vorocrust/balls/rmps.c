@@ -57,6 +57,7 @@ typedef struct sampler {
      * pass: only they can constrain other radii */
     unsigned char *dirty;
     int64_t dirty_cap;
+    int64_t last_cover; /* the ball that covered the last subface tested, or -1 */
 } sampler;
 
 static int mark_dirty(sampler *S, int64_t i)
@@ -136,6 +137,7 @@ typedef struct subface_cover_ctx {
     int nv;
     int kind;
     double deep;
+    int64_t found; /* the covering ball */
 } subface_cover_ctx;
 
 static int covers_subface(void *ctx, int64_t i)
@@ -148,11 +150,12 @@ static int covers_subface(void *ctx, int64_t i)
     for (int m = 0; m < c->nv; m++)
         if (dist(c->b->center + 3 * i, c->v + 3 * m) > r)
             return 0;
+    c->found = i;
     return 1;
 }
 
 /* Is the whole subface covered by one ball (balls are convex)? */
-static int subface_covered(const sampler *S, const subface *sf, int nv, int kind)
+static int subface_covered(sampler *S, const subface *sf, int nv, int kind)
 {
     double c[3] = {0, 0, 0};
     for (int m = 0; m < nv; m++)
@@ -161,9 +164,18 @@ static int subface_covered(const sampler *S, const subface *sf, int nv, int kind
     double reach = 0;
     for (int m = 0; m < nv; m++)
         reach = fmax(reach, dist(c, sf->v + 3 * m));
-    subface_cover_ctx cc = {&S->bs.b, sf->v, nv, kind, 1 - S->alpha};
+    subface_cover_ctx cc = {&S->bs.b, sf->v, nv, kind, 1 - S->alpha, -1};
+    /* Subfaces come in runs of neighbours (a face's children, triangles in
+     * mesh order): the ball that covered the last one often covers this
+     * one too, and trying it first skips most queries. The answer (is
+     * there a covering ball?) does not depend on which ball is found. */
+    if (S->last_cover >= 0 && S->last_cover < S->bs.b.n && covers_subface(&cc, S->last_cover))
+        return 1;
     /* a ball holding every vertex has a radius of at least reach / 2 */
-    return vc_ball_set_query(&S->bs, c, reach, 1.0, 0.5 * reach, covers_subface, &cc);
+    int found = vc_ball_set_query(&S->bs, c, reach, 1.0, 0.5 * reach, covers_subface, &cc);
+    if (found)
+        S->last_cover = cc.found;
+    return found;
 }
 
 /* ---------------------------------------------------------------------
@@ -658,6 +670,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
 
     sampler S;
     memset(&S, 0, sizeof S);
+    S.last_cover = -1;
     S.s = s;
     S.f = f;
     S.opt = *opt;
