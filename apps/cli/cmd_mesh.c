@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -35,8 +36,11 @@ static void usage(FILE *f)
         "  -o, --output OUT.vtu  the volume mesh: the Voronoi cells of the inside surface seeds\n"
         "                      and the interior seeds\n"
         "  --foam CASE_DIR     also write the volume mesh as OpenFOAM CASE_DIR/constant/polyMesh\n"
-        "  --interior lattice|none  interior seeds on a cubic lattice (default) or none\n"
+        "  --interior octree|lattice|none  interior seeds: graded by a p4est octree (default),\n"
+        "                      on a cubic lattice, or none\n"
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
+        "  --lloyd N           N iterations of Lloyd relaxation of the interior seeds, 0 to\n"
+        "                      1000 (default 0); the surface seeds stay fixed\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -59,7 +63,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing", "--foam"};
+                                             "--interior-spacing", "--foam", "--lloyd"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -159,7 +163,8 @@ int vc_cmd_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL;
-    int surface_only = 0, quiet = 0, interior_lattice = 1, sharp_angle_given = 0,
+    enum { INTERIOR_NONE, INTERIOR_LATTICE, INTERIOR_OCTREE } interior = INTERIOR_OCTREE;
+    int surface_only = 0, quiet = 0, lloyd_iterations = 0, sharp_angle_given = 0,
         max_error_given = 0, smooth_iterations_given = 0;
     /* 0 by default, not the thesis' 6: Loop subdivision approximates, it
      * pulls the surface off the input (sphere.obj: 0.78% of the diagonal,
@@ -198,15 +203,24 @@ int vc_cmd_mesh(int argc, char **argv)
             smooth_iterations_given = 1;
             i++;
         } else if (!strcmp(a, "--interior")) {
-            if (!strcmp(v, "lattice"))
-                interior_lattice = 1;
+            if (!strcmp(v, "octree"))
+                interior = INTERIOR_OCTREE;
+            else if (!strcmp(v, "lattice"))
+                interior = INTERIOR_LATTICE;
             else if (!strcmp(v, "none"))
-                interior_lattice = 0;
+                interior = INTERIOR_NONE;
             else {
-                fprintf(stderr, "vorocrust: --interior: '%s' is not lattice or none (the octree "
-                        "interior is not implemented yet)\n", v);
+                fprintf(stderr, "vorocrust: --interior: '%s' is not octree, lattice or none\n", v);
                 return 2;
             }
+            i++;
+        } else if (!strcmp(a, "--lloyd")) {
+            long it;
+            if (vc_cli_parse_int(v, 0, 1000, &it)) {
+                fprintf(stderr, "vorocrust: --lloyd needs an integer from 0 to 1000, got '%s'\n", v);
+                return 2;
+            }
+            lloyd_iterations = (int)it;
             i++;
         } else if (!strcmp(a, "--interior-spacing")) {
             if (vc_cli_parse_double(v, &interior_spacing) || !(interior_spacing > 0)) {
@@ -460,7 +474,25 @@ int vc_cmd_mesh(int argc, char **argv)
     mesh_quality mq;
     memset(&mq, 0, sizeof mq);
     vc_seeds all = {0, NULL, NULL};
-    if (out_path && interior_lattice) {
+    vc_octree_stats ost;
+    vc_lloyd_stats lst;
+    memset(&ost, 0, sizeof ost);
+    memset(&lst, 0, sizeof lst);
+    if (out_path && interior == INTERIOR_OCTREE) {
+        vc_octree_options oo;
+        vc_octree_options_default(&oo);
+        oo.lipschitz = opt.lipschitz; /* the sizing extends the balls' own grading */
+        oo.max_size = opt.max_size;
+        oo.threads = opt.threads;
+        if (!quiet)
+            fprintf(stderr, "mesh: interior octree\n");
+        if (vc_interior_octree(&balls, &seeds, &oo, &all, &n_interior, &ost, NULL, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto cleanup_outputs;
+        }
+        vc_seeds_free(&seeds);
+        seeds = all;
+    } else if (out_path && interior == INTERIOR_LATTICE) {
         double h = interior_spacing > 0 ? interior_spacing
                                         : vc_interior_default_spacing(&balls, opt.max_size);
         if (vc_interior_lattice(&balls, &seeds, h, &all, &n_interior, &err)) {
@@ -470,6 +502,18 @@ int vc_cmd_mesh(int argc, char **argv)
         vc_seeds_free(&seeds);
         seeds = all;
     }
+    double t_interior = vc_cli_now() - t6;
+    if (out_path && lloyd_iterations > 0 && n_interior > 0) {
+        if (!quiet)
+            fprintf(stderr, "mesh: Lloyd relaxation, %d iterations of %lld seeds\n",
+                    lloyd_iterations, (long long)seeds.n);
+        if (vc_interior_lloyd(&balls, &seeds, n_surface_seeds, lloyd_iterations, opt.threads, &lst,
+                              &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto cleanup_outputs;
+        }
+    }
+    double t_lloyd = vc_cli_now() - t6 - t_interior;
     if (seeds_path) {
         if (vc_seeds_write_csv(seeds_path, &seeds, &err))
             goto write_failed;
@@ -481,6 +525,8 @@ int vc_cmd_mesh(int argc, char **argv)
         vo.threads = opt.threads;
         vo.progress = 0;
         vc_polymesh m;
+        if (!quiet)
+            fprintf(stderr, "mesh: Voronoi cells of %lld seeds\n", (long long)seeds.n);
         if (vc_voronoi_build(&seeds, &vo, &m, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
             goto cleanup_outputs;
@@ -592,11 +638,31 @@ int vc_cmd_mesh(int argc, char **argv)
                            p0[2] * (p1[0] * p2[1] - p1[1] * p2[0])) / 6;
                 }
             }
+            if (interior == INTERIOR_OCTREE)
+                fprintf(stderr,
+                        "  interior: octree of %lld leaves (%lld before the 2:1 balance; %lld "
+                        "trees, levels %d to %d), %lld interior seeds (leaves left out: %lld in a "
+                        "ball, %lld outside, %lld next to a surface seed), %.3f s\n",
+                        (long long)ost.n_leaves, (long long)ost.n_refined_leaves,
+                        (long long)ost.n_trees, ost.min_level, ost.max_level,
+                        (long long)ost.n_seeds, (long long)ost.n_covered,
+                        (long long)ost.n_outside, (long long)ost.n_near_seed, t_interior);
+            else
+                fprintf(stderr, "  interior: %s, %lld interior seeds, %.3f s\n",
+                        interior == INTERIOR_LATTICE ? "lattice" : "none", (long long)n_interior,
+                        t_interior);
+            if (lst.iterations > 0)
+                fprintf(stderr,
+                        "  Lloyd: %d iterations, last one moved %lld seeds (%lld refused: "
+                        "centroid in a ball or outside), shift / cell size mean %.3g max %.3g, "
+                        "%.3f s\n",
+                        lst.iterations, (long long)lst.n_moved, (long long)lst.n_refused,
+                        lst.mean_shift, lst.max_shift, t_lloyd);
             fprintf(stderr,
                     "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
                     "surface %.12g, input %.12g), %.3f s\n",
                     (long long)n_cells, (long long)n_interior, mesh_volume, sv, rep.volume,
-                    t7 - t6);
+                    t7 - t6 - t_interior - t_lloyd);
             fprintf(stderr,
                     "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "
                     "(interior cells: max %.3f mean %.3f); shortest edge / enclosing radius "
@@ -604,6 +670,10 @@ int vc_cmd_mesh(int argc, char **argv)
                     mq.vol_min, mq.vol_max, mq.fat_max, mq.n ? mq.fat_sum / (double)mq.n : 0,
                     mq.fat_int_max, mq.n_int ? mq.fat_int_sum / (double)mq.n_int : 0,
                     mq.edge_rel_min, mq.n_unmeasured ? " (some cells could not be measured)" : "");
+            struct rusage ru;
+            getrusage(RUSAGE_SELF, &ru);
+            fprintf(stderr, "  total: %.3f s, peak memory %.1f MiB\n", vc_cli_now() - t0,
+                    (double)ru.ru_maxrss / 1024.0);
         }
     }
     rc = 0;

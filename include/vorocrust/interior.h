@@ -8,7 +8,16 @@
  * outside every ball, inside the domain and at least half a spacing away
  * from every surface seed; inside means that its nearest surface seed is
  * an inside seed (the labels of the surface seeds decide, no second test).
- * The graded octree interior (p4est) is not implemented yet. */
+ *
+ * vc_interior_octree grades them instead (thesis 5.5.2): an octree (p4est)
+ * over the bounding box, refined while a leaf's diagonal exceeds twice the
+ * sizing at its centre (see vc_octree_options), 2:1 balanced, one seed at the centre of each leaf
+ * that passes the same three tests (outside every ball, inside, at least
+ * half the leaf's side away from every surface seed). Cells then grow away
+ * from the surface at the rate the Lipschitz constant allows.
+ *
+ * vc_interior_lloyd relaxes the interior seeds towards the centroids of
+ * their Voronoi cells, the surface seeds fixed. */
 #ifndef VORO_CRUST_INTERIOR_H
 #define VORO_CRUST_INTERIOR_H
 
@@ -32,6 +41,78 @@ double vc_interior_default_spacing(const vc_balls *balls, double max_size);
  * 1e9 lattice points, VC_ENOMEM. */
 int vc_interior_lattice(const vc_balls *balls, const vc_seeds *surface_seeds, double spacing,
                         vc_seeds *out, int64_t *n_interior, vc_error *err);
+
+/* Octree interior. The sizing at x is r(x) = min over the surface balls
+ * of (r_p + L |x - p|), the L-Lipschitz extension of the ball radii into
+ * the volume, capped by max_size. */
+typedef struct vc_octree_options {
+    double lipschitz; /* L, 0 < L < 1; default 0.25, the sampling's default */
+    double max_size;  /* cap of the sizing; <= 0: none (the box bounds the leaves) */
+    double diagonal_factor; /* a leaf is refined while its diagonal exceeds this times
+                               the sizing at its centre; default 2, thesis 5.5.2 (a leaf's
+                               half-diagonal at most delta lfs(c), a ball radius being
+                               delta lfs); 1 gives leaves half as large, 8 times as many */
+    int threads;      /* for the seed tests; <= 0: OpenMP's default; the output
+                         does not depend on it */
+} vc_octree_options;
+
+void vc_octree_options_default(vc_octree_options *opt);
+
+typedef struct vc_octree_stats {
+    int64_t n_trees;         /* cubes of the brick the forest starts from */
+    int64_t n_leaves;        /* after refinement and 2:1 balance */
+    int64_t n_refined_leaves;/* before the balance */
+    int64_t n_seeds;         /* interior seeds placed */
+    int64_t n_covered;       /* leaves whose centre lies in a surface ball */
+    int64_t n_outside;       /* leaves whose centre's nearest surface seed is outside */
+    int64_t n_near_seed;     /* leaves with a surface seed closer than half their side */
+    int min_level, max_level;
+    double seconds;          /* forest, balance and seed tests */
+} vc_octree_stats;
+
+/* The leaves of the forest, for inspection and tests: leaf k is the cube
+ * of side side[k] centred at center[3k..3k+2], level[k] times halved from
+ * its tree; seed_leaf[i] is the leaf of interior seed i. */
+typedef struct vc_octree_leaves {
+    int64_t n;
+    double *center;
+    double *side;
+    int *level;
+    int64_t n_seeds;
+    int64_t *seed_leaf;
+    double box[6];           /* the forest's box: lo x, y, z, hi x, y, z */
+} vc_octree_leaves;
+
+void vc_octree_leaves_free(vc_octree_leaves *l);
+
+/* Appends the interior seeds (label 1) of the octree to a copy of the
+ * surface seeds: out = surface seeds, then interior seeds in leaf (Morton)
+ * order; *n_interior receives their number. stats and leaves may be NULL.
+ * Starts MPI in this process on the first call (it is finalised at exit;
+ * see the README). Fails with VC_EPARAM on a bad option, VC_EINPUT when
+ * there are no balls or surface seeds, VC_ENOMEM, VC_EINTERNAL when MPI
+ * cannot start. */
+int vc_interior_octree(const vc_balls *balls, const vc_seeds *surface_seeds,
+                       const vc_octree_options *opt, vc_seeds *out, int64_t *n_interior,
+                       vc_octree_stats *stats, vc_octree_leaves *leaves, vc_error *err);
+
+/* Lloyd relaxation: each of the iterations builds the Voronoi mesh of seeds
+ * and moves every interior seed (index >= n_surface) to its cell's
+ * centroid, all at once; the surface seeds stay fixed. A move is refused
+ * (the seed stays put) when the centroid lies in a surface ball or its
+ * nearest surface seed is an outside seed, so the interior seeds stay
+ * inside and the reconstructed surface stays the same. Deterministic,
+ * whatever the thread count. */
+typedef struct vc_lloyd_stats {
+    int iterations;
+    int64_t n_moved, n_refused;  /* in the last iteration */
+    double mean_shift, max_shift; /* of the moved seeds in the last iteration, relative to
+                                     the cube root of their cell's volume */
+    double seconds;
+} vc_lloyd_stats;
+
+int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface, int iterations,
+                      int threads, vc_lloyd_stats *stats, vc_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,6 @@
 /* Interior seeds on a cubic lattice (see include/vorocrust/interior.h).
  * The nearest surface seed of a lattice point is found through the Voronoi
- * engine's grid of seed bins, searched in growing shells. */
+ * engine's grid of seed bins (nearest_seed.h). */
 #include "vorocrust/interior.h"
 
 #include <math.h>
@@ -8,53 +8,7 @@
 #include <string.h>
 
 #include "balls/ball_set.h"
-#include "voronoi/seed_grid.h"
-
-/* The nearest seed to x (ties: lowest index) and its distance, searching
- * the grid's bins in growing shells. */
-static int64_t grid_nearest(const vc_seed_grid *g, const double x[3], double *dist)
-{
-    int c[3];
-    vc_seed_grid_locate(g, x, c);
-    double best2 = INFINITY;
-    int64_t best = -1;
-    int maxn = g->n[0] > g->n[1] ? g->n[0] : g->n[1];
-    maxn = maxn > g->n[2] ? maxn : g->n[2];
-    for (int ring = 0; ring <= maxn; ring++) {
-        /* a seed in ring r is at least (r - 1) h away */
-        if (best >= 0) {
-            double lim = (double)(ring - 1) * g->h;
-            if (lim > 0 && lim * lim > best2)
-                break;
-        }
-        for (int k = c[2] - ring; k <= c[2] + ring; k++) {
-            if (k < 0 || k >= g->n[2])
-                continue;
-            for (int j = c[1] - ring; j <= c[1] + ring; j++) {
-                if (j < 0 || j >= g->n[1])
-                    continue;
-                int shell = abs(k - c[2]) == ring || abs(j - c[1]) == ring;
-                for (int i = c[0] - ring; i <= c[0] + ring; i += (shell || ring == 0) ? 1 : 2 * ring) {
-                    if (i < 0 || i >= g->n[0])
-                        continue;
-                    int64_t b = vc_seed_grid_bin(g, i, j, k);
-                    for (int64_t m = g->bin_start[b]; m < g->bin_start[b + 1]; m++) {
-                        int64_t q = g->seed_index[m];
-                        const double *y = g->xyz + 3 * m;
-                        double d2 = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
-                                    (x[2] - y[2]) * (x[2] - y[2]);
-                        if (d2 < best2 || (d2 == best2 && q < best)) {
-                            best2 = d2;
-                            best = q;
-                        }
-                    }
-                }
-            }
-        }
-    }
-    *dist = sqrt(best2);
-    return best;
-}
+#include "nearest_seed.h"
 
 typedef struct inside_ctx {
     const vc_balls *b;
@@ -106,17 +60,11 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                             count);
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t i = 0; i < ss->n; i++)
-        for (int d = 0; d < 3; d++) {
-            slo[d] = fmin(slo[d], ss->xyz[3 * i + d]);
-            shi[d] = fmax(shi[d], ss->xyz[3 * i + d]);
-        }
     vc_ball_set bs;
     vc_seed_grid g;
     memset(&g, 0, sizeof g);
     if (vc_ball_set_init(&bs, lo, diag) ||
-        vc_seed_grid_build(&g, ss->xyz, ss->n, slo, shi, 3.0)) {
+        vc_nearest_seed_grid_build(&g, ss)) {
         vc_ball_set_free(&bs);
         vc_seed_grid_free(&g);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the interior seeds");
@@ -141,7 +89,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 if (vc_ball_set_query(&bs, x, 0, 1.0, 0.0, ball_holds, &ic))
                     continue;
                 double dn;
-                int64_t q = grid_nearest(&g, x, &dn);
+                int64_t q = vc_nearest_seed(&g, x, &dn);
                 if (q < 0 || ss->label[q] == 0 || dn < 0.5 * spacing)
                     continue;
                 if (np == cap) {

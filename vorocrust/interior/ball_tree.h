@@ -1,0 +1,40 @@
+/* A k-d tree over the surface balls for the two questions the interior
+ * seeds ask at a point x: the sizing r(x) = min over balls of
+ * (r_p + L |x - p|) (the L-Lipschitz extension of the radii into the
+ * volume), and whether x lies inside some ball. Each node keeps the
+ * bounding box of its centres and the smallest and largest radius below
+ * it, so both queries prune whole subtrees by a lower bound:
+ * r_p + L |x - p| >= rmin + L dist(x, box) and |x - p| >= dist(x, box).
+ * Internal to vorocrust/interior. */
+#ifndef VC_INTERIOR_BALL_TREE_H
+#define VC_INTERIOR_BALL_TREE_H
+
+#include <stdint.h>
+
+#include "vorocrust/sampling.h"
+
+typedef struct vc_ball_tree_node {
+    double lo[3], hi[3];     /* bounding box of the centres */
+    double rmin, rmax;
+    int64_t first, count;    /* the node's balls: order[first .. first + count - 1] */
+    int64_t child;           /* first of the two children, -1 for a leaf */
+} vc_ball_tree_node;
+
+typedef struct vc_ball_tree {
+    const vc_balls *balls;
+    int64_t *order;          /* ball indices, grouped by node */
+    vc_ball_tree_node *nodes;
+    int64_t n_nodes;
+} vc_ball_tree;
+
+/* Builds the tree (the balls must outlive it); 0, or -1 when out of memory. */
+int vc_ball_tree_build(vc_ball_tree *t, const vc_balls *balls);
+void vc_ball_tree_free(vc_ball_tree *t);
+
+/* min(cap, min over balls of r_p + L |x - p|); cap may be INFINITY. */
+double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lipschitz, double cap);
+
+/* 1 when |x - p| <= r_p for some ball (on a sphere counts as inside). */
+int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3]);
+
+#endif

@@ -1,0 +1,126 @@
+/* Lloyd relaxation of the interior seeds (see include/vorocrust/interior.h):
+ * the Voronoi engine gives every cell's centroid, the interior seeds move
+ * there together, the surface seeds never move. */
+#include "vorocrust/interior.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "ball_tree.h"
+#include "nearest_seed.h"
+#include "vorocrust/voronoi.h"
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface, int iterations,
+                      int threads, vc_lloyd_stats *stats, vc_error *err)
+{
+    double t0 = now();
+    vc_lloyd_stats st;
+    memset(&st, 0, sizeof st);
+    if (stats)
+        *stats = st;
+    if (iterations < 0 || n_surface < 0 || n_surface > seeds->n)
+        return vc_error_set(err, VC_EPARAM, "Lloyd relaxation: bad iteration count %d or "
+                            "surface seed count %lld", iterations, (long long)n_surface);
+    if (iterations == 0 || n_surface == seeds->n)
+        return 0;
+    vc_ball_tree tree;
+    vc_seed_grid grid;
+    memset(&grid, 0, sizeof grid);
+    vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
+    if (vc_ball_tree_build(&tree, balls))
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
+    if (vc_nearest_seed_grid_build(&grid, &surface)) {
+        vc_ball_tree_free(&tree);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
+    }
+    int64_t n = seeds->n;
+    /* target[3i..]: where interior seed n_surface + i goes; moved[i]: 1 moved,
+     * 0 refused, -1 no cell */
+    double *target = malloc(sizeof(double) * 3 * (size_t)(n - n_surface));
+    double *shift = malloc(sizeof(double) * (size_t)(n - n_surface));
+    signed char *moved = malloc((size_t)(n - n_surface));
+    int64_t *cell_of = malloc(sizeof(int64_t) * (size_t)n);
+    int rc = 0;
+    if (!target || !shift || !moved || !cell_of) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
+        goto done;
+    }
+#ifdef _OPENMP
+    if (threads <= 0)
+        threads = omp_get_max_threads();
+#endif
+    for (int it = 0; it < iterations && !rc; it++) {
+        vc_voronoi_options vo;
+        vc_voronoi_options_default(&vo);
+        vo.threads = threads;
+        vo.progress = 0;
+        vc_polymesh m;
+        rc = vc_voronoi_build(seeds, &vo, &m, err);
+        if (rc)
+            break;
+        for (int64_t i = 0; i < n; i++)
+            cell_of[i] = -1;
+        for (int64_t c = 0; c < m.n_cells; c++)
+            cell_of[m.cell_seed[c]] = c;
+        /* each seed decided alone, so the result is independent of threads */
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+#endif
+        for (int64_t i = 0; i < n - n_surface; i++) {
+            int64_t c = cell_of[n_surface + i];
+            const double *x = seeds->xyz + 3 * (n_surface + i);
+            double *y = target + 3 * i;
+            memcpy(y, x, sizeof(double) * 3);
+            moved[i] = -1;
+            shift[i] = 0;
+            if (c < 0 || !(m.cell_volume[c] > 0))
+                continue;
+            const double *g = m.cell_centroid + 3 * c;
+            double dn;
+            int64_t q = vc_nearest_seed(&grid, g, &dn);
+            moved[i] = 0;
+            if (q < 0 || seeds->label[q] == 0 || vc_ball_tree_covers(&tree, g))
+                continue;
+            moved[i] = 1;
+            memcpy(y, g, sizeof(double) * 3);
+            shift[i] = sqrt((g[0] - x[0]) * (g[0] - x[0]) + (g[1] - x[1]) * (g[1] - x[1]) +
+                            (g[2] - x[2]) * (g[2] - x[2])) / cbrt(m.cell_volume[c]);
+        }
+        vc_polymesh_free(&m);
+        st.iterations = it + 1;
+        st.n_moved = st.n_refused = 0;
+        st.mean_shift = st.max_shift = 0;
+        for (int64_t i = 0; i < n - n_surface; i++) {
+            st.n_moved += moved[i] == 1;
+            st.n_refused += moved[i] == 0;
+            st.mean_shift += shift[i];
+            st.max_shift = fmax(st.max_shift, shift[i]);
+        }
+        if (st.n_moved)
+            st.mean_shift /= (double)st.n_moved;
+        memcpy(seeds->xyz + 3 * n_surface, target, sizeof(double) * 3 * (size_t)(n - n_surface));
+    }
+done:
+    free(target);
+    free(shift);
+    free(moved);
+    free(cell_of);
+    vc_ball_tree_free(&tree);
+    vc_seed_grid_free(&grid);
+    st.seconds = now() - t0;
+    if (stats)
+        *stats = st;
+    return rc;
+}

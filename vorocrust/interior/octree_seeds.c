@@ -1,0 +1,286 @@
+/* Graded interior seeds from a p4est octree (see include/vorocrust/interior.h).
+ *
+ * The forest starts from a brick of equal cubes covering the balls'
+ * bounding box, so every leaf is a cube. A leaf is refined while its
+ * diagonal exceeds twice the sizing at its centre: the sizing is
+ * L-Lipschitz, so across a leaf it changes by at most L times the
+ * diagonal, leaves next to the surface come out about the size of the
+ * balls there and grow away from it. */
+#include "vorocrust/interior.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <p8est_extended.h>
+
+#include "ball_tree.h"
+#include "nearest_seed.h"
+#include "octree_runtime.h"
+
+/* Bricks longer than this many trees on their long side are not worth it:
+ * refinement reaches every scale anyway. */
+enum { MAX_TREES_PER_AXIS = 16 };
+
+/* What the refinement callback needs (p4est passes it as user_pointer). */
+typedef struct forest_geometry {
+    double lo[3];    /* the brick's low corner */
+    double tree_side;
+    double lipschitz, cap, diagonal_factor;
+    const vc_ball_tree *balls;
+} forest_geometry;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void vc_octree_options_default(vc_octree_options *opt)
+{
+    opt->lipschitz = 0.25;
+    opt->max_size = 0;
+    opt->diagonal_factor = 2;
+    opt->threads = 0;
+}
+
+void vc_octree_leaves_free(vc_octree_leaves *l)
+{
+    free(l->center);
+    free(l->side);
+    free(l->level);
+    free(l->seed_leaf);
+    memset(l, 0, sizeof *l);
+}
+
+/* The centre and side of a quadrant in space. */
+static void quadrant_cube(const p8est_t *forest, const forest_geometry *g, p4est_topidx_t tree,
+                          const p8est_quadrant_t *q, double center[3], double *side)
+{
+    p4est_qcoord_t half = P8EST_QUADRANT_LEN(q->level) / 2;
+    double v[3];
+    p8est_qcoord_to_vertex(forest->connectivity, tree, q->x + half, q->y + half, q->z + half, v);
+    for (int d = 0; d < 3; d++)
+        center[d] = g->lo[d] + g->tree_side * v[d];
+    *side = g->tree_side * ldexp(1.0, -(int)q->level);
+}
+
+static int leaf_too_large(p8est_t *forest, p4est_topidx_t tree, p8est_quadrant_t *q)
+{
+    const forest_geometry *g = forest->user_pointer;
+    double c[3], side;
+    quadrant_cube(forest, g, tree, q, c, &side);
+    double diagonal = sqrt(3.0) * side;
+    return diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, g->lipschitz, g->cap);
+}
+
+/* The bounding box of the ball centres, grown by 1% of its diagonal so that
+ * no centre sits on the forest's boundary, then covered by a brick of
+ * n[0] x n[1] x n[2] cubes of side *tree_side, centred on it. */
+static void brick_layout(const vc_balls *b, double lo[3], double *tree_side, int n[3])
+{
+    double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    lo[0] = lo[1] = lo[2] = INFINITY;
+    for (int64_t i = 0; i < b->n; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], b->center[3 * i + d]);
+            hi[d] = fmax(hi[d], b->center[3 * i + d]);
+        }
+    double ext[3], diag2 = 0, max_ext = 0;
+    for (int d = 0; d < 3; d++) {
+        ext[d] = hi[d] - lo[d];
+        diag2 += ext[d] * ext[d];
+    }
+    double grow = 0.01 * sqrt(diag2);
+    if (!(grow > 0))
+        grow = b->radius[0] > 0 ? b->radius[0] : 1.0; /* a single ball */
+    for (int d = 0; d < 3; d++) {
+        lo[d] -= grow;
+        ext[d] += 2 * grow;
+        max_ext = fmax(max_ext, ext[d]);
+    }
+    double min_ext = fmin(ext[0], fmin(ext[1], ext[2]));
+    /* cubes as large as the thinnest side allows, at most 16 along the
+     * longest */
+    double side = fmax(min_ext, max_ext / MAX_TREES_PER_AXIS);
+    for (int d = 0; d < 3; d++) {
+        n[d] = (int)ceil(ext[d] / side - 1e-9);
+        if (n[d] < 1)
+            n[d] = 1;
+        lo[d] -= 0.5 * ((double)n[d] * side - ext[d]);
+    }
+    *tree_side = side;
+}
+
+int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octree_options *opt,
+                       vc_seeds *out, int64_t *n_interior, vc_octree_stats *stats,
+                       vc_octree_leaves *leaves, vc_error *err)
+{
+    double t0 = now();
+    memset(out, 0, sizeof *out);
+    *n_interior = 0;
+    vc_octree_stats st;
+    memset(&st, 0, sizeof st);
+    if (stats)
+        *stats = st;
+    if (leaves)
+        memset(leaves, 0, sizeof *leaves);
+    if (!(opt->lipschitz > 0 && opt->lipschitz < 1))
+        return vc_error_set(err, VC_EPARAM, "the octree's Lipschitz constant must be in (0, 1), "
+                            "got %g", opt->lipschitz);
+    if (!(opt->diagonal_factor > 0) || !isfinite(opt->diagonal_factor))
+        return vc_error_set(err, VC_EPARAM, "the octree's diagonal factor must be positive, got %g",
+                            opt->diagonal_factor);
+    if (balls->n == 0)
+        return vc_error_set(err, VC_EINPUT, "no surface balls to grade the octree by");
+    if (ss->n == 0)
+        return vc_error_set(err, VC_EINPUT, "no surface seeds to place interior seeds against");
+    int rc = vc_octree_runtime_start(err);
+    if (rc)
+        return rc;
+
+    forest_geometry g;
+    int n[3];
+    brick_layout(balls, g.lo, &g.tree_side, n);
+    g.lipschitz = opt->lipschitz;
+    g.diagonal_factor = opt->diagonal_factor;
+    g.cap = opt->max_size > 0 ? opt->max_size : INFINITY;
+    vc_ball_tree tree;
+    vc_seed_grid grid;
+    memset(&grid, 0, sizeof grid);
+    if (vc_ball_tree_build(&tree, balls))
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the octree interior");
+    if (vc_nearest_seed_grid_build(&grid, ss)) {
+        vc_ball_tree_free(&tree);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the octree interior");
+    }
+    g.balls = &tree;
+
+    p8est_connectivity_t *conn = p8est_connectivity_new_brick(n[0], n[1], n[2], 0, 0, 0);
+    p8est_t *forest = p8est_new_ext(MPI_COMM_SELF, conn, 0, 0, 1, 0, NULL, &g);
+    p8est_refine_ext(forest, 1, P8EST_QMAXLEVEL, leaf_too_large, NULL, NULL);
+    st.n_refined_leaves = (int64_t)forest->local_num_quadrants;
+    /* Full (face, edge and corner) balance: every pair of leaves that touch,
+     * even at a corner, differs by one level at most. Leaf centres become
+     * seeds whose Voronoi cells neighbour across edges and corners too, so
+     * face balance alone would let a cell meet cells 4 times smaller. */
+    p8est_balance(forest, P8EST_CONNECT_FULL, NULL);
+    st.n_trees = (int64_t)n[0] * n[1] * n[2];
+    st.n_leaves = (int64_t)forest->local_num_quadrants;
+
+    int64_t nl = st.n_leaves;
+    double *center = malloc(sizeof(double) * 3 * (size_t)(nl > 0 ? nl : 1));
+    double *side = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
+    int *level = malloc(sizeof(int) * (size_t)(nl > 0 ? nl : 1));
+    signed char *verdict = malloc((size_t)(nl > 0 ? nl : 1));
+    if (center && side && level && verdict) {
+        st.min_level = P8EST_QMAXLEVEL;
+        int64_t k = 0;
+        for (p4est_topidx_t t = forest->first_local_tree; t <= forest->last_local_tree; t++) {
+            p8est_tree_t *tr = p8est_tree_array_index(forest->trees, t);
+            for (size_t i = 0; i < tr->quadrants.elem_count; i++, k++) {
+                p8est_quadrant_t *q = p8est_quadrant_array_index(&tr->quadrants, i);
+                quadrant_cube(forest, &g, t, q, center + 3 * k, side + k);
+                level[k] = q->level;
+                st.min_level = level[k] < st.min_level ? level[k] : st.min_level;
+                st.max_level = level[k] > st.max_level ? level[k] : st.max_level;
+            }
+        }
+    }
+    p8est_destroy(forest);
+    p8est_connectivity_destroy(conn);
+    if (!center || !side || !level || !verdict) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory for %lld octree leaves", (long long)nl);
+        goto done;
+    }
+
+    /* The seed tests, leaf by leaf (independent, so any thread count gives
+     * the same verdicts): 0 seed, 1 in a ball, 2 outside, 3 too near a
+     * surface seed. A surface seed closer than half the side lies inside
+     * the leaf's inscribed ball: it already gives that region its cell,
+     * and a seed at the centre would split it into two thin cells. Half the
+     * side is also the lattice's rule (half a spacing). */
+    int threads = opt->threads;
+#ifdef _OPENMP
+    if (threads <= 0)
+        threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+#else
+    (void)threads;
+#endif
+    for (int64_t k = 0; k < nl; k++) {
+        const double *c = center + 3 * k;
+        if (vc_ball_tree_covers(&tree, c)) {
+            verdict[k] = 1;
+            continue;
+        }
+        double dn;
+        int64_t q = vc_nearest_seed(&grid, c, &dn);
+        if (q < 0 || ss->label[q] == 0)
+            verdict[k] = 2;
+        else if (dn < 0.5 * side[k])
+            verdict[k] = 3;
+        else
+            verdict[k] = 0;
+    }
+    int64_t ns = 0;
+    for (int64_t k = 0; k < nl; k++) {
+        ns += verdict[k] == 0;
+        st.n_covered += verdict[k] == 1;
+        st.n_outside += verdict[k] == 2;
+        st.n_near_seed += verdict[k] == 3;
+    }
+    if (vc_seeds_alloc(out, ss->n + ns, err)) {
+        rc = VC_ENOMEM;
+        goto done;
+    }
+    memcpy(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n);
+    memcpy(out->label, ss->label, sizeof(int32_t) * (size_t)ss->n);
+    int64_t *seed_leaf = leaves ? malloc(sizeof(int64_t) * (size_t)(ns > 0 ? ns : 1)) : NULL;
+    if (leaves && !seed_leaf) {
+        vc_seeds_free(out);
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory for the octree leaves");
+        goto done;
+    }
+    int64_t m = ss->n;
+    for (int64_t k = 0; k < nl; k++) {
+        if (verdict[k] != 0)
+            continue;
+        if (seed_leaf)
+            seed_leaf[m - ss->n] = k;
+        memcpy(out->xyz + 3 * m, center + 3 * k, sizeof(double) * 3);
+        out->label[m++] = 1;
+    }
+    *n_interior = ns;
+    st.n_seeds = ns;
+    if (leaves) {
+        leaves->n = nl;
+        leaves->center = center;
+        leaves->side = side;
+        leaves->level = level;
+        leaves->n_seeds = ns;
+        leaves->seed_leaf = seed_leaf;
+        for (int d = 0; d < 3; d++) {
+            leaves->box[d] = g.lo[d];
+            leaves->box[3 + d] = g.lo[d] + n[d] * g.tree_side;
+        }
+        center = side = NULL;
+        level = NULL;
+    }
+done:
+    free(center);
+    free(side);
+    free(level);
+    free(verdict);
+    vc_ball_tree_free(&tree);
+    vc_seed_grid_free(&grid);
+    st.seconds = now() - t0;
+    if (stats)
+        *stats = st;
+    return rc;
+}
