@@ -16,7 +16,7 @@ sampling) on the shared models, checked independently of the C code:
  - the seeds CSV: inside seeds (label 1) inside the input surface, outside
    seeds outside, by VTK's signed distance;
  - 1 and 2 threads give byte-identical outputs; same --seed, same output;
- - the volume mesh (`mesh -o`, lattice interior): every cell a valid convex
+ - the volume mesh (`mesh -o`, the default octree interior): every cell a valid convex
    polyhedron read back by VTK (tests/vtkcheck.py), cell volumes summing to
    the volume the reconstructed surface encloses within 1e-9 and to the
    input's within 1%, the same .vtu with 1 and 2 threads;
@@ -187,8 +187,8 @@ for model, (q_rec, lo_rec, hi_rec) in EXPECTED.items():
         wrong += (r[3] == "1") != (v < 0)
     check(wrong == 0, "%s: %d of %d seeds on the wrong side of the input" % (model, wrong, len(srows)))
 
-# The volume mesh: surface seeds and lattice interior seeds (the larger
-# models' volume meshes are checked in e2e_mesh_models).
+# The volume mesh: surface seeds and octree interior seeds (the default; the
+# larger models' volume meshes are checked in e2e_mesh_models).
 # models/icosphere.obj is the project's own model of the README's first command.
 ICOSPHERE = os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj")
 for model in ("sphere.obj", "cube.off", "onebox.obj", ICOSPHERE):
@@ -280,7 +280,9 @@ bad_cases = [
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
       "--smooth-iterations", "13"], 2, "--smooth-iterations"),
     (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
-      "--interior", "octree"], 2, "--interior"),
+      "--interior", "voxel"], 2, "--interior"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
+      "--lloyd", "-1"], 2, "--lloyd"),
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface",
       os.path.join(TMP, "no_such_dir", "x.obj")], 1, "no_such_dir"),
 ]

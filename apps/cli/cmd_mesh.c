@@ -651,13 +651,16 @@ int vc_cmd_mesh(int argc, char **argv)
                 fprintf(stderr, "  interior: %s, %lld interior seeds, %.3f s\n",
                         interior == INTERIOR_LATTICE ? "lattice" : "none", (long long)n_interior,
                         t_interior);
-            if (lst.iterations > 0)
+            if (lloyd_iterations > 0)
                 fprintf(stderr,
-                        "  Lloyd: %d iterations, last one moved %lld seeds (%lld refused: "
-                        "centroid in a ball or outside), shift / cell size mean %.3g max %.3g, "
-                        "%.3f s\n",
-                        lst.iterations, (long long)lst.n_moved, (long long)lst.n_refused,
-                        lst.mean_shift, lst.max_shift, t_lloyd);
+                        "  Lloyd: %d iterations%s, last one moved %lld seeds (%lld stayed: "
+                        "next to the surface, or centroid in a ball or outside), shift / cell "
+                        "size mean %.3g max %.3g, %.3f s\n",
+                        lst.iterations,
+                        lst.reverted ? " (the next one was undone: its mesh failed the validator)"
+                                     : "",
+                        (long long)lst.n_moved, (long long)lst.n_refused, lst.mean_shift,
+                        lst.max_shift, t_lloyd);
             fprintf(stderr,
                     "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
                     "surface %.12g, input %.12g), %.3f s\n",

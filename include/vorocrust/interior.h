@@ -101,10 +101,14 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *surface_seeds,
  * centroid, all at once; the surface seeds stay fixed. A move is refused
  * (the seed stays put) when the centroid lies in a surface ball or its
  * nearest surface seed is an outside seed, so the interior seeds stay
- * inside and the reconstructed surface stays the same. Deterministic,
- * whatever the thread count. */
+ * inside and the reconstructed surface stays the same; interior seeds
+ * whose cells touch a surface seed's cell stay put too. The mesh of the
+ * relaxed seeds is built and validated once more at the end: when it
+ * fails the validator, the relaxation stops at the last seeds whose mesh
+ * passed (stats->reverted). Deterministic, whatever the thread count. */
 typedef struct vc_lloyd_stats {
-    int iterations;
+    int iterations;               /* done and kept */
+    int reverted;                 /* 1 when the last iteration was undone */
     int64_t n_moved, n_refused;  /* in the last iteration */
     double mean_shift, max_shift; /* of the moved seeds in the last iteration, relative to
                                      the cube root of their cell's volume */

@@ -1,0 +1,239 @@
+/* Unit test of the octree interior (vc_interior_octree) on synthetic balls:
+ * balls centred on a sphere of radius 1 (radius 0.12, one at the north pole
+ * 0.03 to make the grading visible), an inside surface seed 0.05 below each
+ * centre and an outside one 0.05 above. Checked against brute force:
+ * - the leaves tile the forest's box (volumes add up), and every leaf is
+ *   small enough: diagonal <= 2 r(centre), r(x) = min (r_p + L |x - p|);
+ * - refinement went no further than the sizing asks: a leaf whose parent
+ *   was already small enough can only come from the 2:1 balance;
+ * - 2:1 balance: leaves that touch (even at a corner) differ by one level
+ *   at most;
+ * - every interior seed is a leaf centre outside every ball, its nearest
+ *   surface seed is an inside seed, and no surface seed is closer than
+ *   half the leaf's side; every other leaf centre fails one of these;
+ * - --max-size caps the leaves; 1 and 2 threads give the same seeds; two
+ *   calls in one process (MPI starts once). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vorocrust/interior.h"
+
+static int failures;
+
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            failures++;                                                                            \
+            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                                   \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fprintf(stderr, "\n");                                                                 \
+        }                                                                                          \
+    } while (0)
+
+static double dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+static double sizing(const vc_balls *b, const double x[3], double L, double cap)
+{
+    double r = cap;
+    for (int64_t i = 0; i < b->n; i++)
+        r = fmin(r, b->radius[i] + L * dist(x, b->center + 3 * i));
+    return r;
+}
+
+/* n balls on the unit sphere (a Fibonacci spiral) and their seeds. */
+static void make_sphere(int n, vc_balls *b, vc_seeds *s)
+{
+    memset(b, 0, sizeof *b);
+    b->n = n;
+    b->center = malloc(sizeof(double) * 3 * (size_t)n);
+    b->radius = malloc(sizeof(double) * (size_t)n);
+    b->kind = calloc((size_t)n, 1);
+    b->element = calloc((size_t)n, sizeof(int64_t));
+    b->normal = malloc(sizeof(double) * 3 * (size_t)n);
+    vc_seeds_alloc(s, 2 * n, NULL);
+    double golden = acos(-1.0) * (3 - sqrt(5.0));
+    for (int i = 0; i < n; i++) {
+        double z = 1 - 2 * (i + 0.5) / n, rr = sqrt(1 - z * z), t = golden * i;
+        double p[3] = {rr * cos(t), rr * sin(t), z};
+        if (i == 0) {
+            p[0] = p[1] = 0;
+            p[2] = 1;
+        }
+        memcpy(b->center + 3 * i, p, sizeof p);
+        memcpy(b->normal + 3 * i, p, sizeof p);
+        b->radius[i] = i == 0 ? 0.03 : 0.12;
+        for (int d = 0; d < 3; d++) {
+            s->xyz[3 * (2 * i) + d] = p[d] * 0.95;
+            s->xyz[3 * (2 * i + 1) + d] = p[d] * 1.05;
+        }
+        s->label[2 * i] = 1;
+        s->label[2 * i + 1] = 0;
+    }
+}
+
+/* Closed cubes a and b intersect (touch included), with a tolerance. */
+static int touch(const double *ca, double sa, const double *cb, double sb)
+{
+    for (int d = 0; d < 3; d++)
+        if (fabs(ca[d] - cb[d]) > 0.5 * (sa + sb) * (1 + 1e-12))
+            return 0;
+    return 1;
+}
+
+static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_options *o,
+                         const vc_seeds *out, int64_t n_int, const vc_octree_stats *st,
+                         const vc_octree_leaves *lv)
+{
+    double cap = o->max_size > 0 ? o->max_size : INFINITY;
+    CHECK(lv->n == st->n_leaves && lv->n_seeds == n_int && st->n_seeds == n_int,
+          "counts: leaves %lld/%lld seeds %lld/%lld", (long long)lv->n, (long long)st->n_leaves,
+          (long long)lv->n_seeds, (long long)n_int);
+    CHECK(out->n == ss->n + n_int, "out has %lld seeds", (long long)out->n);
+    CHECK(memcmp(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n) == 0,
+          "surface seeds not copied first");
+    double box_vol = 1, vol = 0;
+    for (int d = 0; d < 3; d++)
+        box_vol *= lv->box[3 + d] - lv->box[d];
+    int64_t too_big = 0, needless = 0;
+    for (int64_t k = 0; k < lv->n; k++) {
+        const double *c = lv->center + 3 * k;
+        double a = lv->side[k];
+        vol += a * a * a;
+        if (sqrt(3.0) * a > 2 * sizing(b, c, o->lipschitz, cap) * (1 + 1e-12))
+            too_big++;
+        /* the parent: the cube of side 2a on the grid of that size */
+        double pc[3];
+        for (int d = 0; d < 3; d++)
+            pc[d] = lv->box[d] + (floor((c[d] - lv->box[d]) / (2 * a)) + 0.5) * 2 * a;
+        if (lv->level[k] > 0 && sqrt(3.0) * 2 * a <= 2 * sizing(b, pc, o->lipschitz, cap))
+            needless++;
+    }
+    CHECK(fabs(vol - box_vol) <= 1e-9 * box_vol, "leaves cover %.12g of a box of %.12g", vol,
+          box_vol);
+    CHECK(too_big == 0, "%lld leaves larger than the sizing allows", (long long)too_big);
+    /* balance splits a leaf into 8: at most 8 of every 7 added leaves */
+    int64_t added = st->n_leaves - st->n_refined_leaves;
+    CHECK(needless <= 8 * added / 7, "%lld leaves refined beyond the sizing (balance added %lld)",
+          (long long)needless, (long long)added);
+    int64_t unbalanced = 0;
+    for (int64_t i = 0; i < lv->n; i++)
+        for (int64_t j = i + 1; j < lv->n; j++)
+            if (abs(lv->level[i] - lv->level[j]) > 1 &&
+                touch(lv->center + 3 * i, lv->side[i], lv->center + 3 * j, lv->side[j]))
+                unbalanced++;
+    CHECK(unbalanced == 0, "%lld touching leaf pairs differ by more than one level",
+          (long long)unbalanced);
+    /* the seed rules, by brute force over every leaf */
+    char *is_seed = calloc((size_t)(lv->n > 0 ? lv->n : 1), 1);
+    for (int64_t i = 0; i < n_int; i++) {
+        int64_t k = lv->seed_leaf[i];
+        CHECK(k >= 0 && k < lv->n && memcmp(out->xyz + 3 * (ss->n + i), lv->center + 3 * k,
+                                            sizeof(double) * 3) == 0 &&
+                  out->label[ss->n + i] == 1,
+              "seed %lld is not its leaf's centre", (long long)i);
+        if (k >= 0 && k < lv->n)
+            is_seed[k] = 1;
+    }
+    int64_t wrong = 0;
+    for (int64_t k = 0; k < lv->n; k++) {
+        const double *c = lv->center + 3 * k;
+        int covered = 0;
+        for (int64_t i = 0; i < b->n && !covered; i++)
+            covered = dist(c, b->center + 3 * i) <= b->radius[i];
+        int64_t q = 0;
+        for (int64_t i = 1; i < ss->n; i++)
+            if (dist(c, ss->xyz + 3 * i) < dist(c, ss->xyz + 3 * q))
+                q = i;
+        int ok = !covered && ss->label[q] == 1 && dist(c, ss->xyz + 3 * q) >= 0.5 * lv->side[k];
+        wrong += ok != is_seed[k];
+    }
+    free(is_seed);
+    CHECK(wrong == 0, "%lld leaves where the seed rule disagrees with brute force",
+          (long long)wrong);
+}
+
+int main(void)
+{
+    vc_balls b;
+    vc_seeds ss;
+    make_sphere(300, &b, &ss);
+    vc_octree_options o;
+    vc_octree_options_default(&o);
+    CHECK(o.lipschitz == 0.25 && o.diagonal_factor == 2, "defaults");
+
+    vc_seeds out[2];
+    int64_t n_int[2];
+    vc_octree_stats st;
+    vc_octree_leaves lv;
+    vc_error err = {0, ""};
+    for (int t = 0; t < 2; t++) {
+        o.threads = t + 1;
+        int rc = vc_interior_octree(&b, &ss, &o, &out[t], &n_int[t], &st, &lv, &err);
+        CHECK(rc == 0, "octree: %s", err.msg);
+        if (rc)
+            return 1;
+        printf("threads %d: %lld leaves (levels %d-%d), %lld seeds, %.3f s\n", t + 1,
+               (long long)st.n_leaves, st.min_level, st.max_level, (long long)n_int[t], st.seconds);
+        if (t == 0) {
+            check_forest(&b, &ss, &o, &out[0], n_int[0], &st, &lv);
+            CHECK(n_int[0] > 50, "only %lld interior seeds", (long long)n_int[0]);
+            /* graded: the leaves at the centre are larger than at the small ball */
+            double at_centre = 0, at_pole = INFINITY, origin[3] = {0, 0, 0}, pole[3] = {0, 0, 1};
+            for (int64_t k = 0; k < lv.n; k++) {
+                if (dist(lv.center + 3 * k, origin) < lv.side[k])
+                    at_centre = fmax(at_centre, lv.side[k]);
+                if (dist(lv.center + 3 * k, pole) < lv.side[k])
+                    at_pole = fmin(at_pole, lv.side[k]);
+            }
+            CHECK(at_centre >= 4 * at_pole, "not graded: leaves %g at the centre, %g at the pole",
+                  at_centre, at_pole);
+        }
+        vc_octree_leaves_free(&lv);
+    }
+    CHECK(n_int[0] == n_int[1] &&
+              memcmp(out[0].xyz, out[1].xyz, sizeof(double) * 3 * (size_t)out[0].n) == 0,
+          "1 and 2 threads give different seeds");
+    vc_seeds_free(&out[0]);
+    vc_seeds_free(&out[1]);
+
+    /* the cap */
+    o.threads = 0;
+    o.max_size = 0.25;
+    int rc = vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], &st, &lv, &err);
+    CHECK(rc == 0, "capped octree: %s", err.msg);
+    if (rc == 0) {
+        double largest = 0;
+        for (int64_t k = 0; k < lv.n; k++)
+            largest = fmax(largest, lv.side[k]);
+        CHECK(sqrt(3.0) * largest <= 2 * 0.25, "capped: a leaf of side %g", largest);
+        printf("capped: %lld leaves, %lld seeds\n", (long long)st.n_leaves, (long long)n_int[0]);
+        check_forest(&b, &ss, &o, &out[0], n_int[0], &st, &lv);
+        vc_octree_leaves_free(&lv);
+        vc_seeds_free(&out[0]);
+    }
+
+    /* bad options and input */
+    o.max_size = 0;
+    o.lipschitz = 1.5;
+    CHECK(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
+          "L = 1.5 accepted");
+    o.lipschitz = 0.25;
+    vc_seeds none = {0, NULL, NULL};
+    CHECK(vc_interior_octree(&b, &none, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EINPUT,
+          "no surface seeds accepted");
+
+    vc_seeds_free(&ss);
+    vc_balls_free(&b);
+    if (failures) {
+        fprintf(stderr, "test_interior_octree: %d failure(s)\n", failures);
+        return 1;
+    }
+    printf("test_interior_octree: all checks passed\n");
+    return 0;
+}
