@@ -50,7 +50,8 @@ static void usage(FILE *f)
         "  --max-error E       approximation error bound, a fraction of the bounding-box\n"
         "                      diagonal, 0 <= E < 1 (default %g; 0: none, as in the thesis)\n"
         "  --lipschitz L       0 < L < 1 (default %g)\n"
-        "  --max-size H        largest ball radius (default: the bounding-box diagonal)\n"
+        "  --max-size H        largest ball radius and cap of the octree sizing (default:\n"
+        "                      the bounding-box diagonal)\n"
         "  --seed N            random seed (default %llu)\n"
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n",
