@@ -126,7 +126,6 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
             const double *g = m.cell_centroid + 3 * c;
             double dn;
             int64_t q = vc_nearest_seed(&grid, g, &dn);
-            moved[i] = 0;
             if (q < 0 || seeds->label[q] == 0 || vc_ball_tree_covers(&tree, g))
                 continue;
             moved[i] = 1;
