@@ -417,9 +417,7 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
     # one where it reports less, and VTK's vtkMassProperties on that cell's
     # own triangulated faces must then agree. vtkMassProperties computes
     # triangle areas by Heron's formula, which loses about 1e-7 on needle
-    # triangles (next to the short edges of co-spherical cells), and up to
-    # 1.05e-6 on one cell of sphere.obj's octree mesh: hence 1e-5 (the
-    # exact divergence-theorem volume above is held to rel_tol).
+    # triangles (next to the short edges of co-spherical cells): hence 1e-6.
     vtk_vols = vtk_volumes(grid)
     vtk_off = 0
     for c, (a, b) in enumerate(zip(vtk_vols, vols)):
@@ -430,7 +428,7 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
             _fail(path, "cell %d: vtkCellSizeFilter volume %.17g exceeds the face volume %.17g"
                   % (c, a, b))
         mp = cell_mass_volume(grid, c)
-        if abs(mp - written[c]) > 1e-5 * abs(written[c]):
+        if abs(mp - written[c]) > 1e-6 * abs(written[c]):
             _fail(path, "cell %d: vtkMassProperties volume %.17g, \"volume\" %.17g"
                   % (c, mp, written[c]))
 
