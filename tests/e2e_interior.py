@@ -9,15 +9,15 @@ icosphere: VTK readback, volumes, fatness, 1 vs 2 threads):
    CSV) and its nearest surface seed is an inside seed (seeds CSV);
  - the summary reports the octree (leaves, interior seeds, time) and its
    counts agree with the seeds CSV and the .vtu;
- - bracket.obj (summary only: VTK rejects a few of its surface cells, see
-   the README): the cell volumes add up to the reconstructed surface's
+ - bracket.obj (the summary's figures; e2e_mesh_models reads its mesh back
+   with VTK): the cell volumes add up to the reconstructed surface's
    volume within 1e-9 and to the input's within 1%, interior fatness <= 14;
  - --lloyd 2 on the icosphere (at least one iteration kept): a valid mesh read back by VTK
    (tests/vtkcheck.py) with the reconstructed surface's volume, fatness
    <= 14, the seeds moved but still outside the balls and inside, surface
    seeds unchanged, the same .vtu with 1 and 2 threads;
- - --interior lattice gives a valid mesh of the reconstructed surface's
-   volume, and so does none (by the summary).
+ - --interior lattice and none give valid meshes of the reconstructed
+   surface's volume.
 Environment: VC_BIN, VC_MODELS, VC_TMP, VC_SOURCE."""
 import math
 import os
@@ -158,7 +158,7 @@ for model in (os.path.join(MODELS, "sphere.obj"), ICOSPHERE):
     print("%s: mean interior cell volume, nearest quarter %.4g, farthest quarter %.4g" % (tag, near, far))
     check(far > 2 * near, "%s: not graded: far cells %.4g vs near %.4g" % (tag, far, near))
 
-# bracket.obj: figures from the summary (VTK rejects some of its surface cells).
+# bracket.obj: figures from the summary.
 rc, _, err = run("mesh", os.path.join(MODELS, "bracket.obj"), "-o", os.path.join(TMP, "interior_bracket.vtu"))
 check(rc == 0, "bracket: exit %d: %s" % (rc, err[-2000:]))
 if rc == 0:
@@ -201,8 +201,7 @@ if len(vtus) == 2 and base_rc == 0:
     except vtkcheck.CheckError as e:
         check(False, "lloyd: %s" % e)
 
-# The other interiors: lattice read back by VTK; none by the summary (VTK
-# rejects some of its long surface cells).
+# The other interiors.
 for kind, model in (("lattice", os.path.join(MODELS, "cube.off")), ("none", ICOSPHERE)):
     rc, err, out = mesh_run(model, kind, "--interior", kind)
     if rc != 0:
@@ -211,8 +210,6 @@ for kind, model in (("lattice", os.path.join(MODELS, "cube.off")), ("none", ICOS
     m, v, f = summary(err)
     check(v is not None and abs(float(v.group(3)) - float(v.group(4))) <= 1e-9 * float(v.group(4)),
           "%s: summary volume %s" % (kind, v and v.groups()))
-    if kind == "none":
-        continue
     try:
         fig = vtkcheck.check_vtu(out["vtu"], expected_volume=obj_volume(out["surf"]))
         print("%s: %d cells, volume %.12g" % (kind, fig["n_cells"], fig["total_volume"]))
