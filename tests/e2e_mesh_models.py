@@ -4,6 +4,11 @@ ones, determinism, options and bad input).
 
 For each model:
  - exit 0, no warning;
+ - no half-covered seed pair; every ball centre a vertex of the
+   reconstructed surface, one corner ball per sharp corner of the input
+   (at the sharp angle the sampling used: 60, 45 for fandisk, 120 for
+   fertility, whose 64 "corners" at 60 degrees are tessellation artefacts
+   smoothed away);
  - the reconstructed surface: a closed, consistently oriented 2-manifold
    with the input's Euler characteristic (as the mesh command reports it;
    tests/e2e_mesh.py checks that report independently), its quality (Q min, angle percentages,
@@ -86,8 +91,10 @@ for model, (q_rec, lo_rec, hi_rec, fat_bnd) in EXPECTED.items():
     # calls nonconvex while the exact plane test passes; e2e_interior checks
     # that mesh by the exact tests, this one reads the lattice mesh back.
     extra = ["--interior", "lattice"] if model == "fandisk.off" else []
+    balls_csv = os.path.join(TMP, "mesh_models_%s_balls.csv" % tag)
     p = subprocess.run([BIN, "mesh", os.path.join(MODELS, model), "-o", vtu, "--surface", surf,
-                        "--threads", "2", *extra], capture_output=True, text=True, timeout=900)
+                        "--balls", balls_csv, "--threads", "2", *extra], capture_output=True,
+                       text=True, timeout=900)
     check(p.returncode == 0 and "warning" not in p.stderr,
           "%s: exit %d: %s" % (model, p.returncode, p.stderr[-2000:]))
     if p.returncode != 0:
@@ -97,7 +104,36 @@ for model, (q_rec, lo_rec, hi_rec, fat_bnd) in EXPECTED.items():
     check(m is not None and m.group(1) == m.group(2),
           "%s: the surface is not a closed oriented 2-manifold with the input's Euler "
           "characteristic" % model)
+    m = re.search(r"half-covered seed pairs (\d+)", p.stderr)
+    check(m is not None and m.group(1) == "0", "%s: half-covered seed pairs left" % model)
     pts, polys = read_surface(surf)
+    # every ball centre is a surface vertex; the corner balls are the
+    # input's sharp corners at the sharp angle the sampling used
+    with open(balls_csv) as fb:
+        rows = [r.split(",") for r in fb.read().splitlines()[1:]]
+    ext = math.dist([min(q[k] for q in pts) for k in range(3)], [max(q[k] for q in pts) for k in range(3)])
+    h = 1e-6 * ext
+    grid = {}
+    for q in pts:
+        grid.setdefault(tuple(math.floor(x / h) for x in q), []).append(q)
+
+    def is_vertex(c):
+        k = [math.floor(x / h) for x in c]
+        return any(math.dist(c, q) <= 1e-8 * ext
+                   for a in (-1, 0, 1) for b in (-1, 0, 1) for d in (-1, 0, 1)
+                   for q in grid.get((k[0] + a, k[1] + b, k[2] + d), ()))
+    missing = sum(not is_vertex([float(x) for x in r[:3]]) for r in rows)
+    check(missing == 0, "%s: %d of %d ball centres are not surface vertices" % (model, missing, len(rows)))
+    angle = re.search(r"sharp angle ([0-9.]+)", p.stderr)
+    check(angle is not None, "%s: no sharp angle in the summary" % model)
+    if angle:
+        info = subprocess.run([BIN, "info", os.path.join(MODELS, model), "--features", "--sharp-angle",
+                               angle.group(1)], capture_output=True, text=True, timeout=300)
+        nc = re.search(r"^sharp corners: (\d+)$", info.stdout, re.M)
+        corner_balls = sum(r[4] == "corner" for r in rows)
+        check(nc is not None and int(nc.group(1)) == corner_balls,
+              "%s: %d corner balls, input corners at %s degrees: %s"
+              % (model, corner_balls, angle.group(1), nc and nc.group(1)))
     qmin, p_lo, p_hi = quality(fan(pts, polys))
     print("%s: surface Q min %.3f, angles < 30: %.1f%%, > 90: %.1f%%" % (model, qmin, p_lo, p_hi))
     check(qmin >= 0.85 * q_rec, "%s: Q min %.3f below the recorded %.3f" % (model, qmin, q_rec))
