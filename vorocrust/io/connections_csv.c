@@ -5,7 +5,8 @@
  * Rows are formatted in parallel, in chunks, and written in order. */
 #include "vorocrust/io.h"
 
-#include <errno.h>
+#include "io/csv_rows.h"
+
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,7 +14,6 @@
 #include <string.h>
 
 #define CONN_ROWS_PER_CHUNK 256
-#define CONN_CHUNKS 64
 #define CONN_ROW_MAX 320 /* 4 * 20 digits + 8 * 24 chars + separators < 320 */
 
 /* Distance between the seeds of the two cells of interior face f. Computed
@@ -78,6 +78,11 @@ static int conn_check(const vc_polymesh *m, const char *path, vc_error *err)
     return VC_OK;
 }
 
+static int conn_row(const void *ctx, int64_t f, char *out, size_t room)
+{
+    return conn_format_row(ctx, f, out, room);
+}
+
 int vc_write_connections_csv(const vc_polymesh *m, const char *path, vc_error *err)
 {
     if (!m || !path)
@@ -85,55 +90,7 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path, vc_error *e
     int rc = conn_check(m, path, err);
     if (rc)
         return rc;
-
-    char *buf = malloc((size_t)CONN_CHUNKS * CONN_ROWS_PER_CHUNK * CONN_ROW_MAX);
-    size_t *used = malloc(sizeof *used * CONN_CHUNKS);
-    if (!buf || !used) {
-        free(buf);
-        free(used);
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    }
-    vc_tmpfile t;
-    rc = vc_tmpfile_open(&t, path, err);
-    if (rc) {
-        free(buf);
-        free(used);
-        return rc;
-    }
-    FILE *fp = t.fp;
-    int write_errno = 0;
-    static const char header[] = "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz\n";
-    if (fwrite(header, 1, sizeof header - 1, fp) != sizeof header - 1)
-        write_errno = errno ? errno : EIO;
-
-    const int64_t nrows = m->n_interior_faces;
-    const int64_t batch = (int64_t)CONN_CHUNKS * CONN_ROWS_PER_CHUNK;
-    for (int64_t b0 = 0; b0 < nrows && !write_errno; b0 += batch) {
-        int64_t b1 = b0 + batch < nrows ? b0 + batch : nrows;
-        int nchunks = (int)((b1 - b0 + CONN_ROWS_PER_CHUNK - 1) / CONN_ROWS_PER_CHUNK);
-#pragma omp parallel for schedule(dynamic) if (nchunks > 1)
-        for (int k = 0; k < nchunks; ++k) {
-            char *out = buf + (size_t)k * CONN_ROWS_PER_CHUNK * CONN_ROW_MAX;
-            size_t len = 0;
-            int64_t r0 = b0 + (int64_t)k * CONN_ROWS_PER_CHUNK;
-            int64_t r1 = r0 + CONN_ROWS_PER_CHUNK < b1 ? r0 + CONN_ROWS_PER_CHUNK : b1;
-            for (int64_t f = r0; f < r1; ++f) {
-                int w = conn_format_row(m, f, out + len, CONN_ROW_MAX);
-                len += (w > 0 && w < CONN_ROW_MAX) ? (size_t)w : 0;
-            }
-            used[k] = len;
-        }
-        for (int k = 0; k < nchunks && !write_errno; ++k) {
-            const char *out = buf + (size_t)k * CONN_ROWS_PER_CHUNK * CONN_ROW_MAX;
-            if (fwrite(out, 1, used[k], fp) != used[k])
-                write_errno = errno ? errno : EIO;
-        }
-    }
-    free(buf);
-    free(used);
-    if (write_errno) {
-        vc_tmpfile_abort(&t);
-        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(write_errno));
-    }
-    return vc_tmpfile_commit(&t, err);
+    return vc_csv_write_rows(path, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz\n",
+                             m->n_interior_faces, CONN_ROW_MAX, CONN_ROWS_PER_CHUNK, conn_row, m,
+                             err);
 }

@@ -5,6 +5,7 @@
  * line ends and a UTF-8 byte-order mark are accepted. */
 #include "vorocrust/seeds.h"
 #include "vorocrust/io.h"
+#include "io/csv_rows.h"
 #include "util/number_span.h"
 
 #include <errno.h>
@@ -275,8 +276,15 @@ int vc_seeds_read_csv(const char *path, vc_seeds *out, vc_error *err)
 /* ---- writing --------------------------------------------------------- */
 
 #define SEEDS_ROWS_PER_CHUNK 1024
-#define SEEDS_CHUNKS 64
 #define SEEDS_ROW_MAX 128 /* 3 * 24 chars + an int32 + separators */
+
+static int seed_row(const void *ctx, int64_t i, char *out, size_t room)
+{
+    const vc_seeds *s = ctx;
+    const double *x = s->xyz + 3 * i;
+    return snprintf(out, room, "%.17g,%.17g,%.17g,%" PRId32 "\n", x[0], x[1], x[2],
+                    s->label ? s->label[i] : (int32_t)1);
+}
 
 int vc_seeds_write_csv(const char *path, const vc_seeds *s, vc_error *err)
 {
@@ -284,54 +292,6 @@ int vc_seeds_write_csv(const char *path, const vc_seeds *s, vc_error *err)
         return vc_error_set(err, VC_EPARAM, "vc_seeds_write_csv: NULL argument");
     if (s->n < 0 || (s->n > 0 && !s->xyz))
         return vc_error_set(err, VC_EPARAM, "%s: invalid seed set", path);
-    char *buf = malloc((size_t)SEEDS_CHUNKS * SEEDS_ROWS_PER_CHUNK * SEEDS_ROW_MAX);
-    size_t *used = malloc(sizeof *used * SEEDS_CHUNKS);
-    if (!buf || !used) {
-        free(buf);
-        free(used);
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    }
-    vc_tmpfile t;
-    int rc = vc_tmpfile_open(&t, path, err);
-    if (rc) {
-        free(buf);
-        free(used);
-        return rc;
-    }
-    FILE *fp = t.fp;
-    int write_errno = 0;
-    if (fputs("x,y,z,label\n", fp) == EOF)
-        write_errno = errno ? errno : EIO;
-
-    const int64_t batch = (int64_t)SEEDS_CHUNKS * SEEDS_ROWS_PER_CHUNK;
-    for (int64_t b0 = 0; b0 < s->n && !write_errno; b0 += batch) {
-        int64_t b1 = b0 + batch < s->n ? b0 + batch : s->n;
-        int nchunks = (int)((b1 - b0 + SEEDS_ROWS_PER_CHUNK - 1) / SEEDS_ROWS_PER_CHUNK);
-#pragma omp parallel for schedule(dynamic) if (nchunks > 1)
-        for (int k = 0; k < nchunks; ++k) {
-            char *o = buf + (size_t)k * SEEDS_ROWS_PER_CHUNK * SEEDS_ROW_MAX;
-            size_t len = 0;
-            int64_t r0 = b0 + (int64_t)k * SEEDS_ROWS_PER_CHUNK;
-            int64_t r1 = r0 + SEEDS_ROWS_PER_CHUNK < b1 ? r0 + SEEDS_ROWS_PER_CHUNK : b1;
-            for (int64_t i = r0; i < r1; ++i) {
-                const double *x = s->xyz + 3 * i;
-                int w = snprintf(o + len, SEEDS_ROW_MAX, "%.17g,%.17g,%.17g,%" PRId32 "\n",
-                                 x[0], x[1], x[2], s->label ? s->label[i] : (int32_t)1);
-                len += (w > 0 && w < SEEDS_ROW_MAX) ? (size_t)w : 0;
-            }
-            used[k] = len;
-        }
-        for (int k = 0; k < nchunks && !write_errno; ++k) {
-            const char *o = buf + (size_t)k * SEEDS_ROWS_PER_CHUNK * SEEDS_ROW_MAX;
-            if (fwrite(o, 1, used[k], fp) != used[k])
-                write_errno = errno ? errno : EIO;
-        }
-    }
-    free(buf);
-    free(used);
-    if (write_errno) {
-        vc_tmpfile_abort(&t);
-        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(write_errno));
-    }
-    return vc_tmpfile_commit(&t, err);
+    return vc_csv_write_rows(path, "x,y,z,label\n", s->n, SEEDS_ROW_MAX, SEEDS_ROWS_PER_CHUNK,
+                             seed_row, s, err);
 }
