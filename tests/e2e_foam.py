@@ -16,7 +16,8 @@ only failure allowed there), (b) a cubic lattice (hexahedra),
 (c) models/ball-seeds.csv (co-spherical VoroCrust seeds, patch "surface"),
 (d) labelled seeds with label 0 (patch "surface" and wall patches),
 (e) writing into an existing case (polyMesh replaced, the user's system/
-files and 0/ kept). Bad cases: CASE_DIR's parent missing, CASE_DIR a file,
+files and 0/ kept), (f) `vorocrust mesh` of torus.obj and bracket.obj (only
+the skewness check may fail, below its recorded maximum). Bad cases: CASE_DIR's parent missing, CASE_DIR a file,
 constant/polyMesh a file in an existing case (fails after the .vtu is
 written: no output is left).
 
@@ -26,7 +27,7 @@ openfoam*/, /opt/openfoam*/, ...) is sourced once and checkMesh found on
 its PATH. Debian 12 installs /usr/bin/checkMesh, which needs WM_PROJECT_DIR
 (set by the script) to find its etc/controlDict.
 
-Environment: VC_BIN, VC_SOURCE, VC_TMP.
+Environment: VC_BIN, VC_SOURCE, VC_TMP, VC_MODELS.
 """
 import glob
 import math
@@ -508,6 +509,35 @@ expect_error("polymesh_is_file", broken, ["polyMesh", "Not a directory"],
 check(sorted(os.listdir(broken)) == ["constant"] and
       sorted(os.listdir(os.path.join(broken, "constant"))) == ["polyMesh"],
       "polymesh_is_file: the case was changed: %r" % os.listdir(broken))
+
+# =========================================================================
+# (f) `vorocrust mesh` on reference models (torus.obj, bracket.obj): the
+#     case read back against the .vtu, and checkMesh passes every check but
+#     skewness (thin faces between neighbouring surface cells; issue #4 asks
+#     for "Mesh OK." there, not reached yet): the skewness is printed and
+#     must stay below the recorded figure with a margin.
+# =========================================================================
+MODELS = os.environ.get("VC_MODELS")
+SKEW_RECORDED = {"torus.obj": 4.8, "bracket.obj": 10.6}
+for model, skew_rec in SKEW_RECORDED.items():
+    path = os.path.join(MODELS or "", model)
+    if not MODELS or not os.path.exists(path):
+        check(False, "%s: model not found (VC_MODELS=%r)" % (model, MODELS))
+        continue
+    name = "model_" + model.replace(".", "_")
+    vtu = os.path.join(TMP, name + ".vtu")
+    case = os.path.join(TMP, name)
+    p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", case, "--quiet"],
+                       capture_output=True, text=True, timeout=900)
+    if not check(p.returncode == 0, "%s: mesh exit %d: %s" % (model, p.returncode, p.stderr[-2000:])):
+        continue
+    cells = vtkcheck.read_vtu(vtu).GetNumberOfCells()
+    out = checkmesh(name, case, cells, allow_skew=True)
+    m = re.search(r"Max skewness = ([\d.e+-]+)", out)
+    skew = float(m.group(1)) if m else float("inf")
+    check(skew <= 1.2 * skew_rec, "%s: checkMesh skewness max %g above the recorded %g"
+          % (model, skew, skew_rec))
+    check_case(name, case, vtu, None, ["surface"])
 
 for line in summary:
     print(line)
