@@ -254,6 +254,17 @@ def validator_verdict(grid):
 FACES_ORIENTED_INCORRECTLY = 32
 
 
+def newell_normal(pts, f):
+    """Newell's area vector of face f (point ids into pts)."""
+    n = [0.0, 0.0, 0.0]
+    for a, b in zip(f, f[1:] + f[:1]):
+        pa, pb = pts[a], pts[b]
+        n[0] += (pa[1] - pb[1]) * (pa[2] + pb[2])
+        n[1] += (pa[2] - pb[2]) * (pa[0] + pb[0])
+        n[2] += (pa[0] - pb[0]) * (pa[1] + pb[1])
+    return n
+
+
 def bbox_centre_outside(grid, c):
     """Is the centre of cell c's bounding box beyond one of its face planes
     (Newell normals, outward)?"""
@@ -262,12 +273,7 @@ def bbox_centre_outside(grid, c):
     xs = list(pts.values())
     mid = [(max(x[k] for x in xs) + min(x[k] for x in xs)) / 2 for k in range(3)]
     for f in faces:
-        n = [0.0, 0.0, 0.0]
-        for a, b in zip(f, f[1:] + f[:1]):
-            pa, pb = pts[a], pts[b]
-            n[0] += (pa[1] - pb[1]) * (pa[2] + pb[2])
-            n[1] += (pa[2] - pb[2]) * (pa[0] + pb[0])
-            n[2] += (pa[0] - pb[0]) * (pa[1] + pb[1])
+        n = newell_normal(pts, f)
         p0 = pts[f[0]]
         if sum((mid[k] - p0[k]) * n[k] for k in range(3)) > 0:
             return True
@@ -301,12 +307,7 @@ def convexity_problems(grid, rel_tol=1e-8):
         ext = max(max(x[k] for x in xs) - min(x[k] for x in xs) for k in range(3))
         mid = [sum(x[k] for x in xs) / len(xs) for k in range(3)]
         for f in faces:
-            n = [0.0, 0.0, 0.0]
-            for a, b in zip(f, f[1:] + f[:1]):
-                pa, pb = pts[a], pts[b]
-                n[0] += (pa[1] - pb[1]) * (pa[2] + pb[2])
-                n[1] += (pa[2] - pb[2]) * (pa[0] + pb[0])
-                n[2] += (pa[0] - pb[0]) * (pa[1] + pb[1])
+            n = newell_normal(pts, f)
             ln = math.sqrt(sum(v * v for v in n))
             if ln == 0.0:
                 out.append((c, "face %s has no area" % f))

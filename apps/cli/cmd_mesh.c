@@ -407,35 +407,32 @@ int vc_cmd_mesh(int argc, char **argv)
         t2 = vc_cli_now();
         if (vc_sample_surface(sampled, &f, &opt, &balls, &st, &err) == 0)
             break;
-        int local = st.diverged && st.n_half_covered * 20 < st.n_balls_diverged;
-        if (attempt == 0 && st.diverged && !sharp_angle_given && local &&
-            opt.sharp_angle > fallback_angle) {
-            if (!quiet)
-                fprintf(stderr, "mesh: %s\nmesh: sampling again with --sharp-angle %g (folds of %g "
-                        "to %g degrees become creases)%s\n", err.msg, fallback_angle, fallback_angle,
-                        opt.sharp_angle, max_error_given ? "" : " and --max-error 0.0035");
-            vc_features_free(&f);
+        int local = st.n_half_covered * 20 < st.n_balls_diverged;
+        int retry = attempt == 0 && st.diverged && !sharp_angle_given &&
+                    (local ? opt.sharp_angle > fallback_angle : !smooth_iterations_given);
+        if (!retry) {
+            fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+            goto out;
+        }
+        if (!quiet && local)
+            fprintf(stderr, "mesh: %s\nmesh: sampling again with --sharp-angle %g (folds of %g "
+                    "to %g degrees become creases)%s\n", err.msg, fallback_angle, fallback_angle,
+                    opt.sharp_angle, max_error_given ? "" : " and --max-error 0.0035");
+        else if (!quiet)
+            fprintf(stderr, "mesh: %s\nmesh: sampling again with --smooth-iterations %d "
+                    "--sharp-angle %g (the surface bends too much everywhere: the thesis' "
+                    "smoothing of the patches)\n", err.msg, VC_SMOOTH_DEFAULT_ITERATIONS,
+                    smooth_angle);
+        vc_features_free(&f);
+        if (local) {
             opt.sharp_angle = fallback_angle;
             if (!max_error_given && opt.max_error > fallback_error)
                 opt.max_error = fallback_error;
-            t_failed = vc_cli_now() - t1;
-            continue;
-        }
-        if (attempt == 0 && st.diverged && !sharp_angle_given && !local &&
-            !smooth_iterations_given) {
-            if (!quiet)
-                fprintf(stderr, "mesh: %s\nmesh: sampling again with --smooth-iterations %d "
-                        "--sharp-angle %g (the surface bends too much everywhere: the thesis' "
-                        "smoothing of the patches)\n", err.msg, VC_SMOOTH_DEFAULT_ITERATIONS,
-                        smooth_angle);
-            vc_features_free(&f);
+        } else {
             opt.sharp_angle = smooth_angle;
             smooth_iterations = VC_SMOOTH_DEFAULT_ITERATIONS;
-            t_failed = vc_cli_now() - t1;
-            continue;
         }
-        fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
-        goto out;
+        t_failed = vc_cli_now() - t1;
     }
     st.t_features = t2 - t1;
     double t3 = vc_cli_now();

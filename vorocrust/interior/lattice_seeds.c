@@ -1,28 +1,15 @@
 /* Interior seeds on a cubic lattice (see include/vorocrust/interior.h).
  * The nearest surface seed of a lattice point is found through the Voronoi
- * engine's grid of seed bins (nearest_seed.h). */
+ * engine's grid of seed bins (nearest_seed.h), the balls holding it through
+ * the octree's k-d tree over the balls (ball_tree.h). */
 #include "vorocrust/interior.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "balls/ball_set.h"
+#include "ball_tree.h"
 #include "nearest_seed.h"
-
-typedef struct inside_ctx {
-    const vc_balls *b;
-    const double *x;
-} inside_ctx;
-
-static int ball_holds(void *ctx, int64_t i)
-{
-    inside_ctx *c = ctx;
-    const double *p = c->b->center + 3 * i;
-    double d2 = (p[0] - c->x[0]) * (p[0] - c->x[0]) + (p[1] - c->x[1]) * (p[1] - c->x[1]) +
-                (p[2] - c->x[2]) * (p[2] - c->x[2]);
-    return d2 <= c->b->radius[i] * c->b->radius[i];
-}
 
 double vc_interior_default_spacing(const vc_balls *balls, double max_size)
 {
@@ -58,22 +45,16 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
     if (count > 1e9)
         return vc_error_set(err, VC_EPARAM, "interior spacing %g makes %.3g lattice points", spacing,
                             count);
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    vc_ball_set bs;
+    vc_ball_tree tree;
     vc_seed_grid g;
+    memset(&tree, 0, sizeof tree);
     memset(&g, 0, sizeof g);
-    if (vc_ball_set_init(&bs, lo, diag) ||
-        vc_nearest_seed_grid_build(&g, ss)) {
-        vc_ball_set_free(&bs);
+    if (vc_ball_tree_build(&tree, balls) || vc_nearest_seed_grid_build(&g, ss)) {
+        vc_ball_tree_free(&tree);
         vc_seed_grid_free(&g);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the interior seeds");
     }
     int rc = 0;
-    for (int64_t i = 0; i < balls->n && !rc; i++)
-        if (vc_ball_set_add(&bs, balls->center + 3 * i, balls->radius[i], balls->kind[i],
-                            balls->element[i], balls->normal + 3 * i) < 0)
-            rc = -1;
     double *pts = NULL;
     int64_t np = 0, cap = 0;
     /* centre the lattice in the box */
@@ -85,8 +66,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
             for (int64_t i = 0; i < n[0] && !rc; i++) {
                 double x[3] = {off[0] + (double)i * spacing, off[1] + (double)j * spacing,
                                off[2] + (double)k * spacing};
-                inside_ctx ic = {&bs.b, x};
-                if (vc_ball_set_query(&bs, x, 0, 1.0, 0.0, ball_holds, &ic))
+                if (vc_ball_tree_covers(&tree, x))
                     continue;
                 double dn;
                 int64_t q = vc_nearest_seed(&g, x, &dn);
@@ -104,7 +84,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 memcpy(pts + 3 * np, x, sizeof x);
                 np++;
             }
-    vc_ball_set_free(&bs);
+    vc_ball_tree_free(&tree);
     vc_seed_grid_free(&g);
     if (!rc && vc_seeds_alloc(out, ss->n + np, err) == 0) {
         memcpy(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n);

@@ -82,16 +82,18 @@ int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m)
             new_nfv += !straight[m->face_vertices[i]];
     int64_t *fv_new = malloc(sizeof(int64_t) * (size_t)new_nfv);
     unsigned char *cell_changed = calloc((size_t)(m->n_cells > 0 ? m->n_cells : 1), 1);
-    if (!fv_new || !cell_changed) {
+    unsigned char *face_changed = calloc((size_t)nf, 1);
+    if (!fv_new || !cell_changed || !face_changed) {
         free(fv_new);
         free(cell_changed);
+        free(face_changed);
         free(straight);
         free(new_index);
         return -1;
     }
 
-    /* The faces without their straight vertices; the changed ones (area
-     * marked -1) and their cells get their geometry again. */
+    /* The faces without their straight vertices; the changed ones and
+     * their cells get their geometry again. */
     int64_t w = 0;
     for (int64_t f = 0; f < nf; f++) {
         const int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
@@ -105,12 +107,11 @@ int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m)
                 fv_new[w++] = new_index[v];
         }
         if (changed) {
+            face_changed[f] = 1;
             cell_changed[m->face_owner[f]] = 1;
             if (m->face_neighbour[f] >= 0)
                 cell_changed[m->face_neighbour[f]] = 1;
         }
-        if (changed)
-            m->face_area[f] = -1; /* recomputed below */
     }
     m->face_offsets[nf] = w;
     free(m->face_vertices);
@@ -125,12 +126,13 @@ int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m)
 
 #pragma omp parallel for schedule(static)
     for (int64_t f = 0; f < nf; f++)
-        if (m->face_area[f] < 0)
+        if (face_changed[f])
             vc_polymesh_update_face_geometry(m, f);
 #pragma omp parallel for schedule(static)
     for (int64_t c = 0; c < m->n_cells; c++)
         if (cell_changed[c])
             vc_polymesh_update_cell_geometry(m, c);
+    free(face_changed);
     free(cell_changed);
     free(straight);
     free(new_index);
