@@ -95,6 +95,42 @@ void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c);
  * vertices removed, or -1 when out of memory (the mesh is then unchanged). */
 int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m);
 
+/* Skewness of interior face f exactly as OpenFOAM's checkMesh computes it
+ * from the stored geometry (face centroid and normal, cell centroids: the
+ * same formulas as OpenFOAM's): the distance from the face centroid to the
+ * point where the line between the two cell centroids crosses the face
+ * plane, divided by the larger of a fifth of the centroid distance and the
+ * face's extent in that direction. 0 for a boundary face. checkMesh fails a
+ * mesh with a face above 4. */
+double vc_polymesh_face_skewness(const vc_polymesh *m, int64_t f);
+
+typedef struct vc_skew_collapse_stats {
+    double max_skew_before, max_skew_after;
+    int64_t n_collapsed;  /* faces collapsed */
+    int64_t n_made_room;  /* of which not skew, but in the way of a skew one */
+    int64_t n_skew_left;  /* faces still above the limit */
+    int n_rounds;
+    double max_move;      /* largest distance a point was moved */
+} vc_skew_collapse_stats;
+
+/* Mesh improvement for finite-volume solvers that use cell centroids
+ * (OpenFOAM): collapses every interior face whose skewness exceeds
+ * max_skew to a point, in up to max_rounds rounds, most skew first. A needle
+ * triangle loses its shortest edge, any other face all its edges; the
+ * points merge onto the face's one boundary point if it has one (a face with
+ * two or more is left alone: the boundary never moves), else onto their
+ * average or one of them. A collapse is refused when a face around it would
+ * pinch, turn over (by more than about 70 degrees), lose its pyramid in
+ * either cell, or get a non-orthogonality above 65 degrees. Faces left with
+ * fewer than three points are removed; the cells stay closed, the boundary
+ * and the total volume unchanged, but the faces around a collapse are no
+ * longer exactly planar and the cells no longer exact Voronoi cells: use it
+ * on a copy meant for such a solver. Deterministic. Unused points are
+ * dropped. Returns 0, or -1 when out of memory (the mesh is then left
+ * consistent but possibly partly improved). */
+int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rounds,
+                                    vc_skew_collapse_stats *st);
+
 /* Distance between the seeds of the two cells of interior face f (the
  * two-point-flux connection length). */
 double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);
