@@ -115,13 +115,17 @@ typedef struct vc_skew_collapse_stats {
 
 /* Mesh improvement for finite-volume solvers that use cell centroids
  * (OpenFOAM): collapses every interior face whose skewness exceeds
- * max_skew to a point, in up to max_rounds rounds, most skew first. A needle
- * triangle loses its shortest edge, any other face all its edges; the
- * points merge onto the face's one boundary point if it has one (a face with
- * two or more is left alone: the boundary never moves), else onto their
- * average or one of them. A collapse is refused when a face around it would
- * pinch, turn over (by more than about 70 degrees), lose its pyramid in
- * either cell, or get a non-orthogonality above 65 degrees. Faces left with
+ * max_skew, in up to max_rounds rounds, most skew first: two of its edges
+ * survive as one segment (the points between them merge into its ends), or
+ * as a last resort the whole face merges into one point, whichever safe way
+ * moves points least. A merged run of points goes to its one boundary point
+ * (a run with two or more cannot move: the boundary never moves), else to
+ * its average. A face in the way of a collapse (it would turn over or lose
+ * its pyramid) and smaller than the skew face is collapsed first, next
+ * round. A collapse is refused when a face around it would
+ * pinch or turn by 90 degrees or more, when a cell around it would lose
+ * volume or a face pyramid (judged from its new centroid), or when a face
+ * would get a non-orthogonality above 65 degrees. Faces left with
  * fewer than three points are removed; the cells stay closed, the boundary
  * and the total volume unchanged, but the faces around a collapse are no
  * longer exactly planar and the cells no longer exact Voronoi cells: use it

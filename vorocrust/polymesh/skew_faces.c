@@ -7,9 +7,8 @@
  * inward axis in small or needle-like faces. Those faces are exact Voronoi
  * faces, but the line between the two cell centroids (which lie deep in the
  * cells) passes far from them, and checkMesh calls them skew. Collapsing
- * such a face (its shortest edge when it is a needle triangle, otherwise the
- * whole face) to a point removes it; the thesis (7.4) suggests this kind of
- * mesh improvement as a post-process. The boundary (the reconstructed
+ * such a face to a segment or a point removes it; the thesis (7.4) suggests
+ * this kind of mesh improvement as a post-process. The boundary (the reconstructed
  * surface) is never moved. */
 #include "vorocrust/polymesh.h"
 
@@ -22,6 +21,8 @@
  * above SKEW_MAX_NONORTH_DEG (checkMesh's limit is 70 degrees). */
 #define SKEW_MAX_TURN_COS 0.0
 #define SKEW_MAX_NONORTH_DEG 65.0
+/* A collapse touching more cells than this is refused (never seen). */
+#define SKEW_MAX_NEAR_CELLS 256
 
 static double dot3(const double *a, const double *b)
 {
@@ -107,6 +108,8 @@ typedef struct collapse_state {
     int64_t *scratch;         /* a face's new cycle, -1 for the merged point */
     const double **pts;
     int64_t blocker;          /* the face that made collapse_is_safe refuse */
+    int64_t near_cells[SKEW_MAX_NEAR_CELLS];      /* cells around a plan */
+    double near_centroids[SKEW_MAX_NEAR_CELLS][3]; /* and their new centroids */
     unsigned char *forced;    /* face to collapse although not skew: it blocked one */
     int64_t *blockers;        /* this round's blocking faces (old numbering) */
     int64_t max_face_size;
@@ -140,64 +143,142 @@ static int plan_target(const collapse_plan *pl, int64_t v)
     return -1;
 }
 
-/* Whether the plan keeps every other face around the points a simple
- * polygon that neither turns over, nor loses its pyramid in either cell,
- * nor gets too non-orthogonal. */
-static int collapse_is_safe(collapse_state *s, int64_t f, const collapse_plan *pl)
+/* Face g's cycle after the plan (merged points as -1 - target) in
+ * s->scratch; its length, 0 when it degenerates (removed), -1 when it
+ * pinches (a point twice). */
+static int64_t cycle_after(collapse_state *s, const collapse_plan *pl, int64_t g)
 {
     const vc_polymesh *m = s->m;
-    const double cos_nonorth = cos(SKEW_MAX_NONORTH_DEG * 3.14159265358979323846 / 180.0);
-    for (int gi = 0; gi < pl->n; gi++) {
-        const int64_t v = pl->pts[gi];
-        for (int64_t k = s->vf_offsets[v]; k < s->vf_offsets[v + 1]; k++) {
-            const int64_t g = s->vf_faces[k];
-            if (g == f)
-                continue;
-            const int64_t *fv = m->face_vertices + m->face_offsets[g];
-            const int64_t n = vc_polymesh_face_size(m, g);
-            int64_t w = 0;
-            for (int64_t i = 0; i < n; i++) {
-                int t = plan_target(pl, fv[i]);
-                int64_t x = t >= 0 ? -1 - t : fv[i];
-                if (w == 0 || s->scratch[w - 1] != x)
-                    s->scratch[w++] = x;
-            }
-            while (w > 1 && s->scratch[0] == s->scratch[w - 1])
-                w--;
-            if (w < 3)
-                continue; /* degenerates with the collapse: removed */
-            for (int64_t i = 0; i < w; i++)
-                for (int64_t j = i + 1; j < w; j++)
-                    if (s->scratch[i] == s->scratch[j])
-                        return 0; /* pinched */
-            for (int64_t i = 0; i < w; i++)
-                s->pts[i] = s->scratch[i] < 0 ? pl->pos[-1 - s->scratch[i]]
-                                              : m->points + 3 * s->scratch[i];
-            double av[3], cen[3];
-            polygon_geometry(s->pts, w, av, cen);
-            double a = norm3(av);
-            if (!(a > 0) || dot3(av, m->face_normal + 3 * g) < SKEW_MAX_TURN_COS * a) {
-                s->blocker = g;
+    const int64_t *fv = m->face_vertices + m->face_offsets[g];
+    const int64_t n = vc_polymesh_face_size(m, g);
+    int64_t w = 0;
+    for (int64_t i = 0; i < n; i++) {
+        int t = plan_target(pl, fv[i]);
+        int64_t x = t >= 0 ? -1 - t : fv[i];
+        if (w == 0 || s->scratch[w - 1] != x)
+            s->scratch[w++] = x;
+    }
+    while (w > 1 && s->scratch[0] == s->scratch[w - 1])
+        w--;
+    if (w < 3)
+        return 0;
+    for (int64_t i = 0; i < w; i++)
+        for (int64_t j = i + 1; j < w; j++)
+            if (s->scratch[i] == s->scratch[j])
+                return -1;
+    for (int64_t i = 0; i < w; i++)
+        s->pts[i] = s->scratch[i] < 0 ? pl->pos[-1 - s->scratch[i]] : m->points + 3 * s->scratch[i];
+    return w;
+}
+
+/* Checks cell c after the plan: no face pinches or turns over, the volume
+ * is positive and every face pyramid from the new centroid too (OpenFOAM's
+ * "face pyramids" check). Sets the new centroid. */
+static int cell_stays_valid(collapse_state *s, const collapse_plan *pl, int64_t c, double cen[3])
+{
+    const vc_polymesh *m = s->m;
+    const int64_t b = m->cell_offsets[c], e = m->cell_offsets[c + 1];
+    double ref[3] = {0, 0, 0};
+    int64_t n_kept = 0;
+    for (int pass = 0; pass < 3; pass++) {
+        double vol = 0, acc[3] = {0, 0, 0};
+        for (int64_t k = b; k < e; k++) {
+            const int64_t g = m->cell_faces[k];
+            const int64_t w = cycle_after(s, pl, g);
+            if (w < 0)
                 return 0;
-            }
-            const int64_t cells[2] = {m->face_owner[g], m->face_neighbour[g]};
-            for (int j = 0; j < 2; j++) {
-                if (cells[j] < 0)
-                    continue;
-                const double *cc = m->cell_centroid + 3 * cells[j];
-                double r[3] = {cen[0] - cc[0], cen[1] - cc[1], cen[2] - cc[2]};
-                if ((j == 0 ? 1.0 : -1.0) * dot3(av, r) <= 0) {
+            if (w == 0)
+                continue;
+            double av[3], fc[3];
+            polygon_geometry(s->pts, w, av, fc);
+            const double sgn = m->face_owner[g] == c ? 1.0 : -1.0;
+            if (pass == 0) {
+                double a = norm3(av);
+                if (!(a > 0) || dot3(av, m->face_normal + 3 * g) < SKEW_MAX_TURN_COS * a) {
+                    s->blocker = g;
+                    return 0;
+                }
+                for (int d = 0; d < 3; d++)
+                    ref[d] += fc[d];
+                n_kept++;
+            } else if (pass == 1) {
+                double pv = sgn * (av[0] * (fc[0] - ref[0]) + av[1] * (fc[1] - ref[1]) +
+                                   av[2] * (fc[2] - ref[2])) / 3.0;
+                vol += pv;
+                for (int d = 0; d < 3; d++)
+                    acc[d] += pv * (0.75 * fc[d] + 0.25 * ref[d]);
+            } else {
+                double r[3] = {fc[0] - cen[0], fc[1] - cen[1], fc[2] - cen[2]};
+                if (sgn * dot3(av, r) <= 0) {
                     s->blocker = g;
                     return 0;
                 }
             }
-            if (cells[1] >= 0) {
-                const double *co = m->cell_centroid + 3 * cells[0];
-                const double *cn = m->cell_centroid + 3 * cells[1];
-                double d[3] = {cn[0] - co[0], cn[1] - co[1], cn[2] - co[2]};
-                if (dot3(d, av) < cos_nonorth * norm3(d) * a)
+        }
+        if (pass == 0) {
+            if (n_kept < 4)
+                return 0;
+            for (int d = 0; d < 3; d++)
+                ref[d] /= (double)n_kept;
+        } else if (pass == 1) {
+            if (!(vol > 0))
+                return 0;
+            for (int d = 0; d < 3; d++)
+                cen[d] = acc[d] / vol;
+        }
+    }
+    return 1;
+}
+
+/* Whether the plan keeps every cell around the face's points valid (see
+ * cell_stays_valid) and the faces around them orthogonal enough, judged
+ * with the cells' new centroids. */
+static int collapse_is_safe(collapse_state *s, int64_t f, const collapse_plan *pl)
+{
+    const vc_polymesh *m = s->m;
+    const double cos_nonorth = cos(SKEW_MAX_NONORTH_DEG * 3.14159265358979323846 / 180.0);
+    int n_cells = 0;
+    for (int gi = 0; gi < pl->n; gi++) {
+        const int64_t v = pl->pts[gi];
+        for (int64_t k = s->vf_offsets[v]; k < s->vf_offsets[v + 1]; k++) {
+            const int64_t g = s->vf_faces[k];
+            const int64_t cells[2] = {m->face_owner[g], m->face_neighbour[g]};
+            for (int j = 0; j < 2; j++) {
+                int known = cells[j] < 0;
+                for (int i = 0; i < n_cells && !known; i++)
+                    known = s->near_cells[i] == cells[j];
+                if (known)
+                    continue;
+                if (n_cells == SKEW_MAX_NEAR_CELLS)
                     return 0;
+                s->near_cells[n_cells] = cells[j];
+                if (!cell_stays_valid(s, pl, cells[j], s->near_centroids[n_cells]))
+                    return 0;
+                n_cells++;
             }
+        }
+    }
+    for (int gi = 0; gi < pl->n; gi++) {
+        const int64_t v = pl->pts[gi];
+        for (int64_t k = s->vf_offsets[v]; k < s->vf_offsets[v + 1]; k++) {
+            const int64_t g = s->vf_faces[k];
+            if (g == f || m->face_neighbour[g] < 0)
+                continue;
+            const int64_t w = cycle_after(s, pl, g);
+            if (w <= 0)
+                continue;
+            double av[3], fc[3];
+            polygon_geometry(s->pts, w, av, fc);
+            const double *co = NULL, *cn = NULL;
+            for (int i = 0; i < n_cells; i++) {
+                if (s->near_cells[i] == m->face_owner[g])
+                    co = s->near_centroids[i];
+                if (s->near_cells[i] == m->face_neighbour[g])
+                    cn = s->near_centroids[i];
+            }
+            double d[3] = {cn[0] - co[0], cn[1] - co[1], cn[2] - co[2]};
+            if (dot3(d, av) < cos_nonorth * norm3(d) * norm3(av))
+                return 0;
         }
     }
     return 1;
