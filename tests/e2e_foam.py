@@ -520,7 +520,8 @@ check(sorted(os.listdir(broken)) == ["constant"] and
 #     boundary (the reconstructed surface: the same faces on the same
 #     points, exactly) and the total volume are the .vtu's; at most 2% of the
 #     points moved and 5% of the faces changed. With --foam-max-skew 0 the
-#     case is the exact Voronoi mesh, checked face by face against the .vtu;
+#     case is the exact Voronoi mesh, checked face by face against the .vtu,
+#     and --connections lists its interior faces;
 #     checkMesh then fails only its skewness check (needle faces between
 #     neighbouring surface cells; the printed maximum may not grow).
 # =========================================================================
@@ -616,8 +617,10 @@ for model, skew_rec in SKEW_EXACT.items():
     if model in FULL_READBACK:
         check_collapsed_case(name, case, vtu)
         # the exact Voronoi case, face by face against the same .vtu
+        conn = os.path.join(TMP, name + "_connections.csv")
         p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", exact, "--foam-max-skew", "0",
-                            "--quiet"], capture_output=True, text=True, timeout=1800)
+                            "--connections", conn, "--quiet"],
+                           capture_output=True, text=True, timeout=1800)
         if check(p.returncode == 0, "%s: exact mesh exit %d: %s"
                  % (model, p.returncode, p.stderr[-2000:])):
             out = checkmesh(name + "_exact", exact, cells, allow_skew=True)
@@ -625,7 +628,17 @@ for model, skew_rec in SKEW_EXACT.items():
             skew = float(m.group(1)) if m else float("inf")
             check(skew <= 1.05 * skew_rec, "%s: exact case: checkMesh skewness max %g above the "
                   "recorded %g" % (model, skew, skew_rec))
-            check_case(name + "_exact", exact, vtu, None, ["surface"])
+            exact_mesh = check_case(name + "_exact", exact, vtu, None, ["surface"])
+            # --connections: one row per interior face of the exact mesh
+            with open(conn) as f:
+                rows = f.read().split("\n")[1:]
+            pairs = sorted(tuple(sorted(int(x) for x in r.split(",")[:2])) for r in rows if r)
+            if exact_mesh is not None:
+                ni = len(exact_mesh["neighbour"])
+                want = sorted(tuple(sorted(fc)) for fc in zip(exact_mesh["owner"][:ni],
+                                                                exact_mesh["neighbour"]))
+                check(pairs == want, "%s: --connections has %d rows, the exact case %d interior "
+                      "faces (or other cell pairs)" % (model, len(pairs), ni))
 
 for line in summary:
     print(line)

@@ -285,6 +285,14 @@ bad_cases = [
       "--lloyd", "-1"], 2, "--lloyd"),
     (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface",
       os.path.join(TMP, "no_such_dir", "x.obj")], 1, "no_such_dir"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+      "--connections", os.path.join(TMP, "c.csv")], 2, "--connections"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
+      "--connections", os.path.join(TMP, "x.obj")], 2, "named by two outputs"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
+      "--foam-max-skew", "0.5"], 2, "--foam-max-skew"),
+    (["mesh", os.path.join(MODELS, "cube.off"), "-o", os.path.join(TMP, "x.obj"),
+      "--foam-max-skew", "nan"], 2, "--foam-max-skew"),
 ]
 for args, want_rc, want in bad_cases:
     if os.path.exists(os.path.join(TMP, "x.obj")):

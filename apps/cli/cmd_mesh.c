@@ -42,6 +42,8 @@ static void usage(FILE *f)
         "  -o, --output OUT.vtu  the volume mesh: the Voronoi cells of the inside surface seeds\n"
         "                      and the interior seeds\n"
         "  --foam CASE_DIR     also write the volume mesh as OpenFOAM CASE_DIR/constant/polyMesh\n"
+        "  --connections OUT.csv  with -o: the interior faces of the volume mesh (cells, seeds,\n"
+        "                      area, seed distance, centroid, normal), as 'vorocrust voronoi'\n"
         "  --foam-max-skew S   before writing the OpenFOAM case, collapse the faces whose\n"
         "                      checkMesh skewness exceeds S (default %g; 0: write the exact\n"
         "                      Voronoi cells; checkMesh fails a mesh above 4)\n"
@@ -74,7 +76,7 @@ static int takes_value(const char *a)
                                              "--sharp-angle", "--max-error", "--lipschitz",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
-                                             "--foam-max-skew"};
+                                             "--foam-max-skew", "--connections"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -173,7 +175,7 @@ done:
 int vc_cmd_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
-               *balls_path = NULL, *foam_path = NULL;
+               *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
     enum { INTERIOR_NONE, INTERIOR_LATTICE, INTERIOR_OCTREE } interior = INTERIOR_OCTREE;
     int surface_only = 0, quiet = 0, lloyd_iterations = 0, sharp_angle_given = 0,
         max_error_given = 0, smooth_iterations_given = 0;
@@ -203,6 +205,8 @@ int vc_cmd_mesh(int argc, char **argv)
             out_path = argv[++i];
         } else if (!strcmp(a, "--foam")) {
             foam_path = argv[++i];
+        } else if (!strcmp(a, "--connections")) {
+            conn_path = argv[++i];
         } else if (!strcmp(a, "--foam-max-skew")) {
             if (vc_cli_parse_double(v, &foam_max_skew) ||
                 !(foam_max_skew == 0 || (foam_max_skew >= 1 && foam_max_skew <= 1000))) {
@@ -333,13 +337,17 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: --foam and --surface-only exclude each other\n");
         return 2;
     }
+    if (conn_path && surface_only) {
+        fprintf(stderr, "vorocrust: --connections and --surface-only exclude each other\n");
+        return 2;
+    }
     if (foam_path) {
         int frc = vc_cli_check_case_dir(foam_path);
         if (frc)
             return frc;
     }
-    const char *outputs[4] = {out_path, surf_path, seeds_path, balls_path};
-    for (int i = 0; i < 4; i++) {
+    const char *outputs[6] = {out_path, surf_path, seeds_path, balls_path, conn_path, foam_path};
+    for (int i = 0; i < 6; i++) {
         if (!outputs[i])
             continue;
         for (int j = 0; j < i; j++)
@@ -347,7 +355,7 @@ int vc_cmd_mesh(int argc, char **argv)
                 fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
                 return 2;
             }
-        if (vc_cli_check_output_file(outputs[i]))
+        if (i < 5 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
             return 1;
     }
     opt.progress = !quiet;
@@ -366,7 +374,7 @@ int vc_cmd_mesh(int argc, char **argv)
     memset(&balls, 0, sizeof balls);
     memset(&ps, 0, sizeof ps);
     int rc = 1;
-    const char *written[4] = {NULL, NULL, NULL, NULL};
+    const char *written[5] = {NULL, NULL, NULL, NULL, NULL};
     int n_written = 0;
 
     double t0 = vc_cli_now();
@@ -564,6 +572,11 @@ int vc_cmd_mesh(int argc, char **argv)
         int wrc = vc_write_vtu(&m, out_path, VC_VTU_ZLIB, &err);
         if (!wrc)
             written[n_written++] = out_path;
+        if (!wrc && conn_path) {
+            wrc = vc_write_connections_csv(&m, conn_path, &err);
+            if (!wrc)
+                written[n_written++] = conn_path;
+        }
         if (!wrc && foam_path && foam_max_skew > 0 &&
             vc_polymesh_collapse_skew_faces(&m, foam_max_skew, FOAM_COLLAPSE_ROUNDS, &foam_skew)) {
             vc_error_set(&err, VC_ENOMEM, "out of memory collapsing the skew faces");
