@@ -105,7 +105,7 @@ typedef struct collapse_state {
     unsigned char *cell_changed;
     unsigned char *face_changed;
     unsigned char *point_moved;   /* merged or moved in this round */
-    int64_t *scratch;         /* a face's new cycle, -1 for the merged point */
+    int64_t *scratch;         /* a face's cycle after a plan (-1 - target: merged) */
     const double **pts;
     int64_t blocker;          /* the face that made collapse_is_safe refuse */
     int64_t near_cells[SKEW_MAX_NEAR_CELLS];      /* cells around a plan */
