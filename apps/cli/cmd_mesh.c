@@ -410,6 +410,7 @@ int vc_cmd_mesh(int argc, char **argv)
     const double fallback_angle = 45, fallback_error = 0.0035, smooth_angle = 120;
     const double first_angle = opt.sharp_angle;
     double t_failed = 0, t1 = 0, t2 = 0;
+    const double t_read = vc_cli_now() - t0; /* before any sampling attempt */
     int64_t n_input_triangles = s.n_triangles;
     const vc_surface *sampled = &s;
     for (int attempt = 0;; attempt++) {
@@ -657,7 +658,7 @@ int vc_cmd_mesh(int argc, char **argv)
                     : "NOT a closed consistently oriented 2-manifold",
                 (long long)topo.n_components, (long long)n_repaired, qmin, ntri ? qsum / (double)ntri : 0,
                 nang ? 100.0 * (double)below30 / (double)nang : 0,
-                nang ? 100.0 * (double)above90 / (double)nang : 0, (long long)ntri, t1 - t0,
+                nang ? 100.0 * (double)above90 / (double)nang : 0, (long long)ntri, t_read,
                 st.t_features, st.t_sizing, st.t_corners, st.t_edges, st.t_surface,
                 st.t_lipschitz, st.t_slivers, t4 - t3, t5 - t4, t6 - t5, failed_time);
         if (out_path) {
