@@ -114,6 +114,7 @@ static inline void vc_region_pool_free(vc_region_pool *p)
  * *n_degenerate receives the number of faces dropped whole and of points
  * inserted into edges (T-junctions): where it is 0, no vertex lies inside
  * an edge (see vc_polymesh_remove_straight_vertices).
+ * At most 2^31 - 1 vertex copies (about 80 million cells; VC_EPARAM beyond).
  * Runs on threads (OpenMP); the result does not depend on their number. */
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,

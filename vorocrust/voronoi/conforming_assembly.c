@@ -91,9 +91,14 @@ static double rss_mib(void)
 /* ---------------------------------------------------------------------
  * Union-find over the vertex copies. */
 
+/* An entry of the union-find: a copy index (its parent) or, once the used
+ * roots are numbered, -(point id + 1). 32 bits (the copies are counted
+ * below 2^31, checked) halve the largest array of the stitching. */
+typedef int32_t copy_id;
+
 /* Thread-safe find with path halving: a parent pointer only ever moves to
  * an ancestor, which stays an ancestor whatever other threads link. */
-static int64_t find_root(int64_t *parent, int64_t x)
+static int64_t find_root(copy_id *parent, int64_t x)
 {
     for (;;) {
         int64_t p = __atomic_load_n(&parent[x], __ATOMIC_RELAXED);
@@ -101,24 +106,22 @@ static int64_t find_root(int64_t *parent, int64_t x)
             return x;
         int64_t g = __atomic_load_n(&parent[p], __ATOMIC_RELAXED);
         if (g != p)
-            __atomic_store_n(&parent[x], g, __ATOMIC_RELAXED);
+            __atomic_store_n(&parent[x], (copy_id)g, __ATOMIC_RELAXED);
         x = g;
     }
 }
 
 /* Links the larger root under the smaller one, if it is still a root. */
-static void unite(int64_t *parent, int64_t a, int64_t b)
+static void unite(copy_id *parent, int64_t a, int64_t b)
 {
     for (;;) {
         a = find_root(parent, a);
         b = find_root(parent, b);
         if (a == b)
             return;
-        int64_t hi = a > b ? a : b, lo = a > b ? b : a, expected = hi;
-#ifdef EXP_NOCAS
-        (void)expected; parent[hi] = lo; return;
-#endif
-        if (__atomic_compare_exchange_n(&parent[hi], &expected, lo, 0, __ATOMIC_RELAXED,
+        int64_t hi = a > b ? a : b, lo = a > b ? b : a;
+        copy_id expected = (copy_id)hi;
+        if (__atomic_compare_exchange_n(&parent[hi], &expected, (copy_id)lo, 0, __ATOMIC_RELAXED,
                                         __ATOMIC_RELAXED))
             return;
     }
@@ -161,7 +164,7 @@ typedef struct assembly {
     int32_t *nbr;      /* per face: position of the kept cell beyond, or -1 */
     int32_t *twin;     /* per face: the same face in that cell, or -1 */
     int32_t *flen;     /* per face: cycle length after merging (0: gone), -1: unknown */
-    int64_t *parent;   /* union-find over the copies; later, point ids */
+    copy_id *parent;   /* union-find over the copies; later, point ids */
     unsigned char *slow; /* per face: its twin was matched vertex by vertex, not as one cycle */
     cell_acc *acc;
     const struct split_table *sp; /* points inserted into edges (T-junctions) */
@@ -179,7 +182,7 @@ static int face_with_plane(const cell_hdr *c, int64_t s)
 /* Unites every vertex of face fa of cell a with the nearest vertex of face
  * fb of cell b (all of b's vertices when fb < 0 or none is close), when
  * within tol. */
-static void match_nearest(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb,
+static void match_nearest(copy_id *parent, const cell_hdr *ca, int fa, const cell_hdr *cb,
                           int fb, double tol2)
 {
     for (int i = ca->face_start[fa]; i < ca->face_start[fa + 1]; i++) {
@@ -215,7 +218,7 @@ static void match_nearest(int64_t *parent, const cell_hdr *ca, int fa, const cel
  * same cycle in opposite directions: one pass checks it and unites the
  * pairs (returns 1). Otherwise, nearest matches both ways (returns 0): the
  * two copies may then still differ after merging (see T-junctions below). */
-static int match_face(int64_t *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
+static int match_face(copy_id *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
                        double tol2)
 {
     const uint16_t *pa = ca->fv + ca->face_start[fa], *pb = cb->fv + cb->face_start[fb];
@@ -281,7 +284,7 @@ static void prefetch_cells(const assembly *as, int64_t m)
             prefetch_lines(d->plane, (size_t)d->nf * sizeof(int32_t));
             prefetch_lines(d->face_start, (size_t)(d->nf + 1) * sizeof(int));
             prefetch_lines(d->v, (size_t)d->nv * 3 * sizeof(double));
-            prefetch_lines(as->parent + d->vbase, (size_t)d->nv * sizeof(int64_t));
+            prefetch_lines(as->parent + d->vbase, (size_t)d->nv * sizeof(copy_id));
         }
     }
 }
@@ -434,7 +437,7 @@ static int match_loose_copies(const assembly *as, const int64_t *n_outer, int ma
 
 /* The root of a copy, from parent[] holding roots, before or after the used
  * roots are numbered (a numbered root holds a negative value). */
-static inline int64_t root_of(const int64_t *parent, int64_t copy)
+static inline int64_t root_of(const copy_id *parent, int64_t copy)
 {
     int64_t p = parent[copy];
     return p < 0 ? copy : p;
@@ -443,7 +446,7 @@ static inline int64_t root_of(const int64_t *parent, int64_t copy)
 /* Cycle length of face f of cell c (parent[] holds roots, possibly
  * numbered: the comparisons are between roots, so the length is the same
  * before and after the numbering). */
-static int cycle_len(const int64_t *parent, const cell_hdr *c, int f)
+static int cycle_len(const copy_id *parent, const cell_hdr *c, int f)
 {
     const int64_t base = c->vbase;
     const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
@@ -462,16 +465,16 @@ static int cycle_len(const int64_t *parent, const cell_hdr *c, int f)
 }
 
 /* Marks the roots of the cycle of face f of cell c as used. */
-static void mark_used(const int64_t *parent, const cell_hdr *c, int f, unsigned char *used)
+static void mark_used(const copy_id *parent, const cell_hdr *c, int f, unsigned char *used)
 {
-    const int64_t *par = parent + c->vbase;
+    const copy_id *par = parent + c->vbase;
     for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++)
         __atomic_store_n(&used[par[c->fv[i]]], 1, __ATOMIC_RELAXED);
 }
 
 /* Point id of a copy once the used roots are numbered: a used root r holds
  * -(id + 1) in parent[r], any other copy its root. */
-static inline int64_t point_of(const int64_t *parent, int64_t copy)
+static inline int64_t point_of(const copy_id *parent, int64_t copy)
 {
     int64_t p = parent[copy];
     return p < 0 ? -p - 1 : -parent[p] - 1;
@@ -479,7 +482,7 @@ static inline int64_t point_of(const int64_t *parent, int64_t copy)
 
 /* Writes the point ids of the cycle of face f of cell c (len entries,
  * known), reversed when rev. */
-static void write_cycle(const int64_t *parent, const cell_hdr *c, int f, int len, int rev,
+static void write_cycle(const copy_id *parent, const cell_hdr *c, int f, int len, int rev,
                         int64_t *dst)
 {
     const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
@@ -555,7 +558,7 @@ static int cmp_split(const void *a, const void *b)
  * marks its root used (used != NULL) and writes its point id (dst !=
  * NULL). */
 typedef struct emitter {
-    const int64_t *parent;
+    const copy_id *parent;
     unsigned char *used;
     int64_t *dst;
     int n;
@@ -633,7 +636,7 @@ static int walk_face(const split_table *sp, emitter *e, const cell_hdr *c, int f
 }
 
 /* Output cycle length of face f of cell c (0: gone). */
-static int face_len(const split_table *sp, const int64_t *parent, const cell_hdr *c, int f)
+static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f)
 {
     int len = cycle_len(parent, c, f);
     if (len > 0 && sp->n > 0) {
@@ -644,7 +647,7 @@ static int face_len(const split_table *sp, const int64_t *parent, const cell_hdr
 }
 
 /* Marks the roots of the output cycle of face f of cell c used. */
-static void face_mark_used(const split_table *sp, const int64_t *parent, const cell_hdr *c,
+static void face_mark_used(const split_table *sp, const copy_id *parent, const cell_hdr *c,
                            int f, unsigned char *used)
 {
     if (sp->n == 0) {
@@ -657,7 +660,7 @@ static void face_mark_used(const split_table *sp, const int64_t *parent, const c
 
 /* Writes the point ids of the output cycle of face f of cell c (len
  * entries, known), reversed when rev. */
-static void face_write(const split_table *sp, const int64_t *parent, const cell_hdr *c, int f,
+static void face_write(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
                        int len, int rev, int64_t *dst)
 {
     if (sp->n == 0) {
@@ -697,7 +700,7 @@ static const double *copy_point(const assembly *as, int64_t x)
 /* The distinct roots of face f of cell c into *buf (grown as needed);
  * returns their number in cycle order (consecutive repeats dropped), or -1
  * when out of memory. */
-static int face_roots(const int64_t *parent, const cell_hdr *c, int f, int64_t **buf, int *cap)
+static int face_roots(const copy_id *parent, const cell_hdr *c, int f, int64_t **buf, int *cap)
 {
     const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
     if (*cap < s1 - s0) {
@@ -1029,7 +1032,13 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         if (h[m].nf > max_nf)
             max_nf = h[m].nf;
     }
-    as.parent = BIG_ARRAY(n_copies, int64_t);
+    if (n_copies > INT32_MAX) {
+        rc = vc_error_set(err, VC_EPARAM,
+                          "%lld vertex copies in %lld cells: at most %d can be assembled",
+                          (long long)n_copies, (long long)n_kept, INT32_MAX);
+        goto done;
+    }
+    as.parent = BIG_ARRAY(n_copies, copy_id);
     as.nbr = BIG_ARRAY(n_faces_all, int32_t);
     as.twin = BIG_ARRAY(n_faces_all, int32_t);
     as.flen = BIG_ARRAY(n_faces_all, int32_t);
@@ -1040,7 +1049,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     for (int64_t m = 0; m < n_kept; m++) {
         cell_hdr *c = &h[m];
         for (int v = 0; v < c->nv; v++)
-            as.parent[c->vbase + v] = c->vbase + v;
+            as.parent[c->vbase + v] = (copy_id)(c->vbase + v);
         for (int f = 0; f < c->nf; f++) {
             int64_t t = c->plane[f];
             as.nbr[c->fbase + f] = t >= 0 ? mpos[t] : -1;
@@ -1102,10 +1111,12 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     PHASE("faces");
     if (match_loose_copies(&as, n_outer, max_nv) != 0)
         goto nomem;
+    free(n_outer);
+    n_outer = NULL;
     PHASE("loose");
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n_copies; i++)
-        as.parent[i] = find_root(as.parent, i);
+        as.parent[i] = (copy_id)find_root(as.parent, i);
     PHASE("roots");
     /* Copies of a shared face that still differ: unite the copies of one
      * vertex that the tolerance kept apart, until none is left (each round
@@ -1127,7 +1138,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         free(snap.s);
 #pragma omp parallel for schedule(static)
         for (int64_t i = 0; i < n_copies; i++)
-            as.parent[i] = find_root(as.parent, i);
+            as.parent[i] = (copy_id)find_root(as.parent, i);
     }
     if (timing)
         fprintf(stderr, "  assembly: %lld edge splits, %lld vertices on no edge\n",
@@ -1240,6 +1251,10 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     }
     out->cell_offsets[n_kept] = n_cf;
     const int64_t n_faces = n_int + n_bnd;
+    free(mpos);
+    mpos = NULL;
+    free(as.slow);
+    as.slow = NULL;
 
     /* Points: the used roots in copy order. */
 #pragma omp parallel for schedule(static)
@@ -1266,7 +1281,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         int64_t p = as.acc[m].first_point;
         for (int v = 0; v < c->nv; v++)
             if (used[c->vbase + v]) {
-                as.parent[c->vbase + v] = -(p + 1);
+                as.parent[c->vbase + v] = (copy_id)(-(p + 1));
                 memcpy(out->points + 3 * p, c->v + 3 * v, 3 * sizeof(double));
                 p++;
             }
@@ -1347,6 +1362,22 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     }
     if (failed)
         goto nomem;
+    /* Only the cells' places are needed from here on: the rest is released
+     * before the cell arrays are allocated, which then reuse its pages
+     * (first touches of new memory are a large part of the time). */
+    free(h);
+    h = NULL;
+    as.h = NULL;
+    free(as.parent);
+    as.parent = NULL;
+    free(as.nbr);
+    as.nbr = NULL;
+    free(as.twin);
+    as.twin = NULL;
+    free(as.flen);
+    as.flen = NULL;
+    if (store)
+        vc_region_pool_free(&store->topo);
     PHASE("faces");
 
     /* Each cell's faces from the neighbour's side, in face order, then the
