@@ -36,7 +36,9 @@
  *    order (spatially coherent);
  *  - a cell lists its faces in increasing face index;
  *  - the geometry is vc_polymesh_compute_geometry's, computed here with the
- *    same arithmetic while the faces are written (in cache).
+ *    same arithmetic, in a pass over the faces once the stitching's own
+ *    arrays are released (the peak memory is then the mesh's, not the
+ *    mesh's plus the stitching's).
  *
  * Set VC_ASSEMBLY_TIMING in the environment to print the phase times. */
 #ifndef _DEFAULT_SOURCE
@@ -1305,12 +1307,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     out->face_owner = BIG_ARRAY(n_faces, int64_t);
     out->face_neighbour = BIG_ARRAY(n_faces, int64_t);
     out->face_other_seed = BIG_ARRAY(n_faces, int64_t);
-    out->face_area = BIG_ARRAY(n_faces, double);
-    out->face_centroid = BIG_ARRAY(3 * n_faces, double);
-    out->face_normal = BIG_ARRAY(3 * n_faces, double);
     out->cell_faces = BIG_ARRAY(n_cf, int64_t);
     if (!out->face_offsets || !out->face_vertices || !out->face_owner || !out->face_neighbour ||
-        !out->face_other_seed || !out->face_area || !out->face_centroid || !out->face_normal ||
+        !out->face_other_seed ||
         !out->cell_faces)
         goto nomem;
     out->face_offsets[0] = 0;
@@ -1355,7 +1354,6 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 *pos += r->len;
                 out->face_offsets[i + 1] = *pos;
                 cf[j] = i;
-                face_geometry(out, i, fv, r->len);
             }
         }
         free(buf);
@@ -1379,6 +1377,22 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     if (store)
         vc_region_pool_free(&store->topo);
     PHASE("faces");
+
+    /* The faces' geometry, in a pass of its own over the faces in output
+     * order: its arrays are only allocated now, on the pages just
+     * released (about a third of the mesh at 1M seeds: keeping them out of
+     * the pass above lowers the peak memory by as much), and are written
+     * in order instead of scattered. */
+    out->face_area = BIG_ARRAY(n_faces, double);
+    out->face_centroid = BIG_ARRAY(3 * n_faces, double);
+    out->face_normal = BIG_ARRAY(3 * n_faces, double);
+    if (!out->face_area || !out->face_centroid || !out->face_normal)
+        goto nomem;
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n_faces; i++)
+        face_geometry(out, i, out->face_vertices + out->face_offsets[i],
+                      out->face_offsets[i + 1] - out->face_offsets[i]);
+    PHASE("geometry");
 
     /* Each cell's faces from the neighbour's side, in face order, then the
      * cells' geometry and data. */
