@@ -176,8 +176,8 @@ typedef struct assembly {
     const cell_hdr *h; /* n cells, in spatial order */
     int64_t n;
     int32_t *nbr;      /* per face: position of the kept cell beyond, or -1 */
-    int32_t *twin;     /* per face: the same face in that cell, or -1 */
-    int32_t *flen;     /* per face: cycle length after merging (0: gone), -1: unknown */
+    int16_t *twin;     /* per face: the same face in that cell, or -1 (a cell has
+                          fewer than 2^15 faces: at most 65535 face vertices) */
     copy_id *parent;   /* union-find over the copies; later, point ids */
     unsigned char *slow; /* per face: its twin was matched vertex by vertex, not as one cycle */
     cell_acc *acc;
@@ -920,7 +920,10 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
         const int64_t t = c->plane[f];
         if (om < 0 || t < c->seed)
             continue;
-        out_face r = {t, om, (int32_t)m, f, as->flen[fb + f], 0};
+        /* The lengths are found again rather than kept from the survival
+         * pass: the same walk as the writing's, in cache, and an array of
+         * one int per face less at the peak memory. */
+        out_face r = {t, om, (int32_t)m, f, face_len(as->sp, as->parent, c, f), 0};
         if (r.len <= 0) {
             int g = as->twin[fb + f];
             r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g) : 0;
@@ -944,8 +947,11 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     }
     int nb = 0;
     for (int f = 0; f < c->nf; f++)
-        if (as->nbr[fb + f] < 0 && as->flen[fb + f] > 0)
-            buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, as->flen[fb + f], 0};
+        if (as->nbr[fb + f] < 0) {
+            int len = face_len(as->sp, as->parent, c, f);
+            if (len > 0)
+                buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, len, 0};
+        }
     *n_bnd = nb;
     return n;
 }
@@ -990,7 +996,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     split_table splits = {NULL, 0, 0};
     int64_t n_unplaced = 0, n_gone = 0;
     *n_degenerate = 0;
-    assembly as = {NULL, n_kept, NULL, NULL, NULL, NULL, NULL, NULL, &splits};
+    assembly as = {.n = n_kept, .sp = &splits};
     cell_hdr *h = NULL;
     int32_t *mpos = NULL;
     int64_t *n_outer = NULL;
@@ -1055,10 +1061,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     }
     as.parent = BIG_ARRAY(n_copies, copy_id);
     as.nbr = BIG_ARRAY(n_faces_all, int32_t);
-    as.twin = BIG_ARRAY(n_faces_all, int32_t);
-    as.flen = BIG_ARRAY(n_faces_all, int32_t);
+    as.twin = BIG_ARRAY(n_faces_all, int16_t);
     as.slow = BIG_ARRAY(n_faces_all, unsigned char);
-    if (!as.parent || !as.nbr || !as.twin || !as.flen || !as.slow)
+    if (!as.parent || !as.nbr || !as.twin || !as.slow)
         goto nomem;
 #pragma omp parallel for schedule(static)
     for (int64_t m = 0; m < n_kept; m++) {
@@ -1111,11 +1116,11 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             int g = face_with_plane(d, c->seed);
             double tol = c->tol > d->tol ? c->tol : d->tol;
 #ifdef EXP_NOMATCH
-            if (g >= 0) { as.twin[fb + f] = g; as.twin[d->fbase + g] = f; } continue;
+            if (g >= 0) { as.twin[fb + f] = (int16_t)g; as.twin[d->fbase + g] = (int16_t)f; } continue;
 #endif
             if (g >= 0) {
-                as.twin[fb + f] = g;
-                as.twin[d->fbase + g] = f;
+                as.twin[fb + f] = (int16_t)g;
+                as.twin[d->fbase + g] = (int16_t)f;
                 as.slow[fb + f] = (unsigned char)!match_face(as.parent, c, f, d, g, tol * tol);
             } else {
                 match_nearest(as.parent, c, f, d, -1, tol * tol);
@@ -1174,7 +1179,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         for (int f = 0; f < c->nf; f++) {
             const int32_t om = as.nbr[fb + f];
             const int64_t t = c->plane[f];
-            int len = -1;
+            int len;
             if (om < 0) {
                 len = face_len(&splits, as.parent, c, f);
                 if (len > 0) {
@@ -1226,7 +1231,6 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             }
-            as.flen[fb + f] = len;
         }
         a->n_int = n_int;
         a->n_bnd = n_bnd;
@@ -1387,8 +1391,6 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     as.nbr = NULL;
     free(as.twin);
     as.twin = NULL;
-    free(as.flen);
-    as.flen = NULL;
     if (store)
         vc_region_pool_free(&store->topo);
     PHASE("faces");
@@ -1461,7 +1463,6 @@ done:
     free(as.parent);
     free(as.nbr);
     free(as.twin);
-    free(as.flen);
     free(as.slow);
     free(splits.s);
     free(used);
