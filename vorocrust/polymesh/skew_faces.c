@@ -11,6 +11,7 @@
  * this kind of mesh improvement as a post-process. The boundary (the reconstructed
  * surface) is never moved. */
 #include "vorocrust/polymesh.h"
+#include "polymesh_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -101,9 +102,7 @@ typedef struct collapse_state {
     unsigned char *cell_hit;  /* cell near a collapse of this round */
     int64_t *vf_offsets;      /* point -> faces, CSR */
     int64_t *vf_faces;
-    int64_t *new_face;        /* face -> its index after a round, -1: removed */
-    unsigned char *cell_changed;
-    unsigned char *face_changed;
+    vc_point_merge_buffers merge; /* for vc_polymesh_merge_points */
     unsigned char *point_moved;   /* merged or moved in this round */
     int64_t *scratch;         /* a face's cycle after a plan (-1 - target: merged) */
     const double **pts;
@@ -114,15 +113,6 @@ typedef struct collapse_state {
     int64_t *blockers;        /* this round's blocking faces (old numbering) */
     int64_t max_face_size;
 } collapse_state;
-
-static int64_t find_root(int64_t *parent, int64_t v)
-{
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
 
 /* A way of collapsing a face: its points (all of them, in cycle order) go
  * to one or two targets; with two, each takes a contiguous run of the
@@ -423,95 +413,6 @@ static int build_point_faces(collapse_state *s)
     return 0;
 }
 
-/* Rewrites every face through the merged groups, drops the faces left with
- * fewer than three points (from the arrays and from their cells' lists),
- * and recomputes the geometry of the changed faces and cells. */
-static void apply_merges(collapse_state *s)
-{
-    vc_polymesh *m = s->m;
-    const int64_t nf = m->n_faces;
-    int64_t *new_face = s->new_face;
-    unsigned char *changed = s->cell_changed;
-    memset(changed, 0, (size_t)(m->n_cells > 0 ? m->n_cells : 1));
-    int64_t wf = 0, wv = 0, n_interior = 0;
-    for (int64_t f = 0; f < nf; f++) {
-        const int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
-        const int64_t start = wv;
-        int moved = 0;
-        for (int64_t i = b; i < e; i++) {
-            const int64_t v = m->face_vertices[i], r = find_root(s->parent, v);
-            moved |= s->point_moved[v];
-            if (wv == start || m->face_vertices[wv - 1] != r)
-                m->face_vertices[wv++] = r;
-        }
-        while (wv - start > 1 && m->face_vertices[start] == m->face_vertices[wv - 1])
-            wv--;
-        if (moved) {
-            changed[m->face_owner[f]] = 1;
-            if (m->face_neighbour[f] >= 0)
-                changed[m->face_neighbour[f]] = 1;
-        }
-        if (wv - start < 3) {
-            new_face[f] = -1;
-            wv = start;
-            continue;
-        }
-        new_face[f] = wf;
-        n_interior += f < m->n_interior_faces;
-        m->face_offsets[wf] = start;
-        m->face_owner[wf] = m->face_owner[f];
-        m->face_neighbour[wf] = m->face_neighbour[f];
-        m->face_other_seed[wf] = m->face_other_seed[f];
-        memmove(m->face_centroid + 3 * wf, m->face_centroid + 3 * f, sizeof(double) * 3);
-        memmove(m->face_normal + 3 * wf, m->face_normal + 3 * f, sizeof(double) * 3);
-        m->face_area[wf] = m->face_area[f];
-        s->face_changed[wf] = (unsigned char)moved;
-        wf++;
-    }
-    m->face_offsets[wf] = wv;
-    for (int64_t f = 0; f < wf; f++)
-        if (s->face_changed[f])
-            vc_polymesh_update_face_geometry(m, f);
-    m->n_faces = wf;
-    m->n_interior_faces = n_interior;
-    int64_t wc = 0;
-    for (int64_t c = 0; c < m->n_cells; c++) {
-        const int64_t b = m->cell_offsets[c], e = m->cell_offsets[c + 1];
-        m->cell_offsets[c] = wc;
-        for (int64_t i = b; i < e; i++)
-            if (new_face[m->cell_faces[i]] >= 0)
-                m->cell_faces[wc++] = new_face[m->cell_faces[i]];
-    }
-    m->cell_offsets[m->n_cells] = wc;
-    for (int64_t c = 0; c < m->n_cells; c++)
-        if (changed[c])
-            vc_polymesh_update_cell_geometry(m, c);
-}
-
-/* Drops the points no face uses any more, renumbering the rest in order. */
-static int drop_unused_points(vc_polymesh *m)
-{
-    int64_t *index = malloc(sizeof(int64_t) * (size_t)(m->n_points > 0 ? m->n_points : 1));
-    if (!index)
-        return -1;
-    for (int64_t v = 0; v < m->n_points; v++)
-        index[v] = -1;
-    for (int64_t i = 0; i < m->face_offsets[m->n_faces]; i++)
-        index[m->face_vertices[i]] = 0;
-    int64_t np = 0;
-    for (int64_t v = 0; v < m->n_points; v++)
-        if (index[v] == 0) {
-            index[v] = np;
-            memmove(m->points + 3 * np, m->points + 3 * v, sizeof(double) * 3);
-            np++;
-        }
-    for (int64_t i = 0; i < m->face_offsets[m->n_faces]; i++)
-        m->face_vertices[i] = index[m->face_vertices[i]];
-    m->n_points = np;
-    free(index);
-    return 0;
-}
-
 typedef struct skew_face {
     double skew;
     int64_t face;
@@ -533,9 +434,7 @@ static void collapse_state_free(collapse_state *s)
     free(s->cell_hit);
     free(s->vf_offsets);
     free(s->vf_faces);
-    free(s->new_face);
-    free(s->cell_changed);
-    free(s->face_changed);
+    vc_point_merge_buffers_free(&s->merge);
     free(s->point_moved);
     free(s->forced);
     free(s->blockers);
@@ -556,9 +455,7 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
     s.fixed = calloc(np, 1);
     s.touched = calloc(np, 1);
     s.cell_hit = calloc(nc, 1);
-    s.new_face = malloc(sizeof(int64_t) * (size_t)(m->n_faces > 0 ? m->n_faces : 1));
-    s.cell_changed = calloc(nc, 1);
-    s.face_changed = calloc((size_t)(m->n_faces > 0 ? m->n_faces : 1), 1);
+    int merge_ok = vc_point_merge_buffers_init(&s.merge, m) == 0;
     s.point_moved = calloc(np, 1);
     s.forced = calloc((size_t)(m->n_faces > 0 ? m->n_faces : 1), 1);
     s.blockers = malloc(sizeof(int64_t) * (size_t)(m->n_interior_faces + 1));
@@ -570,8 +467,8 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
     unsigned char *to_try = malloc((size_t)(s.max_face_size + 1));
     skew_face *bad = malloc(sizeof(skew_face) * (size_t)(m->n_interior_faces + 1));
     int rc = -1;
-    if (!s.parent || !s.fixed || !s.touched || !s.cell_hit || !s.new_face || !s.cell_changed ||
-        !s.face_changed || !s.point_moved || !s.forced || !s.blockers ||
+    if (!s.parent || !s.fixed || !s.touched || !s.cell_hit || !merge_ok ||
+        !s.point_moved || !s.forced || !s.blockers ||
         !s.scratch || !s.pts || !to_best || !to_try || !bad)
         goto out;
     for (int64_t f = m->n_interior_faces; f < m->n_faces; f++)
@@ -639,13 +536,13 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
             break;
         st->n_collapsed += n_done;
         st->n_rounds = round + 1;
-        apply_merges(&s);
+        vc_polymesh_merge_points(m, s.parent, s.point_moved, &s.merge);
         memset(s.forced, 0, (size_t)(m->n_faces > 0 ? m->n_faces : 1));
         for (int64_t i = 0; i < n_blockers; i++)
-            if (s.new_face[s.blockers[i]] >= 0)
-                s.forced[s.new_face[s.blockers[i]]] = 1;
+            if (s.merge.new_face[s.blockers[i]] >= 0)
+                s.forced[s.merge.new_face[s.blockers[i]]] = 1;
     }
-    if (drop_unused_points(m))
+    if (vc_polymesh_drop_unused_points(m))
         goto out;
     rc = 0;
 out:
