@@ -13,6 +13,8 @@
 #include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 
+#include "page_bank.h"
+
 typedef struct vc_cell_result {
     int nv, nf, nfv;    /* nfv <= 65535 */
     double *v;          /* 3 * nv, absolute positions */
@@ -47,43 +49,48 @@ static inline void *vc_big_alloc(size_t bytes)
 }
 
 /* Where the cells' data live: the blocks of consecutive cells, carved out
- * of large regions (one pool for the coordinates, one for the rest), so
- * that freeing a pool returns its memory to the system at once. The
- * stitching frees the coordinate pool once it no longer needs it. */
+ * of large regions (one pool for the coordinates, one for the rest) mapped
+ * by the engine itself, so that freeing a pool returns its memory to the
+ * system at once, or hands its pages on to the mesh's arrays (see
+ * page_bank.h). The stitching does so once it no longer needs them. */
 typedef struct vc_region_pool {
     char **region;
+    size_t *region_size;
     int64_t n, cap;
     size_t used; /* bytes taken from the last region */
-    size_t size; /* size of the last region */
 } vc_region_pool;
 
 typedef struct vc_cell_store {
     vc_region_pool coord, topo;
 } vc_cell_store;
 
-/* Regions larger than glibc's largest mmap threshold (32 MiB), so that
- * free() unmaps them. */
 #define VC_REGION_BYTES ((size_t)64 << 20)
 
 /* bytes (a multiple of 8) from the pool; NULL when out of memory. Not
  * thread-safe. */
 static inline void *vc_region_take(vc_region_pool *p, size_t bytes)
 {
-    if (p->n == 0 || p->size - p->used < bytes) {
+    if (p->n == 0 || p->region_size[p->n - 1] - p->used < bytes) {
         if (p->n == p->cap) {
             int64_t cap = p->cap ? 2 * p->cap : 16;
             char **r = (char **)realloc(p->region, (size_t)cap * sizeof *r);
             if (!r)
                 return NULL;
             p->region = r;
+            size_t *s = (size_t *)realloc(p->region_size, (size_t)cap * sizeof *s);
+            if (!s)
+                return NULL;
+            p->region_size = s;
             p->cap = cap;
         }
         size_t size = bytes > VC_REGION_BYTES ? bytes : VC_REGION_BYTES;
-        char *q = (char *)vc_big_alloc(size);
+        size = (size + VC_HUGE_PAGE - 1) & ~(VC_HUGE_PAGE - 1);
+        char *q = (char *)vc_pages_map(size);
         if (!q)
             return NULL;
-        p->region[p->n++] = q;
-        p->size = size;
+        p->region[p->n] = q;
+        p->region_size[p->n] = size;
+        p->n++;
         p->used = 0;
     }
     void *out = p->region[p->n - 1] + p->used;
@@ -91,15 +98,24 @@ static inline void *vc_region_take(vc_region_pool *p, size_t bytes)
     return out;
 }
 
-static inline void vc_region_pool_free(vc_region_pool *p)
+/* Empties the pool: its regions go to bank (NULL: back to the system). */
+static inline void vc_region_pool_release(vc_region_pool *p, vc_page_bank *bank)
 {
-    for (int64_t i = 0; i < p->n; i++)
-        free(p->region[i]);
+    for (int64_t i = 0; i < p->n; i++) {
+        if (bank)
+            (void)vc_page_bank_add(bank, p->region[i], p->region_size[i]);
+        else
+            vc_pages_unmap(p->region[i], p->region_size[i]);
+    }
     free(p->region);
+    free(p->region_size);
     p->region = NULL;
+    p->region_size = NULL;
     p->n = p->cap = 0;
-    p->used = p->size = 0;
+    p->used = 0;
 }
+
+static inline void vc_region_pool_free(vc_region_pool *p) { vc_region_pool_release(p, NULL); }
 
 /* Stitches the independently computed cells of the kept seeds into out:
  * copies of one Voronoi vertex in different cells are identified (within
@@ -109,8 +125,9 @@ static inline void vc_region_pool_free(vc_region_pool *p)
  * 0..n_kept-1) and cells[m] is the cell of kept seed order[m] (the k-th
  * kept seed is kept_seed[k]): vertex copies are numbered in that order, so
  * that neighbouring cells' copies are close in memory. *cells is freed (and
- * set to NULL) once read. store: where the cells' data live (its
- * coordinate blocks are freed once the points are written; NULL: never).
+ * set to NULL) once read. store: where the cells' data live (its pools
+ * are emptied once read for the last time, their pages going to the
+ * mesh's arrays; NULL: never).
  * *n_degenerate receives the number of faces dropped whole and of points
  * inserted into edges (T-junctions): where it is 0, no vertex lies inside
  * an edge (see vc_polymesh_remove_straight_vertices).

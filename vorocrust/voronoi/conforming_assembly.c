@@ -65,6 +65,29 @@
  * free(), like any other allocation (the mesh's arrays are among them). */
 
 #define BIG_ARRAY(n, type) ((type *)vc_big_alloc((size_t)(n) * sizeof(type)))
+/* The same on pages the cells' storage has released (page_bank.h). */
+#define BANK_ARRAY(n, type) ((type *)vc_page_bank_alloc(&bank, (size_t)(n) * sizeof(type)))
+
+/* The stitching's own large arrays are mapped by the engine, so that
+ * their pages can go to the bank when they are released: *bytes receives
+ * the size mapped. */
+static void *mapped_array(size_t n, size_t elem, size_t *bytes)
+{
+    const size_t want = n * elem > 0 ? n * elem : 1;
+    *bytes = (want + VC_HUGE_PAGE - 1) & ~(VC_HUGE_PAGE - 1);
+    return vc_pages_map(*bytes);
+}
+
+/* Releases a mapped_array (or NULL) to bank (NULL: to the system). */
+static void mapped_release(void *p, size_t bytes, vc_page_bank *bank)
+{
+    if (!p)
+        return;
+    if (bank)
+        (void)vc_page_bank_add(bank, p, bytes);
+    else
+        vc_pages_unmap(p, bytes);
+}
 
 static double wall_time(void)
 {
@@ -994,6 +1017,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
 {
     const vc_cell_result *cells = *cells_owned;
     split_table splits = {NULL, 0, 0};
+    vc_page_bank bank = {NULL, NULL, 0, 0}; /* the cells' released pages */
+    size_t h_bytes = 0, parent_bytes = 0, nbr_bytes = 0, twin_bytes = 0;
     int64_t n_unplaced = 0, n_gone = 0;
     *n_degenerate = 0;
     assembly as = {.n = n_kept, .sp = &splits};
@@ -1021,7 +1046,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     if (n_kept > INT32_MAX - 1)
         return vc_error_set(err, VC_EPARAM, "%lld cells: at most %d can be assembled",
                             (long long)n_kept, INT32_MAX - 1);
-    h = BIG_ARRAY(n_kept + 1, cell_hdr);
+    h = mapped_array((size_t)n_kept + 1, sizeof(cell_hdr), &h_bytes);
     mpos = BIG_ARRAY(seeds->n, int32_t);
     as.acc = BIG_ARRAY(n_kept + 1, cell_acc);
     n_outer = BIG_ARRAY(n_kept + 1, int64_t);
@@ -1059,9 +1084,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                           (long long)n_copies, (long long)n_kept, INT32_MAX);
         goto done;
     }
-    as.parent = BIG_ARRAY(n_copies, copy_id);
-    as.nbr = BIG_ARRAY(n_faces_all, int32_t);
-    as.twin = BIG_ARRAY(n_faces_all, int16_t);
+    as.parent = mapped_array((size_t)n_copies, sizeof(copy_id), &parent_bytes);
+    as.nbr = mapped_array((size_t)n_faces_all, sizeof(int32_t), &nbr_bytes);
+    as.twin = mapped_array((size_t)n_faces_all, sizeof(int16_t), &twin_bytes);
     as.slow = BIG_ARRAY(n_faces_all, unsigned char);
     if (!as.parent || !as.nbr || !as.twin || !as.slow)
         goto nomem;
@@ -1310,9 +1335,10 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     free(used);
     used = NULL;
     /* The faces' geometry is computed from the points: the cells' own
-     * coordinates are no longer needed. */
+     * coordinates are no longer needed, and their pages (already touched)
+     * become the face arrays' (page_bank.h). */
     if (store) {
-        vc_region_pool_free(&store->coord);
+        vc_region_pool_release(&store->coord, &bank);
         for (int64_t m = 0; m < n_kept; m++)
             h[m].v = NULL;
     }
@@ -1321,12 +1347,12 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     /* Faces: records, vertex lists, cell lists and geometry. */
     out->n_faces = n_faces;
     out->n_interior_faces = n_int;
-    out->face_offsets = BIG_ARRAY(n_faces + 1, int64_t);
-    out->face_vertices = BIG_ARRAY(n_fv_int + n_fv_bnd, int64_t);
-    out->face_owner = BIG_ARRAY(n_faces, int64_t);
-    out->face_neighbour = BIG_ARRAY(n_faces, int64_t);
-    out->face_other_seed = BIG_ARRAY(n_faces, int64_t);
-    out->cell_faces = BIG_ARRAY(n_cf, int64_t);
+    out->face_offsets = BANK_ARRAY(n_faces + 1, int64_t);
+    out->face_vertices = BANK_ARRAY(n_fv_int + n_fv_bnd, int64_t);
+    out->face_owner = BANK_ARRAY(n_faces, int64_t);
+    out->face_neighbour = BANK_ARRAY(n_faces, int64_t);
+    out->face_other_seed = BANK_ARRAY(n_faces, int64_t);
+    out->cell_faces = BANK_ARRAY(n_cf, int64_t);
     if (!out->face_offsets || !out->face_vertices || !out->face_owner || !out->face_neighbour ||
         !out->face_other_seed ||
         !out->cell_faces)
@@ -1380,19 +1406,20 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     if (failed)
         goto nomem;
     /* Only the cells' places are needed from here on: the rest is released
-     * before the cell arrays are allocated, which then reuse its pages
-     * (first touches of new memory are a large part of the time). */
-    free(h);
+     * to the bank before the geometry and cell arrays are allocated,
+     * which then take its pages (first touches of new memory are a large
+     * part of the time). */
+    mapped_release(h, h_bytes, &bank);
     h = NULL;
     as.h = NULL;
-    free(as.parent);
+    mapped_release(as.parent, parent_bytes, &bank);
     as.parent = NULL;
-    free(as.nbr);
+    mapped_release(as.nbr, nbr_bytes, &bank);
     as.nbr = NULL;
-    free(as.twin);
+    mapped_release(as.twin, twin_bytes, &bank);
     as.twin = NULL;
     if (store)
-        vc_region_pool_free(&store->topo);
+        vc_region_pool_release(&store->topo, &bank);
     PHASE("faces");
 
     /* The faces' geometry, in a pass of its own: its arrays are only
@@ -1400,9 +1427,9 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
      * mesh at 1M seeds: keeping them out of the pass above lowers the peak
      * memory by as much). By owner in the spatial order, so that the
      * points read are in cache. */
-    out->face_area = BIG_ARRAY(n_faces, double);
-    out->face_centroid = BIG_ARRAY(3 * n_faces, double);
-    out->face_normal = BIG_ARRAY(3 * n_faces, double);
+    out->face_area = BANK_ARRAY(n_faces, double);
+    out->face_centroid = BANK_ARRAY(3 * n_faces, double);
+    out->face_normal = BANK_ARRAY(3 * n_faces, double);
     if (!out->face_area || !out->face_centroid || !out->face_normal)
         goto nomem;
 #pragma omp parallel for schedule(dynamic, 256)
@@ -1419,12 +1446,12 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
 
     /* Each cell's faces from the neighbour's side, in face order, then the
      * cells' geometry and data. */
-    out->cell_seed = BIG_ARRAY(n_kept, int64_t);
-    out->cell_region = BIG_ARRAY(n_kept, int32_t);
+    out->cell_seed = BANK_ARRAY(n_kept, int64_t);
+    out->cell_region = BANK_ARRAY(n_kept, int32_t);
     out->n_seeds = seeds->n;
-    out->seed_xyz = BIG_ARRAY(3 * seeds->n, double);
-    out->cell_volume = BIG_ARRAY(n_kept, double);
-    out->cell_centroid = BIG_ARRAY(3 * n_kept, double);
+    out->seed_xyz = BANK_ARRAY(3 * seeds->n, double);
+    out->cell_volume = BANK_ARRAY(n_kept, double);
+    out->cell_centroid = BANK_ARRAY(3 * n_kept, double);
     if (!out->cell_seed || !out->cell_region || !out->seed_xyz || !out->cell_volume ||
         !out->cell_centroid)
         goto nomem;
@@ -1456,13 +1483,18 @@ nomem:
                       (long long)n_kept);
     vc_polymesh_free(out);
 done:
-    free(h);
+    vc_page_bank_free(&bank);
+    mapped_release(h, h_bytes, NULL);
+    h = NULL;
     free(mpos);
     free(n_outer);
     free(as.acc);
-    free(as.parent);
-    free(as.nbr);
-    free(as.twin);
+    mapped_release(as.parent, parent_bytes, NULL);
+    as.parent = NULL;
+    mapped_release(as.nbr, nbr_bytes, NULL);
+    as.nbr = NULL;
+    mapped_release(as.twin, twin_bytes, NULL);
+    as.twin = NULL;
     free(as.slow);
     free(splits.s);
     free(used);

@@ -1,0 +1,110 @@
+/* Moving touched pages into new large arrays (see page_bank.h). */
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE 1 /* mremap */
+#endif
+#include "page_bank.h"
+
+#include <stdlib.h>
+
+#include "cell_result.h"
+
+#if defined(__linux__) && defined(MREMAP_FIXED) && defined(MADV_HUGEPAGE)
+#define VC_PAGE_BANK_MOVES 1
+#endif
+
+void *vc_pages_map(size_t bytes)
+{
+#ifdef VC_PAGE_BANK_MOVES
+    /* Over-map by one huge page and trim, for the alignment mremap needs
+     * to move whole huge pages. */
+    char *q = mmap(NULL, bytes + VC_HUGE_PAGE, PROT_READ | PROT_WRITE,
+                   MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (q == MAP_FAILED)
+        return NULL;
+    size_t lead = (VC_HUGE_PAGE - ((uintptr_t)q & (VC_HUGE_PAGE - 1))) & (VC_HUGE_PAGE - 1);
+    if (lead)
+        munmap(q, lead);
+    if (VC_HUGE_PAGE - lead)
+        munmap(q + lead + bytes, VC_HUGE_PAGE - lead);
+    (void)madvise(q + lead, bytes, MADV_HUGEPAGE);
+    return q + lead;
+#else
+    return vc_big_alloc(bytes);
+#endif
+}
+
+void vc_pages_unmap(void *p, size_t bytes)
+{
+#ifdef VC_PAGE_BANK_MOVES
+    if (p)
+        munmap(p, bytes);
+#else
+    (void)bytes;
+    free(p);
+#endif
+}
+
+int vc_page_bank_add(vc_page_bank *b, void *p, size_t bytes)
+{
+#ifdef VC_PAGE_BANK_MOVES
+    if (b->n == b->cap) {
+        int64_t cap = b->cap ? 2 * b->cap : 16;
+        char **r = realloc(b->region, (size_t)cap * sizeof *r);
+        if (r)
+            b->region = r;
+        size_t *s = r ? realloc(b->size, (size_t)cap * sizeof *s) : NULL;
+        if (!s) {
+            vc_pages_unmap(p, bytes);
+            return -1;
+        }
+        b->size = s;
+        b->cap = cap;
+    }
+    b->region[b->n] = p;
+    b->size[b->n] = bytes;
+    b->n++;
+    return 0;
+#else
+    (void)b;
+    vc_pages_unmap(p, bytes);
+    return 0;
+#endif
+}
+
+void *vc_page_bank_alloc(vc_page_bank *b, size_t bytes)
+{
+    char *p = vc_big_alloc(bytes);
+#ifdef VC_PAGE_BANK_MOVES
+    if (!p || bytes < VC_BIG_ALLOC_MIN)
+        return p;
+    /* vc_big_alloc gave a huge-page aligned block of bytes rounded up to
+     * huge pages: its pages are replaced by the bank's, last region
+     * first. */
+    size_t todo = (bytes + VC_HUGE_PAGE - 1) & ~(VC_HUGE_PAGE - 1);
+    char *dst = p;
+    while (todo > 0 && b->n > 0) {
+        const int64_t i = b->n - 1;
+        const size_t take = b->size[i] < todo ? b->size[i] : todo;
+        if (mremap(b->region[i], take, take, MREMAP_MAYMOVE | MREMAP_FIXED, dst) == MAP_FAILED)
+            break; /* keep the fresh pages */
+        b->region[i] += take;
+        b->size[i] -= take;
+        if (b->size[i] == 0)
+            b->n--;
+        dst += take;
+        todo -= take;
+    }
+#endif
+    return p;
+}
+
+void vc_page_bank_free(vc_page_bank *b)
+{
+    for (int64_t i = 0; i < b->n; i++)
+        vc_pages_unmap(b->region[i], b->size[i]);
+    free(b->region);
+    free(b->size);
+    b->region = NULL;
+    b->size = NULL;
+    b->n = b->cap = 0;
+}
