@@ -39,7 +39,7 @@ void vc_convex_cell_free(vc_convex_cell *c)
 {
     vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_px,  &c->b_py, &c->b_pz,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
-                           &c->b_edge_out,   &c->b_face_plane, &c->b_face_start, &c->b_fv,
+                           &c->b_edge_out,   &c->b_face_plane, &c->b_face_plane_index, &c->b_face_start, &c->b_fv,
                            &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_new_pt,
                            &c->b_new_tri};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
@@ -348,6 +348,7 @@ int vc_convex_cell_faces(vc_convex_cell *c)
     for (int i = 0; i < np; i++)
         nf += count[i + 1] > count[i];
     c->face_plane = reserve(&c->b_face_plane, nf, sizeof(int64_t));
+    c->face_plane_index = reserve(&c->b_face_plane_index, nf, sizeof(int));
     c->face_start = reserve(&c->b_face_start, nf + 1, sizeof(int));
     c->fv = reserve(&c->b_fv, 3 * nt, sizeof(int));
     int f = 0, n = 0;
@@ -356,6 +357,7 @@ int vc_convex_cell_faces(vc_convex_cell *c)
         if (len == 0)
             continue;
         c->face_plane[f] = c->plane_id[i];
+        c->face_plane_index[f] = i;
         c->face_start[f] = n;
         /* Chain the steps: from entry k, the next holds from == k's to
          * (the first such entry: at[] is filled backwards). */

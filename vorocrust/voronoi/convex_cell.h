@@ -39,9 +39,11 @@ typedef struct vc_convex_cell {
     /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i (its point is
      * px[i], py[i], pz[i]);
      * face k is fv[face_start[k] .. face_start[k+1]-1], counter-clockwise
-     * seen from outside, made by plane face_plane[k]. */
+     * seen from outside, made by plane face_plane[k], which is
+     * plane[face_plane_index[k]]. */
     int nv, nf, nfv;
     int64_t *face_plane;
+    int *face_plane_index;
     int *face_start;
     int *fv;
 
@@ -49,7 +51,7 @@ typedef struct vc_convex_cell {
     vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
-    vc_cell_buf b_face_plane, b_face_start, b_fv, b_entry, b_count;
+    vc_cell_buf b_face_plane, b_face_plane_index, b_face_start, b_fv, b_entry, b_count;
 } vc_convex_cell;
 
 void vc_convex_cell_init(vc_convex_cell *c);

@@ -464,14 +464,16 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, 
     for (int i = 0; i < cell->nfv; i++)
         fv[i] = (uint16_t)cell->fv[i];
     /* The local size: distance to the nearest seed that makes a face, or
-     * the cell's diameter when only walls bound it. */
+     * the cell's diameter when only walls bound it. A seed's plane holds
+     * its position relative to this seed (the same differences as
+     * xyz[t] - xs), which is in cache where the seeds are not. */
     for (int f = 0; f < cell->nf; f++) {
-        int64_t t = cell->face_plane[f];
-        if (t < 0)
+        if (cell->face_plane[f] < 0)
             continue;
+        const double *q = cell->plane + 4 * cell->face_plane_index[f];
         double d2 = 0;
         for (int d = 0; d < 3; d++)
-            d2 += (xyz[3 * t + d] - xs[d]) * (xyz[3 * t + d] - xs[d]);
+            d2 += q[d] * q[d];
         if (d2 < scale2)
             scale2 = d2;
     }
