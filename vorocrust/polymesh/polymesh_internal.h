@@ -1,10 +1,15 @@
-/* Point merging for the mesh passes that merge points (skew_faces.c), kept
- * apart from the collapse logic so other passes can share it. Not part of
- * the public API. */
+/* Polygon geometry and point merging shared by the mesh passes
+ * (polymesh.c, skew_faces.c). Not part of the public API. */
 #ifndef VORO_CRUST_POLYMESH_INTERNAL_H
 #define VORO_CRUST_POLYMESH_INTERNAL_H
 
 #include "vorocrust/polymesh.h"
+
+/* Area vector and centroid of a polygon given as point indices, where an
+ * entry -1 - t stands for targets[t] (may be NULL without such entries);
+ * the formula of vc_polymesh_update_face_geometry and OpenFOAM. */
+void vc_polygon_geometry(const double *points, const int64_t *cycle, int64_t n,
+                         const double *const *targets, double av[3], double cen[3]);
 
 /* Scratch for vc_polymesh_merge_points, sized for the mesh it is
  * initialised with (a merge only ever shrinks the mesh). */

@@ -67,33 +67,6 @@ double vc_polymesh_face_skewness(const vc_polymesh *m, int64_t f)
     return s / extent;
 }
 
-/* Area vector and centroid of the polygon pts[0..n-1] (the fan around the
- * vertex average, as vc_polymesh_update_face_geometry and OpenFOAM do). */
-static void polygon_geometry(const double *const *pts, int64_t n, double av[3], double cen[3])
-{
-    double c0[3] = {0, 0, 0};
-    for (int64_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++)
-            c0[k] += pts[i][k] / (double)n;
-    double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, wsum = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const double *p = pts[i], *q = pts[(i + 1) % n];
-        double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
-        double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
-        double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        double w = 0.5 * norm3(x);
-        for (int k = 0; k < 3; k++) {
-            a[k] += 0.5 * x[k];
-            c[k] += w * (c0[k] + p[k] + q[k]) / 3.0;
-        }
-        wsum += w;
-    }
-    for (int k = 0; k < 3; k++) {
-        av[k] = a[k];
-        cen[k] = wsum > 0 ? c[k] / wsum : c0[k];
-    }
-}
-
 typedef struct collapse_state {
     vc_polymesh *m;
     int64_t *parent;          /* union-find over points: merged groups */
@@ -105,7 +78,6 @@ typedef struct collapse_state {
     vc_point_merge_buffers merge; /* for vc_polymesh_merge_points */
     unsigned char *point_moved;   /* merged or moved in this round */
     int64_t *scratch;         /* a face's cycle after a plan (-1 - target: merged) */
-    const double **pts;
     int64_t blocker;          /* the face that made collapse_is_safe refuse */
     int64_t near_cells[SKEW_MAX_NEAR_CELLS];      /* cells around a plan */
     double near_centroids[SKEW_MAX_NEAR_CELLS][3]; /* and their new centroids */
@@ -156,9 +128,15 @@ static int64_t cycle_after(collapse_state *s, const collapse_plan *pl, int64_t g
         for (int64_t j = i + 1; j < w; j++)
             if (s->scratch[i] == s->scratch[j])
                 return -1;
-    for (int64_t i = 0; i < w; i++)
-        s->pts[i] = s->scratch[i] < 0 ? pl->pos[-1 - s->scratch[i]] : m->points + 3 * s->scratch[i];
     return w;
+}
+
+/* Area vector and centroid of the cycle cycle_after left in s->scratch. */
+static void cycle_geometry(const collapse_state *s, const collapse_plan *pl, int64_t w,
+                           double av[3], double cen[3])
+{
+    const double *const targets[2] = {pl->pos[0], pl->pos[1]};
+    vc_polygon_geometry(s->m->points, s->scratch, w, targets, av, cen);
 }
 
 /* Checks cell c after the plan: no face pinches or turns over, the volume
@@ -180,7 +158,7 @@ static int cell_stays_valid(collapse_state *s, const collapse_plan *pl, int64_t 
             if (w == 0)
                 continue;
             double av[3], fc[3];
-            polygon_geometry(s->pts, w, av, fc);
+            cycle_geometry(s, pl, w, av, fc);
             const double sgn = m->face_owner[g] == c ? 1.0 : -1.0;
             if (pass == 0) {
                 double a = norm3(av);
@@ -258,7 +236,7 @@ static int collapse_is_safe(collapse_state *s, int64_t f, const collapse_plan *p
             if (w <= 0)
                 continue;
             double av[3], fc[3];
-            polygon_geometry(s->pts, w, av, fc);
+            cycle_geometry(s, pl, w, av, fc);
             const double *co = NULL, *cn = NULL;
             for (int i = 0; i < n_cells; i++) {
                 if (s->near_cells[i] == m->face_owner[g])
@@ -439,7 +417,6 @@ static void collapse_state_free(collapse_state *s)
     free(s->forced);
     free(s->blockers);
     free(s->scratch);
-    free(s->pts);
 }
 
 int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rounds,
@@ -462,14 +439,13 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
     for (int64_t f = 0; f < m->n_faces; f++)
         s.max_face_size = fmax(s.max_face_size, vc_polymesh_face_size(m, f));
     s.scratch = malloc(sizeof(int64_t) * (size_t)(s.max_face_size + 1));
-    s.pts = malloc(sizeof(double *) * (size_t)(s.max_face_size + 1));
     unsigned char *to_best = malloc((size_t)(s.max_face_size + 1));
     unsigned char *to_try = malloc((size_t)(s.max_face_size + 1));
     skew_face *bad = malloc(sizeof(skew_face) * (size_t)(m->n_interior_faces + 1));
     int rc = -1;
     if (!s.parent || !s.fixed || !s.touched || !s.cell_hit || !merge_ok ||
         !s.point_moved || !s.forced || !s.blockers ||
-        !s.scratch || !s.pts || !to_best || !to_try || !bad)
+        !s.scratch || !to_best || !to_try || !bad)
         goto out;
     for (int64_t f = m->n_interior_faces; f < m->n_faces; f++)
         for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; i++)
