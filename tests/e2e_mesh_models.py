@@ -86,14 +86,9 @@ for model, (q_rec, lo_rec, hi_rec, fat_bnd) in EXPECTED.items():
     tag = model.replace(".", "_")
     vtu = os.path.join(TMP, "mesh_models_%s.vtu" % tag)
     surf = os.path.join(TMP, "mesh_models_%s.obj" % tag)
-    # fandisk.off with the default octree interior has two surface cells
-    # (edges of 1.7e-3 and 2.1e-3 of their extent) that VTK's validator
-    # calls nonconvex while the exact plane test passes; e2e_interior checks
-    # that mesh by the exact tests, this one reads the lattice mesh back.
-    extra = ["--interior", "lattice"] if model == "fandisk.off" else []
     balls_csv = os.path.join(TMP, "mesh_models_%s_balls.csv" % tag)
     p = subprocess.run([BIN, "mesh", os.path.join(MODELS, model), "-o", vtu, "--surface", surf,
-                        "--balls", balls_csv, "--threads", "2", *extra], capture_output=True,
+                        "--balls", balls_csv, "--threads", "2"], capture_output=True,
                        text=True, timeout=900)
     check(p.returncode == 0 and "warning" not in p.stderr,
           "%s: exit %d: %s" % (model, p.returncode, p.stderr[-2000:]))
