@@ -19,7 +19,8 @@ sampling) on the shared models, checked independently of the C code:
  - the volume mesh (`mesh -o`, the default octree interior): every cell a valid convex
    polyhedron read back by VTK (tests/vtkcheck.py), cell volumes summing to
    the volume the reconstructed surface encloses within 1e-9 and to the
-   input's within 1%, the same .vtu with 1 and 2 threads;
+   input's within 1%, the same .vtu with 1 and 2 threads, the summary's
+   counts of cells, faces and vertices equal to the file's;
  - `--foam` writes the same mesh as an OpenFOAM case;
  - bad input: open surface (the error names the boundary edge count),
    missing file, bad options, unwritable output; nothing written then.
@@ -223,6 +224,14 @@ for model in ("sphere.obj", "cube.off", "onebox.obj", ICOSPHERE):
               "%s: .vtu fatness array: %d values, range %r..%r" % (model, len(fat), min(fat), max(fat)))
         print("%s volume mesh: %d cells, volume %.12g (surface %.12g, input %.12g)"
               % (model, fig["n_cells"], fig["total_volume"], sv, iv))
+        # the summary's counts are the file's
+        c = re.search(r"volume mesh: (\d+) cells .*; (\d+) faces \((\d+) interior, (\d+) "
+                      r"boundary\), (\d+) vertices", err)
+        got = tuple(int(x) for x in c.groups()) if c else None
+        want = (fig["n_cells"], fig["n_faces_shared"] + fig["n_faces_boundary"],
+                fig["n_faces_shared"], fig["n_faces_boundary"], fig["n_points"])
+        check(got == want, "%s: summary counts (cells, faces, interior, boundary, vertices) %r, "
+              "the .vtu has %r" % (model, got, want))
         check(abs(fig["total_volume"] - iv) <= 0.01 * iv,
               "%s: mesh volume %.9g vs input %.9g" % (model, fig["total_volume"], iv))
     except vtkcheck.CheckError as e:

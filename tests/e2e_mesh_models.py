@@ -21,6 +21,7 @@ For each model:
    volume = the reconstructed surface's (1e-9) and the input's (1%);
  - the fatness array in [1, 14] for interior cells (cells without a
    boundary face), and below a recorded bound for the others;
+ - the same .vtu, byte for byte, with 1 and 2 threads (Release only);
  - fandisk.off: sliver elimination diverges at the default theta_sharp 60
    (folds of 45 to 55 degrees), and the mesh command samples again at 45,
    saying so.
@@ -94,6 +95,15 @@ for model, (q_rec, lo_rec, hi_rec, fat_bnd) in EXPECTED.items():
           "%s: exit %d: %s" % (model, p.returncode, p.stderr[-2000:]))
     if p.returncode != 0:
         continue
+    if not SANITIZED:
+        # the same mesh with one thread, byte for byte
+        vtu1 = os.path.join(TMP, "mesh_models_%s_t1.vtu" % tag)
+        p1 = subprocess.run([BIN, "mesh", os.path.join(MODELS, model), "-o", vtu1, "--threads",
+                             "1"], capture_output=True, text=True, timeout=900)
+        with open(vtu, "rb") as a, open(vtu1, "rb") as b:
+            same = p1.returncode == 0 and a.read() == b.read()
+        check(same, "%s: the .vtu differs between 1 and 2 threads" % model)
+        print("%s: the same .vtu with 1 and 2 threads: %s" % (model, same))
     m = re.search(r"euler (-?\d+) \(input (-?\d+)\), closed 2-manifold, consistently oriented",
                   p.stderr)
     check(m is not None and m.group(1) == m.group(2),

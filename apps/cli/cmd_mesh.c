@@ -496,7 +496,7 @@ int vc_cmd_mesh(int argc, char **argv)
         written[n_written++] = balls_path;
     }
     double t6 = vc_cli_now(), t7 = t6;
-    int64_t n_cells = 0, n_interior = 0;
+    int64_t n_cells = 0, n_interior = 0, n_faces = 0, n_interior_faces = 0, n_vertices = 0;
     double mesh_volume = 0;
     mesh_quality mq;
     memset(&mq, 0, sizeof mq);
@@ -559,6 +559,9 @@ int vc_cmd_mesh(int argc, char **argv)
             goto cleanup_outputs;
         }
         n_cells = m.n_cells;
+        n_faces = m.n_faces;
+        n_interior_faces = m.n_interior_faces;
+        n_vertices = m.n_points;
         for (int64_t c = 0; c < m.n_cells; c++)
             mesh_volume += m.cell_volume[c];
         char report[1024];
@@ -700,9 +703,12 @@ int vc_cmd_mesh(int argc, char **argv)
                         lst.max_shift, t_lloyd);
             fprintf(stderr,
                     "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
-                    "surface %.12g, input %.12g), %.3f s\n",
+                    "surface %.12g, input %.12g), %.3f s; %lld faces (%lld interior, %lld "
+                    "boundary), %lld vertices\n",
                     (long long)n_cells, (long long)n_interior, mesh_volume, sv, rep.volume,
-                    t7 - t6 - t_interior - t_lloyd);
+                    t7 - t6 - t_interior - t_lloyd, (long long)n_faces,
+                    (long long)n_interior_faces, (long long)(n_faces - n_interior_faces),
+                    (long long)n_vertices);
             fprintf(stderr,
                     "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "
                     "(interior cells: max %.3f mean %.3f); shortest edge / enclosing radius "
