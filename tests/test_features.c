@@ -13,21 +13,11 @@
 #include "vorocrust/features.h"
 #include "vorocrust/surface.h"
 
+#include "test_check.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static int failures = 0;
-
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fputc('\n', stderr);                                           \
-            failures++;                                                    \
-        }                                                                  \
-    } while (0)
 
 /* ---- Building small surfaces in memory. ---- */
 
@@ -107,7 +97,7 @@ static int64_t other_end(const vc_features *f, int64_t e, int64_t v)
 static void check_invariants(const char *name, const vc_surface *s, const vc_features *f)
 {
     int64_t nv = s->n_vertices, nt = s->n_triangles, ne = f->n_edges;
-    CHECK(f->n_vertices == nv && f->n_triangles == nt, "%s: sizes", name);
+    CHECKF(f->n_vertices == nv && f->n_triangles == nt, "%s: sizes", name);
 
     /* Edge index: every side of every triangle is its edge, listed once
      * among the edge's triangles; edges sorted and unique. */
@@ -127,9 +117,9 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
             }
             bad_find += vc_features_find_edge(f, b, a) != e;
         }
-    CHECK(bad_side == 0 && bad_list == 0 && bad_find == 0, "%s: edge index: %lld bad sides, %lld bad lists, %lld bad finds",
+    CHECKF(bad_side == 0 && bad_list == 0 && bad_find == 0, "%s: edge index: %lld bad sides, %lld bad lists, %lld bad finds",
           name, (long long)bad_side, (long long)bad_list, (long long)bad_find);
-    CHECK(f->edge_tri_start[0] == 0 && f->edge_tri_start[ne] == 3 * nt, "%s: edge_tri_start", name);
+    CHECKF(f->edge_tri_start[0] == 0 && f->edge_tri_start[ne] == 3 * nt, "%s: edge_tri_start", name);
     int64_t unsorted = 0;
     for (int64_t e = 0; e < ne; e++) {
         unsorted += f->edge_vertex[2 * e] >= f->edge_vertex[2 * e + 1];
@@ -139,8 +129,8 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
                          f->edge_vertex[2 * e - 1] >= f->edge_vertex[2 * e + 1]);
         unsorted += f->edge_tri_start[e + 1] <= f->edge_tri_start[e];
     }
-    CHECK(unsorted == 0, "%s: %lld edge order violations", name, (long long)unsorted);
-    CHECK(vc_features_find_edge(f, 0, 0) == -1, "%s: find_edge(0, 0)", name);
+    CHECKF(unsorted == 0, "%s: %lld edge order violations", name, (long long)unsorted);
+    CHECKF(vc_features_find_edge(f, 0, 0) == -1, "%s: find_edge(0, 0)", name);
 
     /* Sharp edges: reasons agree with the triangle count. */
     int64_t n_sharp = 0, n_b = 0, n_nm = 0, bad_reason = 0;
@@ -156,7 +146,7 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
         else
             bad_reason += f->edge_sharp[e] != 0 && f->edge_sharp[e] != VC_SHARP_ANGLE;
     }
-    CHECK(n_sharp == f->n_sharp_edges && n_b == f->n_boundary_edges && n_nm == f->n_nonmanifold_edges &&
+    CHECKF(n_sharp == f->n_sharp_edges && n_b == f->n_boundary_edges && n_nm == f->n_nonmanifold_edges &&
               bad_reason == 0 && f->n_sharp_edges == f->n_sharp_by_angle + n_b + n_nm,
           "%s: sharp counts %lld/%lld, boundary %lld/%lld, non-manifold %lld/%lld, %lld bad reasons", name,
           (long long)n_sharp, (long long)f->n_sharp_edges, (long long)n_b, (long long)f->n_boundary_edges,
@@ -180,14 +170,14 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
         bad_deg += (f->vertex_corner[v] & VC_CORNER_TURN) && deg[v] != 2;
         bad_deg += (f->vertex_corner[v] & VC_CORNER_PINCH) && deg[v] != 0;
     }
-    CHECK(n_corners == f->n_corners && bad_deg == 0, "%s: corners %lld/%lld, %lld degree violations", name,
+    CHECKF(n_corners == f->n_corners && bad_deg == 0, "%s: corners %lld/%lld, %lld degree violations", name,
           (long long)n_corners, (long long)f->n_corners, (long long)bad_deg);
 
     /* Creases: every sharp edge in exactly one crease, walked in order;
      * ends at corners unless closed; no corner inside a crease. */
     int64_t *seen = calloc((size_t)ne + 1, sizeof *seen);
     int64_t bad_crease = 0, n_closed = 0;
-    CHECK(f->crease_start[0] == 0 && f->crease_start[f->n_creases] == f->n_sharp_edges, "%s: crease_start", name);
+    CHECKF(f->crease_start[0] == 0 && f->crease_start[f->n_creases] == f->n_sharp_edges, "%s: crease_start", name);
     for (int64_t c = 0; c < f->n_creases; c++) {
         int64_t k = vc_crease_n_edges(f, c);
         const int64_t *vv = vc_crease_vertices(f, c);
@@ -217,7 +207,7 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
         else
             bad_crease += seen[e] != 0 || f->edge_crease[e] != -1 || f->edge_crease_dir[e] != 0;
     }
-    CHECK(bad_crease == 0 && n_closed == f->n_closed_creases, "%s: %lld crease violations, closed %lld/%lld", name,
+    CHECKF(bad_crease == 0 && n_closed == f->n_closed_creases, "%s: %lld crease violations, closed %lld/%lld", name,
           (long long)bad_crease, (long long)n_closed, (long long)f->n_closed_creases);
     free(seen);
 
@@ -226,7 +216,7 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
      * normals in the patch orientation. */
     int64_t *count = calloc((size_t)nt + 1, sizeof *count);
     int64_t bad_patch = 0, bad_orient = 0, bad_normal = 0, n_nonorientable = 0;
-    CHECK(f->patch_start[0] == 0 && f->patch_start[f->n_patches] == nt, "%s: patch_start", name);
+    CHECKF(f->patch_start[0] == 0 && f->patch_start[f->n_patches] == nt, "%s: patch_start", name);
     for (int64_t p = 0; p < f->n_patches; p++) {
         bad_patch += f->patch_start[p + 1] <= f->patch_start[p];
         n_nonorientable += !f->patch_orientable[p];
@@ -276,7 +266,7 @@ static void check_invariants(const char *name, const vc_surface *s, const vc_fea
         bad_normal += fabs(mlen - 1) > 1e-12 || (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]) < (1 - 1e-9) * len;
         bad_orient += f->tri_orient[t] != 1 && f->tri_orient[t] != -1;
     }
-    CHECK(bad_patch == 0 && bad_orient == 0 && bad_normal == 0 && n_nonorientable == f->n_nonorientable_patches,
+    CHECKF(bad_patch == 0 && bad_orient == 0 && bad_normal == 0 && n_nonorientable == f->n_nonorientable_patches,
           "%s: %lld patch violations, %lld orientation violations, %lld bad normals", name, (long long)bad_patch,
           (long long)bad_orient, (long long)bad_normal);
     free(count);
@@ -287,7 +277,7 @@ static int detect(const char *name, const vc_surface *s, double theta, vc_featur
 {
     vc_error err = {0, ""};
     int rc = vc_features_detect(s, theta, f, &err);
-    CHECK(rc == 0, "%s: detect at %g failed: %s", name, theta, err.msg);
+    CHECKF(rc == 0, "%s: detect at %g failed: %s", name, theta, err.msg);
     if (rc == 0)
         check_invariants(name, s, f);
     return rc == 0;
@@ -296,7 +286,7 @@ static int detect(const char *name, const vc_surface *s, double theta, vc_featur
 static void expect(const char *name, const vc_features *f, int64_t sharp, int64_t corners, int64_t creases,
                    int64_t closed, int64_t patches)
 {
-    CHECK(f->n_sharp_edges == sharp && f->n_corners == corners && f->n_creases == creases &&
+    CHECKF(f->n_sharp_edges == sharp && f->n_corners == corners && f->n_creases == creases &&
               f->n_closed_creases == closed && f->n_patches == patches,
           "%s at %g: sharp %lld corners %lld creases %lld (closed %lld) patches %lld; expected %lld %lld %lld (%lld) %lld",
           name, f->sharp_angle, (long long)f->n_sharp_edges, (long long)f->n_corners, (long long)f->n_creases,
@@ -341,7 +331,7 @@ static void test_models(const char *models)
         vc_surface_report r;
         vc_error err = {0, ""};
         if (vc_surface_read(path, &s, &r, &err)) {
-            CHECK(0, "%s: %s", path, err.msg);
+            CHECKF(0, "%s: %s", path, err.msg);
             continue;
         }
         vc_features f;
@@ -349,26 +339,26 @@ static void test_models(const char *models)
             vc_surface_free(&s);
             continue;
         }
-        CHECK(f.n_edges == r.n_edges, "%s: %lld edges, the check counted %lld", c->file, (long long)f.n_edges,
+        CHECKF(f.n_edges == r.n_edges, "%s: %lld edges, the check counted %lld", c->file, (long long)f.n_edges,
               (long long)r.n_edges);
         if (c->sharp >= 0)
-            CHECK(f.n_sharp_edges == c->sharp, "%s: %lld sharp edges, expected %lld", c->file,
+            CHECKF(f.n_sharp_edges == c->sharp, "%s: %lld sharp edges, expected %lld", c->file,
                   (long long)f.n_sharp_edges, (long long)c->sharp);
         if (c->corners >= 0)
-            CHECK(f.n_corners == c->corners, "%s: %lld corners, expected %lld", c->file, (long long)f.n_corners,
+            CHECKF(f.n_corners == c->corners, "%s: %lld corners, expected %lld", c->file, (long long)f.n_corners,
                   (long long)c->corners);
         if (c->creases >= 0)
-            CHECK(f.n_creases == c->creases && f.n_closed_creases == c->closed,
+            CHECKF(f.n_creases == c->creases && f.n_closed_creases == c->closed,
                   "%s: %lld creases (%lld closed), expected %lld (%lld)", c->file, (long long)f.n_creases,
                   (long long)f.n_closed_creases, (long long)c->creases, (long long)c->closed);
         if (c->patches >= 0)
-            CHECK(f.n_patches == c->patches, "%s: %lld patches, expected %lld", c->file, (long long)f.n_patches,
+            CHECKF(f.n_patches == c->patches, "%s: %lld patches, expected %lld", c->file, (long long)f.n_patches,
                   (long long)c->patches);
         /* A closed, consistently oriented input keeps its orientation. */
         int64_t flipped = 0;
         for (int64_t t = 0; t < s.n_triangles; t++)
             flipped += f.tri_orient[t] != 1;
-        CHECK(flipped == 0 && f.n_nonorientable_patches == 0, "%s: %lld triangles flipped", c->file,
+        CHECKF(flipped == 0 && f.n_nonorientable_patches == 0, "%s: %lld triangles flipped", c->file,
               (long long)flipped);
 
         if (!strcmp(c->file, "cube.off") || !strcmp(c->file, "onebox.obj")) {
@@ -389,11 +379,11 @@ static void test_models(const char *models)
                                     : n_axes == 1;
                 bad += (f.edge_sharp[e] != 0) != box_edge;
             }
-            CHECK(bad == 0, "%s: %lld edges sharp iff box edge violated", c->file, (long long)bad);
+            CHECKF(bad == 0, "%s: %lld edges sharp iff box edge violated", c->file, (long long)bad);
             for (int64_t p = 0; p < f.n_patches; p++)
-                CHECK(f.patch_start[p + 1] - f.patch_start[p] == 2, "%s: patch %lld size", c->file, (long long)p);
+                CHECKF(f.patch_start[p + 1] - f.patch_start[p] == 2, "%s: patch %lld size", c->file, (long long)p);
             for (int64_t v = 0; v < f.n_vertices; v++)
-                CHECK(f.vertex_corner[v] == VC_CORNER_DEGREE && f.vertex_sharp_degree[v] == 3,
+                CHECKF(f.vertex_corner[v] == VC_CORNER_DEGREE && f.vertex_sharp_degree[v] == 3,
                       "%s: vertex %lld corner %d degree %d", c->file, (long long)v, f.vertex_corner[v],
                       f.vertex_sharp_degree[v]);
         }
@@ -403,7 +393,7 @@ static void test_models(const char *models)
                 degree += f.vertex_corner[v] == VC_CORNER_DEGREE;
                 turn += f.vertex_corner[v] == VC_CORNER_TURN;
             }
-            CHECK(degree == 16 && turn == 16, "bracket: %lld degree corners, %lld turn corners", (long long)degree,
+            CHECKF(degree == 16 && turn == 16, "bracket: %lld degree corners, %lld turn corners", (long long)degree,
                   (long long)turn);
         }
         if (!strcmp(c->file, "fertility.off")) {
@@ -413,10 +403,10 @@ static void test_models(const char *models)
             for (int64_t v = 0; v < f.n_vertices; v++)
                 if (f.vertex_sharp_degree[v] == 1) {
                     ends++;
-                    CHECK(f.vertex_corner[v] == (VC_CORNER_END | VC_CORNER_SECTOR), "fertility: end %lld why %d",
+                    CHECKF(f.vertex_corner[v] == (VC_CORNER_END | VC_CORNER_SECTOR), "fertility: end %lld why %d",
                           (long long)v, f.vertex_corner[v]);
                 }
-            CHECK(ends == 10, "fertility: %lld crease ends", (long long)ends);
+            CHECKF(ends == 10, "fertility: %lld crease ends", (long long)ends);
         }
 
         /* Monotone in theta: a smaller threshold keeps every sharp edge
@@ -433,7 +423,7 @@ static void test_models(const char *models)
                 int64_t lost = 0;
                 for (int64_t e = 0; e < g.n_edges; e++)
                     lost += prev.edge_sharp[e] && !g.edge_sharp[e];
-                CHECK(lost == 0 && g.n_sharp_edges >= prev.n_sharp_edges,
+                CHECKF(lost == 0 && g.n_sharp_edges >= prev.n_sharp_edges,
                       "%s: %lld sharp edges at %g, %lld at %g (%lld lost)", c->file, (long long)g.n_sharp_edges, th,
                       (long long)prev.n_sharp_edges, th + 20, (long long)lost);
                 vc_features_free(&prev);
@@ -471,9 +461,9 @@ static void test_tets_sharing_edge(void)
          * per triangle. */
         expect("two tets", &f, 11, 6, 11, 0, 8);
         int64_t e = vc_features_find_edge(&f, 1, 0);
-        CHECK(e >= 0 && f.edge_sharp[e] == VC_SHARP_NONMANIFOLD && f.edge_tri_start[e + 1] - f.edge_tri_start[e] == 4,
+        CHECKF(e >= 0 && f.edge_sharp[e] == VC_SHARP_NONMANIFOLD && f.edge_tri_start[e + 1] - f.edge_tri_start[e] == 4,
               "two tets: shared edge %lld sharp %d", (long long)e, e >= 0 ? f.edge_sharp[e] : -1);
-        CHECK(f.n_nonmanifold_edges == 1 && f.n_boundary_edges == 0, "two tets: edge kinds");
+        CHECKF(f.n_nonmanifold_edges == 1 && f.n_boundary_edges == 0, "two tets: edge kinds");
         vc_features_free(&f);
     }
     if (detect("two tets at 150", &b.s, 150, &f)) {
@@ -481,10 +471,10 @@ static void test_tets_sharing_edge(void)
          * crease-end corners; each tetrahedron is a patch. */
         expect("two tets at 150", &f, 1, 2, 1, 0, 2);
         int64_t e = vc_features_find_edge(&f, 0, 1);
-        CHECK(e >= 0 && f.edge_sharp[e] == VC_SHARP_NONMANIFOLD && f.edge_crease[e] == 0, "two tets at 150: edge");
-        CHECK(f.vertex_corner[0] == VC_CORNER_END && f.vertex_corner[1] == VC_CORNER_END,
+        CHECKF(e >= 0 && f.edge_sharp[e] == VC_SHARP_NONMANIFOLD && f.edge_crease[e] == 0, "two tets at 150: edge");
+        CHECKF(f.vertex_corner[0] == VC_CORNER_END && f.vertex_corner[1] == VC_CORNER_END,
               "two tets at 150: corners %d %d", f.vertex_corner[0], f.vertex_corner[1]);
-        CHECK(f.tri_patch[0] != f.tri_patch[4], "two tets at 150: one patch per tetrahedron");
+        CHECKF(f.tri_patch[0] != f.tri_patch[4], "two tets at 150: one patch per tetrahedron");
         vc_features_free(&f);
     }
     vc_surface_free(&b.s);
@@ -507,7 +497,7 @@ static void test_pinch(void)
     vc_features f;
     if (detect("pinch", &b.s, 170, &f)) {
         expect("pinch", &f, 0, 1, 0, 0, 2);
-        CHECK(f.vertex_corner[0] == VC_CORNER_PINCH, "pinch: vertex 0 corner %d", f.vertex_corner[0]);
+        CHECKF(f.vertex_corner[0] == VC_CORNER_PINCH, "pinch: vertex 0 corner %d", f.vertex_corner[0]);
         vc_features_free(&f);
     }
     vc_surface_free(&b.s);
@@ -524,7 +514,7 @@ static void test_prism(void)
          * 30 degrees at each vertex); caps and side band are patches. */
         expect("prism", &f, 24, 0, 2, 2, 3);
         for (int64_t c = 0; c < f.n_creases; c++)
-            CHECK(vc_crease_n_edges(&f, c) == 12 && f.crease_closed[c], "prism: crease %lld", (long long)c);
+            CHECKF(vc_crease_n_edges(&f, c) == 12 && f.crease_closed[c], "prism: crease %lld", (long long)c);
         vc_features_free(&f);
     }
     if (detect("prism at 20", &b.s, 20, &f)) {
@@ -567,7 +557,7 @@ static void test_prism(void)
          * patch (the sides connect through the caps). */
         expect("triangular prism at 110", &f, 3, 6, 3, 0, 1);
         for (int64_t v = 0; v < 6; v++)
-            CHECK(f.vertex_corner[v] == (VC_CORNER_END | VC_CORNER_SECTOR), "triangular prism: vertex %lld why %d",
+            CHECKF(f.vertex_corner[v] == (VC_CORNER_END | VC_CORNER_SECTOR), "triangular prism: vertex %lld why %d",
                   (long long)v, f.vertex_corner[v]);
         vc_features_free(&f);
     }
@@ -606,13 +596,13 @@ static void test_turn_and_sector(void)
     if (detect("box with a flipped triangle", &b.s, 80, &f)) {
         expect("box with a flipped triangle", &f, 12, 8, 12, 0, 6);
         for (int64_t k = 0; k < b.s.n_triangles; k++)
-            CHECK(f.tri_orient[k] == (k == 5 ? -1 : 1), "flipped box: triangle %lld orient %d", (long long)k,
+            CHECKF(f.tri_orient[k] == (k == 5 ? -1 : 1), "flipped box: triangle %lld orient %d", (long long)k,
                   f.tri_orient[k]);
         vc_features_free(&f);
     }
     if (detect("box with a flipped triangle at 100", &b.s, 100, &f)) {
         expect("box with a flipped triangle at 100", &f, 0, 0, 0, 0, 1);
-        CHECK(f.tri_orient[5] == -1, "flipped box at 100: orient %d", f.tri_orient[5]);
+        CHECKF(f.tri_orient[5] == -1, "flipped box at 100: orient %d", f.tri_orient[5]);
         vc_features_free(&f);
     }
     vc_surface_free(&b.s);
@@ -634,7 +624,7 @@ static void test_turn_and_sector(void)
         /* Rim edges: normals differ by 135 (sharp); the rim is a closed
          * crease (turns by 45 < 60; the side sectors span less than 60). */
         expect("cone at 60", &f, 8, 1, 1, 1, 2);
-        CHECK(f.vertex_corner[apex] == VC_CORNER_SECTOR, "cone: apex corner %d", f.vertex_corner[apex]);
+        CHECKF(f.vertex_corner[apex] == VC_CORNER_SECTOR, "cone: apex corner %d", f.vertex_corner[apex]);
         vc_features_free(&f);
     }
     vc_surface_free(&c.s);
@@ -653,7 +643,7 @@ static void test_open_and_moebius(void)
     vc_features f;
     if (detect("square", &b.s, 60, &f)) {
         expect("square", &f, 4, 4, 4, 0, 1);
-        CHECK(f.n_boundary_edges == 4, "square: boundary edges %lld", (long long)f.n_boundary_edges);
+        CHECKF(f.n_boundary_edges == 4, "square: boundary edges %lld", (long long)f.n_boundary_edges);
         vc_features_free(&f);
     }
     vc_surface_free(&b.s);
@@ -682,7 +672,7 @@ static void test_open_and_moebius(void)
     }
     if (detect("moebius", &m.s, 60, &f)) {
         expect("moebius", &f, 2 * n, 0, 1, 1, 1);
-        CHECK(f.n_nonorientable_patches == 1 && !f.patch_orientable[0], "moebius: orientable");
+        CHECKF(f.n_nonorientable_patches == 1 && !f.patch_orientable[0], "moebius: orientable");
         vc_features_free(&f);
     }
     vc_surface_free(&m.s);
@@ -700,14 +690,14 @@ static void test_bad_input(void)
     const double bad[] = {0, -5, 180, 200, NAN};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         int rc = vc_features_detect(&b.s, bad[i], &f, &err);
-        CHECK(rc == VC_EPARAM && strstr(err.msg, "sharp angle") && f.edge_vertex == NULL, "angle %g: rc %d %s",
+        CHECKF(rc == VC_EPARAM && strstr(err.msg, "sharp angle") && f.edge_vertex == NULL, "angle %g: rc %d %s",
               bad[i], rc, err.msg);
     }
     b.s.tri[2] = 7;
-    CHECK(vc_features_detect(&b.s, 60, &f, &err) == VC_EINPUT && strstr(err.msg, "vertex 8"), "bad index: %s",
+    CHECKF(vc_features_detect(&b.s, 60, &f, &err) == VC_EINPUT && strstr(err.msg, "vertex 8"), "bad index: %s",
           err.msg);
     b.s.tri[2] = 1;
-    CHECK(vc_features_detect(&b.s, 60, &f, &err) == VC_EINPUT && strstr(err.msg, "repeats"), "repeat: %s",
+    CHECKF(vc_features_detect(&b.s, 60, &f, &err) == VC_EINPUT && strstr(err.msg, "repeats"), "repeat: %s",
           err.msg);
     b.s.tri[2] = 2;
     /* A single triangle: three boundary edges, three corners (turn). */
@@ -724,7 +714,7 @@ static void test_bad_input(void)
     add_t(&b, 1, 0, 3);
     if (detect("zero-area triangle", &b.s, 60, &f)) {
         expect("zero-area triangle", &f, 4, 3, 3, 0, 1);
-        CHECK(f.n_degenerate == 1 && f.vertex_corner[1] == 0 && f.edge_sharp[vc_features_find_edge(&f, 0, 1)] == 0,
+        CHECKF(f.n_degenerate == 1 && f.vertex_corner[1] == 0 && f.edge_sharp[vc_features_find_edge(&f, 0, 1)] == 0,
               "zero-area triangle: %lld degenerate, corner %d", (long long)f.n_degenerate, f.vertex_corner[1]);
         vc_features_free(&f);
     }

@@ -20,17 +20,7 @@
 
 #include "vorocrust/interior.h"
 
-static int failures;
-
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            failures++;                                                                            \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                                   \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fprintf(stderr, "\n");                                                                 \
-        }                                                                                          \
-    } while (0)
+#include "test_check.h"
 
 static double dist(const double *a, const double *b)
 {
@@ -91,11 +81,11 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
                          const vc_octree_leaves *lv)
 {
     double cap = o->max_size > 0 ? o->max_size : INFINITY;
-    CHECK(lv->n == st->n_leaves && lv->n_seeds == n_int && st->n_seeds == n_int,
+    CHECKF(lv->n == st->n_leaves && lv->n_seeds == n_int && st->n_seeds == n_int,
           "counts: leaves %lld/%lld seeds %lld/%lld", (long long)lv->n, (long long)st->n_leaves,
           (long long)lv->n_seeds, (long long)n_int);
-    CHECK(out->n == ss->n + n_int, "out has %lld seeds", (long long)out->n);
-    CHECK(memcmp(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n) == 0,
+    CHECKF(out->n == ss->n + n_int, "out has %lld seeds", (long long)out->n);
+    CHECKF(memcmp(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n) == 0,
           "surface seeds not copied first");
     double box_vol = 1, vol = 0;
     for (int d = 0; d < 3; d++)
@@ -114,12 +104,12 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
         if (lv->level[k] > 0 && sqrt(3.0) * 2 * a <= 2 * sizing(b, pc, o->lipschitz, cap))
             needless++;
     }
-    CHECK(fabs(vol - box_vol) <= 1e-9 * box_vol, "leaves cover %.12g of a box of %.12g", vol,
+    CHECKF(fabs(vol - box_vol) <= 1e-9 * box_vol, "leaves cover %.12g of a box of %.12g", vol,
           box_vol);
-    CHECK(too_big == 0, "%lld leaves larger than the sizing allows", (long long)too_big);
+    CHECKF(too_big == 0, "%lld leaves larger than the sizing allows", (long long)too_big);
     /* balance splits a leaf into 8: at most 8 of every 7 added leaves */
     int64_t added = st->n_leaves - st->n_refined_leaves;
-    CHECK(needless <= 8 * added / 7, "%lld leaves refined beyond the sizing (balance added %lld)",
+    CHECKF(needless <= 8 * added / 7, "%lld leaves refined beyond the sizing (balance added %lld)",
           (long long)needless, (long long)added);
     int64_t unbalanced = 0;
     for (int64_t i = 0; i < lv->n; i++)
@@ -127,13 +117,13 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
             if (abs(lv->level[i] - lv->level[j]) > 1 &&
                 touch(lv->center + 3 * i, lv->side[i], lv->center + 3 * j, lv->side[j]))
                 unbalanced++;
-    CHECK(unbalanced == 0, "%lld touching leaf pairs differ by more than one level",
+    CHECKF(unbalanced == 0, "%lld touching leaf pairs differ by more than one level",
           (long long)unbalanced);
     /* the seed rules, by brute force over every leaf */
     char *is_seed = calloc((size_t)(lv->n > 0 ? lv->n : 1), 1);
     for (int64_t i = 0; i < n_int; i++) {
         int64_t k = lv->seed_leaf[i];
-        CHECK(k >= 0 && k < lv->n && memcmp(out->xyz + 3 * (ss->n + i), lv->center + 3 * k,
+        CHECKF(k >= 0 && k < lv->n && memcmp(out->xyz + 3 * (ss->n + i), lv->center + 3 * k,
                                             sizeof(double) * 3) == 0 &&
                   out->label[ss->n + i] == 1,
               "seed %lld is not its leaf's centre", (long long)i);
@@ -154,7 +144,7 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
         wrong += ok != is_seed[k];
     }
     free(is_seed);
-    CHECK(wrong == 0, "%lld leaves where the seed rule disagrees with brute force",
+    CHECKF(wrong == 0, "%lld leaves where the seed rule disagrees with brute force",
           (long long)wrong);
 }
 
@@ -165,7 +155,7 @@ int main(void)
     make_sphere(300, &b, &ss);
     vc_octree_options o;
     vc_octree_options_default(&o);
-    CHECK(o.lipschitz == 0.25 && o.diagonal_factor == 2, "defaults");
+    CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2, "defaults");
 
     vc_seeds out[2];
     int64_t n_int[2];
@@ -175,14 +165,14 @@ int main(void)
     for (int t = 0; t < 2; t++) {
         o.threads = t + 1;
         int rc = vc_interior_octree(&b, &ss, &o, &out[t], &n_int[t], &st, &lv, &err);
-        CHECK(rc == 0, "octree: %s", err.msg);
+        CHECKF(rc == 0, "octree: %s", err.msg);
         if (rc)
             return 1;
         printf("threads %d: %lld leaves (levels %d-%d), %lld seeds, %.3f s\n", t + 1,
                (long long)st.n_leaves, st.min_level, st.max_level, (long long)n_int[t], st.seconds);
         if (t == 0) {
             check_forest(&b, &ss, &o, &out[0], n_int[0], &st, &lv);
-            CHECK(n_int[0] > 50, "only %lld interior seeds", (long long)n_int[0]);
+            CHECKF(n_int[0] > 50, "only %lld interior seeds", (long long)n_int[0]);
             /* graded: the leaves at the centre are larger than at the small ball */
             double at_centre = 0, at_pole = INFINITY, origin[3] = {0, 0, 0}, pole[3] = {0, 0, 1};
             for (int64_t k = 0; k < lv.n; k++) {
@@ -191,12 +181,12 @@ int main(void)
                 if (dist(lv.center + 3 * k, pole) < lv.side[k])
                     at_pole = fmin(at_pole, lv.side[k]);
             }
-            CHECK(at_centre >= 4 * at_pole, "not graded: leaves %g at the centre, %g at the pole",
+            CHECKF(at_centre >= 4 * at_pole, "not graded: leaves %g at the centre, %g at the pole",
                   at_centre, at_pole);
         }
         vc_octree_leaves_free(&lv);
     }
-    CHECK(n_int[0] == n_int[1] &&
+    CHECKF(n_int[0] == n_int[1] &&
               memcmp(out[0].xyz, out[1].xyz, sizeof(double) * 3 * (size_t)out[0].n) == 0,
           "1 and 2 threads give different seeds");
     vc_seeds_free(&out[0]);
@@ -206,12 +196,12 @@ int main(void)
     o.threads = 0;
     o.max_size = 0.25;
     int rc = vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], &st, &lv, &err);
-    CHECK(rc == 0, "capped octree: %s", err.msg);
+    CHECKF(rc == 0, "capped octree: %s", err.msg);
     if (rc == 0) {
         double largest = 0;
         for (int64_t k = 0; k < lv.n; k++)
             largest = fmax(largest, lv.side[k]);
-        CHECK(sqrt(3.0) * largest <= 2 * 0.25, "capped: a leaf of side %g", largest);
+        CHECKF(sqrt(3.0) * largest <= 2 * 0.25, "capped: a leaf of side %g", largest);
         printf("capped: %lld leaves, %lld seeds\n", (long long)st.n_leaves, (long long)n_int[0]);
         check_forest(&b, &ss, &o, &out[0], n_int[0], &st, &lv);
         vc_octree_leaves_free(&lv);
@@ -221,11 +211,11 @@ int main(void)
     /* bad options and input */
     o.max_size = 0;
     o.lipschitz = 1.5;
-    CHECK(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
+    CHECKF(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
           "L = 1.5 accepted");
     o.lipschitz = 0.25;
     vc_seeds none = {0, NULL, NULL};
-    CHECK(vc_interior_octree(&b, &none, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EINPUT,
+    CHECKF(vc_interior_octree(&b, &none, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EINPUT,
           "no surface seeds accepted");
 
     vc_seeds_free(&ss);

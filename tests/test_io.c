@@ -20,24 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int failures = 0;
-
-#define CHECK(cond)                                                              \
-    do {                                                                         \
-        if (!(cond)) {                                                           \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                          \
-        }                                                                        \
-    } while (0)
-
-#define CHECK_MSG(cond, msg)                                                     \
-    do {                                                                         \
-        if (!(cond)) {                                                           \
-            fprintf(stderr, "%s:%d: check failed: %s (message: %s)\n", __FILE__,  \
-                    __LINE__, #cond, (msg));                                     \
-            ++failures;                                                          \
-        }                                                                        \
-    } while (0)
+#include "test_check.h"
 
 static const char *tmpdir;
 

@@ -12,25 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-
-#define CHECK(cond)                                                              \
-    do {                                                                         \
-        if (!(cond)) {                                                           \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                          \
-        }                                                                        \
-    } while (0)
-
-#define CHECK_NEAR(a, b, tol)                                                    \
-    do {                                                                         \
-        double a_ = (a), b_ = (b);                                               \
-        if (!(fabs(a_ - b_) <= (tol))) {                                         \
-            fprintf(stderr, "%s:%d: check failed: %s = %.17g, expected %.17g (tol %g)\n", \
-                    __FILE__, __LINE__, #a, a_, b_, (double)(tol));              \
-            ++failures;                                                          \
-        }                                                                        \
-    } while (0)
+#include "test_check.h"
 
 /* The regular tetrahedron (1,1,1), (1,-1,-1), (-1,1,-1), (-1,-1,1) and the
  * mirror image of its first corner across the opposite face. */

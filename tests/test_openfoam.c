@@ -23,17 +23,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "test_check.h"
+
 size_t vc_foam_format_double(char *out, double x); /* in openfoam_writer.c */
-
-static int failures = 0;
-
-#define CHECK(cond)                                                                   \
-    do {                                                                              \
-        if (!(cond)) {                                                                \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                               \
-        }                                                                             \
-    } while (0)
 
 static char tmpdir[1024];
 
