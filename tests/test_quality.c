@@ -12,9 +12,9 @@
 #include <string.h>
 #ifdef _OPENMP
 #include <omp.h>
+#endif
 
 #include "test_check.h"
-#endif
 
 static double dist(const double *a, const double *b)
 {

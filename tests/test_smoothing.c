@@ -19,21 +19,11 @@
 #include "vorocrust/smoothing.h"
 #include "vorocrust/surface.h"
 
+#include "test_check.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static int failures = 0;
-
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fputc('\n', stderr);                                           \
-            failures++;                                                    \
-        }                                                                  \
-    } while (0)
 
 static double now(void)
 {
@@ -170,55 +160,55 @@ static void check_smoothing(const char *name, const vc_surface *s, double theta,
     memset(&r1, 0, sizeof r1);
     memset(r, 0, sizeof *r);
     int rc = vc_features_detect(s, theta, &f, &err);
-    CHECK(rc == 0, "%s: features: %s", name, err.msg);
+    CHECKF(rc == 0, "%s: features: %s", name, err.msg);
     if (rc)
         return;
     rc = vc_surface_check(s, &r0, &err);
-    CHECK(rc == 0, "%s: check: %s", name, err.msg);
+    CHECKF(rc == 0, "%s: check: %s", name, err.msg);
 
     /* 0 rounds: a copy. */
     rc = vc_surface_smooth(s, &f, 0, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &out, &err);
-    CHECK(rc == 0 && same_surface(s, &out), "%s: 0 rounds is not a copy (rc %d %s)", name, rc, err.msg);
+    CHECKF(rc == 0 && same_surface(s, &out), "%s: 0 rounds is not a copy (rc %d %s)", name, rc, err.msg);
     vc_surface_free(&out);
 
     double t0 = now();
     rc = vc_surface_smooth(s, &f, iterations, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &out, &err);
     double t1 = now();
-    CHECK(rc == 0, "%s: smooth: %s", name, err.msg);
+    CHECKF(rc == 0, "%s: smooth: %s", name, err.msg);
     if (rc) {
         vc_features_free(&f);
         return;
     }
     rc = vc_surface_smooth(s, &f, iterations, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &again, &err);
-    CHECK(rc == 0 && same_surface(&out, &again), "%s: second run differs", name);
+    CHECKF(rc == 0 && same_surface(&out, &again), "%s: second run differs", name);
     vc_surface_free(&again);
 
     rc = vc_surface_check(&out, &r1, &err);
-    CHECK(rc == 0, "%s: check of the result: %s", name, err.msg);
-    CHECK(r1.n_boundary_edges == r0.n_boundary_edges && r1.n_nonmanifold_edges == r0.n_nonmanifold_edges,
+    CHECKF(rc == 0, "%s: check of the result: %s", name, err.msg);
+    CHECKF(r1.n_boundary_edges == r0.n_boundary_edges && r1.n_nonmanifold_edges == r0.n_nonmanifold_edges,
           "%s: boundary %lld -> %lld, non-manifold %lld -> %lld", name, (long long)r0.n_boundary_edges,
           (long long)r1.n_boundary_edges, (long long)r0.n_nonmanifold_edges, (long long)r1.n_nonmanifold_edges);
-    CHECK(r1.n_inconsistent_edges == 0 || r0.n_inconsistent_edges != 0, "%s: %lld inconsistent edges", name,
+    CHECKF(r1.n_inconsistent_edges == 0 || r0.n_inconsistent_edges != 0, "%s: %lld inconsistent edges", name,
           (long long)r1.n_inconsistent_edges);
-    CHECK(r1.euler == r0.euler && r1.n_components == r0.n_components, "%s: Euler %lld -> %lld", name,
+    CHECKF(r1.euler == r0.euler && r1.n_components == r0.n_components, "%s: Euler %lld -> %lld", name,
           (long long)r0.euler, (long long)r1.euler);
-    CHECK(r1.n_degenerate == 0 || r0.n_degenerate != 0, "%s: %lld degenerate triangles", name,
+    CHECKF(r1.n_degenerate == 0 || r0.n_degenerate != 0, "%s: %lld degenerate triangles", name,
           (long long)r1.n_degenerate);
-    CHECK(out.n_vertices >= s->n_vertices, "%s: vertices lost", name);
+    CHECKF(out.n_vertices >= s->n_vertices, "%s: vertices lost", name);
     r->volume_change = fabs(r1.volume - r0.volume) / r0.volume;
-    CHECK(r->volume_change <= max_volume_change, "%s: volume %.6g -> %.6g", name, r0.volume, r1.volume);
-    CHECK((r0.signed_volume > 0) == (r1.signed_volume > 0), "%s: orientation flipped", name);
+    CHECKF(r->volume_change <= max_volume_change, "%s: volume %.6g -> %.6g", name, r0.volume, r1.volume);
+    CHECKF((r0.signed_volume > 0) == (r1.signed_volume > 0), "%s: orientation flipped", name);
 
     rc = vc_features_detect(&out, theta, &g, &err);
-    CHECK(rc == 0, "%s: features of the result: %s", name, err.msg);
+    CHECKF(rc == 0, "%s: features of the result: %s", name, err.msg);
     if (rc == 0) {
-        CHECK(g.n_corners == f.n_corners && g.n_creases == f.n_creases && g.n_closed_creases == f.n_closed_creases &&
+        CHECKF(g.n_corners == f.n_corners && g.n_creases == f.n_creases && g.n_closed_creases == f.n_closed_creases &&
                   g.n_patches == f.n_patches,
               "%s: corners %lld -> %lld, creases %lld -> %lld (closed %lld -> %lld), patches %lld -> %lld", name,
               (long long)f.n_corners, (long long)g.n_corners, (long long)f.n_creases, (long long)g.n_creases,
               (long long)f.n_closed_creases, (long long)g.n_closed_creases, (long long)f.n_patches,
               (long long)g.n_patches);
-        CHECK(g.n_sharp_edges >= f.n_sharp_edges, "%s: sharp edges %lld -> %lld", name, (long long)f.n_sharp_edges,
+        CHECKF(g.n_sharp_edges >= f.n_sharp_edges, "%s: sharp edges %lld -> %lld", name, (long long)f.n_sharp_edges,
               (long long)g.n_sharp_edges);
         int64_t moved = 0, lost = 0;
         for (int64_t v = 0; v < s->n_vertices; v++) {
@@ -229,7 +219,7 @@ static void check_smoothing(const char *name, const vc_surface *s, double theta,
             if (!g.vertex_corner[v])
                 lost++;
         }
-        CHECK(moved == 0 && lost == 0, "%s: %lld corners moved, %lld no longer corners", name, (long long)moved,
+        CHECKF(moved == 0 && lost == 0, "%s: %lld corners moved, %lld no longer corners", name, (long long)moved,
               (long long)lost);
         /* The smallest angle can sit where the features pin the surface
          * (a bend ending at a corner): it must not get worse; the length
@@ -237,9 +227,9 @@ static void check_smoothing(const char *name, const vc_surface *s, double theta,
         double bent0, bent1;
         r->min_before = patch_dihedral(&f, s, &bent0);
         r->min_after = patch_dihedral(&g, &out, &bent1);
-        CHECK(r->min_after >= r->min_before, "%s: min dihedral in patches %.3f -> %.3f", name, r->min_before,
+        CHECKF(r->min_after >= r->min_before, "%s: min dihedral in patches %.3f -> %.3f", name, r->min_before,
               r->min_after);
-        CHECK(bent0 == 0 || bent1 < bent0, "%s: bent length %.4g -> %.4g", name, bent0, bent1);
+        CHECKF(bent0 == 0 || bent1 < bent0, "%s: bent length %.4g -> %.4g", name, bent0, bent1);
         r->triangles = out.n_triangles;
         printf("%-16s theta %4.0f: triangles %7lld -> %8lld, vertices %7lld -> %8lld, min patch dihedral %7.3f -> "
                "%7.3f deg, bent (<170) length %.4g -> %.4g, volume %+.3f%%, corners %lld, creases %lld, %.2f s\n",
@@ -270,7 +260,7 @@ static void test_models(const char *models)
         vc_surface s;
         vc_error err = {0};
         if (vc_surface_read(path, &s, NULL, &err)) {
-            CHECK(0, "%s: %s", path, err.msg);
+            CHECKF(0, "%s: %s", path, err.msg);
             continue;
         }
         result r;
@@ -281,7 +271,7 @@ static void test_models(const char *models)
             vc_surface out;
             if (vc_features_detect(&s, cases[i].theta, &f, &err) == 0) {
                 int rc = vc_surface_smooth(&s, &f, 6, 175, &out, &err);
-                CHECK(rc == 0 && same_surface(&s, &out), "%s: changed", cases[i].file);
+                CHECKF(rc == 0 && same_surface(&s, &out), "%s: changed", cases[i].file);
                 vc_surface_free(&out);
                 vc_features_free(&f);
             }
@@ -302,12 +292,12 @@ static void test_icosahedron(void)
      * non-adjacent triangles around a vertex differ by 70.5 degrees); at
      * 80 nothing is sharp. */
     int rc = vc_features_detect(&b.s, 80, &f, &err);
-    CHECK(rc == 0 && f.n_corners == 0 && f.n_sharp_edges == 0, "icosahedron: %lld corners", (long long)f.n_corners);
+    CHECKF(rc == 0 && f.n_corners == 0 && f.n_sharp_edges == 0, "icosahedron: %lld corners", (long long)f.n_corners);
     if (rc)
         return;
     vc_surface out;
     rc = vc_surface_smooth(&b.s, &f, 1, 175, &out, &err);
-    CHECK(rc == 0 && out.n_triangles == 80 && out.n_vertices == 42, "icosahedron: one round gives %lld triangles",
+    CHECKF(rc == 0 && out.n_triangles == 80 && out.n_vertices == 42, "icosahedron: one round gives %lld triangles",
           (long long)out.n_triangles);
     if (rc == 0) {
         /* Vertex rule, valence 5: v' = (1 - 5 beta) v + beta sum; by
@@ -319,7 +309,7 @@ static void test_icosahedron(void)
         for (int v = 0; v < 12; v++)
             for (int k = 0; k < 3; k++)
                 err_v = fmax(err_v, fabs(out.xyz[3 * v + k] - scale * b.s.xyz[3 * v + k]));
-        CHECK(err_v < 1e-12, "icosahedron: vertex rule off by %g", err_v);
+        CHECKF(err_v < 1e-12, "icosahedron: vertex rule off by %g", err_v);
         /* Edge points: all at the same distance from the centre. */
         double r0 = -1, spread = 0;
         for (int64_t v = 12; v < out.n_vertices; v++) {
@@ -332,7 +322,7 @@ static void test_icosahedron(void)
         /* Edge a b with opposite c d: 3/4 (mid of a b) + 1/4 (mid of c d);
          * |a + b| = 2 cos(31.72 deg), c + d = (a + b) * (cos of c, d to
          * the edge mid axis) -> checked through the spread and a value. */
-        CHECK(spread < 1e-12, "icosahedron: edge points spread %g", spread);
+        CHECKF(spread < 1e-12, "icosahedron: edge points spread %g", spread);
         vc_surface_free(&out);
     }
     vc_features_free(&f);
@@ -351,17 +341,17 @@ static void test_prism(void)
     vc_features f;
     vc_error err = {0};
     int rc = vc_features_detect(&b.s, 60, &f, &err);
-    CHECK(rc == 0 && f.n_corners == 0 && f.n_creases == 2 && f.n_closed_creases == 2 && f.n_patches == 3,
+    CHECKF(rc == 0 && f.n_corners == 0 && f.n_creases == 2 && f.n_closed_creases == 2 && f.n_patches == 3,
           "prism: %lld corners, %lld creases", (long long)f.n_corners, (long long)f.n_creases);
     if (rc)
         return;
     vc_surface out;
     rc = vc_surface_smooth(&b.s, &f, 6, 175, &out, &err);
-    CHECK(rc == 0, "prism: %s", err.msg);
+    CHECKF(rc == 0, "prism: %s", err.msg);
     if (rc == 0) {
         vc_features g;
         rc = vc_features_detect(&out, 60, &g, &err);
-        CHECK(rc == 0 && g.n_creases == 2 && g.n_closed_creases == 2 && g.n_corners == 0, "prism after: %lld creases",
+        CHECKF(rc == 0 && g.n_creases == 2 && g.n_closed_creases == 2 && g.n_corners == 0, "prism after: %lld creases",
               (long long)g.n_creases);
         if (rc == 0) {
             /* The creases stay in their cap planes and inside the input
@@ -380,7 +370,7 @@ static void test_prism(void)
             }
             /* Cubic B-spline of the regular 12-gon: radius between
              * (2 + cos 30) / 3 = 0.9553 and the polygon. */
-            CHECK(off == 0 && rmin > 0.955, "prism: %lld crease vertices off their plane, min radius %.4f",
+            CHECKF(off == 0 && rmin > 0.955, "prism: %lld crease vertices off their plane, min radius %.4f",
                   (long long)off, rmin);
             printf("prism 12: triangles %lld -> %lld, crease radius min %.4f, min patch dihedral %.3f -> %.3f\n",
                    (long long)b.s.n_triangles, (long long)out.n_triangles, rmin, min_patch_dihedral(&f),
@@ -406,23 +396,23 @@ static void test_bad_parameters(void)
         return;
     vc_surface out;
     int rc = vc_surface_smooth(&b.s, &f, -1, 175, &out, &err);
-    CHECK(rc == VC_EPARAM && out.xyz == NULL && strstr(err.msg, "iterations"), "iterations -1: %d", rc);
+    CHECKF(rc == VC_EPARAM && out.xyz == NULL && strstr(err.msg, "iterations"), "iterations -1: %d", rc);
     rc = vc_surface_smooth(&b.s, &f, VC_SMOOTH_MAX_ITERATIONS + 1, 175, &out, &err);
-    CHECK(rc == VC_EPARAM, "too many iterations: %d", rc);
+    CHECKF(rc == VC_EPARAM, "too many iterations: %d", rc);
     const double bad[] = {0, -5, 180.5, NAN, INFINITY};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         rc = vc_surface_smooth(&b.s, &f, 6, bad[i], &out, &err);
-        CHECK(rc == VC_EPARAM && out.xyz == NULL && strstr(err.msg, "flat angle"), "flat angle %g: %d", bad[i], rc);
+        CHECKF(rc == VC_EPARAM && out.xyz == NULL && strstr(err.msg, "flat angle"), "flat angle %g: %d", bad[i], rc);
     }
     rc = vc_surface_smooth(&b.s, NULL, 6, 175, &out, &err);
-    CHECK(rc == VC_EPARAM, "no features: %d", rc);
+    CHECKF(rc == VC_EPARAM, "no features: %d", rc);
     b.s.n_triangles--;
     rc = vc_surface_smooth(&b.s, &f, 6, 175, &out, &err);
-    CHECK(rc == VC_EPARAM && strstr(err.msg, "another surface"), "features of another surface: %d %s", rc, err.msg);
+    CHECKF(rc == VC_EPARAM && strstr(err.msg, "another surface"), "features of another surface: %d %s", rc, err.msg);
     b.s.n_triangles++;
     /* 180: uniform Loop, every triangle refined each round. */
     rc = vc_surface_smooth(&b.s, &f, 2, 180, &out, &err);
-    CHECK(rc == 0 && out.n_triangles == 320, "flat angle 180: %lld triangles", (long long)out.n_triangles);
+    CHECKF(rc == 0 && out.n_triangles == 320, "flat angle 180: %lld triangles", (long long)out.n_triangles);
     vc_surface_free(&out);
     vc_features_free(&f);
     free(b.s.xyz);
@@ -439,21 +429,21 @@ static void test_open(void)
     vc_features f;
     vc_error err = {0};
     if (vc_features_detect(&b.s, 80, &f, &err) == 0) {
-        CHECK(f.n_boundary_edges == 3 && f.n_corners == 3, "open: %lld boundary edges, %lld corners",
+        CHECKF(f.n_boundary_edges == 3 && f.n_corners == 3, "open: %lld boundary edges, %lld corners",
               (long long)f.n_boundary_edges, (long long)f.n_corners);
         vc_surface out;
         int rc = vc_surface_smooth(&b.s, &f, 6, 175, &out, &err);
-        CHECK(rc == 0, "open: %s", err.msg);
+        CHECKF(rc == 0, "open: %s", err.msg);
         if (rc == 0) {
             vc_surface_report r;
             memset(&r, 0, sizeof r);
             rc = vc_surface_check(&out, &r, &err);
-            CHECK(rc == 0 && r.n_boundary_edges > 3 && r.n_nonmanifold_edges == 0 && r.n_inconsistent_edges == 0 &&
+            CHECKF(rc == 0 && r.n_boundary_edges > 3 && r.n_nonmanifold_edges == 0 && r.n_inconsistent_edges == 0 &&
                       r.euler == 1,
                   "open: boundary %lld, euler %lld", (long long)r.n_boundary_edges, (long long)r.euler);
             vc_features g;
             if (vc_features_detect(&out, 80, &g, &err) == 0) {
-                CHECK(g.n_corners == 3 && g.n_creases == 3, "open after: %lld corners %lld creases",
+                CHECKF(g.n_corners == 3 && g.n_creases == 3, "open after: %lld corners %lld creases",
                       (long long)g.n_corners, (long long)g.n_creases);
                 vc_features_free(&g);
             }
@@ -475,7 +465,7 @@ int main(void)
     if (models)
         test_models(models);
     else
-        CHECK(0, "VC_MODELS is not set");
+        CHECKF(0, "VC_MODELS is not set");
     if (failures) {
         fprintf(stderr, "%d failure(s)\n", failures);
         return 1;

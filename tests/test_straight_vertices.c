@@ -16,15 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-
-#define CHECK(cond)                                                                   \
-    do {                                                                              \
-        if (!(cond)) {                                                                \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                               \
-        }                                                                             \
-    } while (0)
+#include "test_check.h"
 
 /* Corner (i, j, k) of the two-cube block, i in 0..2, j, k in 0..1. */
 static int64_t corner(int i, int j, int k) { return i * 4 + j * 2 + k; }

@@ -10,22 +10,13 @@
 
 #include "vorocrust/surface.h"
 
+#include "test_check.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
 
-static int failures = 0;
 static const char *tmpdir = ".";
-
-#define CHECK(cond, ...)                                                   \
-    do {                                                                   \
-        if (!(cond)) {                                                     \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond); \
-            fprintf(stderr, __VA_ARGS__);                                  \
-            fputc('\n', stderr);                                           \
-            failures++;                                                    \
-        }                                                                  \
-    } while (0)
 
 static const char *tmp_path(const char *name)
 {
@@ -67,7 +58,7 @@ static int read_ok(const char *path, vc_surface *s, vc_surface_report *r)
 {
     vc_error err = {0, ""};
     int rc = vc_surface_read(path, s, r, &err);
-    CHECK(rc == 0, "%s: unexpected failure: %s", path, err.msg);
+    CHECKF(rc == 0, "%s: unexpected failure: %s", path, err.msg);
     return rc == 0;
 }
 
@@ -79,11 +70,11 @@ static void read_fails(const char *path, int code, const char *needle)
     vc_surface_report r;
     vc_error err = {0, ""};
     int rc = vc_surface_read(path, &s, &r, &err);
-    CHECK(rc == code, "%s: code %d, expected %d (%s)", path, rc, code, err.msg);
-    CHECK(strstr(err.msg, path) == err.msg, "message does not start with the file: %s", err.msg);
-    CHECK(strstr(err.msg, needle) != NULL, "message lacks '%s': %s", needle, err.msg);
-    CHECK(!strchr(err.msg, '\n'), "message is not one line: %s", err.msg);
-    CHECK(s.xyz == NULL && s.tri == NULL && s.n_triangles == 0, "%s: output not empty on failure", path);
+    CHECKF(rc == code, "%s: code %d, expected %d (%s)", path, rc, code, err.msg);
+    CHECKF(strstr(err.msg, path) == err.msg, "message does not start with the file: %s", err.msg);
+    CHECKF(strstr(err.msg, needle) != NULL, "message lacks '%s': %s", needle, err.msg);
+    CHECKF(!strchr(err.msg, '\n'), "message is not one line: %s", err.msg);
+    CHECKF(s.xyz == NULL && s.tri == NULL && s.n_triangles == 0, "%s: output not empty on failure", path);
     if (rc == 0)
         vc_surface_free(&s);
 }
@@ -118,35 +109,35 @@ static void test_models(const char *models)
         if (!read_ok(path, &s, &r))
             continue;
         vc_error err = {0, ""};
-        CHECK(r.n_boundary_edges == 0 && vc_surface_require_closed(&r, &err) == 0, "%s: not closed", c->file);
-        CHECK(r.n_nonmanifold_edges == 0, "%s: %lld non-manifold edges", c->file, (long long)r.n_nonmanifold_edges);
-        CHECK(r.n_inconsistent_edges == 0, "%s: inconsistent orientation", c->file);
-        CHECK(r.n_degenerate == 0, "%s: %lld degenerate", c->file, (long long)r.n_degenerate);
-        CHECK(r.n_components == 1, "%s: %lld components", c->file, (long long)r.n_components);
-        CHECK(r.euler == c->euler, "%s: Euler %lld, expected %lld", c->file, (long long)r.euler, (long long)c->euler);
-        CHECK(r.closed_manifold && r.genus == (2 - c->euler) / 2, "%s: genus %lld", c->file, (long long)r.genus);
-        CHECK(r.volume > 0, "%s: volume %g", c->file, r.volume);
+        CHECKF(r.n_boundary_edges == 0 && vc_surface_require_closed(&r, &err) == 0, "%s: not closed", c->file);
+        CHECKF(r.n_nonmanifold_edges == 0, "%s: %lld non-manifold edges", c->file, (long long)r.n_nonmanifold_edges);
+        CHECKF(r.n_inconsistent_edges == 0, "%s: inconsistent orientation", c->file);
+        CHECKF(r.n_degenerate == 0, "%s: %lld degenerate", c->file, (long long)r.n_degenerate);
+        CHECKF(r.n_components == 1, "%s: %lld components", c->file, (long long)r.n_components);
+        CHECKF(r.euler == c->euler, "%s: Euler %lld, expected %lld", c->file, (long long)r.euler, (long long)c->euler);
+        CHECKF(r.closed_manifold && r.genus == (2 - c->euler) / 2, "%s: genus %lld", c->file, (long long)r.genus);
+        CHECKF(r.volume > 0, "%s: volume %g", c->file, r.volume);
         if (c->volume > 0)
-            CHECK(fabs(r.volume - c->volume) <= c->rel_tol * c->volume, "%s: volume %.12g, expected %.12g",
+            CHECKF(fabs(r.volume - c->volume) <= c->rel_tol * c->volume, "%s: volume %.12g, expected %.12g",
                   c->file, r.volume, c->volume);
-        CHECK(r.n_polygons_triangulated == c->polygons, "%s: %lld polygons triangulated", c->file,
+        CHECKF(r.n_polygons_triangulated == c->polygons, "%s: %lld polygons triangulated", c->file,
               (long long)r.n_polygons_triangulated);
         if (c->polygons)
-            CHECK(has_warning(&r, "6 non-triangle faces triangulated"), "%s: no triangulation warning", c->file);
-        CHECK(r.n_vertices == s.n_vertices && r.n_triangles == s.n_triangles, "%s: report counts", c->file);
-        CHECK(r.euler == r.n_vertices - r.n_edges + r.n_triangles, "%s: Euler formula", c->file);
+            CHECKF(has_warning(&r, "6 non-triangle faces triangulated"), "%s: no triangulation warning", c->file);
+        CHECKF(r.n_vertices == s.n_vertices && r.n_triangles == s.n_triangles, "%s: report counts", c->file);
+        CHECKF(r.euler == r.n_vertices - r.n_edges + r.n_triangles, "%s: Euler formula", c->file);
         for (int k = 0; k < 3; k++)
-            CHECK(r.bbox[k] <= r.bbox[k + 3], "%s: bbox", c->file);
+            CHECKF(r.bbox[k] <= r.bbox[k + 3], "%s: bbox", c->file);
 
         /* Cross-check against OpenMesh's readers (float coordinates). */
         setenv("VC_SURFACE_READER", "openmesh", 1);
         if (read_ok(path, &t, &q)) {
-            CHECK(strcmp(q.reader, "OpenMesh") == 0, "%s: reader %s", c->file, q.reader);
-            CHECK(q.n_vertices == r.n_vertices && q.n_triangles == r.n_triangles && q.euler == r.euler,
+            CHECKF(strcmp(q.reader, "OpenMesh") == 0, "%s: reader %s", c->file, q.reader);
+            CHECKF(q.n_vertices == r.n_vertices && q.n_triangles == r.n_triangles && q.euler == r.euler,
                   "%s: OpenMesh reads V=%lld T=%lld chi=%lld, ours V=%lld T=%lld chi=%lld", c->file,
                   (long long)q.n_vertices, (long long)q.n_triangles, (long long)q.euler,
                   (long long)r.n_vertices, (long long)r.n_triangles, (long long)r.euler);
-            CHECK(fabs(q.volume - r.volume) <= 1e-5 * r.volume, "%s: OpenMesh volume %.9g vs %.9g", c->file,
+            CHECKF(fabs(q.volume - r.volume) <= 1e-5 * r.volume, "%s: OpenMesh volume %.9g vs %.9g", c->file,
                   q.volume, r.volume);
             vc_surface_free(&t);
         }
@@ -251,20 +242,20 @@ static void check_box(const char *path, double tol, int64_t polygons, int64_t du
     vc_surface_report r;
     if (!read_ok(path, &s, &r))
         return;
-    CHECK(r.n_vertices == 8 && r.n_triangles == 12, "%s: V=%lld T=%lld", path, (long long)r.n_vertices,
+    CHECKF(r.n_vertices == 8 && r.n_triangles == 12, "%s: V=%lld T=%lld", path, (long long)r.n_vertices,
           (long long)r.n_triangles);
-    CHECK(r.n_boundary_edges == 0 && r.n_nonmanifold_edges == 0 && r.n_inconsistent_edges == 0,
+    CHECKF(r.n_boundary_edges == 0 && r.n_nonmanifold_edges == 0 && r.n_inconsistent_edges == 0,
           "%s: topology %lld/%lld/%lld", path, (long long)r.n_boundary_edges, (long long)r.n_nonmanifold_edges,
           (long long)r.n_inconsistent_edges);
-    CHECK(r.euler == 2 && r.genus == 0 && r.n_components == 1, "%s: chi=%lld", path, (long long)r.euler);
-    CHECK(r.signed_volume > 0 && fabs(r.volume - BOX_VOLUME) <= tol * BOX_VOLUME, "%s: volume %.17g", path,
+    CHECKF(r.euler == 2 && r.genus == 0 && r.n_components == 1, "%s: chi=%lld", path, (long long)r.euler);
+    CHECKF(r.signed_volume > 0 && fabs(r.volume - BOX_VOLUME) <= tol * BOX_VOLUME, "%s: volume %.17g", path,
           r.signed_volume);
-    CHECK(r.n_polygons_triangulated == polygons, "%s: %lld polygons", path, (long long)r.n_polygons_triangulated);
-    CHECK(r.n_duplicate_vertices == duplicates, "%s: %lld duplicates merged", path,
+    CHECKF(r.n_polygons_triangulated == polygons, "%s: %lld polygons", path, (long long)r.n_polygons_triangulated);
+    CHECKF(r.n_duplicate_vertices == duplicates, "%s: %lld duplicates merged", path,
           (long long)r.n_duplicate_vertices);
-    CHECK(r.n_warnings == (polygons ? 1 : 0), "%s: %d warnings (%s)", path, r.n_warnings,
+    CHECKF(r.n_warnings == (polygons ? 1 : 0), "%s: %d warnings (%s)", path, r.n_warnings,
           r.n_warnings ? r.warnings[0] : "");
-    CHECK(fabs(r.bbox[3] - 0.2) < tol && fabs(r.bbox[4] - 0.5) < tol && fabs(r.bbox[5] - 0.3) < tol, "%s: bbox",
+    CHECKF(fabs(r.bbox[3] - 0.2) < tol && fabs(r.bbox[4] - 0.5) < tol && fabs(r.bbox[5] - 0.3) < tol, "%s: bbox",
           path);
     vc_surface_free(&s);
 }
@@ -459,38 +450,38 @@ static void test_bad_inputs(void)
     const char *path = box_obj("degenerate.obj", -1, 99, 99,
                                "v 5 0 0\nv 6 0 0\nv 7 0 0\nf 9 10 11\nf 1 1 2\nv 9 9 9\n");
     if (read_ok(path, &s, &r)) {
-        CHECK(r.n_degenerate == 1, "degenerate %lld", (long long)r.n_degenerate);
-        CHECK(r.n_collapsed == 1, "collapsed %lld", (long long)r.n_collapsed);
-        CHECK(r.n_unused_vertices == 1, "unused %lld", (long long)r.n_unused_vertices);
-        CHECK(r.n_triangles == 13 && r.n_vertices == 11, "T=%lld V=%lld", (long long)r.n_triangles,
+        CHECKF(r.n_degenerate == 1, "degenerate %lld", (long long)r.n_degenerate);
+        CHECKF(r.n_collapsed == 1, "collapsed %lld", (long long)r.n_collapsed);
+        CHECKF(r.n_unused_vertices == 1, "unused %lld", (long long)r.n_unused_vertices);
+        CHECKF(r.n_triangles == 13 && r.n_vertices == 11, "T=%lld V=%lld", (long long)r.n_triangles,
               (long long)r.n_vertices);
-        CHECK(r.n_components == 2, "components %lld", (long long)r.n_components);
-        CHECK(has_warning(&r, "1 degenerate (zero-area) triangles"), "no degenerate warning");
-        CHECK(has_warning(&r, "1 triangles repeat a vertex"), "no collapsed warning");
-        CHECK(has_warning(&r, "1 vertices used by no face"), "no unused warning");
-        CHECK(r.n_boundary_edges == 3, "boundary %lld", (long long)r.n_boundary_edges);
+        CHECKF(r.n_components == 2, "components %lld", (long long)r.n_components);
+        CHECKF(has_warning(&r, "1 degenerate (zero-area) triangles"), "no degenerate warning");
+        CHECKF(has_warning(&r, "1 triangles repeat a vertex"), "no collapsed warning");
+        CHECKF(has_warning(&r, "1 vertices used by no face"), "no unused warning");
+        CHECKF(r.n_boundary_edges == 3, "boundary %lld", (long long)r.n_boundary_edges);
         vc_surface_free(&s);
     }
 
     /* Open surface: the box without its top (triangles 2, 3). */
     path = box_obj("open.obj", -1, 2, 3, NULL);
     if (read_ok(path, &s, &r)) {
-        CHECK(r.n_boundary_edges == 4, "boundary %lld", (long long)r.n_boundary_edges);
-        CHECK(!r.closed_manifold && r.genus == -1, "open surface reported closed");
-        CHECK(r.euler == 1, "chi %lld", (long long)r.euler);
-        CHECK(has_warning(&r, "4 open boundary edges (surface is not closed)"), "no boundary warning");
+        CHECKF(r.n_boundary_edges == 4, "boundary %lld", (long long)r.n_boundary_edges);
+        CHECKF(!r.closed_manifold && r.genus == -1, "open surface reported closed");
+        CHECKF(r.euler == 1, "chi %lld", (long long)r.euler);
+        CHECKF(has_warning(&r, "4 open boundary edges (surface is not closed)"), "no boundary warning");
         int rc = vc_surface_require_closed(&r, &err);
-        CHECK(rc == VC_EINPUT, "require_closed returned %d", rc);
-        CHECK(strstr(err.msg, path) == err.msg && strstr(err.msg, "4 open boundary edges"), "message: %s", err.msg);
+        CHECKF(rc == VC_EINPUT, "require_closed returned %d", rc);
+        CHECKF(strstr(err.msg, path) == err.msg && strstr(err.msg, "4 open boundary edges"), "message: %s", err.msg);
         vc_surface_free(&s);
     }
 
     /* Inconsistent orientation: one triangle flipped -> its 3 edges. */
     path = box_obj("flipped.obj", 5, 99, 99, NULL);
     if (read_ok(path, &s, &r)) {
-        CHECK(r.n_inconsistent_edges == 3, "inconsistent %lld", (long long)r.n_inconsistent_edges);
-        CHECK(r.n_boundary_edges == 0 && r.n_triangles == 12, "flipped triangle lost");
-        CHECK(has_warning(&r, "3 inconsistently oriented edges"), "no orientation warning");
+        CHECKF(r.n_inconsistent_edges == 3, "inconsistent %lld", (long long)r.n_inconsistent_edges);
+        CHECKF(r.n_boundary_edges == 0 && r.n_triangles == 12, "flipped triangle lost");
+        CHECKF(has_warning(&r, "3 inconsistently oriented edges"), "no orientation warning");
         vc_surface_free(&s);
     }
 
@@ -508,9 +499,9 @@ static void test_bad_inputs(void)
         path = write_file("inward.off", b.s, b.n);
         free(b.s);
         if (read_ok(path, &s, &r)) {
-            CHECK(r.signed_volume < 0 && fabs(r.volume - BOX_VOLUME) < 1e-14, "inward volume %g", r.signed_volume);
-            CHECK(has_warning(&r, "oriented inward"), "no inward warning");
-            CHECK(r.n_inconsistent_edges == 0, "inward box inconsistent");
+            CHECKF(r.signed_volume < 0 && fabs(r.volume - BOX_VOLUME) < 1e-14, "inward volume %g", r.signed_volume);
+            CHECKF(has_warning(&r, "oriented inward"), "no inward warning");
+            CHECKF(r.n_inconsistent_edges == 0, "inward box inconsistent");
             vc_surface_free(&s);
         }
     }
@@ -543,20 +534,20 @@ static void test_bad_inputs(void)
         path = write_file("nonmanifold.obj", b.s, b.n);
         free(b.s);
         if (read_ok(path, &s, &r)) {
-            CHECK(r.n_triangles == 8, "non-manifold faces dropped: %lld triangles", (long long)r.n_triangles);
-            CHECK(r.n_nonmanifold_edges == 1, "non-manifold %lld", (long long)r.n_nonmanifold_edges);
-            CHECK(r.n_boundary_edges == 0 && r.n_inconsistent_edges == 0, "boundary %lld inconsistent %lld",
+            CHECKF(r.n_triangles == 8, "non-manifold faces dropped: %lld triangles", (long long)r.n_triangles);
+            CHECKF(r.n_nonmanifold_edges == 1, "non-manifold %lld", (long long)r.n_nonmanifold_edges);
+            CHECKF(r.n_boundary_edges == 0 && r.n_inconsistent_edges == 0, "boundary %lld inconsistent %lld",
                   (long long)r.n_boundary_edges, (long long)r.n_inconsistent_edges);
-            CHECK(!r.closed_manifold && r.genus == -1, "non-manifold reported manifold");
-            CHECK(fabs(r.volume - 2.0 / 6.0) < 1e-14, "volume %g", r.volume);
-            CHECK(has_warning(&r, "1 non-manifold edges"), "no non-manifold warning");
-            CHECK(vc_surface_require_closed(&r, &err) == 0, "closed non-manifold refused");
+            CHECKF(!r.closed_manifold && r.genus == -1, "non-manifold reported manifold");
+            CHECKF(fabs(r.volume - 2.0 / 6.0) < 1e-14, "volume %g", r.volume);
+            CHECKF(has_warning(&r, "1 non-manifold edges"), "no non-manifold warning");
+            CHECKF(vc_surface_require_closed(&r, &err) == 0, "closed non-manifold refused");
             vc_surface_free(&s);
         }
         /* The same through OpenMesh: the recording importer keeps them. */
         setenv("VC_SURFACE_READER", "openmesh", 1);
         if (read_ok(path, &s, &r)) {
-            CHECK(r.n_triangles == 8 && r.n_nonmanifold_edges == 1, "OpenMesh path: T=%lld nm=%lld",
+            CHECKF(r.n_triangles == 8 && r.n_nonmanifold_edges == 1, "OpenMesh path: T=%lld nm=%lld",
                   (long long)r.n_triangles, (long long)r.n_nonmanifold_edges);
             vc_surface_free(&s);
         }
@@ -570,11 +561,11 @@ static void test_bad_inputs(void)
         vc_surface m = {3, xyz, 1, tri};
         vc_surface_report rr;
         memset(&rr, 0, sizeof rr);
-        CHECK(vc_surface_check(&m, &rr, &err) == VC_EINPUT && strstr(err.msg, "refers to vertex 4"),
+        CHECKF(vc_surface_check(&m, &rr, &err) == VC_EINPUT && strstr(err.msg, "refers to vertex 4"),
               "bad index: %s", err.msg);
         tri[2] = 2;
         memset(&rr, 0, sizeof rr);
-        CHECK(vc_surface_check(&m, &rr, &err) == 0 && rr.n_boundary_edges == 3 && rr.euler == 1,
+        CHECKF(vc_surface_check(&m, &rr, &err) == 0 && rr.n_boundary_edges == 3 && rr.euler == 1,
               "single triangle: boundary %lld", (long long)rr.n_boundary_edges);
     }
     vc_surface_free(NULL);

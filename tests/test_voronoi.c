@@ -9,20 +9,11 @@
 #include "vorocrust/random.h"
 #include "vorocrust/voronoi.h"
 
+#include "test_check.h"
+
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
-
-static int failures = 0;
-#define CHECK(cond, ...)                                   \
-    do {                                                   \
-        if (!(cond)) {                                     \
-            failures++;                                    \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                  \
-            fprintf(stderr, "\n");                         \
-        }                                                  \
-    } while (0)
 
 static double total_volume(const vc_polymesh *m)
 {
@@ -45,15 +36,15 @@ static int build_checked(const char *name, const vc_seeds *s, const double *box,
     opt.threads = threads;
     vc_error err = {0, ""};
     int rc = vc_voronoi_build(s, &opt, m, &err);
-    CHECK(rc == 0, "%s: build failed: %s", name, err.msg);
+    CHECKF(rc == 0, "%s: build failed: %s", name, err.msg);
     if (rc)
         return rc;
     char report[4096];
     int64_t problems = vc_polymesh_validate(m, 0, report, sizeof report);
-    CHECK(problems == 0, "%s: %lld validation problems:\n%s", name, (long long)problems, report);
+    CHECKF(problems == 0, "%s: %lld validation problems:\n%s", name, (long long)problems, report);
     if (expected_volume > 0) {
         double v = total_volume(m);
-        CHECK(fabs(v - expected_volume) <= 1e-9 * expected_volume,
+        CHECKF(fabs(v - expected_volume) <= 1e-9 * expected_volume,
               "%s: volume %.17g, expected %.17g (rel err %.3g)", name, v, expected_volume,
               fabs(v - expected_volume) / expected_volume);
     }
@@ -93,10 +84,10 @@ static void test_random(int64_t n, uint64_t seed)
     char name[64];
     snprintf(name, sizeof name, "random %lld", (long long)n);
     if (build_checked(name, &s, box, 1, 8.0, &m1) == 0) {
-        CHECK(m1.n_cells == n, "random: %lld cells for %lld seeds", (long long)m1.n_cells,
+        CHECKF(m1.n_cells == n, "random: %lld cells for %lld seeds", (long long)m1.n_cells,
               (long long)n);
         if (build_checked(name, &s, box, 2, 8.0, &m2) == 0) {
-            CHECK(same_mesh(&m1, &m2), "random: 1-thread and 2-thread meshes differ");
+            CHECKF(same_mesh(&m1, &m2), "random: 1-thread and 2-thread meshes differ");
             vc_polymesh_free(&m2);
         }
         vc_polymesh_free(&m1);
@@ -119,16 +110,16 @@ static void test_lattice(int k)
     if (build_checked("lattice", &s, box, 2, (double)n, &m) == 0) {
         for (int64_t c = 0; c < m.n_cells; c++) {
             int64_t nf = m.cell_offsets[c + 1] - m.cell_offsets[c];
-            CHECK(nf == 6, "lattice: cell %lld has %lld faces", (long long)c, (long long)nf);
+            CHECKF(nf == 6, "lattice: cell %lld has %lld faces", (long long)c, (long long)nf);
             for (int64_t i = m.cell_offsets[c]; i < m.cell_offsets[c + 1]; i++)
-                CHECK(vc_polymesh_face_size(&m, m.cell_faces[i]) == 4,
+                CHECKF(vc_polymesh_face_size(&m, m.cell_faces[i]) == 4,
                       "lattice: cell %lld has a face with %lld vertices", (long long)c,
                       (long long)vc_polymesh_face_size(&m, m.cell_faces[i]));
-            CHECK(fabs(m.cell_volume[c] - 1.0) < 1e-12, "lattice: cell %lld volume %.17g",
+            CHECKF(fabs(m.cell_volume[c] - 1.0) < 1e-12, "lattice: cell %lld volume %.17g",
                   (long long)c, m.cell_volume[c]);
         }
         int64_t kp1 = k + 1;
-        CHECK(m.n_points == kp1 * kp1 * kp1, "lattice: %lld points, expected %lld",
+        CHECKF(m.n_points == kp1 * kp1 * kp1, "lattice: %lld points, expected %lld",
               (long long)m.n_points, (long long)(kp1 * kp1 * kp1));
         vc_polymesh_free(&m);
     }
@@ -181,7 +172,7 @@ static void test_cospherical(void)
     vc_polymesh m1, m2;
     if (build_checked("co-spherical pairs", &s, NULL, 1, 0, &m1) == 0) {
         if (build_checked("co-spherical pairs (2 threads)", &s, NULL, 2, 0, &m2) == 0) {
-            CHECK(same_mesh(&m1, &m2), "co-spherical: 1-thread and 2-thread meshes differ");
+            CHECKF(same_mesh(&m1, &m2), "co-spherical: 1-thread and 2-thread meshes differ");
             vc_polymesh_free(&m2);
         }
         vc_polymesh_free(&m1);
@@ -252,10 +243,10 @@ static void test_checkerboard(void)
     double box[6] = {0, 0, 0, k, k, k};
     vc_polymesh m;
     if (build_checked("checkerboard", &s, box, 2, (double)n_kept, &m) == 0) {
-        CHECK(m.n_cells == n_kept && m.n_interior_faces == 0,
+        CHECKF(m.n_cells == n_kept && m.n_interior_faces == 0,
               "checkerboard: %lld cells, %lld interior faces", (long long)m.n_cells,
               (long long)m.n_interior_faces);
-        CHECK(m.n_points == corners, "checkerboard: %lld points, expected %lld shared corners",
+        CHECKF(m.n_points == corners, "checkerboard: %lld points, expected %lld shared corners",
               (long long)m.n_points, (long long)corners);
         vc_polymesh_free(&m);
     }
@@ -272,10 +263,10 @@ static void test_single_and_duplicates(void)
     double box[6] = {0, 0, 0, 1, 2, 3};
     vc_polymesh m;
     if (build_checked("single seed", &s, box, 1, 6.0, &m) == 0) {
-        CHECK(m.n_cells == 1 && m.n_faces == 6 && m.n_points == 8,
+        CHECKF(m.n_cells == 1 && m.n_faces == 6 && m.n_points == 8,
               "single: %lld cells %lld faces %lld points", (long long)m.n_cells,
               (long long)m.n_faces, (long long)m.n_points);
-        CHECK(m.n_interior_faces == 0, "single: interior faces");
+        CHECKF(m.n_interior_faces == 0, "single: interior faces");
         vc_polymesh_free(&m);
     }
     vc_seeds_free(&s);
@@ -290,24 +281,24 @@ static void test_single_and_duplicates(void)
     memcpy(opt.box, b1, sizeof b1);
     vc_error err = {0, ""};
     int rc = vc_voronoi_build(&s, &opt, &m, &err);
-    CHECK(rc == VC_EINPUT && strstr(err.msg, "seeds 0 and 2 coincide"),
+    CHECKF(rc == VC_EINPUT && strstr(err.msg, "seeds 0 and 2 coincide"),
           "duplicates: rc %d, message '%s'", rc, err.msg);
     if (rc == 0)
         vc_polymesh_free(&m);
     /* A seed outside the box. */
     s.xyz[6] = 3.0;
     rc = vc_voronoi_build(&s, &opt, &m, &err);
-    CHECK(rc == VC_EINPUT && strstr(err.msg, "outside the box"), "outside: rc %d '%s'", rc,
+    CHECKF(rc == VC_EINPUT && strstr(err.msg, "outside the box"), "outside: rc %d '%s'", rc,
           err.msg);
     /* NaN. */
     s.xyz[6] = NAN;
     rc = vc_voronoi_build(&s, &opt, &m, &err);
-    CHECK(rc == VC_EINPUT && strstr(err.msg, "non-finite"), "nan: rc %d '%s'", rc, err.msg);
+    CHECKF(rc == VC_EINPUT && strstr(err.msg, "non-finite"), "nan: rc %d '%s'", rc, err.msg);
     /* No kept seed. */
     s.xyz[6] = 0.9;
     s.label[0] = s.label[1] = s.label[2] = 0;
     rc = vc_voronoi_build(&s, &opt, &m, &err);
-    CHECK(rc == VC_EINPUT && strstr(err.msg, "no kept seed"), "no kept: rc %d '%s'", rc, err.msg);
+    CHECKF(rc == VC_EINPUT && strstr(err.msg, "no kept seed"), "no kept: rc %d '%s'", rc, err.msg);
     vc_seeds_free(&s);
 }
 
@@ -346,11 +337,11 @@ static void test_no_box(void)
     vc_polymesh m1, m2, m3;
     if (build_checked("no box", &s, NULL, 1, vol, &m1) == 0) {
         if (build_checked("no box, 2 threads", &s, NULL, 2, vol, &m2) == 0) {
-            CHECK(same_mesh(&m1, &m2), "no box: 1-thread and 2-thread meshes differ");
+            CHECKF(same_mesh(&m1, &m2), "no box: 1-thread and 2-thread meshes differ");
             vc_polymesh_free(&m2);
         }
         if (build_checked("no box, explicit box", &s, box, 1, vol, &m3) == 0) {
-            CHECK(same_mesh(&m1, &m3), "no box: differs from the same box given explicitly");
+            CHECKF(same_mesh(&m1, &m3), "no box: differs from the same box given explicitly");
             vc_polymesh_free(&m3);
         }
         vc_polymesh_free(&m1);
@@ -370,14 +361,14 @@ static void test_vorocrust_seeds(void)
     vc_seeds s;
     vc_error err = {0, ""};
     if (vc_seeds_read_csv(path, &s, &err) != 0) {
-        CHECK(0, "%s: %s", path, err.msg);
+        CHECKF(0, "%s: %s", path, err.msg);
         return;
     }
-    CHECK(s.n == 281, "%s: %lld seeds, expected 281", path, (long long)s.n);
+    CHECKF(s.n == 281, "%s: %lld seeds, expected 281", path, (long long)s.n);
     vc_polymesh m1, m2;
     if (build_checked("torus seeds (T-junction)", &s, NULL, 1, 0, &m1) == 0) {
         if (build_checked("torus seeds (T-junction, 2 threads)", &s, NULL, 2, 0, &m2) == 0) {
-            CHECK(same_mesh(&m1, &m2), "torus seeds: 1-thread and 2-thread meshes differ");
+            CHECKF(same_mesh(&m1, &m2), "torus seeds: 1-thread and 2-thread meshes differ");
             vc_polymesh_free(&m2);
         }
         vc_polymesh_free(&m1);
@@ -394,7 +385,7 @@ static void test_vorocrust_seeds(void)
     if (build_checked("torus seeds (all kept, in a box)", &s, box, 1, vol, &m1) == 0) {
         if (build_checked("torus seeds (all kept, in a box, 2 threads)", &s, box, 2, vol, &m2) ==
             0) {
-            CHECK(same_mesh(&m1, &m2), "torus seeds in a box: 1-thread and 2-thread meshes differ");
+            CHECKF(same_mesh(&m1, &m2), "torus seeds in a box: 1-thread and 2-thread meshes differ");
             vc_polymesh_free(&m2);
         }
         vc_polymesh_free(&m1);

@@ -18,16 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-static const char *tmpdir = ".";
+#include "test_check.h"
 
-#define CHECK(cond)                                                              \
-    do {                                                                         \
-        if (!(cond)) {                                                           \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-            ++failures;                                                          \
-        }                                                                        \
-    } while (0)
+static const char *tmpdir = ".";
 
 static char *tmp_path(const char *name)
 {
