@@ -27,6 +27,7 @@
  * enough to read back the same doubles; printf is several times slower),
  * blocks of entries in parallel (OpenMP), written in order. */
 #include "vorocrust/io.h"
+#include "file_mode.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -772,24 +773,6 @@ static int foam_write_polymesh(const char *dir, const char *case_dir, const vc_p
     return VC_OK;
 }
 
-/* The process umask, read without changing it (Linux); 022 elsewhere. */
-static mode_t foam_umask(void)
-{
-    FILE *fp = fopen("/proc/self/status", "r");
-    if (fp) {
-        char line[256];
-        unsigned int mask;
-        while (fgets(line, sizeof line, fp)) {
-            if (sscanf(line, "Umask: %o", &mask) == 1) {
-                fclose(fp);
-                return (mode_t)(mask & 0777);
-            }
-        }
-        fclose(fp);
-    }
-    return 022;
-}
-
 /* Writes the system/ files into the directory dir; with only_missing, the
  * ones that do not exist yet, each through a temporary file. added[i] tells
  * which were written. */
@@ -841,7 +824,7 @@ static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const
         free(stage);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(e));
     }
-    (void)chmod(stage, 0777 & ~foam_umask()); /* mkdtemp gives 0700 */
+    (void)chmod(stage, 0777 & ~vc_io_umask()); /* mkdtemp gives 0700 */
     char *constant = foam_join(stage, "constant");
     char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
     char *system = foam_join(stage, "system");
@@ -924,7 +907,7 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
                 free(stage);
                 stage = NULL;
             } else {
-                (void)chmod(stage, 0777 & ~foam_umask()); /* mkdtemp gives 0700 */
+                (void)chmod(stage, 0777 & ~vc_io_umask()); /* mkdtemp gives 0700 */
             }
         }
     }

@@ -1,6 +1,7 @@
 /* Temporary file next to the target, renamed over it on success: a failed or
  * interrupted run never leaves a half-written output file behind. */
 #include "vorocrust/io.h"
+#include "file_mode.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -10,11 +11,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-/* mkstemp creates the file with mode 0600; the output should get the mode
- * an ordinary fopen would give it (0666 minus the umask). Linux reports the
- * umask in /proc/self/status; elsewhere it can only be read by setting it
- * (briefly changing it for the whole process), so that is the fallback. */
-static mode_t vc_current_umask(void)
+mode_t vc_io_umask(void)
 {
     FILE *fp = fopen("/proc/self/status", "r");
     if (fp) {
@@ -75,7 +72,8 @@ int vc_tmpfile_open(vc_tmpfile *t, const char *path, vc_error *err)
         vc_tmpfile_clear(t);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(e));
     }
-    (void)fchmod(fd, (mode_t)(0666 & ~vc_current_umask()));
+    /* mkstemp gives 0600; the output gets what fopen would give it */
+    (void)fchmod(fd, (mode_t)(0666 & ~vc_io_umask()));
     FILE *fp = fdopen(fd, "wb");
     if (!fp) {
         int e = errno;
