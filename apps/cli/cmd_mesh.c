@@ -637,7 +637,7 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr,
                 "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds; sharp angle %g%s)\n"
                 "  balls: %lld (corner %lld, edge %lld, surface %lld); shrunk for Lipschitz %lld, "
-                "for slivers %lld in %d iterations%s; half-covered seed pairs %lld\n"
+                "for slivers %lld in %d iterations%s, for flat facets %lld; half-covered seed pairs %lld\n"
                 "  surface seeds: %lld (%lld inside, %lld outside)\n"
                 "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
                 "%s, %lld components, %lld T-junction vertices repaired\n"
@@ -651,7 +651,7 @@ int vc_cmd_mesh(int argc, char **argv)
                 (long long)balls.n, (long long)st.n_corner, (long long)st.n_edge,
                 (long long)st.n_surface, (long long)st.n_shrunk_lipschitz,
                 (long long)st.n_shrunk_sliver, st.sliver_iterations,
-                st.safe_mode ? " (safe mode)" : "", (long long)n_half, (long long)n_surface_seeds,
+                st.safe_mode ? " (safe mode)" : "", (long long)st.n_shrunk_flat, (long long)n_half, (long long)n_surface_seeds,
                 (long long)n_inside, (long long)(n_surface_seeds - n_inside), (long long)topo.n_vertices,
                 (long long)topo.n_faces, (long long)topo.n_edges, (long long)topo.euler,
                 (long long)rep.euler,

@@ -3,7 +3,9 @@
  * on every patch; the local Lipschitz condition on the radii; sliver
  * elimination; and, after every shrinking, sampling again around the
  * shrunk balls until the surface is covered and no seed pair is half
- * covered.
+ * covered. Then, a few times, the balls that make the flattest facets
+ * of the reconstructed surface are shrunk a little and the same loop
+ * runs again (unflatten_facets).
  *
  * Coverage rules (6.2.4, 6.2.5): a point of a stratum of dimension k is
  * covered when a ball of a lower dimension holds it, or a ball of the same
@@ -31,6 +33,16 @@
 
 #define MAX_MISSES 100
 #define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
+/* Flat facets (see unflatten_facets): the quality below which a facet is
+ * worked on (the top of the thesis' 0.37 to 0.40 on smooth models), the
+ * largest cut of a radius for it, how far inside the covering ball the
+ * removed facet's seeds must end up (relative to its radius, away from
+ * four co-spherical balls and their near-zero facets), and how many
+ * passes. */
+#define FLAT_Q 0.40
+#define FLAT_MAX_SHRINK 0.2
+#define FLAT_SEED_DEPTH 0.01
+#define FLAT_PASSES 3
 
 typedef struct subface {
     double v[9];   /* a segment (v[0..5]) or a triangle */
@@ -550,16 +562,51 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
  * points covered by a fourth ball, the covering ball that needs the least
  * shrinking is cut to leave the point just outside. */
 
+/* The facets of the reconstructed surface, as triplets of balls. */
+typedef struct facet_rec {
+    int64_t v[3];
+} facet_rec;
+
+typedef struct facet_list {
+    facet_rec *f;
+    int64_t n, cap;
+    int oom;
+} facet_list;
+
+/* a triplet whose two seeds both stay is a facet of the surface */
+static void collect_facet(facet_list *l, const vc_triplet *t)
+{
+    if (l->oom)
+        return;
+    if (l->n == l->cap) {
+        int64_t c = l->cap ? 2 * l->cap : 4096;
+        facet_rec *q = realloc(l->f, sizeof(facet_rec) * (size_t)c);
+        if (!q) {
+            l->oom = 1;
+            return;
+        }
+        l->f = q;
+        l->cap = c;
+    }
+    facet_rec *r = &l->f[l->n++];
+    r->v[0] = t->i;
+    r->v[1] = t->j;
+    r->v[2] = t->k;
+}
+
 typedef struct sliver_ctx {
     const vc_balls *b;
     double *target;
     int64_t n_half;
     double where[3]; /* the first half-covered point found */
+    facet_list *facets; /* the triplets with both seeds uncovered */
 } sliver_ctx;
 
 static void on_triplet(void *ctx, const vc_triplet *t)
 {
     sliver_ctx *c = ctx;
+    if (t->cover_up < 0 && t->cover_down < 0)
+        collect_facet(c->facets, t);
     if ((t->cover_up < 0) == (t->cover_down < 0))
         return;
     int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
@@ -571,21 +618,24 @@ static void on_triplet(void *ctx, const vc_triplet *t)
         c->target[f] = r;
 }
 
+/* Also leaves the facets of the balls as they were before shrinking in
+ * *facets. */
 static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrunk,
-                                 int64_t *n_half, double where[3])
+                                 int64_t *n_half, double where[3], facet_list *facets)
 {
+    facets->n = 0;
     vc_balls *b = &S->bs.b;
     int64_t n = b->n;
     *n_half = 0;
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    sliver_ctx c = {b, NULL, 0, {0, 0, 0}};
+    sliver_ctx c = {b, NULL, 0, {0, 0, 0}, facets};
     c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
     if (!c.target)
         return -1;
     memcpy(c.target, b->radius, sizeof(double) * (size_t)n);
-    if (vc_triplets_scan(&S->bs, on_triplet, &c)) {
+    if (vc_triplets_scan(&S->bs, on_triplet, &c) || facets->oom) {
         free(c.target);
         return -1;
     }
@@ -600,6 +650,161 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     *n_half = c.n_half;
     memcpy(where, c.where, sizeof c.where);
     free(c.target);
+    return changed;
+}
+
+/* ---------------------------------------------------------------------
+ * Flat facets.
+ *
+ * The worst facets of the reconstructed surface are all of one kind: a ball
+ * p wedged in a small gap between the deep-coverage boundaries of larger
+ * balls q1 and q2 (within a few percent of (1 - alpha) r_q from both), so
+ * the facet p q1 q2 has an angle of 130 degrees or more at p. No position
+ * of p in that gap is better, and C4 holds its radius down. The facet on
+ * the other side of q1 q2 has a third ball s; when s holds both seeds of
+ * (p, q1, q2), that facet and the edge q1 q2 go away, and the two facets
+ * become p s q1 and p s q2, far from flat. Growing s would do it but is
+ * nearly always barred by C3 or C4 (s sits at its limits after the
+ * Lipschitz fixes); shrinking q1 or q2 by a few percent does it too and,
+ * like sliver elimination, keeps every ball condition, with the Lipschitz
+ * fixes, sampling again around the shrunk ball and sliver elimination
+ * following as after any shrinking. */
+
+/* Q = 6 S / (sqrt(3) h P) of triangle abc; *apex is the vertex (0..2)
+ * opposite its longest edge. */
+static double triangle_quality(const double *a, const double *b, const double *c, int *apex)
+{
+    double la = dist(b, c), lb = dist(a, c), lc = dist(a, b);
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+           z = u[0] * w[1] - u[1] * w[0];
+    double area = 0.5 * sqrt(x * x + y * y + z * z);
+    double h = fmax(la, fmax(lb, lc));
+    *apex = la >= lb && la >= lc ? 0 : lb >= lc ? 1 : 2;
+    return 6 * area / (sqrt(3.0) * h * 0.5 * (la + lb + lc));
+}
+
+typedef struct edge_rec {
+    int64_t a, b, facet; /* a < b */
+} edge_rec;
+
+static int cmp_edge_rec(const void *p, const void *q)
+{
+    const edge_rec *x = p, *y = q;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->facet > y->facet) - (x->facet < y->facet);
+}
+
+/* Are both points where the spheres of p, q (with radius rq) and o meet
+ * inside ball s, FLAT_SEED_DEPTH deep? */
+static int seeds_held(const vc_balls *B, int64_t p, int64_t q, double rq, int64_t o, int64_t s)
+{
+    double up[3], down[3];
+    const double *c = B->center;
+    if (!vc_sphere_triple_points(c + 3 * p, B->radius[p], c + 3 * q, rq, c + 3 * o, B->radius[o],
+                                 up, down))
+        return 0;
+    double r = B->radius[s] * (1 - FLAT_SEED_DEPTH);
+    return dist(c + 3 * s, up) < r && dist(c + 3 * s, down) < r;
+}
+
+/* The largest radius, at most FLAT_MAX_SHRINK below r_q, with which ball q
+ * of the facet (p, q, o) lets s hold the facet's seeds; 0 when none. */
+static double flip_radius(const vc_balls *B, int64_t p, int64_t q, int64_t o, int64_t s)
+{
+    /* the seeds vanish when q no longer meets p and o, so the condition
+     * is not monotone over the whole range: step down by 1% to the first
+     * radius that works, then bisect above it */
+    double r0 = B->radius[q], lo = r0, hi = r0;
+    int found = 0, steps = (int)(100 * FLAT_MAX_SHRINK + 0.5);
+    for (int t = 1; t <= steps && !found; t++) {
+        hi = lo;
+        lo = r0 * (1 - 0.01 * t);
+        found = seeds_held(B, p, q, lo, o, s);
+    }
+    if (!found)
+        return 0;
+    for (int it = 0; it < 30; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (seeds_held(B, p, q, mid, o, s))
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Shrinks, for every facet (of fl, the current balls' facets) below
+ * FLAT_Q among balls of one kind (not corners), whichever of q1 and q2
+ * needs the smaller cut, recording the old radii and marking the shrunk
+ * balls like the other passes. Returns the number of balls shrunk, or -1. */
+static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *old_r,
+                                unsigned char *shrunk)
+{
+    const facet_list fl = *facets;
+    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(3 * fl.n + 1));
+    if (!e)
+        return -1;
+    for (int64_t f = 0; f < fl.n; f++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = fl.f[f].v[k], b = fl.f[f].v[(k + 1) % 3];
+            e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
+        }
+    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
+    vc_balls *B = &S->bs.b;
+    memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
+    int64_t changed = 0;
+    for (int64_t f = 0; f < fl.n; f++) {
+        const int64_t *v = fl.f[f].v;
+        int apex;
+        if (!(triangle_quality(B->center + 3 * v[0], B->center + 3 * v[1], B->center + 3 * v[2],
+                               &apex) < FLAT_Q))
+            continue;
+        int64_t p = v[apex], q1 = v[(apex + 1) % 3], q2 = v[(apex + 2) % 3];
+        /* the other facet on edge q1 q2 (a manifold edge has two) */
+        edge_rec key = {q1 < q2 ? q1 : q2, q1 < q2 ? q2 : q1, -1};
+        int64_t lo = 0, hi = 3 * fl.n;
+        while (lo < hi) {
+            int64_t mid = (lo + hi) / 2;
+            if (cmp_edge_rec(&e[mid], &key) < 0)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        int64_t other = -1, count = 0;
+        for (int64_t m = lo; m < 3 * fl.n && e[m].a == key.a && e[m].b == key.b; m++) {
+            count++;
+            if (e[m].facet != f)
+                other = e[m].facet;
+        }
+        if (count != 2 || other < 0)
+            continue;
+        int64_t s = -1;
+        for (int k = 0; k < 3; k++)
+            if (fl.f[other].v[k] != q1 && fl.f[other].v[k] != q2)
+                s = fl.f[other].v[k];
+        int kind = B->kind[p];
+        if (s < 0 || kind == VC_BALL_CORNER || B->kind[q1] != kind || B->kind[q2] != kind ||
+            B->kind[s] != kind)
+            continue;
+        double r1 = flip_radius(B, p, q1, q2, s), r2 = flip_radius(B, p, q2, q1, s);
+        if (r1 <= 0 && r2 <= 0)
+            continue;
+        int64_t q = r1 / B->radius[q1] >= r2 / B->radius[q2] ? q1 : q2;
+        double r = q == q1 ? r1 : r2;
+        if (vc_ball_set_resize(&S->bs, q, r) || mark_dirty(S, q)) {
+            changed = -1;
+            break;
+        }
+        if (!shrunk[q])
+            changed++;
+        shrunk[q] = 1;
+    }
+    free(e);
     return changed;
 }
 
@@ -720,8 +925,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     double where[3] = {0, 0, 0};
 
     /* Lipschitz fixes and sliver elimination, sampling again after every
-     * shrinking, until nothing changes. */
-    int iter = 0;
+     * shrinking, until nothing changes; then the flat-facet pass and the
+     * same again, up to FLAT_PASSES times. */
+    int iter = 0, flat_passes = 0;
+    facet_list facets = {NULL, 0, 0, 0};
     while (!rc) {
         double ta = now();
         if (grow_scratch(&old_r, &shrunk, S.bs.b.n)) {
@@ -741,13 +948,32 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         double tb = now();
         int64_t n_half = 0;
-        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where);
+        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets);
         st->t_slivers += now() - tb;
         if (ns < 0) {
             rc = -1;
             break;
         }
         st->n_half_covered = n_half;
+        if (ns == 0 && flat_passes < FLAT_PASSES) {
+            /* converged: work on the flat facets, then go round again */
+            flat_passes++;
+            double tf = now();
+            int64_t nf = unflatten_facets(&S, &facets, old_r, shrunk);
+            st->t_slivers += now() - tf;
+            if (nf < 0) {
+                rc = -1;
+                break;
+            }
+            if (nf > 0) {
+                st->n_shrunk_flat += nf;
+                if (opt->progress)
+                    fprintf(stderr, "mesh: flat facets %d: %lld balls shrunk\n", flat_passes,
+                            (long long)nf);
+                rc = resample_around(&S, old_r, shrunk);
+                continue;
+            }
+        }
         if (ns == 0)
             break;
         st->n_shrunk_sliver += ns;
@@ -784,6 +1010,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     }
     free(old_r);
     free(shrunk);
+    free(facets.f);
     free(S.dirty);
     vc_sizing_free(&S.z);
     if (rc) {
