@@ -296,7 +296,12 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     c->py = reserve(&c->b_py, new_nt, sizeof(double));
     c->pz = reserve(&c->b_pz, new_nt, sizeof(double));
     c->r2 = reserve(&c->b_r2, new_nt, sizeof(double));
+    /* The largest squared distance is taken on the way (the same maximum
+     * as update_rmax2's: no NaN among them). */
     int w = conflict[0];
+    double rmax2 = 0;
+    for (int t = 0; t < w; t++)
+        rmax2 = c->r2[t] > rmax2 ? c->r2[t] : rmax2;
     for (int t = conflict[0] + 1, ci = 1; t < nt; t++) {
         if (ci < n_out && conflict[ci] == t) {
             ci++;
@@ -306,7 +311,9 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         c->px[w] = c->px[t];
         c->py[w] = c->py[t];
         c->pz[w] = c->pz[t];
-        c->r2[w] = c->r2[t];
+        const double r2 = c->r2[t];
+        c->r2[w] = r2;
+        rmax2 = r2 > rmax2 ? r2 : rmax2;
         w++;
     }
     memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
@@ -314,10 +321,12 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         c->px[w + k] = new_pt[3 * k];
         c->py[w + k] = new_pt[3 * k + 1];
         c->pz[w + k] = new_pt[3 * k + 2];
-        c->r2[w + k] = norm2(new_pt + 3 * k);
+        const double r2 = norm2(new_pt + 3 * k);
+        c->r2[w + k] = r2;
+        rmax2 = r2 > rmax2 ? r2 : rmax2;
     }
     c->nt = new_nt;
-    update_rmax2(c);
+    c->rmax2 = rmax2;
     return 1;
 }
 

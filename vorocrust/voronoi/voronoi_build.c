@@ -50,7 +50,6 @@ enum {
 
 typedef struct cell_job {
     const vc_seed_grid *grid;
-    const double *xyz;
     double box_lo[3], box_hi[3];
     double dup_dist2;
     double slack; /* rounding allowance on bin boxes (absolute) */
@@ -264,14 +263,13 @@ static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, in
     return d2;
 }
 
-/* Builds the cell of seed s into cell; returns CELL_*. The seeds of the
+/* Builds the cell of seed s (at xs) into cell; returns CELL_*. The seeds of the
  * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
  * the farther seeds are mostly rejected by the radius test alone. */
 static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
-                        prune *pr, int64_t s, double tol, int64_t *other)
+                        prune *pr, int64_t s, const double *xs, double tol, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
-    const double *xs = job->xyz + 3 * s;
     double lo[3], hi[3];
     const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
                               VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
@@ -438,7 +436,7 @@ static size_t topo_bytes(int nf, int nfv)
 /* Appends the finished cell to the scratch buffers (res gets the counts and
  * the scale; its pointers are set when the chunk is stored). Returns 0, or
  * -1 when out of memory. */
-static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, byte_buf *coord,
+static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *coord,
                       byte_buf *topo, vc_cell_result *res)
 {
     double *v = (double *)byte_buf_grow(coord, (size_t)cell->nv * 3 * sizeof(double));
@@ -450,7 +448,6 @@ static int store_cell(const vc_convex_cell *cell, const double *xyz, int64_t s, 
     res->nfv = cell->nfv;
     int32_t *plane = (int32_t *)t;
     uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
-    const double *xs = xyz + 3 * s;
     double scale2 = INFINITY, r2 = 0;
     for (int i = 0; i < cell->nv; i++) {
         v[3 * i] = xs[0] + cell->px[i];
@@ -557,7 +554,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         if (diag == 0)
             diag = 1.0;
     }
-    job.xyz = seeds->xyz;
     job.dup_dist2 = (1e-12 * diag) * (1e-12 * diag);
     {
         double amax = 0;
@@ -600,10 +596,26 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             kept_seed[k++] = i;
     for (int64_t i = 0, k = 0; i < n; i++)
         kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
+    /* Where each built cell's seed is in the grid's order: the cell loop
+     * reads the seed index and position from there, sequentially, instead
+     * of scattered over the input (a cache miss per cell). */
+    int64_t *build_pos = malloc((size_t)n_kept * sizeof(int64_t));
+    if (!build_pos) {
+        free(kept_seed);
+        free(cells);
+        free(status);
+        free(other);
+        free(build_order);
+        free(kept_index);
+        vc_seed_grid_free(&grid);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
+    }
     for (int64_t j = 0, m = 0; j < n; j++) {
         int64_t k = kept_index[grid.seed_index[j]];
-        if (k >= 0)
-            build_order[m++] = k;
+        if (k >= 0) {
+            build_order[m] = k;
+            build_pos[m++] = j;
+        }
     }
     free(kept_index);
 
@@ -636,13 +648,14 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             int chunk_ok = 1;
             for (int64_t m = m0; m < m1; m++) {
                 const int64_t k = build_order[m];
-                const int64_t s = kept_seed[k];
+                const int64_t s = grid.seed_index[build_pos[m]];
+                const double *xs = grid.xyz + 3 * build_pos[m]; /* a copy of seed s */
                 int r = CELL_NUMERIC;
                 /* A cut that cannot be closed is a tolerance problem: retry
                  * with a coarser tolerance before giving up. */
                 for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
                      tol *= 100) {
-                    r = compute_cell(&job, &cell, &cand_buf, &pr, s, tol, &other[k]);
+                    r = compute_cell(&job, &cell, &cand_buf, &pr, s, xs, tol, &other[k]);
                     if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
                         r = CELL_NUMERIC;
                 }
@@ -650,7 +663,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 if (r == CELL_OK && cell.nfv > 65535)
                     r = CELL_TOO_BIG;
                 if (r == CELL_OK &&
-                    store_cell(&cell, seeds->xyz, s, &coord, &topo, &cells[m]) != 0)
+                    store_cell(&cell, xs, &coord, &topo, &cells[m]) != 0)
                     r = CELL_NOMEM;
                 if (r != CELL_OK)
                     chunk_ok = 0;
@@ -696,6 +709,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         free(topo.data);
     }
     vc_seed_grid_free(&grid); /* not needed by the stitching */
+    free(build_pos);
 
     int rc = 0;
     for (int64_t k = 0; k < n_kept && rc == 0; k++) {
