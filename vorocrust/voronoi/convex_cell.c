@@ -40,7 +40,7 @@ void vc_convex_cell_free(vc_convex_cell *c)
     vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_px,  &c->b_py, &c->b_pz,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_plane_index, &c->b_face_start, &c->b_fv,
-                           &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_new_pt,
+                           &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_edge_owner, &c->b_new_pt,
                            &c->b_new_tri};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         free(bufs[i]->data);
@@ -59,6 +59,20 @@ static void update_rmax2(vc_convex_cell *c)
     for (int i = 0; i < c->nt; i++)
         r2 = c->r2[i] > r2 ? c->r2[i] : r2;
     c->rmax2 = r2;
+}
+
+/* Records triangle t (planes tr[0..2]) as the holder of its three edges. */
+static inline void set_edge_owner(uint16_t *owner, const int *tr, int t)
+{
+    owner[tr[0] * VC_EDGE_OWNER_PLANES + tr[1]] = (uint16_t)t;
+    owner[tr[1] * VC_EDGE_OWNER_PLANES + tr[2]] = (uint16_t)t;
+    owner[tr[2] * VC_EDGE_OWNER_PLANES + tr[0]] = (uint16_t)t;
+}
+
+/* Does triangle tr hold the directed edge a -> b? */
+static inline int holds_edge(const int *tr, int a, int b)
+{
+    return (tr[0] == a && tr[1] == b) || (tr[1] == a && tr[2] == b) || (tr[2] == a && tr[0] == b);
 }
 
 void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
@@ -104,6 +118,11 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     }
     c->nt = 8;
     update_rmax2(c);
+    c->edge_owner = reserve(&c->b_edge_owner, VC_EDGE_OWNER_PLANES * VC_EDGE_OWNER_PLANES,
+                            sizeof(uint16_t));
+    for (int t = 0; t < 8; t++)
+        set_edge_owner(c->edge_owner, c->tri + 3 * t, t);
+    c->edge_owner_ok = 1;
 }
 
 /* Does one of the conflict triangles hold the directed edge a -> b? */
@@ -177,11 +196,52 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     int *edge_out = reserve(&c->b_edge_out, np, sizeof(int));
     for (int i = 0; i < np; i++)
         next[i] = -1;
-    /* An edge of a removed triangle is on the boundary unless its reverse
-     * belongs to a removed triangle too: marked in a plane-pair matrix
-     * (cleared again below) or, for huge cells, searched. */
+    int n_boundary = 0, first = -1, simple = 1;
+    /* With the edge owners, the triangle across each edge of a removed
+     * triangle is looked up: the edge is on the boundary when that one is
+     * kept. Directed edges are unique (the triangles are a closed
+     * triangulation of the sphere), so this finds what the search below
+     * finds; an entry that does not hold the edge (which would mean they
+     * are not) sends the cut to the search. */
+    int use_owner = c->edge_owner_ok;
+    if (use_owner) {
+        const uint16_t *owner = c->edge_owner;
+        for (int i = 0; i < n_out && use_owner; i++) {
+            const int t = conflict[i];
+            const int *tr = c->tri + 3 * t;
+            for (int e = 0; e < 3; e++) {
+                const int a = tr[e], b = tr[e == 2 ? 0 : e + 1];
+                const int across = owner[b * VC_EDGE_OWNER_PLANES + a];
+                if (across >= nt || !holds_edge(c->tri + 3 * across, b, a)) {
+                    use_owner = 0;
+                    break;
+                }
+                if (dist[across] > thr)
+                    continue; /* removed too: not on the boundary */
+                if (next[a] != -1)
+                    simple = 0; /* the region touches itself: not a disk */
+                next[a] = b;
+                edge_tri[a] = t;
+                edge_out[a] = across;
+                n_boundary++;
+                if (first < 0)
+                    first = a;
+            }
+        }
+        if (!use_owner) {
+            c->edge_owner_ok = 0;
+            for (int i = 0; i < np; i++)
+                next[i] = -1;
+            n_boundary = 0;
+            first = -1;
+            simple = 1;
+        }
+    }
+    /* Otherwise an edge of a removed triangle is on the boundary unless its
+     * reverse belongs to a removed triangle too: marked in a plane-pair
+     * matrix (cleared again below) or, for huge cells, searched. */
     unsigned char *mark = NULL;
-    if (np <= 256) {
+    if (!use_owner && np <= 256) {
         if (c->b_edge_mark.cap < np * np) {
             free(c->b_edge_mark.data);
             c->b_edge_mark.cap = 256 * 256;
@@ -197,8 +257,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
             mark[tr[2] * np + tr[0]] = 1;
         }
     }
-    int n_boundary = 0, first = -1, simple = 1;
-    for (int i = 0; i < n_out; i++) {
+    for (int i = 0; i < n_out && !use_owner; i++) {
         const int t = conflict[i];
         const int *tr = c->tri + 3 * t;
         for (int e = 0; e < 3; e++) {
@@ -232,9 +291,10 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     } while (a >= 0 && a != first && steps <= n_boundary);
     if (a != first || steps != n_boundary || n_boundary < 3)
         return -1;
-    /* The kept triangle across each boundary edge a -> b holds b -> a. */
-    int found = 0;
-    for (int t = 0, ci = 0; t < nt; t++) {
+    /* The kept triangle across each boundary edge a -> b holds b -> a
+     * (already found with the edge owners). */
+    int found = use_owner ? n_boundary : 0;
+    for (int t = 0, ci = 0; t < nt && !use_owner; t++) {
         if (ci < n_out && conflict[ci] == t) {
             ci++;
             continue;
@@ -298,6 +358,10 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     c->r2 = reserve(&c->b_r2, new_nt, sizeof(double));
     /* The largest squared distance is taken on the way (the same maximum
      * as update_rmax2's: no NaN among them). */
+    /* The edge owners are kept while the plane indices fit. */
+    const int keep_owner = c->edge_owner_ok && np + 1 <= VC_EDGE_OWNER_PLANES;
+    c->edge_owner_ok = keep_owner;
+    uint16_t *owner = c->edge_owner;
     int w = conflict[0];
     double rmax2 = 0;
     for (int t = 0; t < w; t++)
@@ -308,6 +372,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
             continue;
         }
         memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
+        if (keep_owner)
+            set_edge_owner(owner, c->tri + 3 * w, w);
         c->px[w] = c->px[t];
         c->py[w] = c->py[t];
         c->pz[w] = c->pz[t];
@@ -317,6 +383,9 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         w++;
     }
     memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
+    if (keep_owner)
+        for (int k = 0; k < n_boundary; k++)
+            set_edge_owner(owner, new_tri + 3 * k, w + k);
     for (int k = 0; k < n_boundary; k++) {
         c->px[w + k] = new_pt[3 * k];
         c->py[w + k] = new_pt[3 * k + 1];

@@ -22,6 +22,9 @@ typedef struct vc_cell_buf {
     int cap;
 } vc_cell_buf;
 
+/* Planes a cell may hold while edge_owner is kept (below). */
+#define VC_EDGE_OWNER_PLANES 64
+
 typedef struct vc_convex_cell {
     /* Planes {x : n.x <= d} as (n, d), and the id each carries (a
      * neighbour seed index, or a wall code of the clipping box). */
@@ -35,6 +38,13 @@ typedef struct vc_convex_cell {
     double *px, *py, *pz; /* nt each: the vertex points, by coordinate */
     double *r2;          /* nt: squared distance of each vertex */
     double rmax2;        /* largest squared distance of a vertex */
+    /* While every plane index is below VC_EDGE_OWNER_PLANES: per directed
+     * plane pair (a, b), the triangle holding the edge a -> b, at
+     * edge_owner[a * VC_EDGE_OWNER_PLANES + b] (entries of edges no
+     * triangle holds are stale). A cut then finds the triangles across
+     * the removed region's boundary without a pass over all triangles. */
+    uint16_t *edge_owner;
+    int edge_owner_ok;
 
     /* Face form, filled by vc_convex_cell_faces: vertex i is triangle i (its point is
      * px[i], py[i], pz[i]);
@@ -51,6 +61,7 @@ typedef struct vc_convex_cell {
     vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
+    vc_cell_buf b_edge_owner;
     vc_cell_buf b_face_plane, b_face_plane_index, b_face_start, b_fv, b_entry, b_count;
 } vc_convex_cell;
 
