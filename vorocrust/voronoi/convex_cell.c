@@ -72,7 +72,9 @@ static inline void set_edge_owner(uint16_t *owner, const int *tr, int t)
 /* Does triangle tr hold the directed edge a -> b? */
 static inline int holds_edge(const int *tr, int a, int b)
 {
-    return (tr[0] == a && tr[1] == b) || (tr[1] == a && tr[2] == b) || (tr[2] == a && tr[0] == b);
+    /* Without branches: the answer is nearly always yes. */
+    return ((tr[0] == a) & (tr[1] == b)) | ((tr[1] == a) & (tr[2] == b)) |
+           ((tr[2] == a) & (tr[0] == b));
 }
 
 void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
@@ -180,11 +182,11 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         if (!(smax > thr))
             return 0;
     }
+    /* Without branches: which vertices go is unpredictable. */
     for (int t = 0; t < nt; t++) {
-        if (dist[t] > thr)
-            conflict[n_out++] = t;
-        else
-            n_in += dist[t] < -thr;
+        conflict[n_out] = t;
+        n_out += dist[t] > thr;
+        n_in += dist[t] < -thr;
     }
     if (n_in == 0)
         return -2;
@@ -366,11 +368,12 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     double rmax2 = 0;
     for (int t = 0; t < w; t++)
         rmax2 = c->r2[t] > rmax2 ? c->r2[t] : rmax2;
-    for (int t = conflict[0] + 1, ci = 1; t < nt; t++) {
-        if (ci < n_out && conflict[ci] == t) {
-            ci++;
-            continue;
-        }
+    /* Without branches: every triangle is copied to w (w <= t), and w
+     * only moves past the kept ones, so a removed one is overwritten by the
+     * next kept one or the fan. Its edge owner entries are then stale: its
+     * edges are held by no triangle. */
+    for (int t = conflict[0] + 1; t < nt; t++) {
+        const int kept = !(dist[t] > thr);
         memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
         if (keep_owner)
             set_edge_owner(owner, c->tri + 3 * w, w);
@@ -379,8 +382,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         c->pz[w] = c->pz[t];
         const double r2 = c->r2[t];
         c->r2[w] = r2;
-        rmax2 = r2 > rmax2 ? r2 : rmax2;
-        w++;
+        rmax2 = kept && r2 > rmax2 ? r2 : rmax2;
+        w += kept;
     }
     memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
     if (keep_owner)
