@@ -581,13 +581,18 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
      * same seeds from cache; the results are kept in that order. */
     int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
     int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
-    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index) {
+    /* Where each built cell's seed is in the grid's order: the cell loop
+     * reads the seed index and position from there, sequentially, instead
+     * of scattered over the input (a cache miss per cell). */
+    int64_t *build_pos = malloc((size_t)n_kept * sizeof(int64_t));
+    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index || !build_pos) {
         free(kept_seed);
         free(cells);
         free(status);
         free(other);
         free(build_order);
         free(kept_index);
+        free(build_pos);
         vc_seed_grid_free(&grid);
         return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
     }
@@ -596,20 +601,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             kept_seed[k++] = i;
     for (int64_t i = 0, k = 0; i < n; i++)
         kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
-    /* Where each built cell's seed is in the grid's order: the cell loop
-     * reads the seed index and position from there, sequentially, instead
-     * of scattered over the input (a cache miss per cell). */
-    int64_t *build_pos = malloc((size_t)n_kept * sizeof(int64_t));
-    if (!build_pos) {
-        free(kept_seed);
-        free(cells);
-        free(status);
-        free(other);
-        free(build_order);
-        free(kept_index);
-        vc_seed_grid_free(&grid);
-        return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
-    }
     for (int64_t j = 0, m = 0; j < n; j++) {
         int64_t k = kept_index[grid.seed_index[j]];
         if (k >= 0) {
