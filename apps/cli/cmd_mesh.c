@@ -485,6 +485,16 @@ int vc_cmd_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         goto out;
     }
+    /* said even with --quiet: the guarantee the sampling exists for */
+    if (topo.n_boundary_edges || topo.n_nonmanifold_edges || topo.n_misoriented_edges ||
+        topo.n_nonmanifold_vertices || topo.euler != rep.euler)
+        fprintf(stderr, "vorocrust: warning: %s: the reconstructed surface is not a closed "
+                "consistently oriented 2-manifold with the input's Euler characteristic (%lld "
+                "boundary, %lld non-manifold and %lld misoriented edges, %lld non-manifold "
+                "vertices; Euler characteristic %lld, input %lld)\n",
+                in_path, (long long)topo.n_boundary_edges, (long long)topo.n_nonmanifold_edges,
+                (long long)topo.n_misoriented_edges, (long long)topo.n_nonmanifold_vertices,
+                (long long)topo.euler, (long long)rep.euler);
     if (surf_path) {
         if (vc_polysurface_write(&ps, surf_path, &err))
             goto write_failed;
