@@ -30,6 +30,7 @@
 #include "balls/triplets.h"
 #include "sizing/sizing.h"
 #include "vorocrust/random.h"
+#include "vorocrust/quality.h"
 
 #define MAX_MISSES 100
 #define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
@@ -670,19 +671,11 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
  * fixes, sampling again around the shrunk ball and sliver elimination
  * following as after any shrinking. */
 
-/* Q = 6 S / (sqrt(3) h P) of triangle abc; *apex is the vertex (0..2)
- * opposite its longest edge. */
-static double triangle_quality(const double *a, const double *b, const double *c, int *apex)
+/* The vertex (0..2) of triangle abc opposite its longest edge. */
+static int longest_edge_apex(const double *a, const double *b, const double *c)
 {
     double la = dist(b, c), lb = dist(a, c), lc = dist(a, b);
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
-           z = u[0] * w[1] - u[1] * w[0];
-    double area = 0.5 * sqrt(x * x + y * y + z * z);
-    double h = fmax(la, fmax(lb, lc));
-    *apex = la >= lb && la >= lc ? 0 : lb >= lc ? 1 : 2;
-    return 6 * area / (sqrt(3.0) * h * 0.5 * (la + lb + lc));
+    return la >= lb && la >= lc ? 0 : lb >= lc ? 1 : 2;
 }
 
 typedef struct edge_rec {
@@ -760,10 +753,11 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
     int64_t changed = 0;
     for (int64_t f = 0; f < fl.n; f++) {
         const int64_t *v = fl.f[f].v;
-        int apex;
-        if (!(triangle_quality(B->center + 3 * v[0], B->center + 3 * v[1], B->center + 3 * v[2],
-                               &apex) < FLAT_Q))
+        const double *c0 = B->center + 3 * v[0], *c1 = B->center + 3 * v[1],
+                     *c2 = B->center + 3 * v[2];
+        if (!(vc_triangle_quality(c0, c1, c2) < FLAT_Q))
             continue;
+        int apex = longest_edge_apex(c0, c1, c2);
         int64_t p = v[apex], q1 = v[(apex + 1) % 3], q2 = v[(apex + 2) % 3];
         /* the other facet on edge q1 q2 (a manifold edge has two) */
         edge_rec key = {q1 < q2 ? q1 : q2, q1 < q2 ? q2 : q1, -1};
