@@ -186,6 +186,49 @@ static void test_cospherical(void)
     vc_seeds_free(&s);
 }
 
+/* Nearly degenerate: a 10^3 lattice in the unit box, each seed moved at
+ * random by up to eps times the spacing; with planes_shifted, the layers of
+ * constant x are also shifted by up to a fifth of the spacing, so that
+ * every four seeds of two neighbouring layers with the same y or z are
+ * co-circular (to eps) with their Voronoi edge of degree 4 split in two.
+ * Cells decide such near-ties each on its own; corners of four nearly
+ * co-circular seeds lie on that edge at places so ill-conditioned that
+ * cells compute them up to micrometres apart, and faces come out a
+ * billionth of the spacing wide: the mesh must still be closed, convex,
+ * fill the box and be the same on 1 and 2 threads. */
+static void test_near_degenerate(int planes_shifted, double eps, uint64_t seed)
+{
+    const int n = 10;
+    vc_seeds s;
+    vc_seeds_alloc(&s, n * n * n, NULL);
+    vc_rng rng;
+    vc_rng_init(&rng, seed, 0);
+    double layer[10];
+    for (int i = 0; i < n; i++)
+        layer[i] = (i + 0.5 + (planes_shifted ? 0.4 * vc_rng_uniform(&rng) - 0.2 : 0.0)) / n;
+    int64_t k = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            for (int l = 0; l < n; l++, k++) {
+                const double x[3] = {layer[i], (j + 0.5) / n, (l + 0.5) / n};
+                for (int d = 0; d < 3; d++)
+                    s.xyz[3 * k + d] = x[d] + eps * (2.0 * vc_rng_uniform(&rng) - 1.0) / n;
+            }
+    double box[6] = {0, 0, 0, 1, 1, 1};
+    vc_polymesh m1, m2;
+    char name[96];
+    snprintf(name, sizeof name, "near-degenerate %s, eps %g, seed %llu",
+             planes_shifted ? "shifted layers" : "lattice", eps, (unsigned long long)seed);
+    if (build_checked(name, &s, box, 1, 1.0, &m1) == 0) {
+        if (build_checked(name, &s, box, 2, 1.0, &m2) == 0) {
+            CHECKF(same_mesh(&m1, &m2), "%s: 1-thread and 2-thread meshes differ", name);
+            vc_polymesh_free(&m2);
+        }
+        vc_polymesh_free(&m1);
+    }
+    vc_seeds_free(&s);
+}
+
 /* Exactly co-spherical: 8 seeds at the corners of a cube around each
  * point of a coarse lattice (every Voronoi vertex has degree > 4). */
 static void test_cube_corners(void)
@@ -404,6 +447,10 @@ int main(void)
     test_cospherical();
     test_vorocrust_seeds();
     test_no_box();
+    for (int shifted = 0; shifted < 2; shifted++)
+        for (int e = 0; e < 7; e++)
+            for (uint64_t seed = 1; seed <= 2; seed++)
+                test_near_degenerate(shifted, 1e-9 * pow(10.0, 0.5 * e), seed);
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else

@@ -146,8 +146,10 @@ double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);
  *  - every cell is closed (each of its edges is used once in each
  *    direction by its outward-oriented faces), convex (every vertex of the
  *    cell lies on the inner side of every face plane, within rel_tol times
- *    the cell size), and has positive volume.
- * rel_tol <= 0 selects the default (1e-8).
+ *    the cell size, times 1 + the cell size over the face's width for the
+ *    error of a thin face's plane), and has positive volume.
+ * rel_tol <= 0 selects the default (1e-7: ten times the Voronoi engine's
+ * merge tolerance, since merging copies of a vertex moves it that far).
  * Returns the number of problems found (0 = valid). When report is not
  * NULL, up to report_len bytes of the first problems, one per line, are
  * written there. */

@@ -250,10 +250,69 @@ static void match_nearest(copy_id *parent, const cell_hdr *ca, int fa, const cel
     }
 }
 
+/* The identity of vertex v of cell c: its seed and the planes (seeds or
+ * walls) of the three faces that meet there, sorted. Returns 0 when v is
+ * not on exactly three faces. */
+static int vertex_key(const cell_hdr *c, int v, int64_t key[4])
+{
+    int n = 0;
+    key[n++] = c->seed;
+    for (int f = 0; f < c->nf; f++)
+        for (int i = c->face_start[f]; i < c->face_start[f + 1]; i++)
+            if (c->fv[i] == v) {
+                if (n == 4)
+                    return 0;
+                key[n++] = c->plane[f];
+                break;
+            }
+    if (n != 4)
+        return 0;
+    for (int i = 1; i < 4; i++)
+        for (int j = i; j > 0 && key[j - 1] > key[j]; j--) {
+            const int64_t t = key[j];
+            key[j] = key[j - 1];
+            key[j - 1] = t;
+        }
+    return 1;
+}
+
+/* Unites the vertices of face fa of cell a and face fb of cell b that are
+ * the same corner of the same four cells (or walls): the same point,
+ * however far apart rounding put the two copies. Where four seeds are
+ * nearly co-circular, the corner they share lies on their (nearly
+ * degree-4) edge at a place so ill-conditioned that two cells compute it
+ * up to 1e-4 of the cell size apart, along that edge (which lies in the
+ * corner's three face planes: uniting the copies keeps the faces flat).
+ * Where the four are co-circular to rounding, the "corner" is an artifact
+ * of the rounding, anywhere on the edge, and copies in different cells are
+ * not one point: measured, those are more than the cell size apart, and
+ * true corners within 1e-4 of it (bracket, fertility); copies farther
+ * apart than KEY_MATCH_REACH merge tolerances are left alone. */
+#define KEY_MATCH_REACH 1e5
+static void match_keys(copy_id *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb)
+{
+    const double reach = KEY_MATCH_REACH * (ca->tol > cb->tol ? ca->tol : cb->tol);
+    for (int i = ca->face_start[fa]; i < ca->face_start[fa + 1]; i++) {
+        int64_t ka[4];
+        if (!vertex_key(ca, ca->fv[i], ka))
+            continue;
+        for (int j = cb->face_start[fb]; j < cb->face_start[fb + 1]; j++) {
+            int64_t kb[4];
+            if (vertex_key(cb, cb->fv[j], kb) && ka[0] == kb[0] && ka[1] == kb[1] &&
+                ka[2] == kb[2] && ka[3] == kb[3] &&
+                dist2(ca->v + 3 * ca->fv[i], cb->v + 3 * cb->fv[j]) <= reach * reach) {
+                unite(parent, ca->vbase + ca->fv[i], cb->vbase + cb->fv[j]);
+                break;
+            }
+        }
+    }
+}
+
 /* Identifies the copies on face fa of cell a and face fb (>= 0) of cell b,
  * the same face seen from both sides. In general position both are the
  * same cycle in opposite directions: one pass checks it and unites the
- * pairs (returns 1). Otherwise, nearest matches both ways (returns 0): the
+ * pairs (returns 1). Otherwise, the same corners (match_keys), then
+ * nearest matches both ways (returns 0): the
  * two copies may then still differ after merging (see T-junctions below). */
 static int match_face(copy_id *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb,
                        double tol2)
@@ -282,6 +341,7 @@ static int match_face(copy_id *parent, const cell_hdr *ca, int fa, const cell_hd
             return 1;
         }
     }
+    match_keys(parent, ca, fa, cb, fb);
     match_nearest(parent, ca, fa, cb, fb, tol2);
     match_nearest(parent, cb, fb, ca, fa, tol2);
     return 0;
