@@ -527,8 +527,10 @@ check(sorted(os.listdir(broken)) == ["constant"] and
 # =========================================================================
 MODELS = os.environ.get("VC_MODELS")
 SANITIZED = os.environ.get("VC_SANITIZED", "0") == "1"
-# model -> checkMesh's max skewness of the exact Voronoi case (recorded)
-SKEW_EXACT = {"torus.obj": 4.8, "bracket.obj": 10.6, "fandisk.off": 11.1,
+# model -> checkMesh's max skewness of the exact Voronoi case (recorded;
+# fandisk.off's 11.1 became 15.5 when its second sampling went from 45 to
+# 20 degrees: more creases, more needle faces between surface cells)
+SKEW_EXACT = {"torus.obj": 4.8, "bracket.obj": 10.6, "fandisk.off": 15.5,
               "fertility.off": 5.2}
 FULL_READBACK = ("torus.obj", "bracket.obj", "fandisk.off")  # fertility: too slow in Python
 

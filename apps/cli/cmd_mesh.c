@@ -178,7 +178,7 @@ int vc_cmd_mesh(int argc, char **argv)
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
     enum { INTERIOR_NONE, INTERIOR_LATTICE, INTERIOR_OCTREE } interior = INTERIOR_OCTREE;
     int surface_only = 0, quiet = 0, lloyd_iterations = 0, sharp_angle_given = 0,
-        max_error_given = 0, smooth_iterations_given = 0;
+        smooth_iterations_given = 0;
     /* 0 by default, not the thesis' 6: Loop subdivision approximates, it
      * pulls the surface off the input (sphere.obj: 0.78% of the diagonal,
      * 3.3% of the volume after 6 rounds), beyond the 0.5% error budget. */
@@ -268,7 +268,6 @@ int vc_cmd_mesh(int argc, char **argv)
             }
             i++;
         } else if (!strcmp(a, "--max-error")) {
-            max_error_given = 1;
             if (vc_cli_parse_double(v, &opt.max_error) ||
                 !(opt.max_error >= 0 && opt.max_error < 1)) {
                 fprintf(stderr, "vorocrust: --max-error needs a number in [0, 1), got '%s'\n", v);
@@ -393,21 +392,32 @@ int vc_cmd_mesh(int argc, char **argv)
         goto out;
     }
     /* When sliver elimination diverges and the user chose neither
-     * theta_sharp nor smoothing, sample once more, in one of two ways:
-     *  - a local divergence (under 5% of the balls in half-covered pairs):
-     *    flat triangles of one patch meeting at 45 to 60 degrees without a
-     *    crease (fandisk.off). Such a fold needs to be a crease: theta_sharp
-     *    45, and (unless chosen) the error cap at 0.35%: the folds left
-     *    below 45 degrees meet at cone-like vertices whose tips the 0.4%
-     *    cap cuts by a little more than 0.5% (fandisk.off: 0.53%; 0.36%
-     *    with 0.35%);
-     *  - a divergence everywhere: the surface is not smooth at the scale of
-     *    the balls, a coarse tessellation of a curved shape (fertility.off:
-     *    most edges bend by 10 to 60 degrees; its 60-degree "features" are
-     *    64 spurious corners). The thesis' remedy: Loop smoothing of the
-     *    patches (6 rounds), with theta_sharp 120 so that only edges
-     *    folded back beyond 120 degrees stay creases. */
-    const double fallback_angle = 45, fallback_error = 0.0035, smooth_angle = 120;
+     * theta_sharp nor smoothing, sample once more. The thesis (6.2.1)
+     * assumes that inside a patch every dihedral fold is small (at most
+     * theta_flat, 10 to 15 degrees after its smoothing). A sharper fold of
+     * flat triangles is a kink at every scale: however small the balls, the
+     * ones on its two sides meet at the same angle, so shrinking the ball
+     * that covers a seed (sliver elimination) opens holes whose new balls
+     * make the same slivers at a smaller scale, and the half-covered pairs
+     * never decay (fandisk.off, seeds 2 to 8 at 60 degrees: nearly all of
+     * them within two radii of its 22-29 degree fillet folds and its
+     * 20-57 degree folds; the safe mode with alpha / 2 diverges there too).
+     * The remedy is decided on the input, by its folds between fold_angle
+     * and theta_sharp (edges that are sharp at fold_angle, not at
+     * theta_sharp):
+     *  - few (under 2% of the edges): isolated kinks, such as the facets of
+     *    a narrow fillet (fandisk.off: 177 edges, 0.8%, 12 more corners).
+     *    They become creases: theta_sharp fold_angle, at which the patches
+     *    meet the thesis' smoothness assumption and the creases are
+     *    protected by edge balls;
+     *  - many: the surface is not smooth at the scale of the balls, a
+     *    coarse tessellation of a curved shape (fertility.off: 8.2%, and
+     *    1,815 corners at 20 degrees; most edges bend by 10 to 60 degrees;
+     *    its 60-degree "features" are 64 spurious corners). The thesis'
+     *    remedy: Loop smoothing of the patches (6 rounds), with theta_sharp
+     *    120 so that only edges folded back beyond 120 degrees stay
+     *    creases. */
+    const double fold_angle = 20, smooth_angle = 120;
     const double first_angle = opt.sharp_angle;
     double t_failed = 0, t1 = 0, t2 = 0;
     const double t_read = vc_cli_now() - t0; /* before any sampling attempt */
@@ -436,17 +446,32 @@ int vc_cmd_mesh(int argc, char **argv)
         t2 = vc_cli_now();
         if (vc_sample_surface(sampled, &f, &opt, &balls, &st, &err) == 0)
             break;
-        int local = st.n_half_covered * 20 < st.n_balls_diverged;
+        int64_t n_folds = 0, n_edges = 0;
+        if (attempt == 0 && st.diverged && !sharp_angle_given && opt.sharp_angle > fold_angle) {
+            vc_features at_fold, at_sharp;
+            if (vc_features_detect(&s, fold_angle, &at_fold, &err) ||
+                vc_features_detect(&s, opt.sharp_angle, &at_sharp, &err)) {
+                vc_features_free(&at_fold);
+                fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
+                goto out;
+            }
+            n_folds = at_fold.n_sharp_edges - at_sharp.n_sharp_edges;
+            n_edges = at_fold.n_edges;
+            vc_features_free(&at_fold);
+            vc_features_free(&at_sharp);
+        }
+        int local = n_folds > 0 && 50 * n_folds <= n_edges;
         int retry = attempt == 0 && st.diverged && !sharp_angle_given &&
-                    (local ? opt.sharp_angle > fallback_angle : !smooth_iterations_given);
+                    (local || !smooth_iterations_given);
         if (!retry) {
             fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
             goto out;
         }
         if (!quiet && local)
-            fprintf(stderr, "mesh: %s\nmesh: sampling again with --sharp-angle %g (folds of %g "
-                    "to %g degrees become creases)%s\n", err.msg, fallback_angle, fallback_angle,
-                    opt.sharp_angle, max_error_given ? "" : " and --max-error 0.0035");
+            fprintf(stderr, "mesh: %s\nmesh: sampling again with --sharp-angle %g (%lld folds of %g "
+                    "to %g degrees inside the patches, %.1f%% of the edges, become creases)\n",
+                    err.msg, fold_angle, (long long)n_folds, fold_angle, opt.sharp_angle,
+                    100.0 * (double)n_folds / (double)n_edges);
         else if (!quiet)
             fprintf(stderr, "mesh: %s\nmesh: sampling again with --smooth-iterations %d "
                     "--sharp-angle %g (the surface bends too much everywhere: the thesis' "
@@ -454,9 +479,7 @@ int vc_cmd_mesh(int argc, char **argv)
                     smooth_angle);
         vc_features_free(&f);
         if (local) {
-            opt.sharp_angle = fallback_angle;
-            if (!max_error_given && opt.max_error > fallback_error)
-                opt.max_error = fallback_error;
+            opt.sharp_angle = fold_angle;
         } else {
             opt.sharp_angle = smooth_angle;
             smooth_iterations = VC_SMOOTH_DEFAULT_ITERATIONS;

@@ -1020,7 +1020,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                             "sliver elimination does not converge (%lld balls after %d iterations, "
                             "from %lld; half-covered seed pairs near (%.6g, %.6g, %.6g)): the "
                             "surface bends there more sharply than the sampling can follow without "
-                            "a crease; try a smaller --sharp-angle (e.g. 30)",
+                            "a crease; try a smaller --sharp-angle (e.g. 20)",
                             (long long)nb, iter, (long long)n_first, where[0], where[1], where[2]);
     }
     /* hand the balls over, trimmed */
