@@ -1,0 +1,75 @@
+/* Building small surfaces in memory for the C unit tests: a vc_surface
+ * grown vertex by vertex and triangle by triangle, and a few shapes built
+ * that way. Start from `builder b = {0};`; the surface is b.s (free it
+ * with vc_surface_free). */
+#ifndef VC_TEST_SURFACE_UTIL_H
+#define VC_TEST_SURFACE_UTIL_H
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "vorocrust/surface.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+typedef struct builder {
+    vc_surface s;
+    int64_t cap_v, cap_t;
+} builder;
+
+static inline int64_t add_v(builder *b, double x, double y, double z)
+{
+    if (b->s.n_vertices == b->cap_v) {
+        b->cap_v = b->cap_v ? 2 * b->cap_v : 16;
+        b->s.xyz = realloc(b->s.xyz, (size_t)b->cap_v * 3 * sizeof(double));
+    }
+    double *p = b->s.xyz + 3 * b->s.n_vertices;
+    p[0] = x;
+    p[1] = y;
+    p[2] = z;
+    return b->s.n_vertices++;
+}
+
+static inline void add_t(builder *b, int64_t i, int64_t j, int64_t k)
+{
+    if (b->s.n_triangles == b->cap_t) {
+        b->cap_t = b->cap_t ? 2 * b->cap_t : 16;
+        b->s.tri = realloc(b->s.tri, (size_t)b->cap_t * 3 * sizeof(int64_t));
+    }
+    int64_t *t = b->s.tri + 3 * b->s.n_triangles++;
+    t[0] = i;
+    t[1] = j;
+    t[2] = k;
+}
+
+/* A quad a b c d (counter-clockwise) as two triangles. */
+static inline void add_q(builder *b, int64_t a, int64_t c1, int64_t c2, int64_t d)
+{
+    add_t(b, a, c1, c2);
+    add_t(b, a, c2, d);
+}
+
+/* An n-gon prism of radius 1 and height h, caps fanned from a centre
+ * vertex, outward oriented; its vertices follow those already in b. */
+static inline void make_prism(builder *b, int n, double h)
+{
+    int64_t base = b->s.n_vertices;
+    for (int i = 0; i < n; i++) {
+        double a = 2 * M_PI * i / n;
+        add_v(b, cos(a), sin(a), 0);
+        add_v(b, cos(a), sin(a), h);
+    }
+    int64_t c0 = add_v(b, 0, 0, 0), c1 = add_v(b, 0, 0, h);
+    for (int i = 0; i < n; i++) {
+        int j = (i + 1) % n;
+        int64_t lo_i = base + 2 * i, hi_i = lo_i + 1, lo_j = base + 2 * j, hi_j = lo_j + 1;
+        add_q(b, lo_i, lo_j, hi_j, hi_i);
+        add_t(b, c0, lo_j, lo_i);
+        add_t(b, c1, hi_i, hi_j);
+    }
+}
+
+#endif
