@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "test_check.h"
+#include "test_file_util.h"
 
 static const char *tmpdir;
 
@@ -44,35 +45,6 @@ static long file_size(const char *p)
     return stat(p, &st) == 0 ? (long)st.st_size : -1;
 }
 
-/* Number of entries of dir whose name contains ".tmp." */
-static int count_temp_files(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d)
-        return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL)
-        if (strstr(e->d_name, ".tmp."))
-            ++n;
-    closedir(d);
-    return n;
-}
-
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d)
-        return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL)
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
-            ++n;
-    closedir(d);
-    return n;
-}
-
 /* Removes the files (not subdirectories) of dir. */
 static void clear_dir(const char *dir)
 {
@@ -88,21 +60,6 @@ static void clear_dir(const char *dir)
         free(p);
     }
     closedir(d);
-}
-
-static char *read_text(const char *p)
-{
-    FILE *fp = fopen(p, "rb");
-    if (!fp)
-        return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    size_t got = fread(s, 1, (size_t)n, fp);
-    s[got] = '\0';
-    fclose(fp);
-    return s;
 }
 
 static void write_text(const char *p, const char *text)
@@ -277,27 +234,6 @@ static void build_grid(vc_polymesh *m, int nx, int ny, int nz, const double *xs,
     }
 }
 
-static void free_mesh(vc_polymesh *m)
-{
-    free(m->points);
-    free(m->face_offsets);
-    free(m->face_vertices);
-    free(m->face_owner);
-    free(m->face_neighbour);
-    free(m->face_other_seed);
-    free(m->face_area);
-    free(m->face_centroid);
-    free(m->face_normal);
-    free(m->cell_offsets);
-    free(m->cell_faces);
-    free(m->cell_seed);
-    free(m->cell_region);
-    free(m->cell_volume);
-    free(m->cell_centroid);
-    free(m->seed_xyz);
-    memset(m, 0, sizeof *m);
-}
-
 static void build_two_cubes(vc_polymesh *m)
 {
     static const double xs[3] = {0.0, 1.0, 2.0}, ys[2] = {0.0, 1.0}, zs[2] = {0.0, 1.0};
@@ -316,13 +252,13 @@ static void test_two_cubes_mesh_shape(void)
     CHECK(m.face_owner[0] == 0 && m.face_neighbour[0] == 1);
     CHECK(m.n_cells == 2);
     CHECK(m.cell_offsets[1] == 6 && m.cell_offsets[2] == 12);
-    free_mesh(&m);
+    vc_polymesh_free(&m);
 }
 
 /* Checks the beginning of a written VTU file. */
 static void check_vtu_header(const char *p, int zlib)
 {
-    char *s = read_text(p);
+    char *s = read_file_text(p);
     CHECK(s != NULL);
     if (!s)
         return;
@@ -356,7 +292,7 @@ static void test_vtu_write(void)
 
     /* raw size is exactly predictable from the arrays */
     {
-        char *s = read_text(raw);
+        char *s = read_file_text(raw);
         const char *u = s ? strstr(s, "<AppendedData encoding=\"raw\">\n   _") : NULL;
         CHECK(u != NULL);
         if (u) {
@@ -377,13 +313,13 @@ static void test_vtu_write(void)
     char *adir = path_in(sub, "adir");
     rmdir(adir);
     clear_dir(sub);
-    CHECK(count_entries(sub) == 0);
+    CHECK(count_dir_entries(sub, NULL) == 0);
     rc = vc_write_vtu(&m, a, VC_VTU_ZLIB, &err);
     CHECK_MSG(rc == 0, err.msg);
     rc = vc_write_vtu(&m, a, VC_VTU_RAW, &err); /* overwrite */
     CHECK_MSG(rc == 0, err.msg);
-    CHECK(count_temp_files(sub) == 0);
-    CHECK(count_entries(sub) == 1);
+    CHECK(count_dir_entries(sub, ".tmp.") == 0);
+    CHECK(count_dir_entries(sub, NULL) == 1);
 
     /* rename onto a directory fails at commit: the temp file must go */
     mkdir(adir, 0777);
@@ -393,8 +329,8 @@ static void test_vtu_write(void)
     CHECK(rc == VC_EIO);
     CHECK(err.code == VC_EIO);
     CHECK_MSG(strstr(err.msg, adir) != NULL, err.msg);
-    CHECK(count_temp_files(sub) == 0);
-    CHECK(count_entries(sub) == 2);
+    CHECK(count_dir_entries(sub, ".tmp.") == 0);
+    CHECK(count_dir_entries(sub, NULL) == 2);
     rmdir(adir);
 
     /* a directory that does not exist */
@@ -414,7 +350,7 @@ static void test_vtu_write(void)
     char *csv = path_in(sub, "conn.csv");
     rc = vc_write_connections_csv(&m, csv, &err);
     CHECK_MSG(rc == 0, err.msg);
-    char *txt = read_text(csv);
+    char *txt = read_file_text(csv);
     CHECK(txt && strcmp(txt, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz\n"
                              "0,1,5,6,1,1,1,0.5,0.5,1,0,0\n") == 0);
     if (txt && failures)
@@ -424,7 +360,7 @@ static void test_vtu_write(void)
     rc = vc_write_connections_csv(&m, badcsv, &err);
     CHECK(rc == VC_EIO);
     CHECK_MSG(strstr(err.msg, badcsv) != NULL, err.msg);
-    CHECK(count_temp_files(sub) == 0);
+    CHECK(count_dir_entries(sub, ".tmp.") == 0);
 
     /* tmpfile abort leaves nothing */
     vc_tmpfile t;
@@ -436,7 +372,7 @@ static void test_vtu_write(void)
         vc_tmpfile_abort(&t);
     }
     CHECK(!file_exists(tp));
-    CHECK(count_temp_files(sub) == 0);
+    CHECK(count_dir_entries(sub, ".tmp.") == 0);
     clear_dir(sub);
     rmdir(sub);
 
@@ -450,7 +386,7 @@ static void test_vtu_write(void)
     free(sub);
     free(raw);
     free(zl);
-    free_mesh(&m);
+    vc_polymesh_free(&m);
 }
 
 /* A bigger grid with uneven spacing: every array spans several zlib blocks
@@ -485,7 +421,7 @@ static void test_vtu_grid(void)
     char *csv = path_in(tmpdir, "io_grid_connections.csv");
     rc = vc_write_connections_csv(&m, csv, &err);
     CHECK_MSG(rc == 0, err.msg);
-    char *txt = read_text(csv);
+    char *txt = read_file_text(csv);
     if (txt) {
         int64_t lines = 0;
         for (const char *q = txt; *q; ++q)
@@ -508,7 +444,7 @@ static void test_vtu_grid(void)
     free(csv);
     free(raw);
     free(zl);
-    free_mesh(&m);
+    vc_polymesh_free(&m);
 }
 
 /* ---- seeds CSV ---------------------------------------------------------- */

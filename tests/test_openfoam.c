@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "test_check.h"
+#include "test_file_util.h"
 
 size_t vc_foam_format_double(char *out, double x); /* in openfoam_writer.c */
 
@@ -107,25 +108,6 @@ static void build(two_cubes *t, int flip, int shift)
 
 /* ---- reading back ------------------------------------------------------- */
 
-static char *slurp(const char *path)
-{
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    if (s && fread(s, 1, (size_t)n, fp) != (size_t)n) {
-        free(s);
-        s = NULL;
-    }
-    if (s)
-        s[n] = 0;
-    fclose(fp);
-    return s;
-}
-
 static char *case_file(const char *c, const char *rel)
 {
     static char buf[8192];
@@ -156,12 +138,12 @@ static int read_ints(const char *text, int64_t *out, int max)
 static void check_two_cubes(const char *c, int shift_written)
 {
     (void)shift_written;
-    char *owner = slurp(case_file(c, "constant/polyMesh/owner"));
-    char *neigh = slurp(case_file(c, "constant/polyMesh/neighbour"));
-    char *faces = slurp(case_file(c, "constant/polyMesh/faces"));
-    char *points = slurp(case_file(c, "constant/polyMesh/points"));
-    char *bnd = slurp(case_file(c, "constant/polyMesh/boundary"));
-    char *ctl = slurp(case_file(c, "system/controlDict"));
+    char *owner = read_file_text(case_file(c, "constant/polyMesh/owner"));
+    char *neigh = read_file_text(case_file(c, "constant/polyMesh/neighbour"));
+    char *faces = read_file_text(case_file(c, "constant/polyMesh/faces"));
+    char *points = read_file_text(case_file(c, "constant/polyMesh/points"));
+    char *bnd = read_file_text(case_file(c, "constant/polyMesh/boundary"));
+    char *ctl = read_file_text(case_file(c, "system/controlDict"));
     CHECK(owner && neigh && faces && points && bnd && ctl);
     if (!(owner && neigh && faces && points && bnd && ctl))
         goto out;
@@ -225,26 +207,13 @@ static void remove_case(const char *c)
     rmdir(c);
 }
 
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    struct dirent *e;
-    if (!d)
-        return -1;
-    while ((e = readdir(d)))
-        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
-    closedir(d);
-    return n;
-}
-
 static void test_cases(void)
 {
     char c[4096], sub[2048];
     snprintf(sub, sizeof sub, "%s/openfoam_test", tmpdir);
     remove_case(sub); /* leftovers of an earlier run */
     mkdir(sub, 0777);
-    int before = count_entries(sub);
+    int before = count_dir_entries(sub, NULL);
     vc_error err = {0, ""};
     two_cubes t;
     int variants[3][2] = {{0, 0}, {1, 0}, {0, 1}}; /* plain, flipped, unused point */
@@ -272,12 +241,12 @@ static void test_cases(void)
         fclose(fp);
     }
     CHECK(vc_write_openfoam(&t.m, c, &err) == VC_OK);
-    char *ctl = slurp(case_file(c, "system/controlDict"));
+    char *ctl = read_file_text(case_file(c, "system/controlDict"));
     CHECK(ctl && !strcmp(ctl, "user\n"));
     free(ctl);
-    CHECK(count_entries(case_file(c, "constant/polyMesh")) == 5);
-    CHECK(count_entries(case_file(c, "system")) == 3);
-    CHECK(count_entries(case_file(c, "constant")) == 1);
+    CHECK(count_dir_entries(case_file(c, "constant/polyMesh"), NULL) == 5);
+    CHECK(count_dir_entries(case_file(c, "system"), NULL) == 3);
+    CHECK(count_dir_entries(case_file(c, "constant"), NULL) == 1);
     remove_case(c);
 
     /* Errors: CASE_DIR a file; a vertex out of range. Nothing is left. */
@@ -293,7 +262,7 @@ static void test_cases(void)
     snprintf(c, sizeof c, "%s/bad", sub);
     CHECK(vc_write_openfoam(&t.m, c, &err) == VC_EINPUT);
     CHECK(strstr(err.msg, "vertex 12"));
-    CHECK(count_entries(sub) == before);
+    CHECK(count_dir_entries(sub, NULL) == before);
     rmdir(sub);
 }
 
