@@ -54,17 +54,37 @@ int vc_cli_directory_writable(const char *path)
     return access(dir, W_OK) == 0;
 }
 
-int vc_cli_check_output_file(const char *path)
+int vc_cli_check_output_file_as(const char *prog, const char *path)
 {
     struct stat st;
     if (!vc_cli_directory_writable(path)) {
-        fprintf(stderr, "vorocrust: %s: cannot write: directory missing or not writable\n", path);
+        fprintf(stderr, "%s: %s: cannot write: directory missing or not writable\n", prog, path);
         return 1;
     }
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "vorocrust: %s: cannot write: Is a directory\n", path);
+        fprintf(stderr, "%s: %s: cannot write: Is a directory\n", prog, path);
         return 1;
     }
+    return 0;
+}
+
+int vc_cli_check_output_file(const char *path)
+{
+    return vc_cli_check_output_file_as("vorocrust", path);
+}
+
+int vc_cli_positional(const char *prog, const char *command, const char *arg,
+                      const char **positional)
+{
+    if (arg[0] == '-' && arg[1]) {
+        fprintf(stderr, "%s: unknown option '%s' (see '%s --help')\n", prog, arg, command);
+        return 2;
+    }
+    if (*positional) {
+        fprintf(stderr, "%s: unexpected argument '%s'\n", prog, arg);
+        return 2;
+    }
+    *positional = arg;
     return 0;
 }
 

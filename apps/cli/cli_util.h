@@ -1,4 +1,6 @@
-/* Small helpers the sub-commands share. */
+/* Small helpers the sub-commands share. libc only: vc-tetgen (apps/tetgen)
+ * compiles cli_util.c too, so it must not need the vorocrust library or
+ * anything else. */
 #ifndef VC_CLI_UTIL_H
 #define VC_CLI_UTIL_H
 
@@ -18,6 +20,18 @@ int vc_cli_directory_writable(const char *path);
  * whose directory is missing or not writable, or that is a directory;
  * returns 0 when it can be written. */
 int vc_cli_check_output_file(const char *path);
+
+/* The same, with the message starting "prog: " (vc_cli_check_output_file
+ * is this with "vorocrust"). */
+int vc_cli_check_output_file_as(const char *prog, const char *path);
+
+/* An argument of the command `command` (such as "vorocrust compare") that
+ * no option took: an unknown option (a "-" and more), or a positional one
+ * when *positional is already set, is refused (one line on stderr starting
+ * "prog: "; returns the exit code 2); otherwise it becomes *positional and
+ * 0 is returned. */
+int vc_cli_positional(const char *prog, const char *command, const char *arg,
+                      const char **positional);
 
 /* The same for an OpenFOAM case directory: an existing writable directory
  * (its polyMesh is replaced) or a new one in a writable directory, never a

@@ -193,13 +193,7 @@ int vc_cmd_compare(int argc, char **argv)
                 fprintf(stderr, "vorocrust: --target-cells: '%s' is not a count from 1 to 1e9\n", v);
                 return 2;
             }
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust compare --help')\n", a);
-            return 2;
-        } else if (!input_path) {
-            input_path = a;
-        } else {
-            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+        } else if (vc_cli_positional("vorocrust", "vorocrust compare", a, &input_path)) {
             return 2;
         }
     }

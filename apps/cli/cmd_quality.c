@@ -11,6 +11,7 @@
 #include <omp.h>
 #endif
 
+#include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/mesh_report.h"
 #include "vorocrust/surface.h"
@@ -78,13 +79,7 @@ int vc_cmd_quality(int argc, char **argv)
 #ifdef _OPENMP
             omp_set_num_threads((int)t);
 #endif
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust quality --help')\n", a);
-            return 2;
-        } else if (!mesh_path) {
-            mesh_path = a;
-        } else {
-            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+        } else if (vc_cli_positional("vorocrust", "vorocrust quality", a, &mesh_path)) {
             return 2;
         }
     }

@@ -110,13 +110,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         } else if (takes_value(a)) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust voronoi --help')\n", a);
             return 2;
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust voronoi --help')\n", a);
-            return 2;
-        } else if (!seeds_path) {
-            seeds_path = a;
-        } else {
-            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+        } else if (vc_cli_positional("vorocrust", "vorocrust voronoi", a, &seeds_path)) {
             return 2;
         }
     }

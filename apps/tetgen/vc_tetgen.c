@@ -3,17 +3,15 @@
  * encloses with TetGen (quality switches, a volume bound chosen for a
  * target cell count) and writes a .vtu of VTK_TETRA cells. A separate
  * program because TetGen is AGPL: the vorocrust library never links it. */
-#include <errno.h>
 #include <inttypes.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "cli_util.h"
 #include "tetgen_adapter.h"
 #include "tetra_vtu_writer.h"
 #include "vorocrust/error.h"
@@ -128,34 +126,10 @@ static int search_bound(const vc_surface *s, double radius_edge, double first, d
     return 0;
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* Whether the directory that would hold path exists and is writable. */
-static int directory_writable(const char *path)
-{
-    char dir[4096];
-    const char *slash = strrchr(path, '/');
-    if (!slash)
-        return access(".", W_OK) == 0;
-    size_t n = slash == path ? 1 : (size_t)(slash - path);
-    if (n >= sizeof dir)
-        return 0;
-    memcpy(dir, path, n);
-    dir[n] = 0;
-    return access(dir, W_OK) == 0;
-}
-
 static int parse_positive(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (errno || end == s || *end || !isfinite(v) || v <= 0)
+    double v;
+    if (vc_cli_parse_double(s, &v) || v <= 0)
         return -1;
     *out = v;
     return 0;
@@ -199,13 +173,7 @@ int main(int argc, char **argv)
                         "(TetGen may not terminate below 1.1)\n", v);
                 return 2;
             }
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "vc-tetgen: unknown option '%s' (see 'vc-tetgen --help')\n", a);
-            return 2;
-        } else if (!input) {
-            input = a;
-        } else {
-            fprintf(stderr, "vc-tetgen: unexpected argument '%s'\n", a);
+        } else if (vc_cli_positional("vc-tetgen", "vc-tetgen", a, &input)) {
             return 2;
         }
     }
@@ -225,17 +193,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: --target-cells and --max-volume exclude each other\n");
         return 2;
     }
-    struct stat st;
-    if (output && !directory_writable(output)) {
-        fprintf(stderr, "vc-tetgen: %s: cannot write: directory missing or not writable\n", output);
+    if (output && vc_cli_check_output_file_as("vc-tetgen", output))
         return 1;
-    }
-    if (output && stat(output, &st) == 0 && S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "vc-tetgen: %s: cannot write: Is a directory\n", output);
-        return 1;
-    }
 
-    double t0 = now();
+    double t0 = vc_cli_now();
     vc_error err = {0, ""};
     vc_surface s = {0, NULL, 0, NULL};
     vc_surface_report rep;
@@ -254,7 +215,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: %s: the surface encloses no volume\n", input);
         goto out;
     }
-    double t_read = now();
+    double t_read = vc_cli_now();
     char msg[512];
     int64_t n_crossing = 0;
     if (vc_tetgen_self_intersections(&s, &n_crossing, msg, sizeof msg) != 0) {
@@ -267,7 +228,7 @@ int main(int argc, char **argv)
                 n_crossing);
         goto out;
     }
-    double t_check = now();
+    double t_check = vc_cli_now();
     snprintf(crash_line, sizeof crash_line, "vc-tetgen: %s: TetGen crashed while stopping on "
              "this surface (TetGen 1.5.0 does so on features below its tolerance or facets "
              "too close together)\n", input);
@@ -290,7 +251,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: %s: %s\n", input, msg);
         goto out;
     }
-    double t_mesh = now();
+    double t_mesh = vc_cli_now();
     if (bound_only) {
         printf("max volume: %.6g (%" PRId64 " tetrahedra for the target %.0f, %d TetGen runs)\n",
                max_volume, mesh.n_tets, target, runs);
@@ -301,7 +262,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: %s\n", err.msg);
         goto out;
     }
-    double t_write = now();
+    double t_write = vc_cli_now();
     if (!quiet) {
         double volume = 0;
         for (int64_t t = 0; t < mesh.n_tets; t++)
