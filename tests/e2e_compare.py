@@ -28,12 +28,13 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtk  # noqa: E402
+import e2eutil  # noqa: E402
 import vtkcheck  # noqa: E402
+from e2eutil import check, failures  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
 SOURCE = os.environ["VC_SOURCE"]
@@ -41,19 +42,11 @@ MODELS = os.environ.get("VC_MODELS", "")
 TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_compare")
 shutil.rmtree(TMP, ignore_errors=True)
 os.makedirs(TMP)
-failures = []
 
 if os.path.dirname(os.environ.get("VC_TETGEN", "")) != os.path.dirname(BIN):
     print("FAIL: vc-tetgen (VC_TETGEN=%r) is not built next to %s" % (os.environ.get("VC_TETGEN"), BIN),
           file=sys.stderr)
     sys.exit(1)
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-    return cond
 
 
 def close(a, b, rel):
@@ -65,8 +58,7 @@ def path(*names):
 
 
 def run(*args):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=900)
-    return p.returncode, p.stdout, p.stderr
+    return e2eutil.run([BIN, *args], timeout=900)
 
 
 def parse_table(out):
@@ -101,15 +93,7 @@ def stat(rep, key, which):
 def reference_volumes(grid):
     """vtkCellSizeFilter's volumes, vtkMassProperties where it loses volume on
     a polyhedron (see e2e_quality)."""
-    f = vtk.vtkCellSizeFilter()
-    f.SetInputData(grid)
-    f.ComputeVertexCountOff()
-    f.ComputeLengthOff()
-    f.ComputeAreaOff()
-    f.ComputeVolumeOn()
-    f.Update()
-    arr = f.GetOutput().GetCellData().GetArray("Volume")
-    vols = [abs(arr.GetValue(i)) for i in range(arr.GetNumberOfTuples())]
+    vols = [abs(v) for v in vtkcheck.vtk_volumes(grid)]
     for c in range(len(vols)):
         if grid.GetCellType(c) == 42:
             mp = vtkcheck.cell_mass_volume(grid, c)

@@ -3,7 +3,7 @@ sharp corners, creases and surface patches printed by the CLI against an
 independent Python implementation of thesis 6.2.2 that reads the OBJ/OFF
 files itself, plus known answers derived from the models' geometry.
 Environment: VC_BIN (the vorocrust executable), VC_MODELS (the shared
-models), VC_TMP (a writable directory).
+models), VC_TMP (a writable directory), VC_SOURCE (the source tree).
 
 The reference implementation shares no code with the C one and computes
 some things differently: sectors by a breadth-first search over the
@@ -14,30 +14,20 @@ half the sharp-edge ends at corners), patches by union-find."""
 import math
 import os
 import re
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import e2eutil  # noqa: E402
+from e2eutil import check, failures, field  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
 MODELS = os.environ["VC_MODELS"]
 TMP = os.environ.get("VC_TMP", "/tmp")
 DEFAULT_ANGLE = 60.0
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
 
 
 def run(*args):
-    p = subprocess.run([BIN, "info", *args], capture_output=True, text=True, timeout=120)
-    return p.returncode, p.stdout, p.stderr
-
-
-def field(out, name):
-    m = re.search(r"^%s: (.*)$" % re.escape(name), out, re.M)
-    return m.group(1) if m else None
+    return e2eutil.run([BIN, "info", *args], timeout=120)
 
 
 def cli_features(path, angle=None):

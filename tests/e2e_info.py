@@ -1,31 +1,20 @@
 """End-to-end test of `vorocrust info`: output and exit codes for good and
 bad inputs. Environment: VC_BIN (the vorocrust executable), VC_MODELS (the
-shared models), VC_TMP (a writable directory)."""
+shared models), VC_TMP (a writable directory), VC_SOURCE (the source tree)."""
 import os
-import re
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import e2eutil  # noqa: E402
+from e2eutil import check, failures, field  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
 MODELS = os.environ["VC_MODELS"]
 TMP = os.environ.get("VC_TMP", "/tmp")
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
 
 
 def run(*args):
-    p = subprocess.run([BIN, "info", *args], capture_output=True, text=True, timeout=60)
-    return p.returncode, p.stdout, p.stderr
-
-
-def field(out, name):
-    m = re.search(r"^%s: (.*)$" % re.escape(name), out, re.M)
-    return m.group(1) if m else None
+    return e2eutil.run([BIN, "info", *args], timeout=60)
 
 
 # A good model: fertility (genus 4).

@@ -29,27 +29,16 @@ import math
 import os
 import random
 import re
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtk  # noqa: E402
+import e2eutil  # noqa: E402
 import vtkcheck  # noqa: E402
+from e2eutil import check, failures  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
-TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_quality")
-os.makedirs(TMP, exist_ok=True)
-for old in os.listdir(TMP):
-    if os.path.isfile(os.path.join(TMP, old)):
-        os.remove(os.path.join(TMP, old))
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-    return cond
+TMP = e2eutil.fresh_tmp("e2e_quality")
 
 
 def close(a, b, rel=1e-9, abs_=1e-12):
@@ -61,8 +50,7 @@ def path(name):
 
 
 def run(*args):
-    p = subprocess.run([BIN, *args], capture_output=True, text=True, timeout=600)
-    return p.returncode, p.stdout, p.stderr
+    return e2eutil.run([BIN, *args], timeout=600)
 
 
 STAT_KEYS = ["min", "max", "mean", "p1", "p5", "p50", "p95", "p99"]
@@ -203,15 +191,7 @@ def check_boundary(name, rep, grid):
 
 
 def cell_size_volumes(grid):
-    f = vtk.vtkCellSizeFilter()
-    f.SetInputData(grid)
-    f.ComputeVertexCountOff()
-    f.ComputeLengthOff()
-    f.ComputeAreaOff()
-    f.ComputeVolumeOn()
-    f.Update()
-    arr = f.GetOutput().GetCellData().GetArray("Volume")
-    return [abs(arr.GetValue(i)) for i in range(arr.GetNumberOfTuples())]
+    return [abs(v) for v in vtkcheck.vtk_volumes(grid)]
 
 
 def vtk_reference_volumes(grid):

@@ -18,12 +18,13 @@ Environment: VC_TETGEN, VC_SOURCE, VC_MODELS, VC_TMP.
 import math
 import os
 import re
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtk  # noqa: E402
+import e2eutil  # noqa: E402
 import vtkcheck  # noqa: E402
+from e2eutil import check, failures  # noqa: E402
 
 TETGEN = os.environ.get("VC_TETGEN", "")
 if not os.path.isfile(TETGEN):
@@ -31,19 +32,7 @@ if not os.path.isfile(TETGEN):
     sys.exit(1)
 SOURCE = os.environ["VC_SOURCE"]
 MODELS = os.environ.get("VC_MODELS", "")
-TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_tetgen")
-os.makedirs(TMP, exist_ok=True)
-for old in os.listdir(TMP):
-    if os.path.isfile(os.path.join(TMP, old)):
-        os.remove(os.path.join(TMP, old))
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-    return cond
+TMP = e2eutil.fresh_tmp("e2e_tetgen")
 
 
 def path(name):
@@ -51,8 +40,7 @@ def path(name):
 
 
 def run(*args):
-    p = subprocess.run([TETGEN, *args], capture_output=True, text=True, timeout=600)
-    return p.returncode, p.stdout, p.stderr
+    return e2eutil.run([TETGEN, *args], timeout=600)
 
 
 def read_obj(fname):
@@ -109,18 +97,6 @@ def tetra_boundary(grid):
     return [f for f, n in count.items() if n == 1]
 
 
-def cell_size_volumes(grid):
-    f = vtk.vtkCellSizeFilter()
-    f.SetInputData(grid)
-    f.ComputeVertexCountOff()
-    f.ComputeLengthOff()
-    f.ComputeAreaOff()
-    f.ComputeVolumeOn()
-    f.Update()
-    arr = f.GetOutput().GetCellData().GetArray("Volume")
-    return [arr.GetValue(i) for i in range(arr.GetNumberOfTuples())]
-
-
 def check_tet_mesh(name, out, verts, tris, stderr, target=None, max_volume=None, on_surface=True):
     """Every property of a vc-tetgen mesh of the surface (verts, tris)."""
     try:
@@ -136,7 +112,7 @@ def check_tet_mesh(name, out, verts, tris, stderr, target=None, max_volume=None,
     bad = [c for c, s in enumerate(states) if s]
     check(not bad, "%s: %d cells invalid for vtkCellValidator (first %r: %s)"
           % (name, len(bad), bad[:1], vtkcheck.state_text(states[bad[0]]) if bad else ""))
-    vols = cell_size_volumes(grid)
+    vols = vtkcheck.vtk_volumes(grid)
     check(min(vols) > 0, "%s: smallest tetrahedron volume %r (inverted or flat)" % (name, min(vols)))
     stored = vtkcheck.cell_array(grid, "volume")
     check(stored is not None and all(abs(a - b) <= 1e-9 * abs(b) + 1e-300 for a, b in zip(stored, vols)),

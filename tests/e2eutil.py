@@ -1,0 +1,52 @@
+"""Helpers the end-to-end tests (tests/e2e_*.py) share: recording failed
+checks, a clean scratch directory, running a program, reading "key: value"
+output.
+
+Not a test by itself (tests are tests/e2e_*.py); import it from a test:
+
+    sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+    from e2eutil import check, failures
+
+failures is the one list every check of the test appends to; the test
+exits non-zero when it is not empty.
+"""
+
+import os
+import re
+import subprocess
+import sys
+
+failures = []
+
+
+def check(cond, what):
+    """Records what as a failure (and prints it on stderr) when cond is
+    false; returns cond."""
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what, file=sys.stderr)
+    return cond
+
+
+def fresh_tmp(name):
+    """The directory VC_TMP/name (VC_TMP: /tmp by default), made if missing,
+    with the files an earlier run left in it removed (subdirectories are
+    kept)."""
+    tmp = os.path.join(os.environ.get("VC_TMP", "/tmp"), name)
+    os.makedirs(tmp, exist_ok=True)
+    for old in os.listdir(tmp):
+        if os.path.isfile(os.path.join(tmp, old)):
+            os.remove(os.path.join(tmp, old))
+    return tmp
+
+
+def run(argv, timeout):
+    """Runs the command argv; returns (exit code, stdout, stderr), text."""
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def field(out, name):
+    """The value of the line "name: value" of out, or None."""
+    m = re.search(r"^%s: (.*)$" % re.escape(name), out, re.M)
+    return m.group(1) if m else None
