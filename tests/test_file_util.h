@@ -24,9 +24,9 @@ static inline int count_dir_entries(const char *dir, const char *part)
     return n;
 }
 
-/* The whole file as a NUL-terminated string (free it), or NULL when it
- * cannot be opened or read in full. */
-static inline char *read_file_text(const char *path)
+/* The whole file, NUL-terminated (free it), its size in *size when size
+ * is not NULL; NULL when it cannot be opened or read in full. */
+static inline char *read_file_bytes(const char *path, size_t *size)
 {
     FILE *fp = fopen(path, "rb");
     if (!fp)
@@ -39,10 +39,19 @@ static inline char *read_file_text(const char *path)
         free(s);
         s = NULL;
     }
-    if (s)
+    if (s) {
         s[n] = 0;
+        if (size)
+            *size = (size_t)n;
+    }
     fclose(fp);
     return s;
+}
+
+/* A text file as a string (free it), or NULL. */
+static inline char *read_file_text(const char *path)
+{
+    return read_file_bytes(path, NULL);
 }
 
 #endif

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "test_check.h"
+#include "test_file_util.h"
 
 static const char *tmpdir = ".";
 
@@ -38,20 +39,6 @@ static void write_file(const char *path, const void *data, size_t n)
         return;
     CHECK(fwrite(data, 1, n, f) == n);
     fclose(f);
-}
-
-static char *read_file(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)size + 1);
-    *n = fread(b, 1, (size_t)size, f);
-    fclose(f);
-    return b;
 }
 
 /* The error must be one line starting with "PATH: ". */
@@ -247,7 +234,7 @@ static void fuzz(const char *src_name, int flips)
 {
     char *src = tmp_path(src_name);
     size_t n;
-    char *orig = read_file(src, &n);
+    char *orig = read_file_bytes(src, &n);
     CHECK(orig != NULL);
     if (!orig) {
         free(src);
