@@ -88,6 +88,12 @@ int vc_cli_positional(const char *prog, const char *command, const char *arg,
     return 0;
 }
 
+int vc_cli_missing(const char *prog, const char *command, const char *what)
+{
+    fprintf(stderr, "%s: missing %s (see '%s --help')\n", prog, what, command);
+    return 2;
+}
+
 /* Whether the directory that would hold path (trailing slashes ignored)
  * exists, is a directory and is writable. */
 static int parent_directory_writable(const char *path)

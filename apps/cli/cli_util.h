@@ -33,6 +33,11 @@ int vc_cli_check_output_file_as(const char *prog, const char *path);
 int vc_cli_positional(const char *prog, const char *command, const char *arg,
                       const char **positional);
 
+/* Refuses a command line that lacks what (such as "the INPUT surface"):
+ * "prog: missing WHAT (see 'COMMAND --help')" on stderr; returns the exit
+ * code 2. */
+int vc_cli_missing(const char *prog, const char *command, const char *what);
+
 /* The same for an OpenFOAM case directory: an existing writable directory
  * (its polyMesh is replaced) or a new one in a writable directory, never a
  * file. Returns 0, or the exit code (2 for an empty name, 1 otherwise). */

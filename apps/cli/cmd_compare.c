@@ -197,10 +197,8 @@ int vc_cmd_compare(int argc, char **argv)
             return 2;
         }
     }
-    if (!input_path) {
-        fprintf(stderr, "vorocrust: missing the INPUT surface (see 'vorocrust compare --help')\n");
-        return 2;
-    }
+    if (!input_path)
+        return vc_cli_missing("vorocrust", "vorocrust compare", "the INPUT surface");
     if (report_path && vc_cli_check_output_file(report_path))
         return 1;
     struct stat st;

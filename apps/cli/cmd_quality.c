@@ -83,10 +83,8 @@ int vc_cmd_quality(int argc, char **argv)
             return 2;
         }
     }
-    if (!mesh_path) {
-        fprintf(stderr, "vorocrust: missing the mesh MESH.vtu (see 'vorocrust quality --help')\n");
-        return 2;
-    }
+    if (!mesh_path)
+        return vc_cli_missing("vorocrust", "vorocrust quality", "the mesh MESH.vtu");
 
     vc_error err = {0, ""};
     vc_vtu_mesh m;

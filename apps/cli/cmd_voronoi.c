@@ -114,11 +114,9 @@ int vc_cmd_voronoi(int argc, char **argv)
             return 2;
         }
     }
-    if (!seeds_path || !out_path) {
-        fprintf(stderr, "vorocrust: %s (see 'vorocrust voronoi --help')\n",
-                !seeds_path ? "missing the seeds file SEEDS.csv" : "missing -o OUT.vtu");
-        return 2;
-    }
+    if (!seeds_path || !out_path)
+        return vc_cli_missing("vorocrust", "vorocrust voronoi",
+                              !seeds_path ? "the seeds file SEEDS.csv" : "-o OUT.vtu");
     /* Refuse unwritable outputs before the work, not after. */
     const char *outputs[2] = {out_path, conn_path};
     for (int i = 0; i < 2; i++)

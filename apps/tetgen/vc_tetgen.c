@@ -177,18 +177,14 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (!input) {
-        fprintf(stderr, "vc-tetgen: missing the INPUT surface (see 'vc-tetgen --help')\n");
-        return 2;
-    }
+    if (!input)
+        return vc_cli_missing("vc-tetgen", "vc-tetgen", "the INPUT surface");
     if (bound_only && !(target > 0)) {
         fprintf(stderr, "vc-tetgen: --bound-only needs --target-cells\n");
         return 2;
     }
-    if (!output && !bound_only) {
-        fprintf(stderr, "vc-tetgen: missing -o OUT.vtu (see 'vc-tetgen --help')\n");
-        return 2;
-    }
+    if (!output && !bound_only)
+        return vc_cli_missing("vc-tetgen", "vc-tetgen", "-o OUT.vtu");
     if (target > 0 && max_volume > 0) {
         fprintf(stderr, "vc-tetgen: --target-cells and --max-volume exclude each other\n");
         return 2;
