@@ -542,23 +542,67 @@ static inline int64_t root_of(const copy_id *parent, int64_t copy)
 
 /* Cycle length of face f of cell c (parent[] holds roots, possibly
  * numbered: the comparisons are between roots, so the length is the same
- * before and after the numbering). */
-static int cycle_len(const copy_id *parent, const cell_hdr *c, int f)
+ * before and after the numbering). *spike is set when a root may come
+ * back two steps later (x, a, x: the face folds back on itself, which
+ * merging makes of a face a few merge tolerances wide), wrap-around
+ * included; it may also be set for other repeats. */
+static int cycle_len(const copy_id *parent, const cell_hdr *c, int f, int *spike)
 {
     const int64_t base = c->vbase;
     const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
-    int64_t first = root_of(parent, base + c->fv[s0]), last = first;
-    int n = 1;
+    int64_t first = root_of(parent, base + c->fv[s0]), last = first, before = -1, before2 = -1,
+            second = -1;
+    int n = 1, folds = 0;
     for (int i = s0 + 1; i < s1; i++) {
         int64_t r = root_of(parent, base + c->fv[i]);
         if (r != last) {
+            folds |= r == before;
+            if (n == 1)
+                second = r;
             n++;
+            before2 = before;
+            before = last;
             last = r;
         }
     }
+    if (n >= 3)
+        folds |= second == last || second == before || first == before ||
+                 (last == first && first == before2);
+    *spike = folds;
     if (n > 1 && last == first)
         n--;
     return n >= 3 ? n : 0;
+}
+
+/* Takes the spikes out of a cycle of roots in place (x, a, x becomes x,
+ * around the end too), and consecutive repeats. A spike's two edges, a -> x
+ * and x -> a, are each other's reverse in the same face: without them the
+ * face's cell is still closed. Returns the new length. */
+static int remove_spikes(int64_t *r, int n)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const int64_t x = r[i];
+        if (m > 0 && r[m - 1] == x)
+            continue;
+        if (m > 1 && r[m - 2] == x) {
+            m--;
+            continue;
+        }
+        r[m++] = x;
+    }
+    for (;;) {
+        if (m > 1 && r[m - 1] == r[0])
+            m--;
+        else if (m > 2 && r[m - 2] == r[0])
+            m--;
+        else if (m > 2 && r[m - 1] == r[1]) {
+            memmove(r, r + 1, (size_t)(m - 1) * sizeof *r);
+            m--;
+        } else
+            break;
+    }
+    return m;
 }
 
 /* Marks the roots of the cycle of face f of cell c as used. */
@@ -659,7 +703,12 @@ typedef struct emitter {
     unsigned char *used;
     int64_t *dst;
     int n;
+    int64_t *roots; /* when not NULL: the roots, up to CYCLE_BUF of them */
 } emitter;
+
+/* Longest output cycle whose spikes are taken out (longer ones are
+ * written as they are). */
+#define CYCLE_BUF 512
 
 static inline void emit(emitter *e, int64_t r)
 {
@@ -667,6 +716,8 @@ static inline void emit(emitter *e, int64_t r)
         __atomic_store_n(&e->used[r], 1, __ATOMIC_RELAXED);
     if (e->dst)
         e->dst[e->n] = -e->parent[r] - 1;
+    if (e->roots && e->n < CYCLE_BUF)
+        e->roots[e->n] = r;
     e->n++;
 }
 
@@ -732,12 +783,31 @@ static int walk_face(const split_table *sp, emitter *e, const cell_hdr *c, int f
     return e->n;
 }
 
+/* The output cycle of face f of cell c as roots in buf (CYCLE_BUF
+ * entries), with its spikes taken out. Returns its length (0: the face is
+ * gone), or -1 when it does not fit. */
+static int face_cycle(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
+                      int64_t *buf)
+{
+    emitter e = {parent, NULL, NULL, 0, buf};
+    walk_face(sp, &e, c, f);
+    if (e.n > CYCLE_BUF)
+        return -1;
+    const int n = remove_spikes(buf, e.n);
+    return n >= 3 ? n : 0;
+}
+
 /* Output cycle length of face f of cell c (0: gone). */
 static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f)
 {
-    int len = cycle_len(parent, c, f);
-    if (len > 0 && sp->n > 0) {
-        emitter e = {parent, NULL, NULL, 0};
+    int spike;
+    int len = cycle_len(parent, c, f, &spike);
+    if (len > 0 && (spike || sp->n > 0)) {
+        int64_t buf[CYCLE_BUF];
+        int n = face_cycle(sp, parent, c, f, buf);
+        if (n >= 0)
+            return n;
+        emitter e = {parent, NULL, NULL, 0, NULL};
         len = walk_face(sp, &e, c, f);
     }
     return len;
@@ -747,11 +817,22 @@ static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr
 static void face_mark_used(const split_table *sp, const copy_id *parent, const cell_hdr *c,
                            int f, unsigned char *used)
 {
+    int spike = 0;
     if (sp->n == 0) {
-        mark_used(parent, c, f, used);
+        cycle_len(parent, c, f, &spike);
+        if (!spike) {
+            mark_used(parent, c, f, used);
+            return;
+        }
+    }
+    int64_t buf[CYCLE_BUF];
+    int n = face_cycle(sp, parent, c, f, buf);
+    if (n >= 0) {
+        for (int i = 0; i < n; i++)
+            __atomic_store_n(&used[buf[i]], 1, __ATOMIC_RELAXED);
         return;
     }
-    emitter e = {parent, used, NULL, 0};
+    emitter e = {parent, used, NULL, 0, NULL};
     walk_face(sp, &e, c, f);
 }
 
@@ -760,11 +841,22 @@ static void face_mark_used(const split_table *sp, const copy_id *parent, const c
 static void face_write(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
                        int len, int rev, int64_t *dst)
 {
+    int spike = 0;
     if (sp->n == 0) {
-        write_cycle(parent, c, f, len, rev, dst);
+        cycle_len(parent, c, f, &spike);
+        if (!spike) {
+            write_cycle(parent, c, f, len, rev, dst);
+            return;
+        }
+    }
+    int64_t buf[CYCLE_BUF];
+    int n = face_cycle(sp, parent, c, f, buf);
+    if (n >= 0) {
+        for (int i = 0; i < n && i < len; i++)
+            dst[rev ? len - 1 - i : i] = -parent[buf[i]] - 1;
         return;
     }
-    emitter e = {parent, NULL, dst, 0};
+    emitter e = {parent, NULL, dst, 0, NULL};
     walk_face(sp, &e, c, f);
     if (rev)
         for (int i = 0, j = len - 1; i < j; i++, j--) {
