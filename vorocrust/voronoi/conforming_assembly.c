@@ -308,6 +308,26 @@ static void match_keys(copy_id *parent, const cell_hdr *ca, int fa, const cell_h
     }
 }
 
+/* A face of cell c that its neighbour does not have, all within
+ * TINY_FACE merge tolerances (the larger of the two cells'): the
+ * neighbour judged its plane to touch the cell at one point. Its vertices
+ * are united, so that the face is gone on this side too. Nearly
+ * co-spherical seeds (within a few 1e-9 of the cell size) make such faces
+ * where two cells resolve a cluster of vertices differently. */
+#define TINY_FACE 100.0
+
+static void collapse_if_tiny(copy_id *parent, const cell_hdr *c, int f, double tol)
+{
+    const int s0 = c->face_start[f], s1 = c->face_start[f + 1];
+    const double *x0 = c->v + 3 * c->fv[s0];
+    const double reach2 = (0.5 * TINY_FACE * tol) * (0.5 * TINY_FACE * tol);
+    for (int i = s0 + 1; i < s1; i++)
+        if (dist2(x0, c->v + 3 * c->fv[i]) > reach2)
+            return;
+    for (int i = s0 + 1; i < s1; i++)
+        unite(parent, c->vbase + c->fv[s0], c->vbase + c->fv[i]);
+}
+
 /* Identifies the copies on face fa of cell a and face fb (>= 0) of cell b,
  * the same face seen from both sides. In general position both are the
  * same cycle in opposite directions: one pass checks it and unites the
@@ -1287,7 +1307,14 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             const int32_t om = as.nbr[fb + f];
             if (om < 0)
                 outer += c->face_start[f + 1] - c->face_start[f];
-            if (om <= m)
+            if (om < 0)
+                continue;
+            if (om < m) {
+                if (face_with_plane(&h[om], c->seed) < 0)
+                    collapse_if_tiny(as.parent, c, f, c->tol > h[om].tol ? c->tol : h[om].tol);
+                continue;
+            }
+            if (om == m)
                 continue;
             const cell_hdr *d = &h[om];
             int g = face_with_plane(d, c->seed);
@@ -1300,6 +1327,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 as.twin[d->fbase + g] = (int16_t)f;
                 as.slow[fb + f] = (unsigned char)!match_face(as.parent, c, f, d, g, tol * tol);
             } else {
+                collapse_if_tiny(as.parent, c, f, tol);
                 match_nearest(as.parent, c, f, d, -1, tol * tol);
             }
         }
