@@ -1307,14 +1307,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             const int32_t om = as.nbr[fb + f];
             if (om < 0)
                 outer += c->face_start[f + 1] - c->face_start[f];
-            if (om < 0)
-                continue;
-            if (om < m) {
-                if (face_with_plane(&h[om], c->seed) < 0)
-                    collapse_if_tiny(as.parent, c, f, c->tol > h[om].tol ? c->tol : h[om].tol);
-                continue;
-            }
-            if (om == m)
+            if (om <= m)
                 continue;
             const cell_hdr *d = &h[om];
             int g = face_with_plane(d, c->seed);
@@ -1327,13 +1320,22 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 as.twin[d->fbase + g] = (int16_t)f;
                 as.slow[fb + f] = (unsigned char)!match_face(as.parent, c, f, d, g, tol * tol);
             } else {
-                collapse_if_tiny(as.parent, c, f, tol);
                 match_nearest(as.parent, c, f, d, -1, tol * tol);
             }
         }
         n_outer[m] = outer;
     }
     PHASE("faces");
+    /* Faces the neighbour lacks (their twins are all known now). */
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const cell_hdr *c = &h[m];
+        for (int f = 0; f < c->nf; f++) {
+            const int32_t om = as.nbr[c->fbase + f];
+            if (om >= 0 && as.twin[c->fbase + f] < 0)
+                collapse_if_tiny(as.parent, c, f, c->tol > h[om].tol ? c->tol : h[om].tol);
+        }
+    }
     if (match_loose_copies(&as, n_outer, max_nv) != 0)
         goto nomem;
     free(n_outer);
