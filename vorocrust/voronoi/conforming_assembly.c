@@ -948,6 +948,25 @@ static int add_split(split_table *sp, edge_split q)
  * vertex of y is a copy of it that the merge tolerance of one of the cells
  * kept apart (the pair goes into snap, to be united); one within max_dist
  * of an edge of y, strictly between its ends, lies on it (into sp). */
+/* Sorts the splits by (lo, hi, t) and drops repeats: the same point on the
+ * same edge, found from several faces. */
+static void sort_splits(split_table *sp)
+{
+    if (sp->n < 2)
+        return;
+    qsort(sp->s, (size_t)sp->n, sizeof *sp->s, cmp_split);
+    int64_t w = 1;
+    for (int64_t k = 1; k < sp->n; k++) {
+        const edge_split *q = &sp->s[k];
+        int dup = 0;
+        for (int64_t j = w - 1; j >= 0 && sp->s[j].lo == q->lo && sp->s[j].hi == q->hi; j--)
+            dup |= sp->s[j].u == q->u;
+        if (!dup)
+            sp->s[w++] = *q;
+    }
+    sp->n = w;
+}
+
 static int split_missing(const assembly *as, const int64_t *x, int nx, const int64_t *y, int ny,
                          double max_dist, split_table *sp, split_table *snap, int64_t *n_unplaced)
 {
@@ -1040,20 +1059,47 @@ static int find_splits(const assembly *as, split_table *sp, split_table *snap,
     }
     free(ra);
     free(rb);
-    if (rc == 0 && sp->n > 1) {
-        qsort(sp->s, (size_t)sp->n, sizeof *sp->s, cmp_split);
-        int64_t w = 1; /* the same point on the same edge, found from several faces */
-        for (int64_t k = 1; k < sp->n; k++) {
-            const edge_split *q = &sp->s[k];
-            int dup = 0;
-            for (int64_t j = w - 1; j >= 0 && sp->s[j].lo == q->lo && sp->s[j].hi == q->hi; j--)
-                dup |= sp->s[j].u == q->u;
-            if (!dup)
-                sp->s[w++] = *q;
-        }
-        sp->n = w;
-    }
+    if (rc == 0)
+        sort_splits(sp);
     return rc;
+}
+
+/* The points on an edge split the sub-edges between them too: a cell
+ * whose own copy of the edge ends at one of those points (an artefact
+ * corner of four co-circular seeds, placed by each cell somewhere else
+ * along their edge) has an edge from the end to that point, which must get
+ * the points lying between them. For each split edge lo - u_1 - ... - u_k -
+ * hi, every sub-edge between two points of that chain that are not
+ * neighbours in it gets the chain's points between them. */
+static int add_subedge_splits(split_table *sp)
+{
+    const int64_t n0 = sp->n;
+    for (int64_t i0 = 0; i0 < n0;) {
+        int64_t i1 = i0;
+        while (i1 < n0 && sp->s[i1].lo == sp->s[i0].lo && sp->s[i1].hi == sp->s[i0].hi)
+            i1++;
+        const int64_t k = i1 - i0; /* chain: lo, the k points by t, hi */
+        for (int64_t a = 0; a <= k + 1; a++)
+            for (int64_t b = a + 2; b <= k + 1; b++) {
+                if (a == 0 && b == k + 1)
+                    continue; /* the edge itself */
+                const int64_t pa = a == 0 ? sp->s[i0].lo : sp->s[i0 + a - 1].u;
+                const int64_t pb = b == k + 1 ? sp->s[i0].hi : sp->s[i0 + b - 1].u;
+                const double ta = a == 0 ? 0.0 : sp->s[i0 + a - 1].t;
+                const double tb = b == k + 1 ? 1.0 : sp->s[i0 + b - 1].t;
+                for (int64_t m = a + 1; m < b; m++) {
+                    const edge_split *q = &sp->s[i0 + m - 1];
+                    const double t = (q->t - ta) / (tb - ta);
+                    edge_split r = pa < pb ? (edge_split){pa, pb, t, q->u}
+                                           : (edge_split){pb, pa, 1.0 - t, q->u};
+                    if (add_split(sp, r) != 0)
+                        return -1;
+                }
+            }
+        i0 = i1;
+    }
+    sort_splits(sp);
+    return 0;
 }
 
 /* A face between two kept cells known only to the higher one (the owner
@@ -1367,6 +1413,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         for (int64_t i = 0; i < n_copies; i++)
             as.parent[i] = (copy_id)find_root(as.parent, i);
     }
+    if (add_subedge_splits(&splits) != 0)
+        goto nomem;
     if (timing)
         fprintf(stderr, "  assembly: %lld edge splits, %lld vertices on no edge\n",
                 (long long)splits.n, (long long)n_unplaced);
