@@ -448,14 +448,20 @@ int vc_cmd_mesh(int argc, char **argv)
             break;
         int64_t n_folds = 0, n_edges = 0;
         if (attempt == 0 && st.diverged && !sharp_angle_given && opt.sharp_angle > fold_angle) {
+            /* f holds the input's features at theta_sharp unless the input
+             * was smoothed first. */
             vc_features at_fold, at_sharp;
+            memset(&at_fold, 0, sizeof at_fold);
+            memset(&at_sharp, 0, sizeof at_sharp);
+            const vc_features *sharp = sampled == &s ? &f : &at_sharp;
             if (vc_features_detect(&s, fold_angle, &at_fold, &err) ||
-                vc_features_detect(&s, opt.sharp_angle, &at_sharp, &err)) {
+                (sharp == &at_sharp &&
+                 vc_features_detect(&s, opt.sharp_angle, &at_sharp, &err))) {
                 vc_features_free(&at_fold);
                 fprintf(stderr, "vorocrust: %s: %s\n", in_path, err.msg);
                 goto out;
             }
-            n_folds = at_fold.n_sharp_edges - at_sharp.n_sharp_edges;
+            n_folds = at_fold.n_sharp_edges - sharp->n_sharp_edges;
             n_edges = at_fold.n_edges;
             vc_features_free(&at_fold);
             vc_features_free(&at_sharp);

@@ -289,17 +289,27 @@ static int vertex_key(const cell_hdr *c, int v, int64_t key[4])
  * true corners within 1e-4 of it (bracket, fertility); copies farther
  * apart than KEY_MATCH_REACH merge tolerances are left alone. */
 #define KEY_MATCH_REACH 1e5
+/* Longest face whose corners are matched by key (as CYCLE_BUF below). */
+#define KEY_FACE_MAX 512
+
 static void match_keys(copy_id *parent, const cell_hdr *ca, int fa, const cell_hdr *cb, int fb)
 {
     const double reach = KEY_MATCH_REACH * (ca->tol > cb->tol ? ca->tol : cb->tol);
+    const int b0 = cb->face_start[fb], nb = cb->face_start[fb + 1] - b0;
+    if (nb > KEY_FACE_MAX)
+        return;
+    int64_t kb[KEY_FACE_MAX][4];
+    int has_kb[KEY_FACE_MAX];
+    for (int j = 0; j < nb; j++)
+        has_kb[j] = vertex_key(cb, cb->fv[b0 + j], kb[j]);
     for (int i = ca->face_start[fa]; i < ca->face_start[fa + 1]; i++) {
         int64_t ka[4];
         if (!vertex_key(ca, ca->fv[i], ka))
             continue;
-        for (int j = cb->face_start[fb]; j < cb->face_start[fb + 1]; j++) {
-            int64_t kb[4];
-            if (vertex_key(cb, cb->fv[j], kb) && ka[0] == kb[0] && ka[1] == kb[1] &&
-                ka[2] == kb[2] && ka[3] == kb[3] &&
+        for (int jj = 0; jj < nb; jj++) {
+            const int j = b0 + jj;
+            if (has_kb[jj] && ka[0] == kb[jj][0] && ka[1] == kb[jj][1] && ka[2] == kb[jj][2] &&
+                ka[3] == kb[jj][3] &&
                 dist2(ca->v + 3 * ca->fv[i], cb->v + 3 * cb->fv[j]) <= reach * reach) {
                 unite(parent, ca->vbase + ca->fv[i], cb->vbase + cb->fv[j]);
                 break;
