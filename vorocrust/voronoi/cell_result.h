@@ -24,10 +24,9 @@ typedef struct vc_cell_result {
     double scale;       /* local cell size: distance to the nearest face's seed */
 } vc_cell_result;
 
-/* Large arrays that are touched once, in passes: on Linux they are backed
- * by transparent huge pages when the system allows it, which makes first
- * touches several times cheaper (4 KiB page faults cost more than the
- * stitching's work per byte). Freed with free(). */
+/* Large arrays that are touched once, in passes: aligned to huge pages,
+ * and backed by them when asked (see vc_huge_pages_wanted in page_bank.h).
+ * Freed with free(). */
 #define VC_BIG_ALLOC_MIN ((size_t)4 << 20)
 #define VC_HUGE_PAGE ((size_t)2 << 20)
 
@@ -41,7 +40,7 @@ static inline void *vc_big_alloc(size_t bytes)
         void *p = NULL;
         if (posix_memalign(&p, VC_HUGE_PAGE, rounded) != 0)
             return NULL;
-        (void)madvise(p, rounded, MADV_HUGEPAGE);
+        vc_pages_advise(p, rounded);
         return p;
     }
 #endif

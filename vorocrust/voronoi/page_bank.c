@@ -12,6 +12,30 @@
 #define VC_PAGE_BANK_MOVES 1
 #endif
 
+int vc_huge_pages_wanted(void)
+{
+    /* Read once; a data race on the cache is benign (same value). */
+    static int wanted = -1;
+    int w = __atomic_load_n(&wanted, __ATOMIC_RELAXED);
+    if (w < 0) {
+        const char *e = getenv("VC_HUGE_PAGES");
+        w = e && e[0] == '1';
+        __atomic_store_n(&wanted, w, __ATOMIC_RELAXED);
+    }
+    return w;
+}
+
+void vc_pages_advise(void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (vc_huge_pages_wanted())
+        (void)madvise(p, bytes, MADV_HUGEPAGE);
+#else
+    (void)p;
+    (void)bytes;
+#endif
+}
+
 void *vc_pages_map(size_t bytes)
 {
 #ifdef VC_PAGE_BANK_MOVES
@@ -26,7 +50,7 @@ void *vc_pages_map(size_t bytes)
         munmap(q, lead);
     if (VC_HUGE_PAGE - lead)
         munmap(q + lead + bytes, VC_HUGE_PAGE - lead);
-    (void)madvise(q + lead, bytes, MADV_HUGEPAGE);
+    vc_pages_advise(q + lead, bytes);
     return q + lead;
 #else
     return vc_big_alloc(bytes);
