@@ -50,13 +50,18 @@ void vc_polygon_geometry(const double *points, const int64_t *cycle, int64_t n,
         double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
         double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
         double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        /* Twice the triangles' areas and three times their centroids:
+         * the factors are applied once, after the sums. */
         for (int d = 0; d < 3; d++)
-            a[d] += 0.5 * x[d];
-        double w = 0.5 * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+            a[d] += x[d];
+        double w = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         for (int d = 0; d < 3; d++)
-            c[d] += w * (c0[d] + p[d] + q[d]) / 3.0;
+            c[d] += w * (c0[d] + p[d] + q[d]);
         wsum += w;
     }
+    for (int d = 0; d < 3; d++)
+        a[d] *= 0.5;
+    wsum *= 3.0;
 #undef CYCLE_POINT
     for (int d = 0; d < 3; d++) {
         av[d] = a[d];
@@ -94,12 +99,13 @@ void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c)
         double sgn = m->face_owner[f] == c ? 1.0 : -1.0;
         const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
         double h = (fc[0] - ref[0]) * n[0] + (fc[1] - ref[1]) * n[1] + (fc[2] - ref[2]) * n[2];
-        double pv = sgn * h * m->face_area[f] / 3.0;
+        /* Three times the pyramid's volume: divided once, below. */
+        double pv = sgn * h * m->face_area[f];
         vol += pv;
         for (int d = 0; d < 3; d++)
             cen[d] += pv * (ref[d] + 0.75 * (fc[d] - ref[d]));
     }
-    m->cell_volume[c] = vol;
+    m->cell_volume[c] = vol / 3.0;
     for (int d = 0; d < 3; d++)
         m->cell_centroid[3 * c + d] = vol != 0 ? cen[d] / vol : ref[d];
 }

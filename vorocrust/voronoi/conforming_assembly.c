@@ -827,11 +827,16 @@ static int face_cycle(const split_table *sp, const copy_id *parent, const cell_h
     return n >= 3 ? n : 0;
 }
 
-/* Output cycle length of face f of cell c (0: gone). */
-static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f)
+/* Output cycle length of face f of cell c (0: gone). *simple (if not
+ * NULL) is set when that cycle is the copies' roots as they come (no split
+ * point, no spike): the marking and the writing then take it as it is. */
+static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
+                    int *simple)
 {
     int spike;
     int len = cycle_len(parent, c, f, &spike);
+    if (simple)
+        *simple = !spike && sp->n == 0;
     if (len > 0 && (spike || sp->n > 0)) {
         int64_t buf[CYCLE_BUF];
         int n = face_cycle(sp, parent, c, f, buf);
@@ -843,41 +848,45 @@ static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr
     return len;
 }
 
-/* Marks the roots of the output cycle of face f of cell c used. */
-static void face_mark_used(const split_table *sp, const copy_id *parent, const cell_hdr *c,
-                           int f, unsigned char *used)
+/* Output cycle length of face f of cell c (0: gone), whose roots are
+ * marked used when it is not gone. */
+static int face_len_mark(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
+                         unsigned char *used)
 {
-    int spike = 0;
-    if (sp->n == 0) {
-        cycle_len(parent, c, f, &spike);
-        if (!spike) {
-            mark_used(parent, c, f, used);
-            return;
-        }
+    int simple;
+    const int len = face_len(sp, parent, c, f, &simple);
+    if (len == 0)
+        return 0;
+    if (simple) {
+        mark_used(parent, c, f, used);
+        return len;
     }
     int64_t buf[CYCLE_BUF];
     int n = face_cycle(sp, parent, c, f, buf);
     if (n >= 0) {
         for (int i = 0; i < n; i++)
             __atomic_store_n(&used[buf[i]], 1, __ATOMIC_RELAXED);
-        return;
+        return len;
     }
     emitter e = {parent, used, NULL, 0, NULL};
     walk_face(sp, &e, c, f);
+    return len;
 }
 
 /* Writes the point ids of the output cycle of face f of cell c (len
- * entries, known), reversed when rev. */
+ * entries, known), reversed when rev. simple: face_len's flag, or -1 when
+ * not known. */
 static void face_write(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
-                       int len, int rev, int64_t *dst)
+                       int len, int rev, int simple, int64_t *dst)
 {
-    int spike = 0;
-    if (sp->n == 0) {
+    if (simple < 0) {
+        int spike;
         cycle_len(parent, c, f, &spike);
-        if (!spike) {
-            write_cycle(parent, c, f, len, rev, dst);
-            return;
-        }
+        simple = !spike && sp->n == 0;
+    }
+    if (simple) {
+        write_cycle(parent, c, f, len, rev, dst);
+        return;
     }
     int64_t buf[CYCLE_BUF];
     int n = face_cycle(sp, parent, c, f, buf);
@@ -1155,6 +1164,7 @@ typedef struct out_face {
     int src_face;
     int len;
     int reversed;      /* the source copy is seen from the neighbour */
+    int simple;        /* face_len's flag for the source copy, or -1 */
 } out_face;
 
 /* The faces owned by the cell at position m into buf: the interior ones
@@ -1174,10 +1184,11 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
         /* The lengths are found again rather than kept from the survival
          * pass: the same walk as the writing's, in cache, and an array of
          * one int per face less at the peak memory. */
-        out_face r = {t, om, (int32_t)m, f, face_len(as->sp, as->parent, c, f), 0};
+        out_face r = {t, om, (int32_t)m, f, 0, 0, 0};
+        r.len = face_len(as->sp, as->parent, c, f, &r.simple);
         if (r.len <= 0) {
             int g = as->twin[fb + f];
-            r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g) : 0;
+            r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g, &r.simple) : 0;
             if (r.len == 0)
                 continue;
             r.src = om;
@@ -1188,7 +1199,7 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     }
     for (int64_t i = 0; i < n_o; i++)
         buf[n++] = (out_face){o[i].neighbour_seed, o[i].neighbour, o[i].neighbour,
-                              o[i].src_face, o[i].len, 1};
+                              o[i].src_face, o[i].len, 1, -1};
     for (int i = 1; i < n; i++) { /* insertion sort by neighbour */
         out_face r = buf[i];
         int j = i;
@@ -1199,9 +1210,10 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     int nb = 0;
     for (int f = 0; f < c->nf; f++)
         if (as->nbr[fb + f] < 0) {
-            int len = face_len(as->sp, as->parent, c, f);
+            int simple;
+            int len = face_len(as->sp, as->parent, c, f, &simple);
             if (len > 0)
-                buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, len, 0};
+                buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, len, 0, simple};
         }
     *n_bnd = nb;
     return n;
@@ -1223,13 +1235,18 @@ static void face_geometry(const vc_polymesh *m, int64_t f, const int64_t *fv, in
         double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
         double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
         double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        /* Twice the triangles' areas and three times their centroids:
+         * the factors are applied once, after the sums. */
         for (int d = 0; d < 3; d++)
-            a[d] += 0.5 * x[d];
-        double w = 0.5 * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+            a[d] += x[d];
+        double w = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
         for (int d = 0; d < 3; d++)
-            c[d] += w * (c0[d] + p[d] + q[d]) / 3.0;
+            c[d] += w * (c0[d] + p[d] + q[d]);
         wsum += w;
     }
+    for (int d = 0; d < 3; d++)
+        a[d] *= 0.5;
+    wsum *= 3.0;
     double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     m->face_area[f] = area;
     for (int d = 0; d < 3; d++) {
@@ -1446,35 +1463,28 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             const int64_t t = c->plane[f];
             int len;
             if (om < 0) {
-                len = face_len(&splits, as.parent, c, f);
+                len = face_len_mark(&splits, as.parent, c, f, used);
                 if (len > 0) {
                     n_bnd++;
                     fv_bnd += len;
-                    face_mark_used(&splits, as.parent, c, f, used);
                 } else {
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (t > c->seed) {
-                len = face_len(&splits, as.parent, c, f);
-                const cell_hdr *src = c;
-                int sf = f, sl = len;
-                if (len == 0 && as.twin[fb + f] >= 0) {
-                    src = &h[om];
-                    sf = as.twin[fb + f];
-                    sl = face_len(&splits, as.parent, src, sf);
-                }
+                len = face_len_mark(&splits, as.parent, c, f, used);
+                int sl = len;
+                if (len == 0 && as.twin[fb + f] >= 0)
+                    sl = face_len_mark(&splits, as.parent, &h[om], as.twin[fb + f], used);
                 if (sl > 0) {
                     n_int++;
                     fv_int += sl;
-                    face_mark_used(&splits, as.parent, src, sf, used);
                     __atomic_fetch_add(&as.acc[om].n_nb, 1, __ATOMIC_RELAXED);
                 } else {
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (as.twin[fb + f] < 0) {
-                len = face_len(&splits, as.parent, c, f);
+                len = face_len_mark(&splits, as.parent, c, f, used);
                 if (len > 0) {
-                    face_mark_used(&splits, as.parent, c, f, used);
                     __atomic_fetch_add(&a->n_nb, 1, __ATOMIC_RELAXED);
 #pragma omp critical(vc_assembly_orphans)
                     {
@@ -1635,7 +1645,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 out->face_owner[i] = c->k;
                 out->face_other_seed[i] = r->other_seed;
                 int64_t *fv = out->face_vertices + *pos;
-                face_write(&splits, as.parent, &h[r->src], r->src_face, r->len, r->reversed, fv);
+                face_write(&splits, as.parent, &h[r->src], r->src_face, r->len, r->reversed,
+                           r->simple, fv);
                 *pos += r->len;
                 out->face_offsets[i + 1] = *pos;
                 cf[j] = i;

@@ -350,55 +350,53 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         a = b;
     }
 
-    /* Compact the kept triangles in place (keeping their order), then
-     * append the fan. */
+    /* The fan takes the removed triangles' slots, in the order they were
+     * listed, and the end of the array: only what changes is written (the
+     * removed region is a few triangles of the cell). When the fan is the
+     * smaller, which needs a whole face to vanish, the holes it leaves are
+     * closed by compacting the triangles after them. The edge owners of
+     * the removed triangles are then stale (no triangle holds those
+     * edges), and are kept while the plane indices fit. */
     const int new_nt = nt - n_out + n_boundary;
-    c->tri = reserve(&c->b_tri, new_nt, 3 * sizeof(int));
-    c->px = reserve(&c->b_px, new_nt, sizeof(double));
-    c->py = reserve(&c->b_py, new_nt, sizeof(double));
-    c->pz = reserve(&c->b_pz, new_nt, sizeof(double));
-    c->r2 = reserve(&c->b_r2, new_nt, sizeof(double));
-    /* The largest squared distance is taken on the way (the same maximum
-     * as update_rmax2's: no NaN among them). */
-    /* The edge owners are kept while the plane indices fit. */
+    c->tri = reserve(&c->b_tri, new_nt > nt ? new_nt : nt, 3 * sizeof(int));
+    c->px = reserve(&c->b_px, new_nt > nt ? new_nt : nt, sizeof(double));
+    c->py = reserve(&c->b_py, new_nt > nt ? new_nt : nt, sizeof(double));
+    c->pz = reserve(&c->b_pz, new_nt > nt ? new_nt : nt, sizeof(double));
+    c->r2 = reserve(&c->b_r2, new_nt > nt ? new_nt : nt, sizeof(double));
     const int keep_owner = c->edge_owner_ok && np + 1 <= VC_EDGE_OWNER_PLANES;
     c->edge_owner_ok = keep_owner;
     uint16_t *owner = c->edge_owner;
-    int w = conflict[0];
-    double rmax2 = 0;
-    for (int t = 0; t < w; t++)
-        rmax2 = c->r2[t] > rmax2 ? c->r2[t] : rmax2;
-    /* Without branches: every triangle is copied to w (w <= t), and w
-     * only moves past the kept ones, so a removed one is overwritten by the
-     * next kept one or the fan. Its edge owner entries are then stale: its
-     * edges are held by no triangle. */
-    for (int t = conflict[0] + 1; t < nt; t++) {
-        const int kept = !(dist[t] > thr);
-        memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
-        if (keep_owner)
-            set_edge_owner(owner, c->tri + 3 * w, w);
-        c->px[w] = c->px[t];
-        c->py[w] = c->py[t];
-        c->pz[w] = c->pz[t];
-        const double r2 = c->r2[t];
-        c->r2[w] = r2;
-        rmax2 = kept && r2 > rmax2 ? r2 : rmax2;
-        w += kept;
-    }
-    memcpy(c->tri + 3 * w, new_tri, (size_t)n_boundary * 3 * sizeof(int));
-    if (keep_owner)
-        for (int k = 0; k < n_boundary; k++)
-            set_edge_owner(owner, new_tri + 3 * k, w + k);
     for (int k = 0; k < n_boundary; k++) {
-        c->px[w + k] = new_pt[3 * k];
-        c->py[w + k] = new_pt[3 * k + 1];
-        c->pz[w + k] = new_pt[3 * k + 2];
-        const double r2 = norm2(new_pt + 3 * k);
-        c->r2[w + k] = r2;
-        rmax2 = r2 > rmax2 ? r2 : rmax2;
+        const int t = k < n_out ? conflict[k] : nt + (k - n_out);
+        memcpy(c->tri + 3 * t, new_tri + 3 * k, 3 * sizeof(int));
+        if (keep_owner)
+            set_edge_owner(owner, new_tri + 3 * k, t);
+        c->px[t] = new_pt[3 * k];
+        c->py[t] = new_pt[3 * k + 1];
+        c->pz[t] = new_pt[3 * k + 2];
+        c->r2[t] = norm2(new_pt + 3 * k);
+    }
+    if (n_boundary < n_out) {
+        /* Every triangle from the first hole on is copied to w (w <= t),
+         * and w only moves past the kept ones. A hole's edge owners are not
+         * written: the fan holds its boundary edges now. */
+        for (int k = 0; k < n_boundary; k++)
+            dist[conflict[k]] = -INFINITY; /* now a fan triangle: kept */
+        int w = conflict[n_boundary];
+        for (int t = w + 1; t < nt; t++) {
+            const int kept = !(dist[t] > thr);
+            memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
+            if (keep_owner && kept)
+                set_edge_owner(owner, c->tri + 3 * w, w);
+            c->px[w] = c->px[t];
+            c->py[w] = c->py[t];
+            c->pz[w] = c->pz[t];
+            c->r2[w] = c->r2[t];
+            w += kept;
+        }
     }
     c->nt = new_nt;
-    c->rmax2 = rmax2;
+    update_rmax2(c);
     return 1;
 }
 

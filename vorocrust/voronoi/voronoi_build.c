@@ -232,7 +232,8 @@ static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, prune *pr, in
 /* A neighbour candidate of the first shell of bins. */
 typedef struct candidate {
     double d2;
-    int64_t k; /* position in the grid's seed order */
+    int32_t k;    /* position in the grid's seed order (< 2^31, checked) */
+    int32_t step; /* distance step, for the sort below */
 } candidate;
 
 static candidate *reserve_candidates(vc_cell_buf *b, int need)
@@ -282,7 +283,13 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     vc_seed_grid_locate(g, xs, b);
     const double h2 = g->h * g->h;
 
-    /* The first shell: offsets with a zero distance bound come first. */
+    /* The first shell: offsets with a zero distance bound come first. They
+     * are tried near first, by a counting sort on the distance in steps
+     * of h / 4 squared: cheaper than a full sort and as effective (the
+     * order within a step hardly changes how fast the cell shrinks). */
+    enum { N_STEPS = 32 };
+    int step_start[N_STEPS + 1] = {0};
+    const double inv_step = 16.0 / h2;
     int n_cand = 0, o = 0;
     for (; o < g->n_offsets && g->offsets[o].dmin2 == 0; o++) {
         const vc_grid_offset *off = &g->offsets[o];
@@ -299,31 +306,19 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
                 continue;
             const double *xt = g->xyz + 3 * kk;
             double dx = xt[0] - xs[0], dy = xt[1] - xs[1], dz = xt[2] - xs[2];
-            cand[n_cand].d2 = dx * dx + dy * dy + dz * dz;
-            cand[n_cand].k = kk;
+            const double d2 = dx * dx + dy * dy + dz * dz, q = d2 * inv_step;
+            const int st = q < N_STEPS - 1 ? (int)q : N_STEPS - 1;
+            cand[n_cand] = (candidate){d2, (int32_t)kk, st};
+            step_start[st + 1]++;
             n_cand++;
         }
     }
-    /* Near first, by a counting sort on the distance in steps of h / 4
-     * squared: cheaper than a full sort and as effective (the order within
-     * a step hardly changes how fast the cell shrinks). */
-    enum { N_STEPS = 32 };
-    int step_start[N_STEPS + 1] = {0};
     candidate *cand = reserve_candidates(cand_buf, 2 * n_cand);
     candidate *sorted = cand + n_cand;
-    const double inv_step = 16.0 / h2;
-    for (int m = 0; m < n_cand; m++) {
-        double q = cand[m].d2 * inv_step;
-        int st = q < N_STEPS - 1 ? (int)q : N_STEPS - 1;
-        step_start[st + 1]++;
-    }
     for (int st = 0; st < N_STEPS; st++)
         step_start[st + 1] += step_start[st];
-    for (int m = 0; m < n_cand; m++) {
-        double q = cand[m].d2 * inv_step;
-        int st = q < N_STEPS - 1 ? (int)q : N_STEPS - 1;
-        sorted[step_start[st]++] = cand[m];
-    }
+    for (int m = 0; m < n_cand; m++)
+        sorted[step_start[cand[m].step]++] = cand[m];
     for (int m = 0; m < n_cand; m++) {
         if (!may_cut(cell, sorted[m].d2))
             continue;
