@@ -26,9 +26,9 @@ here from the seeds alone:
   (e) a single seed: one cell filling the box;
   (f) zlib and raw encodings read back to the same mesh; 1 and 2 threads
       give byte-identical files;
-  (g) nearly co-spherical seeds (torus.obj's VoroCrust seeds plus one seed
-      just outside each ball, at 1e-9, 3e-9 and 1e-7 of its radius): the
-      validator passes, VTK reads every kept cell back;
+  (g) nearly co-spherical seeds (VoroCrust seeds of torus.obj, bracket.obj
+      and sphere.obj plus one seed just outside each ball, at 1e-9 to 1e-7
+      of its radius): the validator passes, VTK reads every kept cell back;
   and bad input: non-zero exit, one stderr line "vorocrust: ..." naming the
   file and the problem, and no file left behind (not even a temporary).
 
@@ -614,29 +614,39 @@ mesh("one_nobox", p_one, cells=1, volume=8.0)
 
 
 # =========================================================================
-# (g) Nearly co-spherical: torus.obj's VoroCrust seeds plus, for each ball,
+# (g) Nearly co-spherical: a model's VoroCrust seeds plus, for each ball,
 #     a seed at (1 + eps) r from its centre along the inward normal, just
 #     outside the sphere on which the ball's seeds lie. Every ball centre is
 #     then a cluster of Voronoi vertices eps * r across, at the scale of the
 #     merge tolerance: before the engine matched corners by their seeds and
 #     took folded-back spikes out of merged faces and collapsed tiny faces
-#     the neighbour lacks, eps 1e-9 gave 85 validation problems, 3e-9 274,
-#     and 1e-7 a face repeating a vertex. (eps 1e-8 and 3e-8 still fail:
-#     README, known limitations.)
+#     the neighbour lacks, torus eps 1e-9 gave 85 validation problems, 3e-9
+#     274, and 1e-7 a face repeating a vertex.
 # =========================================================================
 MODELS = os.environ.get("VC_MODELS", "")
-torus = os.path.join(MODELS, "torus.obj")
-t_seeds, t_balls = os.path.join(TMP, "torus_seeds.csv"), os.path.join(TMP, "torus_balls.csv")
-p = subprocess.run([BIN, "mesh", torus, "--surface-only", "--surface", os.path.join(TMP, "torus.obj"),
-                    "--seeds", t_seeds, "--balls", t_balls, "--quiet"],
-                   capture_output=True, text=True, timeout=600)
-if check(p.returncode == 0, "torus seeds: exit %d: %s" % (p.returncode, p.stderr[-500:])):
+# (model, random seed of the sampling, eps values): torus seed 1 at 1e-8,
+# 3e-8 and 5e-8, bracket seed 3 at 5e-8 and 1e-7 and sphere seed 2 at 3e-8
+# failed before open cells' clusters of points were collapsed (see
+# vc_polymesh_collapse_open_clusters).
+NEAR_COSPHERICAL = [("torus.obj", 1, (1e-9, 3e-9, 1e-8, 3e-8, 5e-8, 1e-7)),
+                    ("bracket.obj", 3, (5e-8, 1e-7)),
+                    ("sphere.obj", 2, (3e-8,))]
+for model, sample_seed, eps_values in NEAR_COSPHERICAL:
+    stem = "%s_%d" % (model.split(".")[0], sample_seed)
+    t_seeds = os.path.join(TMP, stem + "_seeds.csv")
+    t_balls = os.path.join(TMP, stem + "_balls.csv")
+    p = subprocess.run([BIN, "mesh", os.path.join(MODELS, model), "--surface-only",
+                        "--surface", os.path.join(TMP, stem + ".obj"), "--seed", str(sample_seed),
+                        "--seeds", t_seeds, "--balls", t_balls, "--quiet"],
+                       capture_output=True, text=True, timeout=600)
+    if not check(p.returncode == 0, "%s seeds: exit %d: %s" % (stem, p.returncode, p.stderr[-500:])):
+        continue
     base = read_seeds(t_seeds)
     with open(t_balls) as f:
         balls = [[float(v) for v in r[:4]] + [float(v) for v in r[6:9]] for r in list(csv.reader(f))[1:]]
-    for eps in (1e-9, 3e-9, 1e-7):
+    for eps in eps_values:
         extra = [tuple(b[d] - (1 + eps) * b[3] * b[4 + d] for d in range(3)) + (1,) for b in balls]
-        name = "near_cospherical_%g" % eps
+        name = "near_cospherical_%s_%g" % (stem, eps)
         path = write_seeds(name + ".csv", base + extra)
         out = os.path.join(TMP, name + ".vtu")
         rc, so, se = run(path, "-o", out)

@@ -36,7 +36,7 @@ int64_t vc_point_root(int64_t *parent, int64_t v)
 }
 
 void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned char *moved,
-                              vc_point_merge_buffers *b)
+                              const unsigned char *drop, vc_point_merge_buffers *b)
 {
     const int64_t nf = m->n_faces;
     memset(b->cell_changed, 0, (size_t)(m->n_cells > 0 ? m->n_cells : 1));
@@ -46,10 +46,11 @@ void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned ch
     for (int64_t f = 0; f < nf; f++) {
         const int64_t first = m->face_offsets[f], end = m->face_offsets[f + 1];
         const int64_t start = wv;
-        int changed = 0;
-        for (int64_t i = first; i < end; i++) {
-            const int64_t v = m->face_vertices[i], r = vc_point_root(parent, v);
-            changed |= moved[v];
+        const int dropped = drop && drop[f];
+        int changed = dropped;
+        for (int64_t i = first; i < end && !dropped; i++) {
+            const int64_t v = m->face_vertices[i], r = parent ? vc_point_root(parent, v) : v;
+            changed |= moved ? moved[v] : 0;
             if (wv == start || m->face_vertices[wv - 1] != r)
                 m->face_vertices[wv++] = r;
         }

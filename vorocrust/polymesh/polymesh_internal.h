@@ -26,13 +26,15 @@ void vc_point_merge_buffers_free(vc_point_merge_buffers *b);
 int64_t vc_point_root(int64_t *parent, int64_t v);
 
 /* Rewrites every face through the union-find parent[] (each point becomes
- * its root, whose position the caller has set), removes the repeated
- * points this makes, drops the faces left with fewer than three points
- * (from the face arrays, in order, and from their cells' lists), and
- * recomputes the geometry of the faces with a point in moved[] and of
- * their cells. b->new_face then maps old face indices to new ones. */
+ * its root, whose position the caller has set; NULL: every point is its
+ * own), removes the repeated points this makes, drops the faces left with
+ * fewer than three points and the faces f with drop[f] set (drop may be
+ * NULL) from the face arrays, in order, and from their cells' lists, and
+ * recomputes the geometry of the faces with a point in moved[] (NULL:
+ * none) and of their cells and of the cells of dropped faces.
+ * b->new_face then maps old face indices to new ones. */
 void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned char *moved,
-                              vc_point_merge_buffers *b);
+                              const unsigned char *drop, vc_point_merge_buffers *b);
 
 /* Drops the points no face uses, renumbering the rest in order. Returns 0,
  * or -1 when out of memory (the mesh is then unchanged). */

@@ -512,7 +512,7 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
             break;
         st->n_collapsed += n_done;
         st->n_rounds = round + 1;
-        vc_polymesh_merge_points(m, s.parent, s.point_moved, &s.merge);
+        vc_polymesh_merge_points(m, s.parent, s.point_moved, NULL, &s.merge);
         memset(s.forced, 0, (size_t)(m->n_faces > 0 ? m->n_faces : 1));
         for (int64_t i = 0; i < n_blockers; i++)
             if (s.merge.new_face[s.blockers[i]] >= 0)

@@ -33,6 +33,9 @@ static double wall_seconds(void)
  * cell size; it must exceed the clipping tolerance by a wide margin. */
 #define CLIP_TOL 1e-10
 #define MERGE_TOL 1e-8
+/* Clusters of points at open edges are collapsed within this fraction of
+ * the cell's size: the validator's tolerance. */
+#define OPEN_CLUSTER_TOL 1e-6
 
 void vc_voronoi_options_default(vc_voronoi_options *opt)
 {
@@ -481,6 +484,43 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
  * are 5 to 15% slower). */
 #define SEEDS_PER_BIN 3.0
 
+/* Passes over a mesh whose stitching met a degeneracy (a dropped face or
+ * a T-junction), in this order (see polymesh.h):
+ *  - straight vertices: degenerate seeds leave points inside edges, which
+ *    VTK rejects and which make needle triangles;
+ *  - nearly co-spherical seeds can leave a cluster of points a few merge
+ *    tolerances wide that neighbouring cells resolve differently (open
+ *    cells: collapsed), and a face listed twice by one cell (dropped);
+ *    either may leave straight vertices again.
+ * Returns 0, or VC_ENOMEM (out is then freed). */
+static int repair_degenerate(vc_polymesh *out, vc_error *err)
+{
+    const int timing = getenv("VC_ASSEMBLY_TIMING") != NULL;
+    double ts = wall_seconds();
+    int64_t n_straight = vc_polymesh_remove_straight_vertices(out);
+    if (n_straight < 0)
+        goto nomem;
+    if (timing)
+        fprintf(stderr, "  straight vertices: %lld removed in %.3f s\n", (long long)n_straight,
+                wall_seconds() - ts);
+    ts = wall_seconds();
+    const int64_t n_merged = vc_polymesh_collapse_open_clusters(out, OPEN_CLUSTER_TOL);
+    if (n_merged < 0)
+        goto nomem;
+    const int64_t n_dup = vc_polymesh_drop_duplicate_faces(out);
+    if (n_dup < 0)
+        goto nomem;
+    if (timing)
+        fprintf(stderr, "  open cells: %lld points merged, %lld duplicate faces dropped in %.3f s\n",
+                (long long)n_merged, (long long)n_dup, wall_seconds() - ts);
+    if (n_merged + n_dup > 0 && vc_polymesh_remove_straight_vertices(out) < 0)
+        goto nomem;
+    return 0;
+nomem:
+    vc_polymesh_free(out);
+    return vc_error_set(err, VC_ENOMEM, "out of memory repairing a degenerate mesh");
+}
+
 int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                      vc_polymesh *out, vc_error *err)
 {
@@ -741,20 +781,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         int64_t n_degenerate = 0;
         rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
                                     MERGE_TOL, out, &n_degenerate, err);
-        /* Degenerate seeds leave points inside edges (see polymesh.h);
-         * VTK rejects such polyhedra and they make needle triangles. Only
-         * a dropped face or a T-junction can leave one. */
-        if (rc == 0 && n_degenerate > 0) {
-            double ts = wall_seconds();
-            int64_t n_straight = vc_polymesh_remove_straight_vertices(out);
-            if (n_straight < 0) {
-                vc_polymesh_free(out);
-                rc = vc_error_set(err, VC_ENOMEM, "out of memory removing straight vertices");
-            } else if (getenv("VC_ASSEMBLY_TIMING")) {
-                fprintf(stderr, "  straight vertices: %lld removed in %.3f s\n",
-                        (long long)n_straight, wall_seconds() - ts);
-            }
-        }
+        if (rc == 0 && n_degenerate > 0)
+            rc = repair_degenerate(out, err);
 #ifdef _OPENMP
         omp_set_num_threads(saved_threads);
 #endif
