@@ -381,6 +381,8 @@ static int match_face(copy_id *parent, const cell_hdr *ca, int fa, const cell_hd
  * spatial order, often for the first time (from memory): they are
  * prefetched a few cells ahead, the headers first. */
 #define PREFETCH_AHEAD 4
+/* The same for the faces' geometry. */
+#define GEOMETRY_AHEAD 4
 
 static void prefetch_headers(const assembly *as, int64_t m)
 {
@@ -1685,6 +1687,25 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         goto nomem;
 #pragma omp parallel for schedule(dynamic, 256)
     for (int64_t m = 0; m < n_kept; m++) {
+        /* A cell's faces are scattered (numbered by cell index, visited in
+         * the spatial order): their records are fetched a few cells
+         * ahead, the vertex lists once their offsets are in. */
+        if (m + 2 * GEOMETRY_AHEAD < n_kept) {
+            const cell_acc *b = &as.acc[m + 2 * GEOMETRY_AHEAD];
+            __builtin_prefetch(out->face_offsets + b->n_int);
+            __builtin_prefetch(out->face_offsets + n_int + b->n_bnd);
+        }
+        if (m + GEOMETRY_AHEAD < n_kept) {
+            const cell_acc *b = &as.acc[m + GEOMETRY_AHEAD];
+            if (b->own_int > 0) {
+                prefetch_lines(out->face_vertices + out->face_offsets[b->n_int],
+                               (size_t)(out->face_offsets[b->n_int + b->own_int] -
+                                        out->face_offsets[b->n_int]) * sizeof(int64_t));
+                __builtin_prefetch(out->face_area + b->n_int, 1);
+                __builtin_prefetch(out->face_centroid + 3 * b->n_int, 1);
+                __builtin_prefetch(out->face_normal + 3 * b->n_int, 1);
+            }
+        }
         const cell_acc *a = &as.acc[m];
         const int64_t ranges[2][2] = {{a->n_int, a->n_int + a->own_int},
                                       {n_int + a->n_bnd, n_int + a->n_bnd + a->own_bnd}};
