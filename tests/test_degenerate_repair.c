@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "test_check.h"
+#include "test_cube_block.h"
 
 /* A mesh under construction: faces (owner, neighbour, points) and which
  * cells list them. */
@@ -110,8 +111,6 @@ static int64_t validate(const vc_polymesh *m, int print)
     return bad;
 }
 
-/* Corner (i, j, k) of the two-cube block [0,2] x [0,1] x [0,1]. */
-static int64_t corner(int i, int j, int k) { return i * 4 + j * 2 + k; }
 
 /* Two unit cubes side by side; the second cube's y = 0 and z = 0 faces use
  * point 12, at corner (1,0,0) + (0, gap, 0), instead of that corner (gap
@@ -120,15 +119,11 @@ static void two_cubes(vc_polymesh *m, double gap)
 {
     builder b;
     memset(&b, 0, sizeof b);
-    const int64_t moved = corner(1, 0, 0), copy = gap > 0 ? 12 : moved;
+    const int64_t moved = block_corner(1, 0, 0), copy = gap > 0 ? 12 : moved;
     for (int c = 0; c < 2; c++) {
-        const int x0 = c, x1 = c + 1;
-        int64_t xlo[4] = {corner(x0, 0, 0), corner(x0, 0, 1), corner(x0, 1, 1), corner(x0, 1, 0)};
-        int64_t xhi[4] = {corner(x1, 0, 0), corner(x1, 1, 0), corner(x1, 1, 1), corner(x1, 0, 1)};
-        int64_t ylo[4] = {corner(x0, 0, 0), corner(x1, 0, 0), corner(x1, 0, 1), corner(x0, 0, 1)};
-        int64_t yhi[4] = {corner(x0, 1, 0), corner(x0, 1, 1), corner(x1, 1, 1), corner(x1, 1, 0)};
-        int64_t zlo[4] = {corner(x0, 0, 0), corner(x0, 1, 0), corner(x1, 1, 0), corner(x1, 0, 0)};
-        int64_t zhi[4] = {corner(x0, 0, 1), corner(x1, 0, 1), corner(x1, 1, 1), corner(x0, 1, 1)};
+        int64_t f[6][4];
+        block_cube_faces(c, f);
+        int64_t *xlo = f[0], *xhi = f[1], *ylo = f[2], *yhi = f[3], *zlo = f[4], *zhi = f[5];
         if (c == 1)
             for (int i = 0; i < 4; i++) {
                 ylo[i] = ylo[i] == moved ? copy : ylo[i];
@@ -149,7 +144,7 @@ static void two_cubes(vc_polymesh *m, double gap)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 2; j++)
             for (int k = 0; k < 2; k++) {
-                double *p = pts + 3 * corner(i, j, k);
+                double *p = pts + 3 * block_corner(i, j, k);
                 p[0] = i;
                 p[1] = j;
                 p[2] = k;
@@ -172,7 +167,7 @@ static void test_open_cluster(void)
     for (int64_t i = 0; i < m.face_offsets[m.n_faces]; i++)
         CHECK(m.face_vertices[i] >= 0 && m.face_vertices[i] < 12);
     /* the corner kept its position (the lower index is kept) */
-    CHECK(m.points[3 * corner(1, 0, 0) + 1] == 0);
+    CHECK(m.points[3 * block_corner(1, 0, 0) + 1] == 0);
     CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7) == 0);
     vc_polymesh_free(&m);
 

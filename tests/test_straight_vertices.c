@@ -17,9 +17,8 @@
 #include <string.h>
 
 #include "test_check.h"
+#include "test_cube_block.h"
 
-/* Corner (i, j, k) of the two-cube block, i in 0..2, j, k in 0..1. */
-static int64_t corner(int i, int j, int k) { return i * 4 + j * 2 + k; }
 
 typedef struct builder {
     int64_t fv[64];
@@ -53,15 +52,11 @@ static void two_cubes(vc_polymesh *m, int with_mid)
     memset(m, 0, sizeof *m);
     builder b;
     memset(&b, 0, sizeof b);
-    const int64_t mid = with_mid ? 12 : -1, a0 = corner(1, 0, 0), a1 = corner(1, 1, 0);
+    const int64_t mid = with_mid ? 12 : -1, a0 = block_corner(1, 0, 0), a1 = block_corner(1, 1, 0);
     for (int c = 0; c < 2; c++) {
-        int x0 = c, x1 = c + 1;
-        int64_t xlo[4] = {corner(x0, 0, 0), corner(x0, 0, 1), corner(x0, 1, 1), corner(x0, 1, 0)};
-        int64_t xhi[4] = {corner(x1, 0, 0), corner(x1, 1, 0), corner(x1, 1, 1), corner(x1, 0, 1)};
-        int64_t ylo[4] = {corner(x0, 0, 0), corner(x1, 0, 0), corner(x1, 0, 1), corner(x0, 0, 1)};
-        int64_t yhi[4] = {corner(x0, 1, 0), corner(x0, 1, 1), corner(x1, 1, 1), corner(x1, 1, 0)};
-        int64_t zlo[4] = {corner(x0, 0, 0), corner(x0, 1, 0), corner(x1, 1, 0), corner(x1, 0, 0)};
-        int64_t zhi[4] = {corner(x0, 0, 1), corner(x1, 0, 1), corner(x1, 1, 1), corner(x0, 1, 1)};
+        int64_t f[6][4];
+        block_cube_faces(c, f);
+        const int64_t *xlo = f[0], *xhi = f[1], *ylo = f[2], *yhi = f[3], *zlo = f[4], *zhi = f[5];
         if (c == 0) {
             add_face(&b, xhi, 4, 0, 1, mid, a0, a1); /* the common face, first */
             add_face(&b, xlo, 4, 0, -1, mid, a0, a1);
@@ -78,7 +73,7 @@ static void two_cubes(vc_polymesh *m, int with_mid)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 2; j++)
             for (int k = 0; k < 2; k++) {
-                double *p = m->points + 3 * corner(i, j, k);
+                double *p = m->points + 3 * block_corner(i, j, k);
                 p[0] = i;
                 p[1] = j;
                 p[2] = k;
@@ -145,7 +140,7 @@ static void test_two_cubes(void)
     CHECK(fabs(m.face_area[0] - 1) < 1e-14);
     CHECK(fabs(m.face_centroid[1] - 0.5) < 1e-14 && fabs(m.face_centroid[2] - 0.5) < 1e-14);
     /* the corners keep their coordinates */
-    CHECK(m.points[3 * corner(2, 1, 1)] == 2 && m.points[3 * corner(2, 1, 1) + 2] == 1);
+    CHECK(m.points[3 * block_corner(2, 1, 1)] == 2 && m.points[3 * block_corner(2, 1, 1) + 2] == 1);
     /* a second pass finds nothing */
     CHECK(vc_polymesh_remove_straight_vertices(&m) == 0);
     vc_polymesh_free(&m);
