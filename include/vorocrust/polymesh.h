@@ -86,8 +86,9 @@ void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c);
  * (the lowest index, whose position is kept; merging is transitive).
  * Nearly co-spherical seeds make clusters of Voronoi vertices a few merge
  * tolerances wide whose micro-edges two neighbouring cells can resolve
- * differently; at the validator's scale (rel_radius 1e-7) they are one
- * vertex. Faces left with fewer than 3 points are dropped, points no face
+ * differently; at that scale they are one vertex (the engine uses
+ * rel_radius 1e-6: clusters up to 2.1e-7 of the cell size wide were
+ * measured). Faces left with fewer than 3 points are dropped, points no face
  * uses any more removed (order kept), and the geometry of the changed
  * faces and cells recomputed. Returns the number of points merged away,
  * or -1 when out of memory (the mesh is then still valid, possibly with

@@ -377,11 +377,11 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         c->r2[t] = norm2(new_pt + 3 * k);
     }
     if (n_boundary < n_out) {
-        /* Every triangle from the first hole on is copied to w (w <= t),
-         * and w only moves past the kept ones. A hole's edge owners are not
-         * written: the fan holds its boundary edges now. */
-        for (int k = 0; k < n_boundary; k++)
-            dist[conflict[k]] = -INFINITY; /* now a fan triangle: kept */
+        /* The fan is in slots before the first hole left (the removed
+         * triangles are listed in increasing order). Every triangle after
+         * that hole is copied to w (w <= t), and w only moves past the kept
+         * ones. A hole's edge owners are not written: the fan holds its
+         * boundary edges now. */
         int w = conflict[n_boundary];
         for (int t = w + 1; t < nt; t++) {
             const int kept = !(dist[t] > thr);

@@ -33,8 +33,11 @@ static double wall_seconds(void)
  * cell size; it must exceed the clipping tolerance by a wide margin. */
 #define CLIP_TOL 1e-10
 #define MERGE_TOL 1e-8
-/* Clusters of points at open edges are collapsed within this fraction of
- * the cell's size: the validator's tolerance. */
+/* Clusters of points at open cells' edges are collapsed within this
+ * fraction of the cell's size: the clusters measured were up to 2.1e-7 of
+ * it wide (synthetic near-co-spherical seeds), and the merged points,
+ * which move by at most this, stayed within the validator's planarity
+ * tolerance on every case measured. */
 #define OPEN_CLUSTER_TOL 1e-6
 
 void vc_voronoi_options_default(vc_voronoi_options *opt)
