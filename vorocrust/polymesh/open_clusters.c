@@ -6,64 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct dir_edge {
-    int64_t lo, hi; /* the points, lo < hi */
-    int forward;    /* the cell goes lo -> hi */
-} dir_edge;
-
-static int cmp_dir_edge(const void *pa, const void *pb)
-{
-    const dir_edge *a = pa, *b = pb;
-    if (a->lo != b->lo)
-        return a->lo < b->lo ? -1 : 1;
-    if (a->hi != b->hi)
-        return a->hi < b->hi ? -1 : 1;
-    return a->forward - b->forward;
-}
-
-/* The directed edges of cell c (outward) into *buf, sorted by their
- * points; returns their number, or -1 when out of memory. */
-static int64_t cell_edges(const vc_polymesh *m, int64_t c, dir_edge **buf, int64_t *cap)
-{
-    int64_t ne = 0;
-    for (int64_t i = m->cell_offsets[c]; i < m->cell_offsets[c + 1]; i++)
-        ne += vc_polymesh_face_size(m, m->cell_faces[i]);
-    if (ne > *cap) {
-        dir_edge *q = realloc(*buf, (size_t)ne * sizeof *q);
-        if (!q)
-            return -1;
-        *buf = q;
-        *cap = ne;
-    }
-    int64_t k = 0;
-    for (int64_t i = m->cell_offsets[c]; i < m->cell_offsets[c + 1]; i++) {
-        const int64_t f = m->cell_faces[i], n = vc_polymesh_face_size(m, f);
-        const int64_t *fv = m->face_vertices + m->face_offsets[f];
-        const int rev = m->face_owner[f] != c;
-        for (int64_t j = 0; j < n; j++) {
-            int64_t a = fv[j], b = fv[j + 1 < n ? j + 1 : 0];
-            if (rev) {
-                const int64_t t = a;
-                a = b;
-                b = t;
-            }
-            (*buf)[k++] = a < b ? (dir_edge){a, b, 1} : (dir_edge){b, a, 0};
-        }
-    }
-    qsort(*buf, (size_t)k, sizeof **buf, cmp_dir_edge);
-    return k;
-}
-
-/* Is the edge run e[i..j) (one pair of points) used once each way? */
-static int balanced(const dir_edge *e, int64_t i, int64_t j)
-{
-    return j - i == 2 && e[i].forward == 0 && e[i + 1].forward == 1;
-}
-
-/* A table of directed edges for the closure test, reused from cell to
- * cell: an entry holds an edge of the cell stamped in it. */
+/* A table of a cell's directed edges with their counts, reused from cell
+ * to cell: an entry belongs to the cell stamped in it. */
 typedef struct edge_table {
-    int64_t *a, *b, *stamp;
+    int64_t *a, *b, *stamp, *count;
     int64_t size, mask; /* a power of 2 */
 } edge_table;
 
@@ -72,6 +18,7 @@ static void edge_table_free(edge_table *t)
     free(t->a);
     free(t->b);
     free(t->stamp);
+    free(t->count);
     memset(t, 0, sizeof *t);
 }
 
@@ -87,7 +34,8 @@ static int edge_table_reserve(edge_table *t, int64_t n)
     t->a = malloc((size_t)size * sizeof *t->a);
     t->b = malloc((size_t)size * sizeof *t->b);
     t->stamp = malloc((size_t)size * sizeof *t->stamp);
-    if (!t->a || !t->b || !t->stamp) {
+    t->count = malloc((size_t)size * sizeof *t->count);
+    if (!t->a || !t->b || !t->stamp || !t->count) {
         edge_table_free(t);
         return -1;
     }
@@ -98,37 +46,44 @@ static int edge_table_reserve(edge_table *t, int64_t n)
     return 0;
 }
 
-static inline int64_t edge_slot(const edge_table *t, int64_t a, int64_t b)
+/* The entry of a -> b for the cell stamped s: its own, or the empty one
+ * where it would go. */
+static int64_t edge_slot(const edge_table *t, int64_t s, int64_t a, int64_t b)
 {
     const uint64_t h = (uint64_t)a * 0x9E3779B97F4A7C15u ^ (uint64_t)b * 0xC2B2AE3D27D4EB4Fu;
-    return (int64_t)((h ^ (h >> 29)) & (uint64_t)t->mask);
+    int64_t i = (int64_t)((h ^ (h >> 29)) & (uint64_t)t->mask);
+    while (t->stamp[i] == s && (t->a[i] != a || t->b[i] != b))
+        i = (i + 1) & t->mask;
+    return i;
 }
 
-/* Adds a -> b for the cell stamped s; 0 when it was there already. */
-static int edge_add(edge_table *t, int64_t s, int64_t a, int64_t b)
+static int64_t edge_count(const edge_table *t, int64_t s, int64_t a, int64_t b)
 {
-    for (int64_t i = edge_slot(t, a, b);; i = (i + 1) & t->mask) {
-        if (t->stamp[i] != s) {
-            t->stamp[i] = s;
-            t->a[i] = a;
-            t->b[i] = b;
-            return 1;
-        }
-        if (t->a[i] == a && t->b[i] == b)
-            return 0;
-    }
+    const int64_t i = edge_slot(t, s, a, b);
+    return t->stamp[i] == s ? t->count[i] : 0;
 }
 
-static int edge_has(const edge_table *t, int64_t s, int64_t a, int64_t b)
+/* The directed edge a -> b of face f as cell c goes round it (outward):
+ * the j-th of its n points and the next. */
+static inline void cell_edge(const vc_polymesh *m, int64_t c, int64_t f, int64_t n, int64_t j,
+                             int64_t *a, int64_t *b)
 {
-    for (int64_t i = edge_slot(t, a, b); t->stamp[i] == s; i = (i + 1) & t->mask)
-        if (t->a[i] == a && t->b[i] == b)
-            return 1;
-    return 0;
+    const int64_t *fv = m->face_vertices + m->face_offsets[f];
+    const int64_t x = fv[j], y = fv[j + 1 < n ? j + 1 : 0];
+    const int rev = m->face_owner[f] != c;
+    *a = rev ? y : x;
+    *b = rev ? x : y;
 }
 
-/* Does cell c use each of its edges exactly once each way? -1 when out of
- * memory. */
+/* Is a -> b of cell c (counted in t) used once, its reverse once, and not
+ * a loop? */
+static int edge_balanced(const edge_table *t, int64_t c, int64_t a, int64_t b)
+{
+    return a != b && edge_count(t, c, a, b) == 1 && edge_count(t, c, b, a) == 1;
+}
+
+/* Counts the directed edges of cell c into t, then tells whether each is
+ * balanced. Returns 1 (closed), 0 (open) or -1 when out of memory. */
 static int cell_closed(const vc_polymesh *m, int64_t c, edge_table *t)
 {
     int64_t ne = 0;
@@ -139,13 +94,22 @@ static int cell_closed(const vc_polymesh *m, int64_t c, edge_table *t)
     for (int pass = 0; pass < 2; pass++) {
         for (int64_t i = m->cell_offsets[c]; i < m->cell_offsets[c + 1]; i++) {
             const int64_t f = m->cell_faces[i], n = vc_polymesh_face_size(m, f);
-            const int64_t *fv = m->face_vertices + m->face_offsets[f];
-            const int rev = m->face_owner[f] != c;
             for (int64_t j = 0; j < n; j++) {
-                const int64_t x = fv[j], y = fv[j + 1 < n ? j + 1 : 0];
-                const int64_t a = rev ? y : x, b = rev ? x : y;
-                if (pass == 0 ? !edge_add(t, c, a, b) || a == b : !edge_has(t, c, b, a))
-                    return 0;
+                int64_t a, b;
+                cell_edge(m, c, f, n, j, &a, &b);
+                if (pass == 1) {
+                    if (!edge_balanced(t, c, a, b))
+                        return 0;
+                    continue;
+                }
+                const int64_t k = edge_slot(t, c, a, b);
+                if (t->stamp[k] != c) {
+                    t->stamp[k] = c;
+                    t->a[k] = a;
+                    t->b[k] = b;
+                    t->count[k] = 0;
+                }
+                t->count[k]++;
             }
         }
     }
@@ -172,26 +136,42 @@ static void unite(int64_t *parent, int64_t a, int64_t b)
     }
 }
 
-/* Unites the points of a cell (e: its sorted edges, k of them) within
- * radius of an end of one of its unbalanced edges. */
-static void collapse_at_open_edges(const vc_polymesh *m, const dir_edge *e, int64_t k,
-                                   double radius, int64_t *parent, unsigned char *moved)
+/* Unites the points of open cell c (its edges counted in t) within
+ * rel_radius times its size of an end of one of its unbalanced edges. */
+static void collapse_at_open_edges(const vc_polymesh *m, int64_t c, const edge_table *t,
+                                   double rel_radius, int64_t *parent, unsigned char *moved)
 {
-    for (int64_t i = 0, j; i < k; i = j) {
-        for (j = i + 1; j < k && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++)
-            ;
-        if (balanced(e, i, j))
-            continue;
-        const int64_t ends[2] = {e[i].lo, e[i].hi};
-        for (int s = 0; s < 2; s++) {
-            const double *p = m->points + 3 * ends[s];
-            for (int64_t q = 0; q < k; q++) {
-                const int64_t pts[2] = {e[q].lo, e[q].hi};
-                for (int t = 0; t < 2; t++) {
-                    if (pts[t] == ends[s] || dist(p, m->points + 3 * pts[t]) > radius)
-                        continue;
-                    unite(parent, ends[s], pts[t]);
-                    moved[ends[s]] = moved[pts[t]] = 1;
+    const int64_t f0 = m->cell_offsets[c], f1 = m->cell_offsets[c + 1];
+    /* The cell's size as the validator measures it: the largest distance
+     * from its centroid to a vertex. */
+    double size = 0;
+    for (int64_t i = f0; i < f1; i++) {
+        const int64_t f = m->cell_faces[i], n = vc_polymesh_face_size(m, f);
+        for (int64_t j = 0; j < n; j++) {
+            const double d = dist(m->cell_centroid + 3 * c,
+                                  m->points + 3 * m->face_vertices[m->face_offsets[f] + j]);
+            size = d > size ? d : size;
+        }
+    }
+    const double radius = rel_radius * size;
+    for (int64_t i = f0; i < f1; i++) {
+        const int64_t f = m->cell_faces[i], n = vc_polymesh_face_size(m, f);
+        for (int64_t j = 0; j < n; j++) {
+            int64_t ends[2];
+            cell_edge(m, c, f, n, j, &ends[0], &ends[1]);
+            if (edge_balanced(t, c, ends[0], ends[1]))
+                continue;
+            for (int s = 0; s < 2; s++) {
+                const double *p = m->points + 3 * ends[s];
+                for (int64_t i2 = f0; i2 < f1; i2++) {
+                    const int64_t g = m->cell_faces[i2];
+                    const int64_t *gv = m->face_vertices + m->face_offsets[g];
+                    for (int64_t k = 0; k < vc_polymesh_face_size(m, g); k++) {
+                        if (gv[k] == ends[s] || dist(p, m->points + 3 * gv[k]) > radius)
+                            continue;
+                        unite(parent, ends[s], gv[k]);
+                        moved[ends[s]] = moved[gv[k]] = 1;
+                    }
                 }
             }
         }
@@ -200,10 +180,9 @@ static void collapse_at_open_edges(const vc_polymesh *m, const dir_edge *e, int6
 
 int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
 {
-    dir_edge *e = NULL;
-    int64_t cap = 0;
     int64_t *parent = NULL;
     unsigned char *moved = NULL;
+    edge_table t = {NULL, NULL, NULL, NULL, 0, 0};
     /* Which cells are open: a pass on threads (each cell on its own). */
     unsigned char *open = calloc((size_t)(m->n_cells > 0 ? m->n_cells : 1), 1);
     if (!open)
@@ -211,26 +190,23 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
     int failed = 0;
 #pragma omp parallel
     {
-        edge_table t = {NULL, NULL, NULL, 0, 0};
+        edge_table tt = {NULL, NULL, NULL, NULL, 0, 0};
 #pragma omp for schedule(dynamic, 256)
         for (int64_t c = 0; c < m->n_cells; c++) {
-            const int r = cell_closed(m, c, &t);
+            const int r = cell_closed(m, c, &tt);
             if (r < 0) {
 #pragma omp atomic write
                 failed = 1;
             }
             open[c] = r == 0;
         }
-        edge_table_free(&t);
+        edge_table_free(&tt);
     }
     if (failed)
         goto nomem;
     for (int64_t c = 0; c < m->n_cells; c++) {
         if (!open[c])
             continue;
-        const int64_t k = cell_edges(m, c, &e, &cap);
-        if (k < 0)
-            goto nomem;
         if (!parent) {
             parent = malloc((size_t)m->n_points * sizeof *parent);
             moved = calloc((size_t)m->n_points, 1);
@@ -239,19 +215,11 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
             for (int64_t v = 0; v < m->n_points; v++)
                 parent[v] = v;
         }
-        /* The cell's size as the validator measures it: the largest
-         * distance from its centroid to a vertex. */
-        double size = 0;
-        for (int64_t i = 0; i < k; i++) {
-            const double dl = dist(m->cell_centroid + 3 * c, m->points + 3 * e[i].lo);
-            const double dh = dist(m->cell_centroid + 3 * c, m->points + 3 * e[i].hi);
-            size = dl > size ? dl : size;
-            size = dh > size ? dh : size;
-        }
-        collapse_at_open_edges(m, e, k, rel_radius * size, parent, moved);
+        if (cell_closed(m, c, &t) < 0) /* counts its edges into t */
+            goto nomem;
+        collapse_at_open_edges(m, c, &t, rel_radius, parent, moved);
     }
-    free(e);
-    e = NULL;
+    edge_table_free(&t);
     int64_t n_merged = 0;
     if (parent) {
         for (int64_t v = 0; v < m->n_points; v++)
@@ -271,7 +239,7 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
     free(open);
     return n_merged;
 nomem:
-    free(e);
+    edge_table_free(&t);
     free(parent);
     free(moved);
     free(open);
