@@ -23,6 +23,40 @@ static double gap(int d)
     return a > 0 ? (double)a : 0.0;
 }
 
+/* Boxes of at most this many bins are listed row by row. */
+#define ORDER_LEAF 8
+
+/* Appends the bins of the box [lo, hi) to bins at *n, halves first. */
+static void order_box(const vc_seed_grid *g, const int lo[3], const int hi[3], int64_t *bins,
+                      int64_t *n)
+{
+    int d = 0;
+    for (int e = 1; e < 3; e++)
+        if (hi[e] - lo[e] > hi[d] - lo[d])
+            d = e;
+    const int64_t size = (int64_t)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    if (size <= ORDER_LEAF) {
+        for (int k = lo[2]; k < hi[2]; k++)
+            for (int j = lo[1]; j < hi[1]; j++)
+                for (int i = lo[0]; i < hi[0]; i++)
+                    bins[(*n)++] = vc_seed_grid_bin(g, i, j, k);
+        return;
+    }
+    const int mid = lo[d] + (hi[d] - lo[d]) / 2;
+    int a_hi[3] = {hi[0], hi[1], hi[2]}, b_lo[3] = {lo[0], lo[1], lo[2]};
+    a_hi[d] = mid;
+    b_lo[d] = mid;
+    order_box(g, lo, a_hi, bins, n);
+    order_box(g, b_lo, hi, bins, n);
+}
+
+void vc_seed_grid_bin_order(const vc_seed_grid *g, int64_t *bins)
+{
+    const int lo[3] = {0, 0, 0};
+    int64_t n = 0;
+    order_box(g, lo, g->n, bins, &n);
+}
+
 void vc_seed_grid_locate(const vc_seed_grid *g, const double x[3], int b[3])
 {
     for (int d = 0; d < 3; d++) {

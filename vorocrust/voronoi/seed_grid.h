@@ -30,6 +30,13 @@ int vc_seed_grid_build(vc_seed_grid *g, const double *xyz, int64_t n,
                        const double lo[3], const double hi[3], double seeds_per_bin);
 void vc_seed_grid_free(vc_seed_grid *g);
 
+/* Every bin index once, in a spatially coherent order (recursive halving
+ * of the longest side: a Z-order that also suits elongated grids), into
+ * bins (n[0] * n[1] * n[2] entries). Neighbouring bins are mostly close
+ * in it along all three axes, where the row-major order puts the
+ * neighbours across z a whole layer of bins away. */
+void vc_seed_grid_bin_order(const vc_seed_grid *g, int64_t *bins);
+
 /* Bin coordinates of a point (clamped to the grid). */
 void vc_seed_grid_locate(const vc_seed_grid *g, const double x[3], int b[3]);
 

@@ -615,7 +615,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     vc_cell_result *cells = vc_big_alloc((size_t)n_kept * sizeof(vc_cell_result));
     int *status = vc_big_alloc((size_t)n_kept * sizeof(int));
     int64_t *other = vc_big_alloc((size_t)n_kept * sizeof(int64_t));
-    /* Cells are built in bin order, so that consecutive cells read the
+    /* Cells are built bin by bin, so that consecutive cells read the
      * same seeds from cache; the results are kept in that order. */
     int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
     int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
@@ -623,7 +623,14 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
      * reads the seed index and position from there, sequentially, instead
      * of scattered over the input (a cache miss per cell). */
     int64_t *build_pos = malloc((size_t)n_kept * sizeof(int64_t));
-    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index || !build_pos) {
+    /* The bins in a spatially coherent order (the build order follows it):
+     * the stitching reads each cell with its neighbours, which are then
+     * mostly close in that order, along every axis. */
+    const int64_t n_bins = (int64_t)grid.n[0] * grid.n[1] * grid.n[2];
+    int64_t *bin_order = malloc((size_t)n_bins * sizeof(int64_t));
+    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index || !build_pos ||
+        !bin_order) {
+        free(bin_order);
         free(kept_seed);
         free(cells);
         free(status);
@@ -634,19 +641,24 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_seed_grid_free(&grid);
         return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
     }
+    vc_seed_grid_bin_order(&grid, bin_order);
     for (int64_t i = 0, k = 0; i < n; i++)
         if (seeds->label[i] != 0)
             kept_seed[k++] = i;
     for (int64_t i = 0, k = 0; i < n; i++)
         kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
-    for (int64_t j = 0, m = 0; j < n; j++) {
-        int64_t k = kept_index[grid.seed_index[j]];
-        if (k >= 0) {
-            build_order[m] = k;
-            build_pos[m++] = j;
+    for (int64_t q = 0, m = 0; q < n_bins; q++) {
+        const int64_t b = bin_order[q];
+        for (int64_t j = grid.bin_start[b]; j < grid.bin_start[b + 1]; j++) {
+            int64_t k = kept_index[grid.seed_index[j]];
+            if (k >= 0) {
+                build_order[m] = k;
+                build_pos[m++] = j;
+            }
         }
     }
     free(kept_index);
+    free(bin_order);
 
     int threads = opt.threads;
 #ifdef _OPENMP
