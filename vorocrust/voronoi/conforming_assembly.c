@@ -203,6 +203,10 @@ typedef struct assembly {
                           fewer than 2^15 faces: at most 65535 face vertices) */
     copy_id *parent;   /* union-find over the copies; later, point ids */
     unsigned char *slow; /* per face: its twin was matched vertex by vertex, not as one cycle */
+    /* per face, once the splits are known (the same bytes as slow): for a
+     * face its cell writes from its own copy, that copy's output length and
+     * whether it is simple (LEN_*); 0 when the writing works it out */
+    unsigned char *len_code;
     cell_acc *acc;
     const struct split_table *sp; /* points inserted into edges (T-junctions) */
 } assembly;
@@ -851,12 +855,14 @@ static int face_len(const split_table *sp, const copy_id *parent, const cell_hdr
 }
 
 /* Output cycle length of face f of cell c (0: gone), whose roots are
- * marked used when it is not gone. */
+ * marked used when it is not gone. *simple (if not NULL): as face_len's. */
 static int face_len_mark(const split_table *sp, const copy_id *parent, const cell_hdr *c, int f,
-                         unsigned char *used)
+                         unsigned char *used, int *simple_out)
 {
     int simple;
     const int len = face_len(sp, parent, c, f, &simple);
+    if (simple_out)
+        *simple_out = simple;
     if (len == 0)
         return 0;
     if (simple) {
@@ -1158,6 +1164,18 @@ static const orphan *orphans_of(const orphan *o, int64_t n, int64_t seed, int64_
     return o + lo;
 }
 
+/* The survival pass keeps each face's output length for the writing, in
+ * a byte: the length (below LEN_UNKNOWN) and LEN_SIMPLE for face_len's
+ * flag; 0 when not kept (the face is gone, written from the twin, or too
+ * long), in which case the writing works it out again. */
+#define LEN_SIMPLE 0x80
+#define LEN_UNKNOWN 0x7f
+
+static inline unsigned char len_code(int len, int simple)
+{
+    return len > 0 && len < LEN_UNKNOWN ? (unsigned char)(len | (simple ? LEN_SIMPLE : 0)) : 0;
+}
+
 /* A face of the output, as enumerated by its owner. */
 typedef struct out_face {
     int64_t other_seed;
@@ -1183,11 +1201,14 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
         const int64_t t = c->plane[f];
         if (om < 0 || t < c->seed)
             continue;
-        /* The lengths are found again rather than kept from the survival
-         * pass: the same walk as the writing's, in cache, and an array of
-         * one int per face less at the peak memory. */
         out_face r = {t, om, (int32_t)m, f, 0, 0, 0};
-        r.len = face_len(as->sp, as->parent, c, f, &r.simple);
+        const unsigned char code = as->len_code[fb + f];
+        if (code) {
+            r.len = code & LEN_UNKNOWN;
+            r.simple = (code & LEN_SIMPLE) != 0;
+        } else {
+            r.len = face_len(as->sp, as->parent, c, f, &r.simple);
+        }
         if (r.len <= 0) {
             int g = as->twin[fb + f];
             r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g, &r.simple) : 0;
@@ -1212,8 +1233,9 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     int nb = 0;
     for (int f = 0; f < c->nf; f++)
         if (as->nbr[fb + f] < 0) {
-            int simple;
-            int len = face_len(as->sp, as->parent, c, f, &simple);
+            const unsigned char code = as->len_code[fb + f];
+            int simple = (code & LEN_SIMPLE) != 0;
+            int len = code ? code & LEN_UNKNOWN : face_len(as->sp, as->parent, c, f, &simple);
             if (len > 0)
                 buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, len, 0, simple};
         }
@@ -1454,6 +1476,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     used = calloc((size_t)(n_copies > 0 ? n_copies : 1), 1);
     if (!used)
         goto nomem;
+    as.len_code = as.slow; /* no longer needed as slow */
+    as.slow = NULL;
 #pragma omp parallel for schedule(dynamic, 64)
     for (int64_t m = 0; m < n_kept; m++) {
         const cell_hdr *c = &h[m];
@@ -1463,9 +1487,11 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         for (int f = 0; f < c->nf; f++) {
             const int32_t om = as.nbr[fb + f];
             const int64_t t = c->plane[f];
-            int len;
+            int len, simple;
+            as.len_code[fb + f] = 0;
             if (om < 0) {
-                len = face_len_mark(&splits, as.parent, c, f, used);
+                len = face_len_mark(&splits, as.parent, c, f, used, &simple);
+                as.len_code[fb + f] = len_code(len, simple);
                 if (len > 0) {
                     n_bnd++;
                     fv_bnd += len;
@@ -1473,10 +1499,11 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (t > c->seed) {
-                len = face_len_mark(&splits, as.parent, c, f, used);
+                len = face_len_mark(&splits, as.parent, c, f, used, &simple);
+                as.len_code[fb + f] = len_code(len, simple);
                 int sl = len;
                 if (len == 0 && as.twin[fb + f] >= 0)
-                    sl = face_len_mark(&splits, as.parent, &h[om], as.twin[fb + f], used);
+                    sl = face_len_mark(&splits, as.parent, &h[om], as.twin[fb + f], used, NULL);
                 if (sl > 0) {
                     n_int++;
                     fv_int += sl;
@@ -1485,7 +1512,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             } else if (as.twin[fb + f] < 0) {
-                len = face_len_mark(&splits, as.parent, c, f, used);
+                len = face_len_mark(&splits, as.parent, c, f, used, NULL);
                 if (len > 0) {
                     __atomic_fetch_add(&a->n_nb, 1, __ATOMIC_RELAXED);
 #pragma omp critical(vc_assembly_orphans)
@@ -1551,8 +1578,6 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     const int64_t n_faces = n_int + n_bnd;
     free(mpos);
     mpos = NULL;
-    free(as.slow);
-    as.slow = NULL;
 
     /* Points: the used roots in copy order. */
 #pragma omp parallel for schedule(static)
@@ -1671,6 +1696,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     as.nbr = NULL;
     mapped_release(as.twin, twin_bytes, &bank);
     as.twin = NULL;
+    free(as.len_code);
+    as.len_code = NULL;
     if (store)
         vc_region_pool_release(&store->topo, &bank);
     PHASE("faces");
@@ -1768,6 +1795,7 @@ done:
     mapped_release(as.twin, twin_bytes, NULL);
     as.twin = NULL;
     free(as.slow);
+    free(as.len_code);
     free(splits.s);
     free(used);
     free(orphans);
