@@ -601,9 +601,13 @@ static int cycle_len(const copy_id *parent, const cell_hdr *c, int f, int *spike
             last = r;
         }
     }
+    /* Around the end: the cycle is r0 .. r(n-1), or r0 .. r(n-2) when the
+     * last root is the first again; its last two roots against its first
+     * two. (Testing second == before on a cycle that does not close with
+     * its first root flagged every triangle, where before is second.) */
     if (n >= 3)
-        folds |= second == last || second == before || first == before ||
-                 (last == first && first == before2);
+        folds |= last == first ? second == before || first == before2
+                               : second == last || first == before;
     *spike = folds;
     if (n > 1 && last == first)
         n--;
