@@ -11,6 +11,9 @@ typedef struct vc_grid_offset {
                      bin to any point of the bin at this offset, in bin units */
 } vc_grid_offset;
 
+/* Chebyshev radius of the precomputed bin offsets. */
+#define VC_GRID_MAX_RING 3
+
 typedef struct vc_seed_grid {
     int n[3];
     double lo[3];
@@ -18,7 +21,8 @@ typedef struct vc_seed_grid {
     int64_t *bin_start;  /* n[0]*n[1]*n[2] + 1 */
     int64_t *seed_index; /* seeds ordered by bin */
     double *xyz;         /* their positions, in the same order */
-    /* Bin offsets of Chebyshev radius <= max_ring, nearest first. */
+    /* Bin offsets of Chebyshev radius <= max_ring (VC_GRID_MAX_RING),
+     * nearest first. */
     vc_grid_offset *offsets;
     int n_offsets;
     int max_ring;

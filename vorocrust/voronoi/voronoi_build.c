@@ -270,6 +270,27 @@ static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, in
     return d2;
 }
 
+/* Per axis d, the squared gap from x to the bins at offsets -R .. R
+ * (R = VC_GRID_MAX_RING) from bin b, with bin_dist2's arithmetic, and
+ * infinity for bins outside the grid: the squared distance to the bin at
+ * offset (i, j, k) is then gap2[0][i + R] + gap2[1][j + R] + gap2[2][k + R]
+ * (the same sum bin_dist2 makes), and infinite outside the grid. */
+static void offset_gaps(const vc_seed_grid *g, const double *x, const int b[3],
+                        double gap2[3][2 * VC_GRID_MAX_RING + 1])
+{
+    for (int d = 0; d < 3; d++)
+        for (int o = -VC_GRID_MAX_RING; o <= VC_GRID_MAX_RING; o++) {
+            const int i = b[d] + o;
+            double e2 = INFINITY;
+            if (i >= 0 && i < g->n[d]) {
+                double lo = g->lo[d] + i * g->h, hi = lo + g->h;
+                double e = x[d] < lo ? lo - x[d] : (x[d] > hi ? x[d] - hi : 0);
+                e2 = e * e;
+            }
+            gap2[d][o + VC_GRID_MAX_RING] = e2;
+        }
+}
+
 /* Builds the cell of seed s (at xs) into cell; returns CELL_*. The seeds of the
  * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
  * the farther seeds are mostly rejected by the radius test alone. */
@@ -288,6 +309,9 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     int b[3];
     vc_seed_grid_locate(g, xs, b);
     const double h2 = g->h * g->h;
+    enum { R = VC_GRID_MAX_RING };
+    double gap2[3][2 * R + 1];
+    offset_gaps(g, xs, b, gap2);
 
     /* The first shell: offsets with a zero distance bound come first. They
      * are tried near first, by a counting sort on the distance in steps
@@ -299,9 +323,9 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     int n_cand = 0, o = 0;
     for (; o < g->n_offsets && g->offsets[o].dmin2 == 0; o++) {
         const vc_grid_offset *off = &g->offsets[o];
+        if (isinf(gap2[0][off->dx + R] + gap2[1][off->dy + R] + gap2[2][off->dz + R]))
+            continue; /* outside the grid */
         int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
-        if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
-            continue;
         int64_t bin = vc_seed_grid_bin(g, i, j, k);
         int64_t k0 = g->bin_start[bin], k1 = g->bin_start[bin + 1];
         if (k1 == k0)
@@ -341,12 +365,11 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         const vc_grid_offset *off = &g->offsets[o];
         if (!may_cut(cell, off->dmin2 * h2))
             return CELL_OK;
-        int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
-        if (i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] || k >= g->n[2])
-            continue;
-        double bd2 = bin_dist2(g, xs, i, j, k);
+        /* Infinite outside the grid, which may_cut rejects. */
+        const double bd2 = gap2[0][off->dx + R] + gap2[1][off->dy + R] + gap2[2][off->dz + R];
         if (!may_cut(cell, bd2))
             continue;
+        int i = b[0] + off->dx, j = b[1] + off->dy, k = b[2] + off->dz;
         /* The ball test costs more than it saves on ordinary cells. */
         if (cell->rmax2 > BIG_CELL * h2 && !bin_reachable(job, cell, pr, xs, i, j, k, bd2))
             continue;
