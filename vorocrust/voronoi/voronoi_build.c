@@ -257,37 +257,37 @@ static candidate *reserve_candidates(vc_cell_buf *b, int need)
     return b->data;
 }
 
+/* Distance from x to bin i along axis d (0 when x is level with it). */
+static inline double axis_gap(const vc_seed_grid *g, const double *x, int d, int i)
+{
+    double lo = g->lo[d] + i * g->h, hi = lo + g->h;
+    return x[d] < lo ? lo - x[d] : (x[d] > hi ? x[d] - hi : 0);
+}
+
 /* Squared distance from x to the box of bin (i, j, k). */
 static double bin_dist2(const vc_seed_grid *g, const double *x, int i, int j, int k)
 {
-    int b[3] = {i, j, k};
+    const int b[3] = {i, j, k};
     double d2 = 0;
     for (int d = 0; d < 3; d++) {
-        double lo = g->lo[d] + b[d] * g->h, hi = lo + g->h;
-        double e = x[d] < lo ? lo - x[d] : (x[d] > hi ? x[d] - hi : 0);
+        double e = axis_gap(g, x, d, b[d]);
         d2 += e * e;
     }
     return d2;
 }
 
 /* Per axis d, the squared gap from x to the bins at offsets -R .. R
- * (R = VC_GRID_MAX_RING) from bin b, with bin_dist2's arithmetic, and
- * infinity for bins outside the grid: the squared distance to the bin at
- * offset (i, j, k) is then gap2[0][i + R] + gap2[1][j + R] + gap2[2][k + R]
- * (the same sum bin_dist2 makes), and infinite outside the grid. */
+ * (R = VC_GRID_MAX_RING) from bin b, infinite for bins outside the grid:
+ * the squared distance to the bin at offset (i, j, k) is then
+ * gap2[0][i + R] + gap2[1][j + R] + gap2[2][k + R], bin_dist2's sum. */
 static void offset_gaps(const vc_seed_grid *g, const double *x, const int b[3],
                         double gap2[3][2 * VC_GRID_MAX_RING + 1])
 {
     for (int d = 0; d < 3; d++)
         for (int o = -VC_GRID_MAX_RING; o <= VC_GRID_MAX_RING; o++) {
             const int i = b[d] + o;
-            double e2 = INFINITY;
-            if (i >= 0 && i < g->n[d]) {
-                double lo = g->lo[d] + i * g->h, hi = lo + g->h;
-                double e = x[d] < lo ? lo - x[d] : (x[d] > hi ? x[d] - hi : 0);
-                e2 = e * e;
-            }
-            gap2[d][o + VC_GRID_MAX_RING] = e2;
+            const double e = i >= 0 && i < g->n[d] ? axis_gap(g, x, d, i) : INFINITY;
+            gap2[d][o + VC_GRID_MAX_RING] = e * e;
         }
 }
 
