@@ -1180,6 +1180,18 @@ static inline unsigned char len_code(int len, int simple)
     return len > 0 && len < LEN_UNKNOWN ? (unsigned char)(len | (simple ? LEN_SIMPLE : 0)) : 0;
 }
 
+/* face_len of face f of the cell at position m, from the byte the survival
+ * pass kept when there is one. */
+static int kept_face_len(const assembly *as, int64_t m, int f, int *simple)
+{
+    const cell_hdr *c = &as->h[m];
+    const unsigned char code = as->len_code[c->fbase + f];
+    if (!code)
+        return face_len(as->sp, as->parent, c, f, simple);
+    *simple = (code & LEN_SIMPLE) != 0;
+    return code & LEN_UNKNOWN;
+}
+
 /* A face of the output, as enumerated by its owner. */
 typedef struct out_face {
     int64_t other_seed;
@@ -1206,13 +1218,7 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
         if (om < 0 || t < c->seed)
             continue;
         out_face r = {t, om, (int32_t)m, f, 0, 0, 0};
-        const unsigned char code = as->len_code[fb + f];
-        if (code) {
-            r.len = code & LEN_UNKNOWN;
-            r.simple = (code & LEN_SIMPLE) != 0;
-        } else {
-            r.len = face_len(as->sp, as->parent, c, f, &r.simple);
-        }
+        r.len = kept_face_len(as, m, f, &r.simple);
         if (r.len <= 0) {
             int g = as->twin[fb + f];
             r.len = g >= 0 ? face_len(as->sp, as->parent, &as->h[om], g, &r.simple) : 0;
@@ -1237,9 +1243,8 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     int nb = 0;
     for (int f = 0; f < c->nf; f++)
         if (as->nbr[fb + f] < 0) {
-            const unsigned char code = as->len_code[fb + f];
-            int simple = (code & LEN_SIMPLE) != 0;
-            int len = code ? code & LEN_UNKNOWN : face_len(as->sp, as->parent, c, f, &simple);
+            int simple;
+            const int len = kept_face_len(as, m, f, &simple);
             if (len > 0)
                 buf[n + nb++] = (out_face){c->plane[f], -1, (int32_t)m, f, len, 0, simple};
         }
@@ -1492,10 +1497,10 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             const int32_t om = as.nbr[fb + f];
             const int64_t t = c->plane[f];
             int len, simple;
-            as.len_code[fb + f] = 0;
+            unsigned char code = 0; /* kept for the writing */
             if (om < 0) {
                 len = face_len_mark(&splits, as.parent, c, f, used, &simple);
-                as.len_code[fb + f] = len_code(len, simple);
+                code = len_code(len, simple);
                 if (len > 0) {
                     n_bnd++;
                     fv_bnd += len;
@@ -1504,7 +1509,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                 }
             } else if (t > c->seed) {
                 len = face_len_mark(&splits, as.parent, c, f, used, &simple);
-                as.len_code[fb + f] = len_code(len, simple);
+                code = len_code(len, simple);
                 int sl = len;
                 if (len == 0 && as.twin[fb + f] >= 0)
                     sl = face_len_mark(&splits, as.parent, &h[om], as.twin[fb + f], used, NULL);
@@ -1539,6 +1544,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                     __atomic_fetch_add(&n_gone, 1, __ATOMIC_RELAXED);
                 }
             }
+            as.len_code[fb + f] = code;
         }
         a->n_int = n_int;
         a->n_bnd = n_bnd;

@@ -137,8 +137,7 @@ int vc_seed_grid_build(vc_seed_grid *g, const double *xyz, int64_t n,
     free(fill);
     free(bin_of);
 
-    int R = VC_GRID_MAX_RING;
-    g->max_ring = R;
+    const int R = VC_GRID_MAX_RING;
     int side = 2 * R + 1;
     g->offsets = malloc((size_t)side * side * side * sizeof(vc_grid_offset));
     if (!g->offsets) {

@@ -21,11 +21,10 @@ typedef struct vc_seed_grid {
     int64_t *bin_start;  /* n[0]*n[1]*n[2] + 1 */
     int64_t *seed_index; /* seeds ordered by bin */
     double *xyz;         /* their positions, in the same order */
-    /* Bin offsets of Chebyshev radius <= max_ring (VC_GRID_MAX_RING),
-     * nearest first. */
+    /* Bin offsets of Chebyshev radius <= VC_GRID_MAX_RING, nearest
+     * first. */
     vc_grid_offset *offsets;
     int n_offsets;
-    int max_ring;
 } vc_seed_grid;
 
 /* Bins n seeds (3 * n coordinates) inside [lo, hi] with about

@@ -384,7 +384,7 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         max_n = g->n[1];
     if (g->n[2] > max_n)
         max_n = g->n[2];
-    for (int ring = g->max_ring + 1; ring <= max_n; ring++) {
+    for (int ring = R + 1; ring <= max_n; ring++) {
         double dmin = (ring - 1) * g->h;
         if (!may_cut(cell, dmin * dmin))
             break;
