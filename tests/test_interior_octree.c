@@ -12,7 +12,9 @@
  *   surface seed is an inside seed, and no surface seed is closer than
  *   half the leaf's side; every other leaf centre fails one of these;
  * - --max-size caps the leaves; 1 and 2 threads give the same seeds; two
- *   calls in one process (MPI starts once). */
+ *   calls in one process;
+ * - before the program initialises MPI, and after it finalises it, the
+ *   octree is refused (VC_EPARAM): the library never starts MPI. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +23,7 @@
 #include "vorocrust/interior.h"
 
 #include "test_check.h"
+#include "test_mpi.h"
 
 static double dist(const double *a, const double *b)
 {
@@ -153,6 +156,21 @@ int main(void)
     vc_balls b;
     vc_seeds ss;
     make_sphere(300, &b, &ss);
+    {
+        vc_octree_options d;
+        vc_octree_options_default(&d);
+        vc_seeds early = {0, NULL, NULL};
+        int64_t n_early = 0;
+        vc_error e0 = {0, ""};
+        CHECKF(vc_interior_octree(&b, &ss, &d, &early, &n_early, NULL, NULL, &e0) == VC_EPARAM &&
+                   strstr(e0.msg, "MPI_Init"),
+               "octree without MPI: %s", e0.msg);
+        vc_seeds_free(&early);
+    }
+    if (test_mpi_start() != 0) {
+        fprintf(stderr, "test_interior_octree: MPI_Init failed\n");
+        return 1;
+    }
     vc_octree_options o;
     vc_octree_options_default(&o);
     CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2, "defaults");
@@ -218,6 +236,15 @@ int main(void)
     CHECKF(vc_interior_octree(&b, &none, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EINPUT,
           "no surface seeds accepted");
 
+    test_mpi_stop();
+    {
+        vc_seeds late = {0, NULL, NULL};
+        int64_t n_late = 0;
+        vc_error e1 = {0, ""};
+        CHECKF(vc_interior_octree(&b, &ss, &o, &late, &n_late, NULL, NULL, &e1) == VC_EPARAM,
+               "octree after MPI_Finalize: %s", e1.msg);
+        vc_seeds_free(&late);
+    }
     vc_seeds_free(&ss);
     vc_balls_free(&b);
     if (failures) {

@@ -53,13 +53,20 @@ static int has_warning(const vc_surface_report *r, const char *needle)
     return 0;
 }
 
-/* Reads a file that must succeed. */
-static int read_ok(const char *path, vc_surface *s, vc_surface_report *r)
+/* Reads a file that must succeed, with the reader chosen for its
+ * extension or with OpenMesh. */
+static int read_ok_with(const char *path, vc_surface_reader which, vc_surface *s,
+                        vc_surface_report *r)
 {
     vc_error err = {0, ""};
-    int rc = vc_surface_read(path, s, r, &err);
+    int rc = vc_surface_read_with(path, which, s, r, &err);
     CHECKF(rc == 0, "%s: unexpected failure: %s", path, err.msg);
     return rc == 0;
+}
+
+static int read_ok(const char *path, vc_surface *s, vc_surface_report *r)
+{
+    return read_ok_with(path, VC_READER_AUTO, s, r);
 }
 
 /* Reads a file that must fail with code; the message must name the file
@@ -130,8 +137,7 @@ static void test_models(const char *models)
             CHECKF(r.bbox[k] <= r.bbox[k + 3], "%s: bbox", c->file);
 
         /* Cross-check against OpenMesh's readers (float coordinates). */
-        setenv("VC_SURFACE_READER", "openmesh", 1);
-        if (read_ok(path, &t, &q)) {
+        if (read_ok_with(path, VC_READER_OPENMESH, &t, &q)) {
             CHECKF(strcmp(q.reader, "OpenMesh") == 0, "%s: reader %s", c->file, q.reader);
             CHECKF(q.n_vertices == r.n_vertices && q.n_triangles == r.n_triangles && q.euler == r.euler,
                   "%s: OpenMesh reads V=%lld T=%lld chi=%lld, ours V=%lld T=%lld chi=%lld", c->file,
@@ -141,7 +147,6 @@ static void test_models(const char *models)
                   q.volume, r.volume);
             vc_surface_free(&t);
         }
-        unsetenv("VC_SURFACE_READER");
         vc_surface_free(&s);
     }
 }
@@ -545,13 +550,11 @@ static void test_bad_inputs(void)
             vc_surface_free(&s);
         }
         /* The same through OpenMesh: the recording importer keeps them. */
-        setenv("VC_SURFACE_READER", "openmesh", 1);
-        if (read_ok(path, &s, &r)) {
+        if (read_ok_with(path, VC_READER_OPENMESH, &s, &r)) {
             CHECKF(r.n_triangles == 8 && r.n_nonmanifold_edges == 1, "OpenMesh path: T=%lld nm=%lld",
                   (long long)r.n_triangles, (long long)r.n_nonmanifold_edges);
             vc_surface_free(&s);
         }
-        unsetenv("VC_SURFACE_READER");
     }
 
     /* vc_surface_check on an in-memory surface and a bad index. */

@@ -11,6 +11,7 @@
 #include <omp.h>
 #endif
 
+#include "cli_log.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/io.h"
@@ -30,7 +31,8 @@ static void usage(FILE *f)
         "  --encoding zlib|raw     binary encoding of the .vtu (default zlib)\n"
         "  --threads N             threads (default: all cores); the mesh does not depend on it\n"
         "  --no-validate           skip the mesh validator\n"
-        "  --quiet                 no progress or summary\n");
+        "  --quiet                 no progress or summary\n"
+        "  --verbose               also the phase timings of the engine\n");
 }
 
 /* Options that are followed by a value (reached here only when it is missing). */
@@ -50,7 +52,7 @@ int vc_cmd_voronoi(int argc, char **argv)
     vc_voronoi_options opt;
     vc_voronoi_options_default(&opt);
     vc_vtu_encoding enc = VC_VTU_ZLIB;
-    int validate = 1, quiet = 0;
+    int validate = 1, quiet = 0, verbose = 0;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -107,6 +109,8 @@ int vc_cmd_voronoi(int argc, char **argv)
             validate = 0;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if (!strcmp(a, "--verbose")) {
+            verbose = 1;
         } else if (takes_value(a)) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust voronoi --help')\n", a);
             return 2;
@@ -135,7 +139,9 @@ int vc_cmd_voronoi(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s: named by both -o and --connections\n", out_path);
         return 2;
     }
-    opt.progress = !quiet;
+    vc_logger log;
+    vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
+    opt.log = &log;
 
     vc_error err = {0, ""};
     vc_seeds seeds = {0, NULL, NULL};

@@ -88,10 +88,10 @@ void vc_octree_leaves_free(vc_octree_leaves *l);
 /* Appends the interior seeds (label 1) of the octree to a copy of the
  * surface seeds: out = surface seeds, then interior seeds in leaf (Morton)
  * order; *n_interior receives their number. stats and leaves may be NULL.
- * Starts MPI in this process on the first call (it is finalised at exit;
- * see the README). Fails with VC_EPARAM on a bad option, VC_EINPUT when
- * there are no balls or surface seeds, VC_ENOMEM, VC_EINTERNAL when MPI
- * cannot start. */
+ * The program must have initialised MPI (MPI_Init or MPI_Init_thread;
+ * the forest lives on MPI_COMM_SELF). Fails with VC_EPARAM on a bad option
+ * or when MPI is not initialised, VC_EINPUT when there are no balls or
+ * surface seeds, VC_ENOMEM. */
 int vc_interior_octree(const vc_balls *balls, const vc_seeds *surface_seeds,
                        const vc_octree_options *opt, vc_seeds *out, int64_t *n_interior,
                        vc_octree_stats *stats, vc_octree_leaves *leaves, vc_error *err);

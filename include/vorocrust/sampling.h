@@ -19,6 +19,7 @@
 #include <stdint.h>
 #include "vorocrust/error.h"
 #include "vorocrust/features.h"
+#include "vorocrust/log.h"
 #include "vorocrust/seeds.h"
 #include "vorocrust/surface.h"
 
@@ -40,7 +41,7 @@ typedef struct vc_sampling_options {
     double alpha;         /* deep-coverage constant, default 1 - sqrt(3)/2 */
     uint64_t seed;        /* random seed, default 1 */
     int threads;          /* <= 0: OpenMP's default */
-    int progress;         /* progress lines on stderr */
+    const vc_logger *log; /* progress lines (VC_LOG_INFO); NULL: none */
     int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100 */
 } vc_sampling_options;
 

@@ -76,11 +76,17 @@ typedef struct vc_surface_report {
  *               line), empty file;
  *   VC_EINPUT   no triangles, non-finite coordinates, face index out of
  *               range, every triangle of zero area.
- * Every message is one line starting with "FILE: ".
- * Setting the environment variable VC_SURFACE_READER=openmesh sends every
- * format through OpenMesh (for cross-checking the readers). */
+ * Every message is one line starting with "FILE: ". */
 int vc_surface_read(const char *path, vc_surface *out, vc_surface_report *rep,
                     vc_error *err);
+
+/* Which reader vc_surface_read_with uses: the one for the extension
+ * (vc_surface_read's choice), or OpenMesh for every format (for
+ * cross-checking the readers). */
+typedef enum vc_surface_reader { VC_READER_AUTO = 0, VC_READER_OPENMESH = 1 } vc_surface_reader;
+
+int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *out,
+                         vc_surface_report *rep, vc_error *err);
 
 /* Frees the arrays of s and zeroes it. Safe on a zeroed surface. */
 void vc_surface_free(vc_surface *s);

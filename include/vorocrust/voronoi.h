@@ -12,6 +12,7 @@
 #define VORO_CRUST_VORONOI_H
 
 #include "vorocrust/error.h"
+#include "vorocrust/log.h"
 #include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 
@@ -29,11 +30,20 @@ typedef struct vc_voronoi_options {
     /* Threads for the cell computation; <= 0 means OpenMP's default. The
      * output does not depend on it. */
     int threads;
-    /* Print progress to stderr. */
-    int progress;
+    /* Progress (VC_LOG_INFO: every tenth of the cells) and phase timings
+     * (VC_LOG_DEBUG) go here; NULL: nowhere. */
+    const vc_logger *log;
 } vc_voronoi_options;
 
 void vc_voronoi_options_default(vc_voronoi_options *opt);
+
+/* Whether the engine's large arrays ask the kernel for transparent huge
+ * pages (madvise), for the whole process; default 0, where the system's
+ * own policy applies. Huge pages make first touches cheaper on most
+ * machines but several times dearer on virtual machines whose host
+ * reclaims freed memory (see docs/voronoi-engine.md). The output does not
+ * depend on it. */
+void vc_voronoi_set_huge_pages(int wanted);
 
 /* Builds the mesh. Fails with VC_EINPUT on coincident seeds (naming both),
  * non-finite coordinates, seeds outside the box, or no kept seed. */

@@ -814,7 +814,7 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->alpha = 1 - sqrt(3.0) / 2;
     opt->seed = 1;
     opt->threads = 0;
-    opt->progress = 0;
+    opt->log = NULL;
     opt->max_sliver_iterations = 100;
 }
 
@@ -911,8 +911,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     /* Phases 2 and 3: creases, then patches. */
     if (!rc)
         rc = sample_strata(&S, NULL, NULL);
-    if (opt->progress && !rc)
-        fprintf(stderr, "mesh: %lld balls after the first coverage\n", (long long)S.bs.b.n);
+    if (!rc)
+        vc_log(opt->log, VC_LOG_INFO, "mesh: %lld balls after the first coverage",
+               (long long)S.bs.b.n);
     const int64_t n_first = S.bs.b.n;
     int diverged = 0, rising = 0;
     int64_t last_half = -1;
@@ -961,9 +962,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             }
             if (nf > 0) {
                 st->n_shrunk_flat += nf;
-                if (opt->progress)
-                    fprintf(stderr, "mesh: flat facets %d: %lld balls shrunk\n", flat_passes,
-                            (long long)nf);
+                vc_log(opt->log, VC_LOG_INFO, "mesh: flat facets %d: %lld balls shrunk",
+                       flat_passes, (long long)nf);
                 rc = resample_around(&S, old_r, shrunk);
                 continue;
             }
@@ -973,10 +973,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         st->n_shrunk_sliver += ns;
         iter++;
         st->sliver_iterations = iter;
-        if (opt->progress)
-            fprintf(stderr, "mesh: sliver elimination %d: %lld half-covered pairs, %lld balls "
-                    "shrunk, %lld balls\n", iter, (long long)n_half, (long long)ns,
-                    (long long)S.bs.b.n);
+        vc_log(opt->log, VC_LOG_INFO, "mesh: sliver elimination %d: %lld half-covered pairs, "
+               "%lld balls shrunk, %lld balls", iter, (long long)n_half, (long long)ns,
+               (long long)S.bs.b.n);
         /* Sliver elimination normally removes most half-covered pairs at
          * every pass and adds a fraction of the balls; four passes in a row
          * with more half-covered pairs, or an eightfold ball count, mean it

@@ -72,7 +72,7 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
         vc_voronoi_options vo;
         vc_voronoi_options_default(&vo);
         vo.threads = threads;
-        vo.progress = 0;
+        vo.log = NULL;
         vc_polymesh m;
         rc = vc_voronoi_build(seeds, &vo, &m, err);
         if (rc)

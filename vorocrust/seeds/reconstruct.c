@@ -178,7 +178,6 @@ int vc_reconstruct_surface(const vc_seeds *seeds, int threads, vc_polysurface *o
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = threads;
-    vo.progress = 0;
     vc_polymesh m;
     int rc = vc_voronoi_build(seeds, &vo, &m, err);
     if (rc)

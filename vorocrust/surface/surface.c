@@ -153,6 +153,12 @@ static int soup_to_surface(const char *name, const vc_soup *sp, vc_surface *out,
 
 int vc_surface_read(const char *path, vc_surface *out, vc_surface_report *rep, vc_error *err)
 {
+    return vc_surface_read_with(path, VC_READER_AUTO, out, rep, err);
+}
+
+int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *out,
+                         vc_surface_report *rep, vc_error *err)
+{
     vc_surface_report local;
     if (!rep)
         rep = &local;
@@ -186,8 +192,7 @@ int vc_surface_read(const char *path, vc_surface *out, vc_surface_report *rep, v
     memset(&sp, 0, sizeof sp);
     sp.expected_faces = -1;
     rep->reader = "vorocrust";
-    const char *force = getenv("VC_SURFACE_READER");
-    if (force && !strcmp(force, "openmesh"))
+    if (which == VC_READER_OPENMESH)
         reader = NULL;
     rc = reader ? reader(name, buf, len, &sp, err) : VC_SURFACE_DEFER_TO_OPENMESH;
     free(buf);

@@ -10,6 +10,7 @@
 #endif
 
 #include "vorocrust/error.h"
+#include "vorocrust/log.h"
 #include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 
@@ -131,10 +132,12 @@ static inline void vc_region_pool_free(vc_region_pool *p) { vc_region_pool_relea
  * inserted into edges (T-junctions): where it is 0, no vertex lies inside
  * an edge (see vc_polymesh_remove_straight_vertices).
  * At most 2^31 - 1 vertex copies (about 80 million cells; VC_EPARAM beyond).
- * Runs on threads (OpenMP); the result does not depend on their number. */
+ * Runs on threads threads (OpenMP); the result does not depend on their
+ * number. The phase times go to log at VC_LOG_DEBUG (log may be NULL). */
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                           vc_cell_store *store, double merge_tol, vc_polymesh *out,
-                           int64_t *n_degenerate, vc_error *err);
+                           vc_cell_store *store, double merge_tol, int threads,
+                           const vc_logger *log, vc_polymesh *out, int64_t *n_degenerate,
+                           vc_error *err);
 
 #endif

@@ -40,7 +40,7 @@
  *    arrays are released (the peak memory is then the mesh's, not the
  *    mesh's plus the stitching's).
  *
- * Set VC_ASSEMBLY_TIMING in the environment to print the phase times. */
+ * The phase times go to the logger at VC_LOG_DEBUG. */
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE 1 /* madvise */
 #endif
@@ -209,6 +209,7 @@ typedef struct assembly {
     unsigned char *len_code;
     cell_acc *acc;
     const struct split_table *sp; /* points inserted into edges (T-junctions) */
+    int threads;       /* for every parallel region (>= 1) */
 } assembly;
 
 /* Face of cell c made by seed s, or -1. */
@@ -480,7 +481,7 @@ static int match_loose_copies(const assembly *as, const int64_t *n_outer, int ma
         free(next);
         return -1;
     }
-#pragma omp parallel
+#pragma omp parallel num_threads(as->threads)
     {
         unsigned char *seen = calloc((size_t)max_nv + 1, 1);
         if (!seen) {
@@ -1290,8 +1291,9 @@ static void face_geometry(const vc_polymesh *m, int64_t f, const int64_t *fv, in
 
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                           vc_cell_store *store, double merge_tol, vc_polymesh *out,
-                           int64_t *n_degenerate, vc_error *err)
+                           vc_cell_store *store, double merge_tol, int threads,
+                           const vc_logger *log, vc_polymesh *out, int64_t *n_degenerate,
+                           vc_error *err)
 {
     const vc_cell_result *cells = *cells_owned;
     split_table splits = {NULL, 0, 0};
@@ -1299,7 +1301,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     size_t h_bytes = 0, parent_bytes = 0, nbr_bytes = 0, twin_bytes = 0;
     int64_t n_unplaced = 0, n_gone = 0;
     *n_degenerate = 0;
-    assembly as = {.n = n_kept, .sp = &splits};
+    assembly as = {.n = n_kept, .sp = &splits, .threads = threads > 0 ? threads : 1};
     cell_hdr *h = NULL;
     int32_t *mpos = NULL;
     int64_t *n_outer = NULL;
@@ -1307,13 +1309,13 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     orphan *orphans = NULL;
     int64_t n_orphans = 0, cap_orphans = 0;
     int rc = 0, failed = 0, max_nv = 0, max_nf = 0;
-    const int timing = getenv("VC_ASSEMBLY_TIMING") != NULL;
+    const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
     double t0 = wall_time(), t_prev = t0, cpu_prev = cpu_time();
 #define PHASE(name)                                                                          \
     do {                                                                                     \
         if (timing) {                                                                        \
             double t_now = wall_time(), cpu_now = cpu_time();                                \
-            fprintf(stderr, "  assembly: %-8s %.3f s  cpu %.3f s  rss %.0f MiB\n", name,      \
+            vc_log(log, VC_LOG_DEBUG, "  assembly: %-8s %.3f s  cpu %.3f s  rss %.0f MiB", name, \
                     t_now - t_prev, cpu_now - cpu_prev, rss_mib());                          \
             t_prev = t_now;                                                                  \
             cpu_prev = cpu_now;                                                              \
@@ -1333,10 +1335,10 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     as.h = h;
 
     /* Headers in spatial order, copy and face numbering. */
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t i = 0; i < seeds->n; i++)
         mpos[i] = -1;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const int64_t k = order ? order[m] : m;
         const vc_cell_result *c = &cells[m];
@@ -1368,7 +1370,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     as.slow = BIG_ARRAY(n_faces_all, unsigned char);
     if (!as.parent || !as.nbr || !as.twin || !as.slow)
         goto nomem;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         cell_hdr *c = &h[m];
         for (int v = 0; v < c->nv; v++)
@@ -1388,7 +1390,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     /* Identify copies: short edges inside a cell, then the faces shared
      * with cells later in the spatial order (whose twin faces are found
      * here, for both sides). */
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const cell_hdr *c = &h[m];
         const int64_t fb = c->fbase;
@@ -1433,7 +1435,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     }
     PHASE("faces");
     /* Faces the neighbour lacks (their twins are all known now). */
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const cell_hdr *c = &h[m];
         for (int f = 0; f < c->nf; f++) {
@@ -1447,7 +1449,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     free(n_outer);
     n_outer = NULL;
     PHASE("loose");
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t i = 0; i < n_copies; i++)
         as.parent[i] = (copy_id)find_root(as.parent, i);
     PHASE("roots");
@@ -1469,14 +1471,14 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         for (int64_t i = 0; i < snap.n; i++)
             unite(as.parent, snap.s[i].lo, snap.s[i].hi);
         free(snap.s);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
         for (int64_t i = 0; i < n_copies; i++)
             as.parent[i] = (copy_id)find_root(as.parent, i);
     }
     if (add_subedge_splits(&splits) != 0)
         goto nomem;
     if (timing)
-        fprintf(stderr, "  assembly: %lld edge splits, %lld vertices on no edge\n",
+        vc_log(log, VC_LOG_DEBUG, "  assembly: %lld edge splits, %lld vertices on no edge",
                 (long long)splits.n, (long long)n_unplaced);
     PHASE("splits");
 
@@ -1487,7 +1489,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         goto nomem;
     as.len_code = as.slow; /* no longer needed as slow */
     as.slow = NULL;
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const cell_hdr *c = &h[m];
         const int64_t fb = c->fbase;
@@ -1590,7 +1592,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     mpos = NULL;
 
     /* Points: the used roots in copy order. */
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const unsigned char *u = used + h[m].vbase;
         int64_t np = 0;
@@ -1608,7 +1610,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     out->points = BIG_ARRAY(3 * n_points, double);
     if (!out->points)
         goto nomem;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const cell_hdr *c = &h[m];
         int64_t p = as.acc[m].first_point;
@@ -1645,7 +1647,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
         !out->cell_faces)
         goto nomem;
     out->face_offsets[0] = 0;
-#pragma omp parallel
+#pragma omp parallel num_threads(as.threads)
     {
         out_face *buf = malloc((size_t)(max_nf + n_orphans + 1) * sizeof *buf);
         if (!buf) {
@@ -1722,7 +1724,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     out->face_normal = BANK_ARRAY(3 * n_faces, double);
     if (!out->face_area || !out->face_centroid || !out->face_normal)
         goto nomem;
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         /* A cell's faces are scattered (numbered by cell index, visited in
          * the spatial order): their records are fetched a few cells
@@ -1764,7 +1766,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     if (!out->cell_seed || !out->cell_region || !out->seed_xyz || !out->cell_volume ||
         !out->cell_centroid)
         goto nomem;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t m = 0; m < n_kept; m++) {
         int64_t *l = out->cell_faces + as.acc[m].cell_off;
         for (int64_t i = 1; i < as.acc[m].n_nb; i++) {
@@ -1774,7 +1776,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             l[j] = x;
         }
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t k = 0; k < n_kept; k++) {
         out->cell_seed[k] = kept_seed[k];
         out->cell_region[k] = seeds->label[kept_seed[k]];
@@ -1783,7 +1785,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     memcpy(out->seed_xyz, seeds->xyz, (size_t)seeds->n * 3 * sizeof(double));
     PHASE("cells");
     if (timing)
-        fprintf(stderr, "  assembly: total    %.3f s\n", wall_time() - t0);
+        vc_log(log, VC_LOG_DEBUG, "  assembly: total    %.3f s", wall_time() - t0);
     *n_degenerate = n_gone + splits.n;
     goto done;
 

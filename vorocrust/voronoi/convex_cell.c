@@ -17,7 +17,8 @@
 #endif
 #include <string.h>
 
-/* Makes room for need elements of elem bytes; returns the data pointer. */
+/* Makes room for need elements of elem bytes; returns the data pointer,
+ * or NULL when out of memory (the buffer then keeps its old contents). */
 static void *reserve(vc_cell_buf *b, int need, size_t elem)
 {
     if (need > b->cap) {
@@ -26,7 +27,7 @@ static void *reserve(vc_cell_buf *b, int need, size_t elem)
             n *= 2;
         void *q = realloc(b->data, (size_t)n * elem);
         if (!q)
-            abort(); /* out of memory inside one cell: nothing sane to do */
+            return NULL;
         b->data = q;
         b->cap = n;
     }
@@ -77,8 +78,8 @@ static inline int holds_edge(const int *tr, int a, int b)
            ((tr[2] == a) & (tr[0] == b));
 }
 
-void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
-                              const double hi[3], const int64_t wall_id[6])
+int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
+                             const double hi[3], const int64_t wall_id[6])
 {
     c->plane = reserve(&c->b_plane, 6, 4 * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, 6, sizeof(int64_t));
@@ -87,6 +88,11 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     c->py = reserve(&c->b_py, 8, sizeof(double));
     c->pz = reserve(&c->b_pz, 8, sizeof(double));
     c->r2 = reserve(&c->b_r2, 8, sizeof(double));
+    c->edge_owner = reserve(&c->b_edge_owner, VC_EDGE_OWNER_PLANES * VC_EDGE_OWNER_PLANES,
+                            sizeof(uint16_t));
+    if (!c->plane || !c->plane_id || !c->tri || !c->px || !c->py || !c->pz || !c->r2 ||
+        !c->edge_owner)
+        return VC_CELL_NOMEM;
     /* Plane 2 * axis is the lower wall (normal -e_axis), 2 * axis + 1 the
      * upper one. */
     for (int a = 0; a < 3; a++) {
@@ -120,11 +126,10 @@ void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     }
     c->nt = 8;
     update_rmax2(c);
-    c->edge_owner = reserve(&c->b_edge_owner, VC_EDGE_OWNER_PLANES * VC_EDGE_OWNER_PLANES,
-                            sizeof(uint16_t));
     for (int t = 0; t < 8; t++)
         set_edge_owner(c->edge_owner, c->tri + 3 * t, t);
     c->edge_owner_ok = 1;
+    return 0;
 }
 
 /* Does one of the conflict triangles hold the directed edge a -> b? */
@@ -148,6 +153,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
 
     double *dist = reserve(&c->b_dist, nt, sizeof(double));
     int *conflict = reserve(&c->b_conflict, nt, sizeof(int));
+    if (!dist || !conflict)
+        return VC_CELL_NOMEM;
     int n_out = 0, n_in = 0;
     /* Distances first and whether any is beyond the plane (branch-free,
      * vectorizable loops), then the removed vertices, only when the plane
@@ -196,6 +203,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     int *next = reserve(&c->b_next, np, sizeof(int));
     int *edge_tri = reserve(&c->b_edge_tri, np, sizeof(int));
     int *edge_out = reserve(&c->b_edge_out, np, sizeof(int));
+    if (!next || !edge_tri || !edge_out)
+        return VC_CELL_NOMEM;
     for (int i = 0; i < np; i++)
         next[i] = -1;
     int n_boundary = 0, first = -1, simple = 1;
@@ -248,8 +257,10 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
             free(c->b_edge_mark.data);
             c->b_edge_mark.cap = 256 * 256;
             c->b_edge_mark.data = calloc((size_t)c->b_edge_mark.cap, 1);
-            if (!c->b_edge_mark.data)
-                abort(); /* 64 KiB: nothing sane to do without it */
+            if (!c->b_edge_mark.data) {
+                c->b_edge_mark.cap = 0;
+                return VC_CELL_NOMEM;
+            }
         }
         mark = c->b_edge_mark.data;
         for (int i = 0; i < n_out; i++) {
@@ -321,6 +332,10 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     const int P = np;
     c->plane = reserve(&c->b_plane, np + 1, 4 * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, np + 1, sizeof(int64_t));
+    double *new_pt = reserve(&c->b_new_pt, n_boundary, 3 * sizeof(double));
+    int *new_tri = reserve(&c->b_new_tri, n_boundary, 3 * sizeof(int));
+    if (!c->plane || !c->plane_id || !new_pt || !new_tri)
+        return VC_CELL_NOMEM;
     double *q = c->plane + 4 * P;
     q[0] = p[0];
     q[1] = p[1];
@@ -329,8 +344,6 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     c->plane_id[P] = plane_id;
     c->np = np + 1;
 
-    double *new_pt = reserve(&c->b_new_pt, n_boundary, 3 * sizeof(double));
-    int *new_tri = reserve(&c->b_new_tri, n_boundary, 3 * sizeof(int));
     a = first;
     for (int k = 0; k < n_boundary; k++) {
         const int b = next[a], tin = edge_out[a], tout = edge_tri[a];
@@ -363,6 +376,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     c->py = reserve(&c->b_py, new_nt > nt ? new_nt : nt, sizeof(double));
     c->pz = reserve(&c->b_pz, new_nt > nt ? new_nt : nt, sizeof(double));
     c->r2 = reserve(&c->b_r2, new_nt > nt ? new_nt : nt, sizeof(double));
+    if (!c->tri || !c->px || !c->py || !c->pz || !c->r2)
+        return VC_CELL_NOMEM;
     const int keep_owner = c->edge_owner_ok && np + 1 <= VC_EDGE_OWNER_PLANES;
     c->edge_owner_ok = keep_owner;
     uint16_t *owner = c->edge_owner;
@@ -406,13 +421,15 @@ int vc_convex_cell_faces(vc_convex_cell *c)
     /* Per plane, its entries: for triangle t = (a, b, c) rotated to start
      * at the plane a, the step b -> c around face a. */
     int *count = reserve(&c->b_count, np + 1, sizeof(int));
+    int *entry = reserve(&c->b_entry, 3 * 3 * nt, sizeof(int)); /* (from, to, t) */
+    int *fill = reserve(&c->b_next, np, sizeof(int));
+    if (!count || !entry || !fill)
+        return VC_CELL_NOMEM;
     memset(count, 0, (size_t)(np + 1) * sizeof(int));
     for (int i = 0; i < 3 * nt; i++)
         count[c->tri[i] + 1]++;
     for (int i = 0; i < np; i++)
         count[i + 1] += count[i];
-    int *entry = reserve(&c->b_entry, 3 * 3 * nt, sizeof(int)); /* (from, to, t) */
-    int *fill = reserve(&c->b_next, np, sizeof(int));
     memcpy(fill, count, (size_t)np * sizeof(int));
     for (int t = 0; t < nt; t++) {
         const int *tr = c->tri + 3 * t;
@@ -430,6 +447,8 @@ int vc_convex_cell_faces(vc_convex_cell *c)
     c->face_plane_index = reserve(&c->b_face_plane_index, nf, sizeof(int));
     c->face_start = reserve(&c->b_face_start, nf + 1, sizeof(int));
     c->fv = reserve(&c->b_fv, 3 * nt, sizeof(int));
+    if (!c->face_plane || !c->face_plane_index || !c->face_start || !c->fv)
+        return VC_CELL_NOMEM;
     int f = 0, n = 0;
     for (int i = 0; i < np; i++) {
         const int s0 = count[i], s1 = count[i + 1], len = s1 - s0;

@@ -65,26 +65,30 @@ typedef struct vc_convex_cell {
     vc_cell_buf b_face_plane, b_face_plane_index, b_face_start, b_fv, b_entry, b_count;
 } vc_convex_cell;
 
+/* What the functions below return when a scratch buffer cannot grow. */
+#define VC_CELL_NOMEM (-3)
+
 void vc_convex_cell_init(vc_convex_cell *c);
 void vc_convex_cell_free(vc_convex_cell *c);
 
 /* Resets c to the box [lo, hi] (relative coordinates, lo < 0 < hi), with the
  * six faces carrying wall_id[k] for the walls xmin, xmax, ymin, ymax, zmin,
- * zmax. */
-void vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
-                              const double hi[3], const int64_t wall_id[6]);
+ * zmax. Returns 0, or VC_CELL_NOMEM. */
+int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
+                             const double hi[3], const int64_t wall_id[6]);
 
 /* Cuts c with the bisector of the seed (origin) and the point p: keeps
  * {x : x.p <= |p|^2 / 2}. Vertices within tol * |p| of the plane count as
  * on it (kept), so a plane through existing vertices changes nothing.
  * Returns 1 if the cell changed, 0 if the plane misses it, -1 on a
  * numerical failure (the removed part is not a disk), -2 if nothing of
- * the cell would remain. */
+ * the cell would remain, VC_CELL_NOMEM out of memory. */
 int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                        double tol);
 
 /* Fills the face form (nv, nf, nfv, face_plane, face_start, fv) from
- * the current cell. Returns 0, or -1 if a face cycle is inconsistent. */
+ * the current cell. Returns 0, -1 if a face cycle is inconsistent, or
+ * VC_CELL_NOMEM. */
 int vc_convex_cell_faces(vc_convex_cell *c);
 
 #endif

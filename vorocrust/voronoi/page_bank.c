@@ -7,22 +7,23 @@
 #include <stdlib.h>
 
 #include "cell_result.h"
+#include "vorocrust/voronoi.h"
 
 #if defined(__linux__) && defined(MREMAP_FIXED) && defined(MADV_HUGEPAGE)
 #define VC_PAGE_BANK_MOVES 1
 #endif
 
+/* The process's memory policy, set by the caller (vorocrust/voronoi.h). */
+static int huge_pages_wanted;
+
+void vc_voronoi_set_huge_pages(int wanted)
+{
+    __atomic_store_n(&huge_pages_wanted, wanted != 0, __ATOMIC_RELAXED);
+}
+
 int vc_huge_pages_wanted(void)
 {
-    /* Read once; a data race on the cache is benign (same value). */
-    static int wanted = -1;
-    int w = __atomic_load_n(&wanted, __ATOMIC_RELAXED);
-    if (w < 0) {
-        const char *e = getenv("VC_HUGE_PAGES");
-        w = e && e[0] == '1';
-        __atomic_store_n(&wanted, w, __ATOMIC_RELAXED);
-    }
-    return w;
+    return __atomic_load_n(&huge_pages_wanted, __ATOMIC_RELAXED);
 }
 
 void vc_pages_advise(void *p, size_t bytes)

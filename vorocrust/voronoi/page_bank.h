@@ -15,8 +15,8 @@
 #include <stdint.h>
 
 /* Whether the large arrays ask for transparent huge pages
- * (madvise(MADV_HUGEPAGE)): only when the environment sets
- * VC_HUGE_PAGES=1. Otherwise the system's own policy applies (huge pages
+ * (madvise(MADV_HUGEPAGE)): only when the caller asked with
+ * vc_voronoi_set_huge_pages(1) (the CLI does on VC_HUGE_PAGES=1). Otherwise the system's own policy applies (huge pages
  * anyway where it is "always"). On the virtual machines this engine is
  * developed on (free page reporting, nested paging), a first touch of a
  * huge page taken from memory the host reclaimed costs about 2.2 s per

@@ -76,6 +76,7 @@ typedef struct prune {
     int dirty;         /* the cell changed since the balls were listed */
     int range_ok;      /* range[] is up to date */
     int range[3][2];   /* bins any ball reaches (clamped to the grid) */
+    int no_balls;      /* out of memory for the balls: nothing is pruned */
 } prune;
 
 /* Relative slack for the ball tests: far above rounding, far below the
@@ -94,9 +95,17 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
         free(pr->ball.data);
         pr->ball.cap = cell->nt + 64;
         pr->ball.data = malloc((size_t)pr->ball.cap * 4 * sizeof(double));
-        if (!pr->ball.data)
-            abort(); /* out of memory for a few hundred doubles */
+        if (!pr->ball.data) {
+            /* The balls only prune: without them every bin is visited,
+             * which gives the same cell, more slowly. */
+            pr->ball.cap = 0;
+            pr->no_balls = 1;
+            pr->dirty = 0;
+            pr->range_ok = 0;
+            return;
+        }
     }
+    pr->no_balls = 0;
     double *b = pr->ball.data;
     int n = 0;
     for (int t = 0; t < cell->nt; t++) {
@@ -125,6 +134,8 @@ static int bin_reachable(const cell_job *job, const vc_convex_cell *cell, prune 
                          const double *xs, int i, int j, int k, double d2)
 {
     prune_refresh(job, cell, pr);
+    if (pr->no_balls)
+        return 1;
     const vc_seed_grid *g = job->grid;
     const int b[3] = {i, j, k};
     double lo[3], hi[3];
@@ -155,6 +166,13 @@ static void prune_range(const cell_job *job, const vc_convex_cell *cell, prune *
     if (pr->range_ok)
         return;
     const vc_seed_grid *g = job->grid;
+    if (pr->no_balls) { /* the whole grid */
+        for (int d = 0; d < 3; d++) {
+            pr->range[d][0] = 0;
+            pr->range[d][1] = g->n[d] - 1;
+        }
+        return;
+    }
     for (int d = 0; d < 3; d++) {
         pr->range[d][0] = g->n[d];
         pr->range[d][1] = -1;
@@ -199,6 +217,8 @@ static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, prune *pr, i
         return CELL_DUPLICATE;
     }
     int r = vc_convex_cell_cut(cell, p, t, tol);
+    if (r == VC_CELL_NOMEM)
+        return CELL_NOMEM;
     if (r == -1)
         return CELL_NUMERIC;
     if (r == -2)
@@ -250,7 +270,7 @@ static candidate *reserve_candidates(vc_cell_buf *b, int need)
             n *= 2;
         void *q = realloc(b->data, (size_t)n * sizeof(candidate));
         if (!q)
-            abort(); /* out of memory for a few hundred candidates */
+            return NULL;
         b->data = q;
         b->cap = n;
     }
@@ -305,7 +325,8 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         lo[d] = job->box_lo[d] - xs[d];
         hi[d] = job->box_hi[d] - xs[d];
     }
-    vc_convex_cell_reset_box(cell, lo, hi, walls);
+    if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
+        return CELL_NOMEM;
     int b[3];
     vc_seed_grid_locate(g, xs, b);
     const double h2 = g->h * g->h;
@@ -331,6 +352,8 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         if (k1 == k0)
             continue;
         candidate *cand = reserve_candidates(cand_buf, n_cand + (int)(k1 - k0));
+        if (!cand)
+            return CELL_NOMEM;
         for (int64_t kk = k0; kk < k1; kk++) {
             if (g->seed_index[kk] == s)
                 continue;
@@ -344,6 +367,8 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         }
     }
     candidate *cand = reserve_candidates(cand_buf, 2 * n_cand);
+    if (!cand)
+        return CELL_NOMEM;
     candidate *sorted = cand + n_cand;
     for (int st = 0; st < N_STEPS; st++)
         step_start[st + 1] += step_start[st];
@@ -519,15 +544,15 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
  *    cells: collapsed), and a face listed twice by one cell (dropped);
  *    either may leave straight vertices again.
  * Returns 0, or VC_ENOMEM (out is then freed). */
-static int repair_degenerate(vc_polymesh *out, vc_error *err)
+static int repair_degenerate(vc_polymesh *out, const vc_logger *log, vc_error *err)
 {
-    const int timing = getenv("VC_ASSEMBLY_TIMING") != NULL;
+    const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
     double ts = wall_seconds();
     int64_t n_straight = vc_polymesh_remove_straight_vertices(out);
     if (n_straight < 0)
         goto nomem;
     if (timing)
-        fprintf(stderr, "  straight vertices: %lld removed in %.3f s\n", (long long)n_straight,
+        vc_log(log, VC_LOG_DEBUG, "  straight vertices: %lld removed in %.3f s", (long long)n_straight,
                 wall_seconds() - ts);
     ts = wall_seconds();
     const int64_t n_merged = vc_polymesh_collapse_open_clusters(out, OPEN_CLUSTER_TOL);
@@ -537,7 +562,7 @@ static int repair_degenerate(vc_polymesh *out, vc_error *err)
     if (n_dup < 0)
         goto nomem;
     if (timing)
-        fprintf(stderr, "  open cells: %lld points merged, %lld duplicate faces dropped in %.3f s\n",
+        vc_log(log, VC_LOG_DEBUG, "  open cells: %lld points merged, %lld duplicate faces dropped in %.3f s",
                 (long long)n_merged, (long long)n_dup, wall_seconds() - ts);
     if (n_merged + n_dup > 0 && vc_polymesh_remove_straight_vertices(out) < 0)
         goto nomem;
@@ -691,9 +716,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     threads = 1;
 #endif
     int64_t done = 0, next_report = n_kept / 10;
-#ifdef _OPENMP
-    double t_start = omp_get_wtime();
-#endif
+    const int progress = vc_log_enabled(opt.log, VC_LOG_INFO);
+    const double t_start = wall_seconds();
     const int64_t n_chunks = (n_kept + CHUNK - 1) / CHUNK;
     vc_cell_store store;
     memset(&store, 0, sizeof store);
@@ -720,8 +744,10 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
                      tol *= 100) {
                     r = compute_cell(&job, &cell, &cand_buf, &pr, s, xs, tol, &other[k]);
-                    if (r == CELL_OK && vc_convex_cell_faces(&cell) != 0)
-                        r = CELL_NUMERIC;
+                    if (r == CELL_OK) {
+                        int fr = vc_convex_cell_faces(&cell);
+                        r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
+                    }
                 }
                 /* Local vertex indices are 16-bit in the stored cell. */
                 if (r == CELL_OK && cell.nfv > 65535)
@@ -732,13 +758,14 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 if (r != CELL_OK)
                     chunk_ok = 0;
                 status[k] = r;
-                if (opt.progress) {
+                if (progress) {
                     int64_t d;
 #pragma omp atomic capture
                     d = ++done;
-                    if (next_report > 0 && d % next_report == 0)
-                        fprintf(stderr, "voronoi: %lld / %lld cells\n", (long long)d,
-                                (long long)n_kept);
+                    /* every tenth of the cells, once the build takes long */
+                    if (next_report > 0 && d % next_report == 0 && wall_seconds() - t_start > 1.0)
+                        vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld / %lld cells", (long long)d,
+                               (long long)n_kept);
                 }
             }
             if (!chunk_ok)
@@ -802,28 +829,15 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     status = NULL;
     other = NULL;
     if (rc == 0) {
-        if (opt.progress) {
-#ifdef _OPENMP
-            fprintf(stderr, "voronoi: %lld cells built in %.3f s; stitching\n", (long long)n_kept,
-                    omp_get_wtime() - t_start);
-#else
-            fprintf(stderr, "voronoi: stitching %lld cells\n", (long long)n_kept);
-#endif
-        }
-#ifdef _OPENMP
-        /* The stitching's parallel loops use the requested thread count. */
-        int saved_threads = omp_get_max_threads();
-        omp_set_num_threads(threads);
-#endif
+        if (progress && wall_seconds() - t_start > 1.0)
+            vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld cells built in %.3f s; stitching",
+                   (long long)n_kept, wall_seconds() - t_start);
         /* The stitching frees cells once it has read them. */
         int64_t n_degenerate = 0;
         rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
-                                    MERGE_TOL, out, &n_degenerate, err);
+                                    MERGE_TOL, threads, opt.log, out, &n_degenerate, err);
         if (rc == 0 && n_degenerate > 0)
-            rc = repair_degenerate(out, err);
-#ifdef _OPENMP
-        omp_set_num_threads(saved_threads);
-#endif
+            rc = repair_degenerate(out, opt.log, err);
     }
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);

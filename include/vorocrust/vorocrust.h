@@ -1,0 +1,186 @@
+/* vorocrust: the whole VoroCrust pipeline as one call.
+ *
+ *     vc_surface s;            // vc_surface_read(path, &s, NULL, &err)
+ *     vc_mesh_options opt;
+ *     vc_mesh_options_default(&opt);
+ *     vc_mesh_result r;
+ *     if (vc_mesh(&s, &opt, &r, &err) == 0) {
+ *         vc_write_vtu(&r.mesh, "out.vtu", VC_VTU_ZLIB, &err);
+ *         vc_mesh_result_free(&r);
+ *     }
+ *
+ * vc_mesh runs, in order: the input checks, sharp-feature detection
+ * (optionally Loop smoothing), the surface sampling (protection of corners
+ * and creases, coverage, Lipschitz fixes, sliver elimination), the surface
+ * seeds, the reconstructed surface, the interior seeds (a p4est octree or a
+ * lattice), optional Lloyd relaxation, the conforming Voronoi mesh, its
+ * validation and its cell quality. When sliver elimination diverges it
+ * samples once more, as described at vc_mesh_options.resample.
+ *
+ * The caller owns the process: the library starts no MPI, sets no
+ * environment variable, changes no OpenMP setting (threads go to each
+ * parallel region as a num_threads clause), never exits or aborts and
+ * writes to no stream; every message goes to the logger of the options.
+ * With the octree interior (the default) MPI must be initialised by the
+ * caller before vc_mesh (MPI_Init or MPI_Init_thread; the octree lives on
+ * MPI_COMM_SELF); vc_mesh fails with VC_EPARAM otherwise.
+ *
+ * Same surface, options and seed give the same result, byte for byte,
+ * whatever the number of threads.
+ *
+ * The stage headers included below (sampling, interior, voronoi, ...) are
+ * the advanced interface: each stage can be called on its own. */
+#ifndef VORO_CRUST_VOROCRUST_H
+#define VORO_CRUST_VOROCRUST_H
+
+#include <stdint.h>
+
+#include "vorocrust/error.h"
+#include "vorocrust/interior.h"
+#include "vorocrust/io.h"
+#include "vorocrust/log.h"
+#include "vorocrust/polymesh.h"
+#include "vorocrust/sampling.h"
+#include "vorocrust/seeds.h"
+#include "vorocrust/surface.h"
+#include "vorocrust/version.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The version of the library the program runs with, "MAJOR.MINOR.PATCH"
+ * (VC_VERSION_STRING is the one it was compiled against). */
+const char *vc_version(void);
+/* VC_VERSION_NUMBER of the library the program runs with. */
+int vc_version_number(void);
+
+typedef enum vc_interior_kind {
+    VC_INTERIOR_OCTREE = 0,  /* graded by a p4est octree (thesis 5.5.2); needs MPI */
+    VC_INTERIOR_LATTICE = 1, /* a cubic lattice (thesis 6.2.10) */
+    VC_INTERIOR_NONE = 2     /* only the inside surface seeds */
+} vc_interior_kind;
+
+/* What vc_mesh may do when sliver elimination diverges on the first
+ * sampling (flags of vc_mesh_options.resample). */
+enum {
+    /* Few folds (under 2% of the edges) between 20 degrees and theta_sharp:
+     * sample again at theta_sharp 20, where they are creases. */
+    VC_RESAMPLE_CREASES = 1,
+    /* The surface bends too much everywhere: sample again after
+     * VC_SMOOTH_DEFAULT_ITERATIONS rounds of Loop smoothing of the patches
+     * at theta_sharp 120 (this moves the surface off the input). */
+    VC_RESAMPLE_SMOOTH = 2
+};
+
+typedef struct vc_mesh_options {
+    /* The sampling (see vc_sampling_options for the meaning of each). */
+    double sharp_angle;     /* theta_sharp, degrees, default 60 */
+    double max_error;       /* fraction of the bounding-box diagonal, default 0.004 */
+    double lipschitz;       /* L, default 0.25 */
+    double max_size;        /* largest ball radius; <= 0: the bounding-box diagonal */
+    uint64_t seed;          /* random seed, default 1 */
+    int smooth_iterations;  /* rounds of Loop smoothing before sampling, default 0 */
+    int resample;           /* VC_RESAMPLE_* flags, default both */
+    /* Stop after the reconstructed surface (no interior, no volume mesh). */
+    int surface_only;
+    vc_interior_kind interior;
+    double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
+    int lloyd_iterations;    /* 0 to 1000, default 0 */
+    int threads;             /* <= 0: OpenMP's default */
+    /* Where messages go (NULL: nowhere), and the name they give the input
+     * (a file name; NULL: "surface"). */
+    const vc_logger *log;
+    const char *name;
+} vc_mesh_options;
+
+void vc_mesh_options_default(vc_mesh_options *opt);
+
+/* Quality of the reconstructed surface: polygons fanned from their
+ * centroid (triangles as they are), Q = the triangle quality of
+ * vc_triangle_quality. */
+typedef struct vc_surface_quality {
+    int64_t n_triangles;
+    double q_min, q_mean;
+    double pct_below_30, pct_above_90; /* % of the angles */
+} vc_surface_quality;
+
+/* Cell quality of the volume mesh; interior cells are those without a
+ * boundary face. Fatness is the enclosing over the inscribed ball radius. */
+typedef struct vc_cell_quality {
+    int64_t n_measured, n_unmeasured, n_interior;
+    double volume_min, volume_max;
+    double fatness_max, fatness_mean;
+    double interior_fatness_max, interior_fatness_mean;
+    double shortest_edge_rel_min; /* shortest edge / enclosing radius */
+} vc_cell_quality;
+
+/* Seconds per phase. */
+typedef struct vc_mesh_times {
+    double features;        /* detection and smoothing of the kept attempt */
+    double sizing, corners, edges, surface, lipschitz, slivers; /* the sampling */
+    double failed_sampling; /* the attempt that diverged, when resampled */
+    double seeds, reconstruct, interior, lloyd, voronoi, quality;
+    double total;
+} vc_mesh_times;
+
+typedef struct vc_mesh_result {
+    /* The input as vc_mesh checked it (topology, Euler characteristic,
+     * enclosed volume). */
+    vc_surface_report input;
+
+    /* The sampling that was kept. */
+    double first_sharp_angle;   /* the angle of the first attempt */
+    double sharp_angle;         /* the angle of the kept one */
+    int resampled;              /* 1 when the first attempt diverged */
+    int smooth_iterations;      /* rounds applied before the kept sampling */
+    int64_t n_sampled_triangles;/* triangles of the sampled (maybe smoothed) surface */
+    vc_balls balls;
+    vc_sampling_stats sampling;
+    int64_t n_half_covered;     /* seed pairs left half covered (0 on success) */
+
+    /* Seeds: the n_surface_seeds surface seeds first (n_inside_seeds of
+     * them inside, label 1; the others outside, label 0), then the
+     * n_interior_seeds interior seeds (after Lloyd relaxation, if any). */
+    vc_seeds seeds;
+    int64_t n_surface_seeds, n_inside_seeds, n_interior_seeds;
+
+    /* The reconstructed surface. */
+    vc_polysurface surface;
+    vc_polysurface_topology surface_topology;
+    int64_t n_tjunctions_repaired;
+    int surface_closed;         /* closed, consistently oriented 2-manifold with the
+                                   input's Euler characteristic */
+    double surface_volume;      /* enclosed by it (polygons fanned) */
+    vc_surface_quality surface_quality;
+
+    /* The volume mesh (not with surface_only): the Voronoi cells of the
+     * inside surface seeds and the interior seeds, cell_fatness set. */
+    int has_mesh;
+    vc_polymesh mesh;
+    double mesh_volume;         /* sum of the cell volumes */
+    int64_t mesh_problems;      /* found by vc_polymesh_validate (0 expected) */
+    char mesh_problem[VC_ERROR_LEN]; /* the first one, when any */
+    vc_cell_quality cell_quality;
+    vc_octree_stats octree;     /* with the octree interior */
+    vc_lloyd_stats lloyd;       /* with lloyd_iterations > 0 */
+
+    vc_mesh_times time;
+} vc_mesh_result;
+
+/* Runs the pipeline on the surface s (as read by vc_surface_read, or built
+ * by the caller). On success fills *out (free it with vc_mesh_result_free).
+ * On failure *out is left empty and err says why: VC_EINPUT for an open
+ * or inconsistently oriented surface, or a sampling that diverged even
+ * after the resampling allowed; VC_EPARAM for a bad option or, with the
+ * octree interior, MPI not initialised; VC_ENOMEM; VC_EINTERNAL. */
+int vc_mesh(const vc_surface *s, const vc_mesh_options *opt, vc_mesh_result *out,
+            vc_error *err);
+
+/* Frees every array of r and zeroes it; safe on a zeroed result. */
+void vc_mesh_result_free(vc_mesh_result *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,268 @@
+/* Unit test of the library's pipeline call, vc_mesh (vorocrust/vorocrust.h),
+ * on the bundled icosphere (models/icosphere.obj) and on surfaces built in
+ * memory:
+ * - the version API agrees with the header's macros;
+ * - the default options; bad options are refused with VC_EPARAM, an open
+ *   surface and an inconsistently oriented one with VC_EINPUT, each with a
+ *   message naming the input (opt.name), and the result left empty;
+ * - the octree interior is refused before the program initialises MPI;
+ * - surface only: balls, surface seeds (inside ones labelled 1), a closed
+ *   reconstructed surface with the input's Euler characteristic enclosing
+ *   the input's volume within 1%, no volume mesh;
+ * - the volume mesh: cell volumes that sum to the reconstructed surface's
+ *   volume (1e-9) and to the mesh_volume figure, every face shared by at
+ *   most two cells, the validator's verdict 0, fatness set for every cell
+ *   and within the reported range, seeds = surface seeds + interior seeds;
+ * - the lattice interior and none;
+ * - 1 and 2 threads give the same mesh, array by array;
+ * - the logger receives progress (VC_LOG_INFO) and nothing above its
+ *   max_level; a NULL logger is silent. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vorocrust/vorocrust.h"
+
+#include "test_check.h"
+#include "test_mpi.h"
+
+typedef struct log_count {
+    int n[4];
+} log_count;
+
+static void count_messages(void *user, vc_log_level level, const char *message)
+{
+    log_count *c = user;
+    if (level >= VC_LOG_ERROR && level <= VC_LOG_DEBUG)
+        c->n[level]++;
+    CHECKF(message && !strchr(message, '\n'), "a log message spans lines: %s", message);
+}
+
+static int same_mesh(const vc_polymesh *a, const vc_polymesh *b)
+{
+    if (a->n_points != b->n_points || a->n_faces != b->n_faces || a->n_cells != b->n_cells ||
+        a->n_interior_faces != b->n_interior_faces)
+        return 0;
+    return !memcmp(a->points, b->points, sizeof(double) * 3 * (size_t)a->n_points) &&
+           !memcmp(a->face_offsets, b->face_offsets, sizeof(int64_t) * (size_t)(a->n_faces + 1)) &&
+           !memcmp(a->face_vertices, b->face_vertices,
+                   sizeof(int64_t) * (size_t)a->face_offsets[a->n_faces]) &&
+           !memcmp(a->face_owner, b->face_owner, sizeof(int64_t) * (size_t)a->n_faces) &&
+           !memcmp(a->cell_volume, b->cell_volume, sizeof(double) * (size_t)a->n_cells) &&
+           !memcmp(a->cell_fatness, b->cell_fatness, sizeof(double) * (size_t)a->n_cells);
+}
+
+/* The volume mesh's own invariants. */
+static void check_volume_mesh(const vc_mesh_result *r, const char *what)
+{
+    const vc_polymesh *m = &r->mesh;
+    CHECKF(r->has_mesh && m->n_cells > 0, "%s: no volume mesh", what);
+    double sum = 0;
+    for (int64_t c = 0; c < m->n_cells; c++)
+        sum += m->cell_volume[c];
+    CHECKF(fabs(sum - r->mesh_volume) <= 1e-12 * fabs(sum), "%s: mesh_volume %.15g, cells %.15g",
+           what, r->mesh_volume, sum);
+    CHECKF(fabs(sum - r->surface_volume) <= 1e-9 * fabs(r->surface_volume),
+           "%s: cells %.15g, reconstructed surface %.15g", what, sum, r->surface_volume);
+    CHECKF(r->mesh_problems == 0, "%s: %lld validator problems: %s", what,
+           (long long)r->mesh_problems, r->mesh_problem);
+    int64_t *uses = calloc((size_t)m->n_faces, sizeof *uses);
+    for (int64_t k = 0; uses && k < m->cell_offsets[m->n_cells]; k++)
+        uses[m->cell_faces[k]]++;
+    int64_t bad = 0;
+    for (int64_t f = 0; uses && f < m->n_faces; f++)
+        bad += uses[f] != (m->face_neighbour[f] >= 0 ? 2 : 1);
+    CHECKF(uses && bad == 0, "%s: %lld faces not listed by their one or two cells", what,
+           (long long)bad);
+    free(uses);
+    int64_t unset = 0;
+    for (int64_t c = 0; c < m->n_cells; c++)
+        unset += !(m->cell_fatness[c] >= 1 && m->cell_fatness[c] <= r->cell_quality.fatness_max);
+    CHECKF(m->cell_fatness && unset == 0, "%s: %lld cells with fatness outside [1, max %g]", what,
+           (long long)unset, r->cell_quality.fatness_max);
+    CHECKF(r->seeds.n == r->n_surface_seeds + r->n_interior_seeds,
+           "%s: %lld seeds, %lld surface + %lld interior", what, (long long)r->seeds.n,
+           (long long)r->n_surface_seeds, (long long)r->n_interior_seeds);
+    CHECKF(m->n_cells == r->n_inside_seeds + r->n_interior_seeds,
+           "%s: %lld cells for %lld inside and %lld interior seeds", what, (long long)m->n_cells,
+           (long long)r->n_inside_seeds, (long long)r->n_interior_seeds);
+}
+
+/* A unit cube (12 triangles, outward), optionally with one triangle
+ * dropped (open) or flipped (inconsistent). */
+static void cube(vc_surface *s, double *xyz, int64_t *tri, int drop, int flip)
+{
+    static const int64_t t[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                  1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+    for (int k = 0; k < 8; k++) {
+        xyz[3 * k] = (k == 1 || k == 2 || k == 5 || k == 6);
+        xyz[3 * k + 1] = (k == 2 || k == 3 || k == 6 || k == 7);
+        xyz[3 * k + 2] = k >= 4;
+    }
+    memcpy(tri, t, sizeof t);
+    if (flip) {
+        int64_t x = tri[1];
+        tri[1] = tri[2];
+        tri[2] = x;
+    }
+    s->n_vertices = 8;
+    s->xyz = xyz;
+    s->n_triangles = drop ? 11 : 12;
+    s->tri = tri;
+}
+
+int main(void)
+{
+    CHECKF(!strcmp(vc_version(), VC_VERSION_STRING) && vc_version_number() == VC_VERSION_NUMBER &&
+               VC_VERSION_NUMBER == VC_VERSION_MAJOR * 10000 + VC_VERSION_MINOR * 100 +
+                                        VC_VERSION_PATCH,
+           "version %s / %d against the header's %s", vc_version(), vc_version_number(),
+           VC_VERSION_STRING);
+
+    vc_mesh_options d;
+    vc_mesh_options_default(&d);
+    CHECKF(d.sharp_angle == 60 && d.interior == VC_INTERIOR_OCTREE && d.lloyd_iterations == 0 &&
+               d.smooth_iterations == 0 && d.resample == (VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH) &&
+               d.log == NULL && !d.surface_only,
+           "defaults");
+
+    vc_error err = {0, ""};
+    vc_mesh_result r;
+    double xyz[24];
+    int64_t tri[36];
+    vc_surface box;
+    vc_mesh_options o = d;
+    o.name = "cube.obj";
+
+    /* refusals: the message names the input, the result stays empty */
+    cube(&box, xyz, tri, 1, 0);
+    CHECKF(vc_mesh(&box, &o, &r, &err) == VC_EINPUT && strstr(err.msg, "cube.obj: ") == err.msg &&
+               strstr(err.msg, "open") && r.balls.n == 0 && !r.has_mesh,
+           "open cube: %s", err.msg);
+    cube(&box, xyz, tri, 0, 1);
+    CHECKF(vc_mesh(&box, &o, &r, &err) == VC_EINPUT && strstr(err.msg, "inconsistently"),
+           "flipped triangle: %s", err.msg);
+    cube(&box, xyz, tri, 0, 0);
+    const struct {
+        double sharp, lipschitz, max_error;
+        int lloyd, smooth;
+    } bad[] = {{0, 0.25, 0.004, 0, 0},  {180, 0.25, 0.004, 0, 0}, {60, 1, 0.004, 0, 0},
+               {60, 0.25, 1, 0, 0},     {60, 0.25, -1, 0, 0},     {60, 0.25, 0.004, -1, 0},
+               {60, 0.25, 0.004, 0, -1}, {60, NAN, 0.004, 0, 0}};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        vc_mesh_options b = o;
+        b.sharp_angle = bad[k].sharp;
+        b.lipschitz = bad[k].lipschitz;
+        b.max_error = bad[k].max_error;
+        b.lloyd_iterations = bad[k].lloyd;
+        b.smooth_iterations = bad[k].smooth;
+        CHECKF(vc_mesh(&box, &b, &r, &err) == VC_EPARAM, "bad option set %zu accepted", k);
+    }
+    /* the octree interior needs the program's MPI */
+    CHECKF(vc_mesh(&box, &o, &r, &err) == VC_EPARAM && strstr(err.msg, "MPI_Init"),
+           "octree without MPI: %s", err.msg);
+
+    vc_surface ico;
+    const char *path = VC_TEST_DATA "/../../models/icosphere.obj";
+    if (vc_surface_read(path, &ico, NULL, &err)) {
+        fprintf(stderr, "test_mesh_pipeline: %s\n", err.msg);
+        return 1;
+    }
+    vc_surface_report in;
+    memset(&in, 0, sizeof in);
+    vc_surface_check(&ico, &in, &err);
+
+    /* surface only, no MPI needed */
+    log_count lc;
+    memset(&lc, 0, sizeof lc);
+    vc_logger log = {count_messages, &lc, VC_LOG_INFO};
+    o = d;
+    o.surface_only = 1;
+    o.log = &log;
+    if (vc_mesh(&ico, &o, &r, &err) != 0) {
+        CHECKF(0, "icosphere surface only: %s", err.msg);
+    } else {
+        CHECKF(r.balls.n > 100 && r.n_surface_seeds > r.balls.n && !r.has_mesh &&
+                   r.n_half_covered == 0 && r.sampling.n_half_covered == 0 && !r.resampled,
+               "surface only: %lld balls, %lld seeds, mesh %d", (long long)r.balls.n,
+               (long long)r.n_surface_seeds, r.has_mesh);
+        int64_t inside = 0;
+        for (int64_t i = 0; i < r.seeds.n; i++)
+            inside += r.seeds.label[i] == 1;
+        CHECKF(inside == r.n_inside_seeds && inside > 0 && inside < r.seeds.n,
+               "inside seeds %lld, reported %lld", (long long)inside, (long long)r.n_inside_seeds);
+        CHECKF(r.surface_closed && r.surface_topology.euler == in.euler &&
+                   r.input.euler == in.euler,
+               "reconstructed surface: closed %d, euler %lld (input %lld)", r.surface_closed,
+               (long long)r.surface_topology.euler, (long long)in.euler);
+        CHECKF(fabs(r.surface_volume - in.volume) <= 0.01 * in.volume,
+               "surface volume %g, input %g", r.surface_volume, in.volume);
+        CHECKF(r.surface_quality.q_min > 0.2 && r.surface_quality.q_min <= r.surface_quality.q_mean,
+               "surface quality min %g mean %g", r.surface_quality.q_min, r.surface_quality.q_mean);
+        CHECKF(r.time.total > 0 && r.time.surface > 0, "times");
+        CHECKF(lc.n[VC_LOG_INFO] > 0 && lc.n[VC_LOG_DEBUG] == 0 && lc.n[VC_LOG_WARNING] == 0,
+               "logger: %d info, %d debug, %d warnings", lc.n[VC_LOG_INFO], lc.n[VC_LOG_DEBUG],
+               lc.n[VC_LOG_WARNING]);
+        vc_mesh_result_free(&r);
+        CHECKF(r.balls.n == 0 && r.seeds.xyz == NULL, "free zeroes the result");
+    }
+
+    /* lattice and no interior: no MPI needed either */
+    o = d;
+    o.interior = VC_INTERIOR_LATTICE;
+    if (vc_mesh(&ico, &o, &r, &err) != 0) {
+        CHECKF(0, "lattice: %s", err.msg);
+    } else {
+        check_volume_mesh(&r, "lattice");
+        CHECKF(r.n_interior_seeds > 0, "lattice: no interior seed");
+        vc_mesh_result_free(&r);
+    }
+    o.interior = VC_INTERIOR_NONE;
+    if (vc_mesh(&ico, &o, &r, &err) != 0) {
+        CHECKF(0, "no interior: %s", err.msg);
+    } else {
+        check_volume_mesh(&r, "no interior");
+        CHECKF(r.n_interior_seeds == 0, "no interior: %lld interior seeds",
+               (long long)r.n_interior_seeds);
+        vc_mesh_result_free(&r);
+    }
+
+    /* the default pipeline, 1 and 2 threads */
+    if (test_mpi_start() != 0) {
+        fprintf(stderr, "test_mesh_pipeline: MPI_Init failed\n");
+        return 1;
+    }
+    vc_mesh_result r1, r2;
+    o = d;
+    o.threads = 1;
+    int rc1 = vc_mesh(&ico, &o, &r1, &err);
+    CHECKF(rc1 == 0, "octree, 1 thread: %s", err.msg);
+    o.threads = 2;
+    memset(&lc, 0, sizeof lc);
+    log.max_level = VC_LOG_DEBUG;
+    o.log = &log;
+    int rc2 = vc_mesh(&ico, &o, &r2, &err);
+    CHECKF(rc2 == 0, "octree, 2 threads: %s", err.msg);
+    if (rc1 == 0 && rc2 == 0) {
+        check_volume_mesh(&r2, "octree");
+        CHECKF(r2.n_interior_seeds > 0 && r2.octree.n_leaves > 0, "octree: %lld interior seeds",
+               (long long)r2.n_interior_seeds);
+        CHECKF(same_mesh(&r1.mesh, &r2.mesh), "1 and 2 threads give different meshes");
+        CHECKF(lc.n[VC_LOG_INFO] > 0, "no progress with 2 threads");
+        printf("icosphere: %lld balls, %lld surface seeds, %lld cells, volume %.9g (input %.9g), "
+               "fatness max %.3f\n",
+               (long long)r2.balls.n, (long long)r2.n_surface_seeds, (long long)r2.mesh.n_cells,
+               r2.mesh_volume, in.volume, r2.cell_quality.fatness_max);
+    }
+    vc_mesh_result_free(&r1);
+    vc_mesh_result_free(&r2);
+    test_mpi_stop();
+    vc_surface_free(&ico);
+    if (failures) {
+        fprintf(stderr, "test_mesh_pipeline: %d failure(s)\n", failures);
+        return 1;
+    }
+    printf("test_mesh_pipeline: all checks passed\n");
+    return 0;
+}

@@ -1,0 +1,419 @@
+/* vc_mesh: the VoroCrust pipeline, from a closed surface to the volume
+ * mesh (see vorocrust/vorocrust.h). Each stage is a public function of its
+ * own header; this file decides their order, the resampling policy and
+ * the figures of the result. */
+#include "vorocrust/vorocrust.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "mesh_measures.h"
+#include "vorocrust/features.h"
+#include "vorocrust/smoothing.h"
+#include "vorocrust/voronoi.h"
+
+/* The resampling policy (see resample_plan). */
+#define FOLD_ANGLE 20.0   /* folds sharper than this inside a patch are kinks */
+#define SMOOTH_ANGLE 120.0/* theta_sharp after Loop smoothing: only edges folded
+                             back beyond 120 degrees stay creases */
+#define LOCAL_FOLDS 50    /* "few folds": at most one edge in 50 */
+
+const char *vc_version(void) { return VC_VERSION_STRING; }
+
+int vc_version_number(void) { return VC_VERSION_NUMBER; }
+
+static double now(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    return 0;
+#endif
+}
+
+void vc_mesh_options_default(vc_mesh_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    vc_sampling_options so;
+    vc_sampling_options_default(&so);
+    opt->sharp_angle = so.sharp_angle;
+    opt->max_error = so.max_error;
+    opt->lipschitz = so.lipschitz;
+    opt->max_size = so.max_size;
+    opt->seed = so.seed;
+    /* 0, not the thesis' 6: Loop subdivision approximates, it pulls the
+     * surface off the input (sphere.obj: 0.78% of the diagonal, 3.3% of the
+     * volume after 6 rounds), beyond the 0.5% error budget. */
+    opt->smooth_iterations = 0;
+    opt->resample = VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH;
+    opt->interior = VC_INTERIOR_OCTREE;
+}
+
+void vc_mesh_result_free(vc_mesh_result *r)
+{
+    if (!r)
+        return;
+    vc_balls_free(&r->balls);
+    vc_seeds_free(&r->seeds);
+    vc_polysurface_free(&r->surface);
+    vc_polymesh_free(&r->mesh);
+    memset(r, 0, sizeof *r);
+}
+
+static int check_options(const vc_mesh_options *o, vc_error *err)
+{
+    if (!(o->sharp_angle > 0 && o->sharp_angle < 180))
+        return vc_error_set(err, VC_EPARAM, "sharp angle %g: needs degrees in (0, 180)",
+                            o->sharp_angle);
+    if (!(o->max_error >= 0 && o->max_error < 1))
+        return vc_error_set(err, VC_EPARAM, "max error %g: needs a number in [0, 1)", o->max_error);
+    if (!(o->lipschitz > 0 && o->lipschitz < 1))
+        return vc_error_set(err, VC_EPARAM, "Lipschitz constant %g: needs a number in (0, 1)",
+                            o->lipschitz);
+    if (!(o->max_size >= 0) || !isfinite(o->max_size))
+        return vc_error_set(err, VC_EPARAM, "max size %g: needs a positive number (0: none)",
+                            o->max_size);
+    if (o->smooth_iterations < 0 || o->smooth_iterations > VC_SMOOTH_MAX_ITERATIONS)
+        return vc_error_set(err, VC_EPARAM, "%d smoothing rounds: 0 to %d are allowed",
+                            o->smooth_iterations, VC_SMOOTH_MAX_ITERATIONS);
+    if (o->lloyd_iterations < 0 || o->lloyd_iterations > 1000)
+        return vc_error_set(err, VC_EPARAM, "%d Lloyd iterations: 0 to 1000 are allowed",
+                            o->lloyd_iterations);
+    if (o->interior != VC_INTERIOR_OCTREE && o->interior != VC_INTERIOR_LATTICE &&
+        o->interior != VC_INTERIOR_NONE)
+        return vc_error_set(err, VC_EPARAM, "unknown interior kind %d", (int)o->interior);
+    if (!(o->interior_spacing >= 0) || !isfinite(o->interior_spacing))
+        return vc_error_set(err, VC_EPARAM, "interior spacing %g: needs a positive number",
+                            o->interior_spacing);
+    return 0;
+}
+
+/* Prefixes err's message with the input's name (and what was being done). */
+static int named(vc_error *err, const char *name, const char *doing)
+{
+    if (!err)
+        return VC_EINTERNAL;
+    char full[2 * VC_ERROR_LEN + 64];
+    snprintf(full, sizeof full, "%s: %s%s%s", name, doing ? doing : "", doing ? ": " : "",
+             err->msg);
+    size_t n = strlen(full);
+    if (n >= sizeof err->msg)
+        n = sizeof err->msg - 1; /* cut, as any message */
+    memcpy(err->msg, full, n);
+    err->msg[n] = 0;
+    return err->code ? err->code : VC_EINTERNAL;
+}
+
+/* When sliver elimination diverges on the first attempt, how to sample
+ * once more: returns 1 with the new sharp angle and smoothing rounds, or 0.
+ *
+ * The thesis (6.2.1) assumes that inside a patch every dihedral fold is
+ * small (at most theta_flat, 10 to 15 degrees after its smoothing). A
+ * sharper fold of flat triangles is a kink at every scale: however small
+ * the balls, the ones on its two sides meet at the same angle, so
+ * shrinking the ball that covers a seed (sliver elimination) opens holes
+ * whose new balls make the same slivers at a smaller scale, and the
+ * half-covered pairs never decay (fandisk.off, seeds 2 to 8 at 60 degrees:
+ * nearly all of them within two radii of its 22-29 degree fillet folds and
+ * its 20-57 degree folds; the safe mode with alpha / 2 diverges there too).
+ * The remedy is decided on the input, by its folds between FOLD_ANGLE and
+ * theta_sharp (edges that are sharp at FOLD_ANGLE, not at theta_sharp):
+ *  - few (at most one edge in LOCAL_FOLDS): isolated kinks, such as the
+ *    facets of a narrow fillet (fandisk.off: 177 edges, 0.8%). They become
+ *    creases: theta_sharp FOLD_ANGLE, at which the patches meet the
+ *    thesis' smoothness assumption and the creases are protected by edge
+ *    balls;
+ *  - many: the surface is not smooth at the scale of the balls, a coarse
+ *    tessellation of a curved shape (fertility.off: 8.2%; most edges bend
+ *    by 10 to 60 degrees). The thesis' remedy: Loop smoothing of the
+ *    patches (VC_SMOOTH_DEFAULT_ITERATIONS rounds) at theta_sharp
+ *    SMOOTH_ANGLE. */
+static int resample_plan(const vc_surface *s, const vc_features *f_input, double sharp_angle,
+                         int allowed, double *new_angle, int *new_smooth, int64_t *n_folds,
+                         int64_t *n_edges, vc_error *err)
+{
+    *n_folds = *n_edges = 0;
+    if (!allowed || !(sharp_angle > FOLD_ANGLE))
+        return 0;
+    vc_features at_fold, at_sharp;
+    memset(&at_fold, 0, sizeof at_fold);
+    memset(&at_sharp, 0, sizeof at_sharp);
+    const vc_features *sharp = f_input ? f_input : &at_sharp;
+    if (vc_features_detect(s, FOLD_ANGLE, &at_fold, err) ||
+        (!f_input && vc_features_detect(s, sharp_angle, &at_sharp, err))) {
+        vc_features_free(&at_fold);
+        return -1;
+    }
+    *n_folds = at_fold.n_sharp_edges - sharp->n_sharp_edges;
+    *n_edges = at_fold.n_edges;
+    vc_features_free(&at_fold);
+    vc_features_free(&at_sharp);
+    const int local = *n_folds > 0 && LOCAL_FOLDS * *n_folds <= *n_edges;
+    if (local && (allowed & VC_RESAMPLE_CREASES)) {
+        *new_angle = FOLD_ANGLE;
+        return 1;
+    }
+    if (!local && (allowed & VC_RESAMPLE_SMOOTH)) {
+        *new_angle = SMOOTH_ANGLE;
+        *new_smooth = VC_SMOOTH_DEFAULT_ITERATIONS;
+        return 2;
+    }
+    return 0;
+}
+
+/* The sampling, with one more attempt when it diverges (resample_plan).
+ * Fills out's sampling fields and balls. */
+static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *name,
+                  vc_mesh_result *out, vc_error *err)
+{
+    vc_sampling_options so;
+    vc_sampling_options_default(&so);
+    so.sharp_angle = opt->sharp_angle;
+    so.max_error = opt->max_error;
+    so.lipschitz = opt->lipschitz;
+    so.max_size = opt->max_size;
+    so.seed = opt->seed;
+    so.threads = opt->threads;
+    so.log = opt->log;
+    int smooth = opt->smooth_iterations;
+    vc_features f;
+    vc_surface smoothed;
+    memset(&f, 0, sizeof f);
+    memset(&smoothed, 0, sizeof smoothed);
+    int rc = 0;
+    out->first_sharp_angle = so.sharp_angle;
+    for (int attempt = 0;; attempt++) {
+        const double t1 = now();
+        const vc_surface *sampled = s;
+        if (vc_features_detect(s, so.sharp_angle, &f, err)) {
+            rc = named(err, name, NULL);
+            break;
+        }
+        if (smooth > 0) {
+            vc_surface_free(&smoothed);
+            if (vc_surface_smooth(s, &f, smooth, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &smoothed, err)) {
+                rc = named(err, name, "smoothing");
+                break;
+            }
+            vc_features_free(&f);
+            sampled = &smoothed;
+            if (vc_features_detect(sampled, so.sharp_angle, &f, err)) {
+                rc = named(err, name, NULL);
+                break;
+            }
+        }
+        const double t2 = now();
+        vc_balls_free(&out->balls);
+        if (vc_sample_surface(sampled, &f, &so, &out->balls, &out->sampling, err) == 0) {
+            out->sampling.t_features = t2 - t1;
+            out->sharp_angle = so.sharp_angle;
+            out->smooth_iterations = smooth;
+            out->n_sampled_triangles = sampled->n_triangles;
+            break;
+        }
+        double new_angle = so.sharp_angle;
+        int new_smooth = smooth;
+        int64_t n_folds = 0, n_edges = 0;
+        vc_error why = *err;
+        /* f holds the input's features at theta_sharp unless the input was
+         * smoothed first */
+        int plan = attempt == 0 && out->sampling.diverged
+                       ? resample_plan(s, sampled == s ? &f : NULL, so.sharp_angle,
+                                       opt->resample, &new_angle, &new_smooth, &n_folds,
+                                       &n_edges, err)
+                       : 0;
+        if (plan < 0) {
+            rc = named(err, name, NULL);
+            break;
+        }
+        if (plan == 0) {
+            *err = why;
+            rc = named(err, name, NULL);
+            break;
+        }
+        vc_log(opt->log, VC_LOG_INFO, "mesh: %s", why.msg);
+        if (plan == 1)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: sampling again with --sharp-angle %g (%lld folds of %g to %g degrees "
+                   "inside the patches, %.1f%% of the edges, become creases)",
+                   new_angle, (long long)n_folds, FOLD_ANGLE, so.sharp_angle,
+                   100.0 * (double)n_folds / (double)n_edges);
+        else
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: sampling again with --smooth-iterations %d --sharp-angle %g (the "
+                   "surface bends too much everywhere: the thesis' smoothing of the patches)",
+                   new_smooth, new_angle);
+        vc_features_free(&f);
+        so.sharp_angle = new_angle;
+        smooth = new_smooth;
+        out->resampled = 1;
+        out->time.failed_sampling = now() - t1;
+    }
+    vc_features_free(&f);
+    vc_surface_free(&smoothed);
+    return rc;
+}
+
+/* Interior seeds, Lloyd relaxation, the Voronoi mesh and its measures. */
+static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
+                       vc_error *err)
+{
+    double t = now();
+    vc_seeds all = {0, NULL, NULL};
+    if (opt->interior == VC_INTERIOR_OCTREE) {
+        vc_octree_options oo;
+        vc_octree_options_default(&oo);
+        oo.lipschitz = opt->lipschitz; /* the sizing extends the balls' own grading */
+        oo.max_size = opt->max_size;
+        oo.threads = opt->threads;
+        vc_log(opt->log, VC_LOG_INFO, "mesh: interior octree");
+        if (vc_interior_octree(&out->balls, &out->seeds, &oo, &all, &out->n_interior_seeds,
+                               &out->octree, NULL, err))
+            return named(err, name, NULL);
+    } else if (opt->interior == VC_INTERIOR_LATTICE) {
+        double h = opt->interior_spacing > 0
+                       ? opt->interior_spacing
+                       : vc_interior_default_spacing(&out->balls, opt->max_size);
+        if (vc_interior_lattice(&out->balls, &out->seeds, h, &all, &out->n_interior_seeds, err))
+            return named(err, name, NULL);
+    }
+    if (opt->interior != VC_INTERIOR_NONE) {
+        vc_seeds_free(&out->seeds);
+        out->seeds = all;
+    }
+    out->time.interior = now() - t;
+
+    t = now();
+    if (opt->lloyd_iterations > 0 && out->n_interior_seeds > 0) {
+        vc_log(opt->log, VC_LOG_INFO, "mesh: Lloyd relaxation, %d iterations of %lld seeds",
+               opt->lloyd_iterations, (long long)out->seeds.n);
+        if (vc_interior_lloyd(&out->balls, &out->seeds, out->n_surface_seeds,
+                              opt->lloyd_iterations, opt->threads, &out->lloyd, err))
+            return named(err, name, NULL);
+    }
+    out->time.lloyd = now() - t;
+
+    t = now();
+    vc_voronoi_options vo;
+    vc_voronoi_options_default(&vo);
+    vo.threads = opt->threads;
+    vo.log = opt->log;
+    vc_log(opt->log, VC_LOG_INFO, "mesh: Voronoi cells of %lld seeds", (long long)out->seeds.n);
+    if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))
+        return named(err, name, NULL);
+    out->has_mesh = 1;
+    out->time.voronoi = now() - t;
+
+    t = now();
+    vc_polymesh *m = &out->mesh;
+    out->mesh_volume = 0;
+    for (int64_t c = 0; c < m->n_cells; c++)
+        out->mesh_volume += m->cell_volume[c];
+    char report[1024];
+    out->mesh_problems = vc_polymesh_validate(m, 0, report, sizeof report);
+    if (out->mesh_problems) {
+        snprintf(out->mesh_problem, sizeof out->mesh_problem, "%.*s",
+                 (int)strcspn(report, "\n"), report);
+        vc_log(opt->log, VC_LOG_WARNING,
+               "%s: the volume mesh fails validation (%lld problems), first: %s", name,
+               (long long)out->mesh_problems, out->mesh_problem);
+    }
+    /* per-cell fatness goes into the .vtu as well */
+    m->cell_fatness = malloc(sizeof(double) * (size_t)(m->n_cells ? m->n_cells : 1));
+    if (!m->cell_fatness || vc_cell_quality_compute(m, &out->cell_quality, m->cell_fatness))
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory measuring the cells", name);
+    out->time.quality = now() - t;
+    return 0;
+}
+
+int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *out,
+            vc_error *err)
+{
+    vc_mesh_options opt;
+    if (opt_in)
+        opt = *opt_in;
+    else
+        vc_mesh_options_default(&opt);
+    memset(out, 0, sizeof *out);
+    const char *name = opt.name && opt.name[0] ? opt.name : "surface";
+    int rc = check_options(&opt, err);
+    if (rc)
+        return rc;
+    const double t0 = now();
+
+    /* The input: closed and consistently oriented, or its inside is not
+     * defined. */
+    snprintf(out->input.name, sizeof out->input.name, "%s", name);
+    if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+        goto fail;
+    if (out->input.n_boundary_edges > 0) {
+        rc = vc_error_set(err, VC_EINPUT, "%s: the surface is open: %lld boundary edges "
+                          "(VoroCrust needs a closed surface)", name,
+                          (long long)out->input.n_boundary_edges);
+        goto fail;
+    }
+    if (out->input.n_inconsistent_edges > 0) {
+        rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges: the inside "
+                          "of the surface is undefined", name,
+                          (long long)out->input.n_inconsistent_edges);
+        goto fail;
+    }
+
+    if ((rc = sample(s, &opt, name, out, err)) != 0)
+        goto fail;
+    out->time.features = out->sampling.t_features;
+    out->time.sizing = out->sampling.t_sizing;
+    out->time.corners = out->sampling.t_corners;
+    out->time.edges = out->sampling.t_edges;
+    out->time.surface = out->sampling.t_surface;
+    out->time.lipschitz = out->sampling.t_lipschitz;
+    out->time.slivers = out->sampling.t_slivers;
+
+    double t = now();
+    if ((rc = vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err)) != 0) {
+        rc = named(err, name, NULL);
+        goto fail;
+    }
+    out->n_surface_seeds = out->seeds.n;
+    for (int64_t i = 0; i < out->seeds.n; i++)
+        out->n_inside_seeds += out->seeds.label[i] != 0;
+    out->time.seeds = now() - t;
+
+    t = now();
+    if ((rc = vc_reconstruct_surface(&out->seeds, opt.threads, &out->surface,
+                                     &out->n_tjunctions_repaired, err)) != 0) {
+        rc = named(err, name, "reconstructing the surface");
+        goto fail;
+    }
+    if ((rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err)) != 0)
+        goto fail;
+    out->time.reconstruct = now() - t;
+    const vc_polysurface_topology *topo = &out->surface_topology;
+    out->surface_closed = !topo->n_boundary_edges && !topo->n_nonmanifold_edges &&
+                          !topo->n_misoriented_edges && !topo->n_nonmanifold_vertices &&
+                          topo->euler == out->input.euler;
+    if (!out->surface_closed)
+        vc_log(opt.log, VC_LOG_WARNING,
+               "%s: the reconstructed surface is not a closed consistently oriented 2-manifold "
+               "with the input's Euler characteristic (%lld boundary, %lld non-manifold and "
+               "%lld misoriented edges, %lld non-manifold vertices; Euler characteristic %lld, "
+               "input %lld)",
+               name, (long long)topo->n_boundary_edges, (long long)topo->n_nonmanifold_edges,
+               (long long)topo->n_misoriented_edges, (long long)topo->n_nonmanifold_vertices,
+               (long long)topo->euler, (long long)out->input.euler);
+    vc_surface_quality_compute(&out->surface, &out->surface_quality);
+    out->surface_volume = vc_polysurface_volume(&out->surface);
+
+    if (!opt.surface_only && (rc = volume_mesh(&opt, name, out, err)) != 0)
+        goto fail;
+    out->time.total = now() - t0;
+    return 0;
+fail:
+    vc_mesh_result_free(out);
+    return rc ? rc : VC_EINTERNAL;
+}
