@@ -163,7 +163,7 @@ int main(void)
         int64_t n_early = 0;
         vc_error e0 = {0, ""};
         CHECKF(vc_interior_octree(&b, &ss, &d, &early, &n_early, NULL, NULL, &e0) == VC_EPARAM &&
-                   strstr(e0.msg, "MPI_Init"),
+                   strstr(e0.msg, "initialise MPI"),
                "octree without MPI: %s", e0.msg);
         vc_seeds_free(&early);
     }

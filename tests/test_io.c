@@ -8,6 +8,7 @@
  *                                                uneven spacing (several zlib
  *                                                blocks per array) */
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 #include "vorocrust/seeds.h"
 
 #include <dirent.h>
@@ -369,7 +370,7 @@ static void test_vtu_write(void)
     CHECK_MSG(rc == 0, err.msg);
     if (rc == 0) {
         fputs("partial", (FILE *)t.fp);
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
     }
     CHECK(!file_exists(tp));
     CHECK(count_dir_entries(sub, ".tmp.") == 0);

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 
 #define MAX_BINS 64
 #define SVG_WIDTH 760
@@ -277,7 +278,7 @@ int vc_compare_write_html(const vc_compare *c, const char *path, vc_error *err)
         return rc;
     write_page(t.fp, c);
     if (ferror((FILE *)t.fp)) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_EIO, "%s: cannot write", path);
     }
     return vc_tmpfile_commit(&t, err);

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 
 #define VTK_TETRA_TYPE 10
 
@@ -110,7 +111,7 @@ int vc_write_tetra_vtu(const vc_tetgen_mesh *m, const char *path, vc_error *err)
     free(offsets);
     free(types);
     if (bad) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(e ? e : EIO));
     }
     return vc_tmpfile_commit(&t, err);

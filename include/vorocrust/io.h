@@ -52,20 +52,6 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path,
  * VC_ENOMEM. */
 int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err);
 
-/* Helpers for the temporary-file-and-rename pattern. vc_tmpfile_open
- * creates "<path>.tmp.XXXXXX" and opens it for binary writing;
- * vc_tmpfile_commit closes and renames it (removing it on failure);
- * vc_tmpfile_abort closes and removes it. */
-typedef struct vc_tmpfile {
-    void *fp; /* FILE * */
-    char *tmp_path;
-    char *final_path;
-} vc_tmpfile;
-
-int vc_tmpfile_open(vc_tmpfile *t, const char *path, vc_error *err);
-int vc_tmpfile_commit(vc_tmpfile *t, vc_error *err);
-void vc_tmpfile_abort(vc_tmpfile *t);
-
 #ifdef __cplusplus
 }
 #endif

@@ -11,8 +11,8 @@ int vc_octree_runtime_start(vc_error *err)
     MPI_Finalized(&finalized);
     if (!initialized || finalized)
         return vc_error_set(err, VC_EPARAM,
-                            "the octree interior needs MPI: the program must call MPI_Init "
-                            "before meshing (and MPI_Finalize after), or use the lattice "
+                            "the octree interior needs MPI: the program must initialise MPI "
+                            "before meshing (and finalise it after), or use the lattice "
                             "interior");
     /* p4est's own log lines silenced, once per process; the forests live
      * on MPI_COMM_SELF, so sc_init (MPI error handler, signal handlers) is

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 
 #define CSV_CHUNKS 64 /* chunks formatted per batch, then written in order */
 
@@ -54,7 +55,7 @@ int vc_csv_write_rows(const char *path, const char *header, int64_t n_rows, size
     free(buf);
     free(used);
     if (write_errno) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(write_errno));
     }
     return vc_tmpfile_commit(&t, err);

@@ -27,6 +27,7 @@
  * enough to read back the same doubles; printf is several times slower),
  * blocks of entries in parallel (OpenMP), written in order. */
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 #include "file_mode.h"
 
 #include <dirent.h>
@@ -716,7 +717,7 @@ static int foam_write_file(const char *path, const char *report, foam_file what,
     foam_out o = {fp, malloc(FOAM_BUF), 0, FOAM_BUF, 0};
     if (!o.buf) {
         if (tmp)
-            vc_tmpfile_abort(&t);
+            vc_tmpfile_discard(&t);
         else
             fclose(fp);
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory", report);
@@ -734,7 +735,7 @@ static int foam_write_file(const char *path, const char *report, foam_file what,
     int e = o.err_no;
     if (tmp) {
         if (e) {
-            vc_tmpfile_abort(&t);
+            vc_tmpfile_discard(&t);
         } else if (vc_tmpfile_commit(&t, err) != 0) {
             return err ? err->code : VC_EIO; /* the message names the path */
         }

@@ -1,6 +1,7 @@
 /* The reconstructed surface (OBJ polygons, or a .vtu of VTK_POLYGON cells)
  * and the balls (CSV), each through a temporary file. */
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 #include "vorocrust/sampling.h"
 
 #include <inttypes.h>

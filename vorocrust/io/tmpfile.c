@@ -1,6 +1,7 @@
 /* Temporary file next to the target, renamed over it on success: a failed or
  * interrupted run never leaves a half-written output file behind. */
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 #include "file_mode.h"
 
 #include <errno.h>
@@ -90,7 +91,7 @@ int vc_tmpfile_commit(vc_tmpfile *t, vc_error *err)
 {
     FILE *fp = (FILE *)t->fp;
     if (!fp || !t->tmp_path || !t->final_path) {
-        vc_tmpfile_abort(t);
+        vc_tmpfile_discard(t);
         return vc_error_set(err, VC_EINTERNAL, "vc_tmpfile_commit: file is not open");
     }
     int e = 0;
@@ -113,7 +114,7 @@ int vc_tmpfile_commit(vc_tmpfile *t, vc_error *err)
     return VC_OK;
 }
 
-void vc_tmpfile_abort(vc_tmpfile *t)
+void vc_tmpfile_discard(vc_tmpfile *t)
 {
     if (!t)
         return;

@@ -18,6 +18,7 @@
  * The offset attributes of the XML header are patched at the end (their
  * room is reserved with trailing blanks outside the quotes). */
 #include "vorocrust/io.h"
+#include "io/tmpfile.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -378,7 +379,7 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     int src = vtu_stream_init(&s, fp, enc);
     if (src) {
         vtu_stream_free(&s);
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         free(conn_end);
         free(face_end);
         free(stamp);
@@ -513,16 +514,16 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     free(stamp);
 
     if (src == VC_EINTERNAL) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_EINTERNAL, "%s: array size mismatch in VTU writer", path);
     }
     if (src == VC_ENOMEM) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_ENOMEM, "%s: zlib compression failed (out of memory)",
                             path);
     }
     if (write_errno) {
-        vc_tmpfile_abort(&t);
+        vc_tmpfile_discard(&t);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(write_errno));
     }
     return vc_tmpfile_commit(&t, err);
