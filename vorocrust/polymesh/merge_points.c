@@ -26,15 +26,6 @@ void vc_point_merge_buffers_free(vc_point_merge_buffers *b)
     memset(b, 0, sizeof *b);
 }
 
-int64_t vc_point_root(int64_t *parent, int64_t v)
-{
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
 void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned char *moved,
                               const unsigned char *drop, vc_point_merge_buffers *b)
 {
@@ -49,7 +40,7 @@ void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned ch
         const int dropped = drop && drop[f];
         int changed = dropped;
         for (int64_t i = first; i < end && !dropped; i++) {
-            const int64_t v = m->face_vertices[i], r = parent ? vc_point_root(parent, v) : v;
+            const int64_t v = m->face_vertices[i], r = parent ? vc_uf_find(parent, v) : v;
             changed |= moved ? moved[v] : 0;
             if (wv == start || m->face_vertices[wv - 1] != r)
                 m->face_vertices[wv++] = r;

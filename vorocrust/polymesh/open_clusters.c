@@ -122,20 +122,6 @@ static double dist(const double *p, const double *q)
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-static void unite(int64_t *parent, int64_t a, int64_t b)
-{
-    a = vc_point_root(parent, a);
-    b = vc_point_root(parent, b);
-    if (a != b) {
-        /* The smaller index is the root: the result does not depend on
-         * the order of the unions. */
-        if (a < b)
-            parent[b] = a;
-        else
-            parent[a] = b;
-    }
-}
-
 /* Unites the points of open cell c (its edges counted in t) within
  * rel_radius times its size of an end of one of its unbalanced edges. */
 static void collapse_at_open_edges(const vc_polymesh *m, int64_t c, const edge_table *t,
@@ -169,7 +155,7 @@ static void collapse_at_open_edges(const vc_polymesh *m, int64_t c, const edge_t
                     for (int64_t k = 0; k < vc_polymesh_face_size(m, g); k++) {
                         if (gv[k] == ends[s] || dist(p, m->points + 3 * gv[k]) > radius)
                             continue;
-                        unite(parent, ends[s], gv[k]);
+                        vc_uf_unite(parent, ends[s], gv[k]);
                         moved[ends[s]] = moved[gv[k]] = 1;
                     }
                 }
@@ -212,8 +198,7 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
             moved = calloc((size_t)m->n_points, 1);
             if (!parent || !moved)
                 goto nomem;
-            for (int64_t v = 0; v < m->n_points; v++)
-                parent[v] = v;
+            vc_uf_init(parent, m->n_points);
         }
         if (cell_closed(m, c, &t) < 0) /* counts its edges into t */
             goto nomem;
@@ -223,7 +208,7 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
     int64_t n_merged = 0;
     if (parent) {
         for (int64_t v = 0; v < m->n_points; v++)
-            n_merged += vc_point_root(parent, v) != v;
+            n_merged += vc_uf_find(parent, v) != v;
     }
     if (n_merged > 0) {
         vc_point_merge_buffers b;

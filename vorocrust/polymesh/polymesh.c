@@ -1,5 +1,6 @@
 /* Memory, geometry and summary figures of the polyhedral mesh. */
 #include "vorocrust/polymesh.h"
+#include "face_geometry.h"
 #include "polymesh_internal.h"
 
 #include <math.h>
@@ -30,56 +31,9 @@ void vc_polymesh_free(vc_polymesh *m)
     memset(m, 0, sizeof *m);
 }
 
-/* Area vector (normal times area) and area-weighted centroid of the
- * polygon cycle[0..n-1], from a fan around the vertex average (exact for
- * planar polygons; OpenFOAM's formula). Entry -1 - t stands for the point
- * targets[t] (a point being merged, see skew_faces.c). */
-void vc_polygon_geometry(const double *points, const int64_t *cycle, int64_t n,
-                         const double *const *targets, double av[3], double cen[3])
-{
-#define CYCLE_POINT(i) (cycle[i] < 0 ? targets[-1 - cycle[i]] : points + 3 * cycle[i])
-    double c0[3] = {0, 0, 0};
-    for (int64_t i = 0; i < n; i++)
-        for (int d = 0; d < 3; d++)
-            c0[d] += CYCLE_POINT(i)[d];
-    for (int d = 0; d < 3; d++)
-        c0[d] /= (double)n;
-    double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, wsum = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const double *p = CYCLE_POINT(i), *q = CYCLE_POINT((i + 1) % n);
-        double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
-        double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
-        double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        /* Twice the triangles' areas and three times their centroids:
-         * the factors are applied once, after the sums. */
-        for (int d = 0; d < 3; d++)
-            a[d] += x[d];
-        double w = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-        for (int d = 0; d < 3; d++)
-            c[d] += w * (c0[d] + p[d] + q[d]);
-        wsum += w;
-    }
-    for (int d = 0; d < 3; d++)
-        a[d] *= 0.5;
-    wsum *= 3.0;
-#undef CYCLE_POINT
-    for (int d = 0; d < 3; d++) {
-        av[d] = a[d];
-        cen[d] = wsum > 0 ? c[d] / wsum : c0[d];
-    }
-}
-
 void vc_polymesh_update_face_geometry(vc_polymesh *m, int64_t f)
 {
-    double a[3], c[3];
-    vc_polygon_geometry(m->points, m->face_vertices + m->face_offsets[f],
-                        vc_polymesh_face_size(m, f), NULL, a, c);
-    double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    m->face_area[f] = area;
-    for (int d = 0; d < 3; d++) {
-        m->face_centroid[3 * f + d] = c[d];
-        m->face_normal[3 * f + d] = area > 0 ? a[d] / area : 0;
-    }
+    vc_face_geometry_set(m, f, m->face_vertices + m->face_offsets[f], vc_polymesh_face_size(m, f));
 }
 
 void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c)

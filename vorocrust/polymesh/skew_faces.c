@@ -470,8 +470,7 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
         qsort(bad, (size_t)n_bad, sizeof *bad, cmp_skew_desc);
         if (build_point_faces(&s))
             goto out;
-        for (int64_t v = 0; v < m->n_points; v++)
-            s.parent[v] = v;
+        vc_uf_init(s.parent, m->n_points);
         memset(s.touched, 0, np);
         memset(s.point_moved, 0, np);
         memset(s.cell_hit, 0, nc);

@@ -1,6 +1,7 @@
 /* Edge and vertex topology of a polygonal surface. Edges are found by
  * sorting (min, max, polygon, direction) records. */
 #include "vorocrust/sampling.h"
+#include "util/union_find.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -19,15 +20,6 @@ static int cmp_edge(const void *p, const void *q)
     if (x->b != y->b)
         return x->b < y->b ? -1 : 1;
     return (x->poly > y->poly) - (x->poly < y->poly);
-}
-
-static int64_t find_root(int64_t *parent, int64_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
 }
 
 int vc_polysurface_topology_compute(const vc_polysurface *p, vc_polysurface_topology *t,
@@ -62,8 +54,7 @@ int vc_polysurface_topology_compute(const vc_polysurface *p, vc_polysurface_topo
         }
     }
     qsort(e, (size_t)m, sizeof(edge_rec), cmp_edge);
-    for (int64_t v = 0; v < p->n_points; v++)
-        parent[v] = v;
+    vc_uf_init(parent, p->n_points);
     for (int64_t i = 0; i < m;) {
         int64_t j = i;
         while (j < m && e[j].a == e[i].a && e[j].b == e[i].b)
@@ -78,19 +69,15 @@ int vc_polysurface_topology_compute(const vc_polysurface *p, vc_polysurface_topo
             t->n_nonmanifold_edges++;
         else if (e[i].dir == e[i + 1].dir)
             t->n_misoriented_edges++;
-        int64_t ra = find_root(parent, e[i].a), rb = find_root(parent, e[i].b);
-        if (ra != rb)
-            parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+        vc_uf_unite(parent, e[i].a, e[i].b);
         i = j;
     }
     /* A manifold vertex of a closed surface has as many edges as polygons
      * (one fan); more polygons than edges would mean several fans. */
-    for (int64_t v = 0; v < p->n_points; v++) {
+    for (int64_t v = 0; v < p->n_points; v++)
         if (vdeg[v] != vedge[v])
             t->n_nonmanifold_vertices++;
-        if (find_root(parent, v) == v)
-            t->n_components++;
-    }
+    t->n_components = vc_uf_count_roots(parent, p->n_points);
     t->n_vertices = p->n_points;
     t->n_faces = p->n_polys;
     t->euler = t->n_vertices - t->n_edges + t->n_faces;

@@ -2,6 +2,7 @@
  * non-manifold, orientation), components, Euler characteristic, genus,
  * degenerate triangles, bounding box and enclosed volume. */
 #include "vorocrust/surface.h"
+#include "util/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -20,15 +21,6 @@ static int cmp_edge(const void *x, const void *y)
     if (p->b != q->b)
         return p->b < q->b ? -1 : 1;
     return 0;
-}
-
-static int64_t find(int64_t *parent, int64_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
 }
 
 int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
@@ -137,21 +129,13 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
     free(e);
 
     /* Components: vertices joined by triangles. */
-    for (int64_t i = 0; i < nv; i++)
-        parent[i] = i;
-    for (int64_t t = 0; t < nt; t++) {
-        int64_t r0 = find(parent, s->tri[3 * t]);
-        for (int j = 1; j < 3; j++) {
-            int64_t r = find(parent, s->tri[3 * t + j]);
-            if (r != r0)
-                parent[r] = r0;
-        }
-    }
+    vc_uf_init(parent, nv);
+    for (int64_t t = 0; t < nt; t++)
+        for (int j = 1; j < 3; j++)
+            vc_uf_unite(parent, s->tri[3 * t], s->tri[3 * t + j]);
     /* Vertices no triangle uses count as components of their own; after
      * vc_surface_merge_vertices there are none. */
-    int64_t comps = 0;
-    for (int64_t i = 0; i < nv; i++)
-        comps += find(parent, i) == i;
+    int64_t comps = vc_uf_count_roots(parent, nv);
     free(parent);
 
     rep->n_edges = n_edges;

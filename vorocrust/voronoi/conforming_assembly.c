@@ -35,16 +35,18 @@
  *  - points are the representatives used by some face, numbered in copy
  *    order (spatially coherent);
  *  - a cell lists its faces in increasing face index;
- *  - the geometry is vc_polymesh_compute_geometry's, computed here with the
- *    same arithmetic, in a pass over the faces once the stitching's own
- *    arrays are released (the peak memory is then the mesh's, not the
- *    mesh's plus the stitching's).
+ *  - the geometry is vc_polymesh_compute_geometry's (the same routines,
+ *    polymesh/face_geometry.h), in a pass over the faces once the
+ *    stitching's own arrays are released (the peak memory is then the
+ *    mesh's, not the mesh's plus the stitching's).
  *
  * The phase times go to the logger at VC_LOG_DEBUG. */
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE 1 /* madvise */
 #endif
 #include "cell_result.h"
+#include "polymesh/face_geometry.h"
+#include "util/union_find.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -125,43 +127,14 @@ static double rss_mib(void)
 }
 
 /* ---------------------------------------------------------------------
- * Union-find over the vertex copies. */
+ * Union-find over the vertex copies: util/union_find.h's concurrent
+ * flavour (vc_uf_find_atomic, vc_uf_unite_atomic), whose roots are the
+ * components' smallest copy indices. */
 
 /* An entry of the union-find: a copy index (its parent) or, once the used
  * roots are numbered, -(point id + 1). 32 bits (the copies are counted
  * below 2^31, checked) halve the largest array of the stitching. */
 typedef int32_t copy_id;
-
-/* Thread-safe find with path halving: a parent pointer only ever moves to
- * an ancestor, which stays an ancestor whatever other threads link. */
-static int64_t find_root(copy_id *parent, int64_t x)
-{
-    for (;;) {
-        int64_t p = __atomic_load_n(&parent[x], __ATOMIC_RELAXED);
-        if (p == x)
-            return x;
-        int64_t g = __atomic_load_n(&parent[p], __ATOMIC_RELAXED);
-        if (g != p)
-            __atomic_store_n(&parent[x], (copy_id)g, __ATOMIC_RELAXED);
-        x = g;
-    }
-}
-
-/* Links the larger root under the smaller one, if it is still a root. */
-static void unite(copy_id *parent, int64_t a, int64_t b)
-{
-    for (;;) {
-        a = find_root(parent, a);
-        b = find_root(parent, b);
-        if (a == b)
-            return;
-        int64_t hi = a > b ? a : b, lo = a > b ? b : a;
-        copy_id expected = (copy_id)hi;
-        if (__atomic_compare_exchange_n(&parent[hi], &expected, (copy_id)lo, 0, __ATOMIC_RELAXED,
-                                        __ATOMIC_RELAXED))
-            return;
-    }
-}
 
 static inline double dist2(const double *a, const double *b)
 {
@@ -251,7 +224,7 @@ static void match_nearest(copy_id *parent, const cell_hdr *ca, int fa, const cel
             }
         }
         if (vb >= 0)
-            unite(parent, ca->vbase + va, cb->vbase + vb);
+            vc_uf_unite_atomic(parent, ca->vbase + va, cb->vbase + vb);
     }
 }
 
@@ -316,7 +289,7 @@ static void match_keys(copy_id *parent, const cell_hdr *ca, int fa, const cell_h
             if (has_kb[jj] && ka[0] == kb[jj][0] && ka[1] == kb[jj][1] && ka[2] == kb[jj][2] &&
                 ka[3] == kb[jj][3] &&
                 dist2(ca->v + 3 * ca->fv[i], cb->v + 3 * cb->fv[j]) <= reach * reach) {
-                unite(parent, ca->vbase + ca->fv[i], cb->vbase + cb->fv[j]);
+                vc_uf_unite_atomic(parent, ca->vbase + ca->fv[i], cb->vbase + cb->fv[j]);
                 break;
             }
         }
@@ -340,7 +313,7 @@ static void collapse_if_tiny(copy_id *parent, const cell_hdr *c, int f, double t
         if (dist2(x0, c->v + 3 * c->fv[i]) > reach2)
             return;
     for (int i = s0 + 1; i < s1; i++)
-        unite(parent, c->vbase + c->fv[s0], c->vbase + c->fv[i]);
+        vc_uf_unite_atomic(parent, c->vbase + c->fv[s0], c->vbase + c->fv[i]);
 }
 
 /* Identifies the copies on face fa of cell a and face fb (>= 0) of cell b,
@@ -372,7 +345,7 @@ static int match_face(copy_id *parent, const cell_hdr *ca, int fa, const cell_hd
         }
         if (ok) {
             for (int i = 0, j = j0; i < n; i++, j = j == 0 ? n - 1 : j - 1)
-                unite(parent, ca->vbase + pa[i], cb->vbase + pb[j]);
+                vc_uf_unite_atomic(parent, ca->vbase + pa[i], cb->vbase + pb[j]);
             return 1;
         }
     }
@@ -551,7 +524,7 @@ static int match_loose_copies(const assembly *as, const int64_t *n_outer, int ma
                             continue;
                         double tol = q->tol > r->tol ? q->tol : r->tol;
                         if (dist2(q->x, r->x) <= tol * tol)
-                            unite(as->parent, q->copy, r->copy);
+                            vc_uf_unite_atomic(as->parent, q->copy, r->copy);
                     }
                 }
             }
@@ -1253,42 +1226,6 @@ static int owned_faces(const assembly *as, int64_t m, const orphan *o, int64_t n
     return n;
 }
 
-/* vc_polymesh_compute_geometry's face formula, for face f of m (its n
- * vertices at fv). */
-static void face_geometry(const vc_polymesh *m, int64_t f, const int64_t *fv, int64_t n)
-{
-    double c0[3] = {0, 0, 0};
-    for (int64_t i = 0; i < n; i++)
-        for (int d = 0; d < 3; d++)
-            c0[d] += m->points[3 * fv[i] + d];
-    for (int d = 0; d < 3; d++)
-        c0[d] /= (double)n;
-    double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, wsum = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const double *p = m->points + 3 * fv[i], *q = m->points + 3 * fv[i + 1 < n ? i + 1 : 0];
-        double u[3] = {p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]};
-        double v[3] = {q[0] - c0[0], q[1] - c0[1], q[2] - c0[2]};
-        double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        /* Twice the triangles' areas and three times their centroids:
-         * the factors are applied once, after the sums. */
-        for (int d = 0; d < 3; d++)
-            a[d] += x[d];
-        double w = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-        for (int d = 0; d < 3; d++)
-            c[d] += w * (c0[d] + p[d] + q[d]);
-        wsum += w;
-    }
-    for (int d = 0; d < 3; d++)
-        a[d] *= 0.5;
-    wsum *= 3.0;
-    double area = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    m->face_area[f] = area;
-    for (int d = 0; d < 3; d++) {
-        m->face_centroid[3 * f + d] = wsum > 0 ? c[d] / wsum : c0[d];
-        m->face_normal[3 * f + d] = area > 0 ? a[d] / area : 0;
-    }
-}
-
 int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                            const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                            vc_cell_store *store, double merge_tol, int threads,
@@ -1405,7 +1342,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             for (int i = s0, a = c->fv[s1 - 1]; i < s1; i++) {
                 int b = c->fv[i];
                 if (a < b && dist2(c->v + 3 * a, c->v + 3 * b) <= tol2)
-                    unite(as.parent, c->vbase + a, c->vbase + b);
+                    vc_uf_unite_atomic(as.parent, c->vbase + a, c->vbase + b);
                 a = b;
             }
         }
@@ -1451,7 +1388,7 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
     PHASE("loose");
 #pragma omp parallel for schedule(static) num_threads(as.threads)
     for (int64_t i = 0; i < n_copies; i++)
-        as.parent[i] = (copy_id)find_root(as.parent, i);
+        as.parent[i] = (copy_id)vc_uf_find_atomic(as.parent, i);
     PHASE("roots");
     /* Copies of a shared face that still differ: unite the copies of one
      * vertex that the tolerance kept apart, until none is left (each round
@@ -1469,11 +1406,11 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
             break;
         }
         for (int64_t i = 0; i < snap.n; i++)
-            unite(as.parent, snap.s[i].lo, snap.s[i].hi);
+            vc_uf_unite_atomic(as.parent, snap.s[i].lo, snap.s[i].hi);
         free(snap.s);
 #pragma omp parallel for schedule(static) num_threads(as.threads)
         for (int64_t i = 0; i < n_copies; i++)
-            as.parent[i] = (copy_id)find_root(as.parent, i);
+            as.parent[i] = (copy_id)vc_uf_find_atomic(as.parent, i);
     }
     if (add_subedge_splits(&splits) != 0)
         goto nomem;
@@ -1750,8 +1687,8 @@ int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells_owned,
                                       {n_int + a->n_bnd, n_int + a->n_bnd + a->own_bnd}};
         for (int r = 0; r < 2; r++)
             for (int64_t i = ranges[r][0]; i < ranges[r][1]; i++)
-                face_geometry(out, i, out->face_vertices + out->face_offsets[i],
-                              out->face_offsets[i + 1] - out->face_offsets[i]);
+                vc_face_geometry_set(out, i, out->face_vertices + out->face_offsets[i],
+                                     out->face_offsets[i + 1] - out->face_offsets[i]);
     }
     PHASE("geometry");
 
