@@ -12,6 +12,7 @@
  *     triangle leave): that copy goes, the mesh validates, each volume is
  *     1/6; a valid mesh is left alone. */
 #include "vorocrust/polymesh.h"
+#include "polymesh/repair.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -160,7 +161,7 @@ static void test_open_cluster(void)
     vc_polymesh m;
     two_cubes(&m, 1e-9);
     CHECK(validate(&m, 0) > 0); /* the second cube is open at point 12 */
-    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7) == 1);
+    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7, 2) == 1);
     CHECK(m.n_points == 12);
     CHECK(validate(&m, 1) == 0);
     CHECK(fabs(m.cell_volume[0] - 1) < 1e-14 && fabs(m.cell_volume[1] - 1) < 1e-14);
@@ -168,12 +169,12 @@ static void test_open_cluster(void)
         CHECK(m.face_vertices[i] >= 0 && m.face_vertices[i] < 12);
     /* the corner kept its position (the lower index is kept) */
     CHECK(m.points[3 * block_corner(1, 0, 0) + 1] == 0);
-    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7) == 0);
+    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7, 2) == 0);
     vc_polymesh_free(&m);
 
     /* A copy 1e-3 away is not a cluster at 1e-7 of the cell size. */
     two_cubes(&m, 1e-3);
-    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7) == 0);
+    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7, 2) == 0);
     CHECK(m.n_points == 13 && validate(&m, 0) > 0);
     vc_polymesh_free(&m);
 
@@ -181,7 +182,7 @@ static void test_open_cluster(void)
     two_cubes(&m, 0);
     double before[3 * 12];
     memcpy(before, m.points, sizeof before);
-    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7) == 0);
+    CHECK(vc_polymesh_collapse_open_clusters(&m, 1e-7, 2) == 0);
     CHECK(m.n_points == 12 && memcmp(before, m.points, sizeof before) == 0);
     vc_polymesh_free(&m);
 }
@@ -221,7 +222,7 @@ static void test_duplicate_face(void)
     three_tets(&m, 1);
     CHECK(validate(&m, 0) > 0); /* A uses T's edges twice one way */
     const int64_t nf = m.n_faces;
-    CHECK(vc_polymesh_drop_duplicate_faces(&m) == 1);
+    CHECK(vc_polymesh_drop_duplicate_faces(&m, 2) == 1);
     CHECK(m.n_faces == nf - 1 && m.n_interior_faces == 1);
     CHECK(validate(&m, 1) == 0);
     for (int c = 0; c < 3; c++)
@@ -230,12 +231,12 @@ static void test_duplicate_face(void)
     CHECK(m.face_owner[0] == 0 && m.face_neighbour[0] == 2);
     CHECK(m.cell_offsets[2] - m.cell_offsets[1] == 4);
     CHECK(m.n_points == 9);
-    CHECK(vc_polymesh_drop_duplicate_faces(&m) == 0);
+    CHECK(vc_polymesh_drop_duplicate_faces(&m, 2) == 0);
     vc_polymesh_free(&m);
 
     three_tets(&m, 0);
     CHECK(validate(&m, 1) == 0);
-    CHECK(vc_polymesh_drop_duplicate_faces(&m) == 0);
+    CHECK(vc_polymesh_drop_duplicate_faces(&m, 2) == 0);
     CHECK(m.n_faces == 11);
     vc_polymesh_free(&m);
 }

@@ -9,6 +9,7 @@
  * And on the engine: VoroCrust seeds of the torus that used to leave a
  * straight vertex give a valid mesh without one. */
 #include "vorocrust/polymesh.h"
+#include "polymesh/repair.h"
 #include "vorocrust/voronoi.h"
 
 #include <math.h>
@@ -126,7 +127,7 @@ static void test_two_cubes(void)
     two_cubes(&m, 1);
     CHECK(vc_polymesh_validate(&m, 0, report, sizeof report) == 0);
     CHECK(vc_polymesh_face_size(&m, 0) == 5);
-    CHECK(vc_polymesh_remove_straight_vertices(&m) == 1);
+    CHECK(vc_polymesh_remove_straight_vertices(&m, 2) == 1);
     CHECK(m.n_points == 12);
     for (int64_t f = 0; f < m.n_faces; f++)
         CHECK(vc_polymesh_face_size(&m, f) == 4);
@@ -142,13 +143,13 @@ static void test_two_cubes(void)
     /* the corners keep their coordinates */
     CHECK(m.points[3 * block_corner(2, 1, 1)] == 2 && m.points[3 * block_corner(2, 1, 1) + 2] == 1);
     /* a second pass finds nothing */
-    CHECK(vc_polymesh_remove_straight_vertices(&m) == 0);
+    CHECK(vc_polymesh_remove_straight_vertices(&m, 2) == 0);
     vc_polymesh_free(&m);
 
     two_cubes(&m, 0);
     double before[3 * 12];
     memcpy(before, m.points, sizeof before);
-    CHECK(vc_polymesh_remove_straight_vertices(&m) == 0);
+    CHECK(vc_polymesh_remove_straight_vertices(&m, 2) == 0);
     CHECK(m.n_points == 12 && memcmp(before, m.points, sizeof before) == 0);
     vc_polymesh_free(&m);
 }
@@ -183,7 +184,7 @@ static void test_degenerate_face_kept(void)
     m.cell_faces = calloc(1, sizeof(int64_t));
     m.cell_volume = calloc(1, sizeof(double));
     m.cell_centroid = calloc(3, sizeof(double));
-    CHECK(vc_polymesh_remove_straight_vertices(&m) == 0);
+    CHECK(vc_polymesh_remove_straight_vertices(&m, 2) == 0);
     CHECK(m.n_points == 3 && vc_polymesh_face_size(&m, 0) == 3);
     vc_polymesh_free(&m);
 }

@@ -1,6 +1,7 @@
 /* Faces a cell lists twice (see vc_polymesh_drop_duplicate_faces in
  * polymesh.h). */
 #include "polymesh_internal.h"
+#include "repair.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -101,7 +102,7 @@ static void mark_duplicates(const vc_polymesh *m, int64_t c, face_key *keys, uns
     }
 }
 
-int64_t vc_polymesh_drop_duplicate_faces(vc_polymesh *m)
+int64_t vc_polymesh_drop_duplicate_faces(vc_polymesh *m, int threads)
 {
     unsigned char *drop = calloc((size_t)(m->n_faces > 0 ? m->n_faces : 1), 1);
     if (!drop)
@@ -109,7 +110,7 @@ int64_t vc_polymesh_drop_duplicate_faces(vc_polymesh *m)
     int failed = 0;
     /* On threads, each cell on its own: the marks do not depend on the
      * order. */
-#pragma omp parallel
+#pragma omp parallel num_threads(threads > 0 ? threads : 1)
     {
         face_key *keys = NULL;
         int64_t cap = 0;

@@ -1,6 +1,7 @@
 /* Open cells closed by collapsing the clusters of points at their open
- * edges (see vc_polymesh_collapse_open_clusters in polymesh.h). */
+ * edges (see vc_polymesh_collapse_open_clusters in polymesh/repair.h). */
 #include "polymesh_internal.h"
+#include "repair.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -164,7 +165,7 @@ static void collapse_at_open_edges(const vc_polymesh *m, int64_t c, const edge_t
     }
 }
 
-int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
+int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius, int threads)
 {
     int64_t *parent = NULL;
     unsigned char *moved = NULL;
@@ -174,7 +175,7 @@ int64_t vc_polymesh_collapse_open_clusters(vc_polymesh *m, double rel_radius)
     if (!open)
         return -1;
     int failed = 0;
-#pragma omp parallel
+#pragma omp parallel num_threads(threads > 0 ? threads : 1)
     {
         edge_table tt = {NULL, NULL, NULL, NULL, 0, 0};
 #pragma omp for schedule(dynamic, 256)

@@ -1,5 +1,6 @@
 /* Removal of straight vertices (points inside an edge), see polymesh.h. */
 #include "vorocrust/polymesh.h"
+#include "repair.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -17,7 +18,7 @@ static inline void note_neighbour(int64_t *nb, unsigned char *many, int64_t v, i
         many[v] = 1;
 }
 
-int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m)
+int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m, int threads)
 {
     const int64_t np = m->n_points, nf = m->n_faces;
     if (np == 0 || nf == 0)
@@ -124,11 +125,11 @@ int64_t vc_polymesh_remove_straight_vertices(vc_polymesh *m)
     if (shrunk)
         m->points = shrunk;
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : 1)
     for (int64_t f = 0; f < nf; f++)
         if (face_changed[f])
             vc_polymesh_update_face_geometry(m, f);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : 1)
     for (int64_t c = 0; c < m->n_cells; c++)
         if (cell_changed[c])
             vc_polymesh_update_cell_geometry(m, c);

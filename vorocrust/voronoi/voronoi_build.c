@@ -17,6 +17,7 @@
 #include "cell_result.h"
 #include "convex_cell.h"
 #include "seed_grid.h"
+#include "polymesh/repair.h"
 
 static double wall_seconds(void)
 {
@@ -544,27 +545,27 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
  *    cells: collapsed), and a face listed twice by one cell (dropped);
  *    either may leave straight vertices again.
  * Returns 0, or VC_ENOMEM (out is then freed). */
-static int repair_degenerate(vc_polymesh *out, const vc_logger *log, vc_error *err)
+static int repair_degenerate(vc_polymesh *out, int threads, const vc_logger *log, vc_error *err)
 {
     const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
     double ts = wall_seconds();
-    int64_t n_straight = vc_polymesh_remove_straight_vertices(out);
+    int64_t n_straight = vc_polymesh_remove_straight_vertices(out, threads);
     if (n_straight < 0)
         goto nomem;
     if (timing)
         vc_log(log, VC_LOG_DEBUG, "  straight vertices: %lld removed in %.3f s", (long long)n_straight,
                 wall_seconds() - ts);
     ts = wall_seconds();
-    const int64_t n_merged = vc_polymesh_collapse_open_clusters(out, OPEN_CLUSTER_TOL);
+    const int64_t n_merged = vc_polymesh_collapse_open_clusters(out, OPEN_CLUSTER_TOL, threads);
     if (n_merged < 0)
         goto nomem;
-    const int64_t n_dup = vc_polymesh_drop_duplicate_faces(out);
+    const int64_t n_dup = vc_polymesh_drop_duplicate_faces(out, threads);
     if (n_dup < 0)
         goto nomem;
     if (timing)
         vc_log(log, VC_LOG_DEBUG, "  open cells: %lld points merged, %lld duplicate faces dropped in %.3f s",
                 (long long)n_merged, (long long)n_dup, wall_seconds() - ts);
-    if (n_merged + n_dup > 0 && vc_polymesh_remove_straight_vertices(out) < 0)
+    if (n_merged + n_dup > 0 && vc_polymesh_remove_straight_vertices(out, threads) < 0)
         goto nomem;
     return 0;
 nomem:
@@ -837,7 +838,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
                                     MERGE_TOL, threads, opt.log, out, &n_degenerate, err);
         if (rc == 0 && n_degenerate > 0)
-            rc = repair_degenerate(out, opt.log, err);
+            rc = repair_degenerate(out, threads, opt.log, err);
     }
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);
