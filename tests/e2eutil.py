@@ -1,6 +1,6 @@
 """Helpers the end-to-end tests (tests/e2e_*.py) share: recording failed
 checks, a clean scratch directory, running a program, reading "key: value"
-output.
+output, finding the shared reference models (or skipping: exit 77).
 
 Not a test by itself (tests are tests/e2e_*.py); import it from a test:
 
@@ -17,6 +17,22 @@ import subprocess
 import sys
 
 failures = []
+
+# The exit code ctest reads as "skipped" (SKIP_RETURN_CODE, tests/CMakeLists.txt).
+SKIP = 77
+
+
+def models_dir():
+    """The directory of the shared reference models (VC_MODELS). When it is
+    not set or missing, prints one line naming it and exits with SKIP: the
+    test needs the models and ctest reports it as skipped (the core suite
+    runs from the repository alone)."""
+    d = os.environ.get("VC_MODELS", "")
+    if not d or not os.path.isdir(d):
+        print("SKIP: the shared reference models directory %s is missing (set -DVC_MODELS_DIR "
+              "or VC_MODELS)" % (repr(d) if d else "(VC_MODELS not set)"), flush=True)
+        sys.exit(SKIP)
+    return d
 
 
 def check(cond, what):
