@@ -16,7 +16,10 @@
  * - the lattice interior and none;
  * - 1 and 2 threads give the same mesh, array by array;
  * - the logger receives progress (VC_LOG_INFO) and nothing above its
- *   max_level; a NULL logger is silent. */
+ *   max_level; a NULL logger is silent;
+ * - the ball count is predicted before sampling: absurd work (max_size
+ *   1e-9, or a limit below the prediction) is refused at once with
+ *   VC_EPARAM, and a sampling that reaches max_balls stops with VC_EPARAM. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -206,6 +209,35 @@ int main(void)
                lc.n[VC_LOG_WARNING]);
         vc_mesh_result_free(&r);
         CHECKF(r.balls.n == 0 && r.seeds.xyz == NULL, "free zeroes the result");
+    }
+
+    /* predicted and bounded work */
+    {
+        vc_mesh_options b = d;
+        b.surface_only = 1;
+        b.max_size = 1e-9;
+        CHECKF(vc_mesh(&ico, &b, &r, &err) == VC_EPARAM && strstr(err.msg, "predicted") &&
+                   r.balls.n == 0,
+               "max size 1e-9: %s", err.msg);
+        b.max_size = 0;
+        b.max_balls = 50;
+        CHECKF(vc_mesh(&ico, &b, &r, &err) == VC_EPARAM && strstr(err.msg, "predicted"),
+               "a limit below the prediction: %s", err.msg);
+        b.max_balls = 600; /* above the prediction (456), below the 783 balls */
+        CHECKF(vc_mesh(&ico, &b, &r, &err) == VC_EPARAM && strstr(err.msg, "reached the limit"),
+               "a limit reached while sampling: %s", err.msg);
+        b.max_balls = -1;
+        if (vc_mesh(&ico, &b, &r, &err) == 0) {
+            CHECKF(r.sampling.n_balls_predicted > 0.2 * (double)r.balls.n &&
+                       r.sampling.n_balls_predicted < 5.0 * (double)r.balls.n,
+                   "predicted %g for %lld balls", r.sampling.n_balls_predicted,
+                   (long long)r.balls.n);
+            vc_mesh_result_free(&r);
+        } else {
+            CHECKF(0, "no limit: %s", err.msg);
+        }
+        CHECKF(vc_mesh_default_max_balls() > 10000, "default ball limit %lld",
+               (long long)vc_mesh_default_max_balls());
     }
 
     /* lattice and no interior: no MPI needed either */

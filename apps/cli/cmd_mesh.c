@@ -58,6 +58,8 @@ static void usage(FILE *f)
         "  --max-size H        largest ball radius and cap of the octree sizing (default:\n"
         "                      the bounding-box diagonal)\n"
         "  --seed N            random seed (default %llu)\n"
+        "  --max-balls N       refuse a sampling predicted to need more balls, and stop one\n"
+        "                      that reaches N (default: what this machine's memory holds)\n"
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n"
         "  --verbose           also the phase timings of the Voronoi engine on stderr\n",
@@ -71,7 +73,7 @@ static int takes_value(const char *a)
                                              "--sharp-angle", "--max-error", "--lipschitz",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
-                                             "--foam-max-skew", "--connections"};
+                                             "--foam-max-skew", "--connections", "--max-balls"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -97,7 +99,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     }
     fprintf(stderr,
             "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds; sharp angle %g%s)\n"
-            "  balls: %lld (corner %lld, edge %lld, surface %lld); shrunk for Lipschitz %lld, "
+            "  balls: %lld (corner %lld, edge %lld, surface %lld), %.3g predicted; shrunk for Lipschitz %lld, "
             "for slivers %lld in %d iterations%s, for flat facets %lld; half-covered seed pairs %lld\n"
             "  surface seeds: %lld (%lld inside, %lld outside)\n"
             "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
@@ -110,7 +112,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             in_path, (long long)n_input_triangles, (long long)r->n_sampled_triangles,
             r->smooth_iterations, r->sharp_angle, retry_note, (long long)r->balls.n,
             (long long)st->n_corner, (long long)st->n_edge, (long long)st->n_surface,
-            (long long)st->n_shrunk_lipschitz, (long long)st->n_shrunk_sliver,
+            st->n_balls_predicted, (long long)st->n_shrunk_lipschitz, (long long)st->n_shrunk_sliver,
             st->sliver_iterations, st->safe_mode ? " (safe mode)" : "",
             (long long)st->n_shrunk_flat, (long long)r->n_half_covered,
             (long long)r->n_surface_seeds, (long long)r->n_inside_seeds,
@@ -293,6 +295,15 @@ static int run_mesh(int argc, char **argv)
                 fprintf(stderr, "vorocrust: --max-size needs a positive number, got '%s'\n", v);
                 return 2;
             }
+            i++;
+        } else if (!strcmp(a, "--max-balls")) {
+            long nb;
+            if (vc_cli_parse_int(v, 1, 2147483647L, &nb)) {
+                fprintf(stderr, "vorocrust: --max-balls needs an integer from 1 to 2147483647, "
+                        "got '%s'\n", v);
+                return 2;
+            }
+            opt.max_balls = nb;
             i++;
         } else if (!strcmp(a, "--seed")) {
             long s;

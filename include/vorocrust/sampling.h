@@ -43,6 +43,8 @@ typedef struct vc_sampling_options {
     int threads;          /* <= 0: OpenMP's default */
     const vc_logger *log; /* progress lines (VC_LOG_INFO); NULL: none */
     int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100 */
+    int64_t max_balls;    /* refuse a sampling predicted to need more balls, and stop one
+                             that reaches this many (VC_EPARAM); <= 0: no limit (default) */
 } vc_sampling_options;
 
 void vc_sampling_options_default(vc_sampling_options *opt);
@@ -69,6 +71,7 @@ typedef struct vc_sampling_stats {
     int sliver_iterations;
     int safe_mode;                         /* 1 when alpha / 2 was accepted */
     int64_t n_half_covered;                /* left at the end (0 on success) */
+    double n_balls_predicted;              /* from the sizing, before sampling */
     /* Set when sampling failed because sliver elimination diverged
      * (n_half_covered then holds the last pass's count, n_balls_diverged
      * the ball count at that point). */

@@ -88,6 +88,10 @@ typedef struct vc_mesh_options {
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */
     int threads;             /* <= 0: OpenMP's default */
+    /* A sampling predicted (from the sizing) to need more balls than this
+     * is refused before it starts, and one that reaches it stops, both with
+     * VC_EPARAM. 0 (default): vc_mesh_default_max_balls(); < 0: no limit. */
+    int64_t max_balls;
     /* Where messages go (NULL: nowhere), and the name they give the input
      * (a file name; NULL: "surface"). */
     const vc_logger *log;
@@ -95,6 +99,11 @@ typedef struct vc_mesh_options {
 } vc_mesh_options;
 
 void vc_mesh_options_default(vc_mesh_options *opt);
+
+/* The ball limit that max_balls = 0 stands for: what this machine's memory
+ * holds with a margin (about 16 KiB per ball for the balls, seeds, surface
+ * and volume mesh). */
+int64_t vc_mesh_default_max_balls(void);
 
 /* Quality of the reconstructed surface: polygons fanned from their
  * centroid (triangles as they are), Q = the triangle quality of

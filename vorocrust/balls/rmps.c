@@ -26,6 +26,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "balls/ball_estimate.h"
 #include "balls/ball_set.h"
 #include "balls/triplets.h"
 #include "sizing/sizing.h"
@@ -71,6 +72,9 @@ typedef struct sampler {
     unsigned char *dirty;
     int64_t dirty_cap;
     int64_t last_cover; /* the ball that covered the last subface tested, or -1 */
+    int too_many;       /* the ball count reached opt.max_balls */
+    const char *phase;  /* for the progress lines */
+    double t_start, t_logged;
 } sampler;
 
 static int mark_dirty(sampler *S, int64_t i)
@@ -256,6 +260,10 @@ static double new_radius(sampler *S, const vc_surface_point *sp, const double x[
 
 static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp)
 {
+    if (S->opt.max_balls > 0 && S->bs.b.n >= S->opt.max_balls) {
+        S->too_many = 1;
+        return -1;
+    }
     double n[3];
     vc_sizing_point_normal(&S->z, sp, n);
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
@@ -318,6 +326,10 @@ static int mps(sampler *S, pool *P, int nv)
                 P->f[m++] = P->f[i];
         P->n = m;
     }
+    double area0 = 0;
+    for (int64_t i = 0; i < P->n; i++)
+        area0 += measure(&P->f[i], nv);
+    int64_t darts = 0;
     for (int round = 0; P->n > 0 && round < 60; round++) {
         if (P->n > cum_cap) {
             double *q = realloc(cum, sizeof(double) * (size_t)P->n);
@@ -335,6 +347,16 @@ static int mps(sampler *S, pool *P, int nv)
         }
         int misses = 0;
         while (misses < MAX_MISSES && total > 0) {
+            /* a line every 2 s: phase, share of the area (length) left
+             * uncovered at the start of this round, balls */
+            if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
+                S->t_logged = now();
+                vc_log(S->opt.log, VC_LOG_INFO,
+                       "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
+                       nv == 2 ? "creases" : "patches",
+                       area0 > 0 ? 100.0 * (1 - total / area0) : 100.0,
+                       nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
+            }
             double t = vc_rng_uniform(&S->rng) * total;
             int64_t lo = 0, hi = P->n - 1;
             while (lo < hi) {
@@ -816,6 +838,7 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->threads = 0;
     opt->log = NULL;
     opt->max_sliver_iterations = 100;
+    opt->max_balls = 0;
 }
 
 void vc_balls_free(vc_balls *b)
@@ -889,6 +912,33 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         return vc_error_set(err, VC_ENOMEM, "out of memory for the balls");
     }
     st->t_sizing = now() - t0;
+    S.t_start = S.t_logged = t0;
+
+    /* The work predicted from the sizing, said before any is done, and
+     * refused when it exceeds the limit. */
+    vc_ball_estimate est;
+    if (vc_ball_estimate_compute(&S.z, S.sz, opt->threads, &est)) {
+        vc_ball_set_free(&S.bs);
+        vc_sizing_free(&S.z);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the ball estimate");
+    }
+    st->n_balls_predicted = est.n_balls;
+    vc_log(opt->log, VC_LOG_INFO,
+           "mesh: sampling %lld triangles: about %.3g balls predicted from the sizing "
+           "(radius bound %.3g to %.3g)", (long long)s->n_triangles, est.n_balls, est.r_min,
+           S.sz);
+    if (opt->max_balls > 0 && !(est.n_balls <= (double)opt->max_balls)) {
+        const double diag = S.z.diag;
+        vc_ball_set_free(&S.bs);
+        vc_sizing_free(&S.z);
+        return vc_error_set(err, VC_EPARAM,
+                            "about %.3g balls predicted from the sizing, above the limit of "
+                            "%lld: radius bounds down to %.3g (near %.6g %.6g %.6g) for a "
+                            "surface of diagonal %.3g; raise the limit (--max-balls), or the "
+                            "largest radius (--max-size) or the error bound (--max-error)",
+                            est.n_balls, (long long)opt->max_balls, est.r_min, est.r_min_at[0],
+                            est.r_min_at[1], est.r_min_at[2], diag);
+    }
 
     int rc = 0;
     double *old_r = NULL;
@@ -909,8 +959,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     st->t_corners = now() - t0;
 
     /* Phases 2 and 3: creases, then patches. */
+    S.phase = "first coverage";
     if (!rc)
         rc = sample_strata(&S, NULL, NULL);
+    S.phase = "sampling around shrunk balls";
     if (!rc)
         vc_log(opt->log, VC_LOG_INFO, "mesh: %lld balls after the first coverage",
                (long long)S.bs.b.n);
@@ -1008,6 +1060,13 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     vc_sizing_free(&S.z);
     if (rc) {
         vc_ball_set_free(&S.bs);
+        if (S.too_many)
+            return vc_error_set(err, VC_EPARAM,
+                                "the sampling reached the limit of %lld balls (%.3g were "
+                                "predicted from the sizing) and stopped; raise the limit "
+                                "(--max-balls), or the largest radius (--max-size) or the error "
+                                "bound (--max-error)",
+                                (long long)opt->max_balls, est.n_balls);
         return vc_error_set(err, VC_ENOMEM, "out of memory while sampling the surface");
     }
     if (diverged) {
