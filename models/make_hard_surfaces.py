@@ -1,0 +1,570 @@
+#!/usr/bin/python3
+"""Generator of hard test surfaces for the VoroCrust sampling (issue 16).
+
+usage: /usr/bin/python3 models/make_hard_surfaces.py OUTDIR [NAME ...]
+
+Writes into OUTDIR one closed, consistently outward-oriented, manifold
+triangle surface per case as NAME.obj, and OUTDIR/manifest.csv (name,
+triangles, what the surface tests, expected Euler characteristic). Needs
+Debian's VTK 9 for /usr/bin/python3 (python3-vtk9); no numpy. Deterministic:
+fixed shapes, grids and seeds, the same files on every run.
+
+Every surface is built with VTK (implicit functions sampled on a grid and
+contoured with flying edges, sources, decimation, Loop subdivision) or
+explicitly (the boxes), then cleaned: coincident points merged, triangles
+with a repeated vertex or zero area dropped, unused points dropped, each
+connected component oriented so that its signed volume is positive
+(outward normals). The script then checks each surface itself (every edge
+in exactly two triangles with opposite directions, every vertex link one
+fan, no zero-area triangle, Euler characteristic V - E + F equal to the
+expected one) and fails loudly otherwise. Check them with
+`vorocrust info OUTDIR/NAME.obj --require-closed` as well.
+
+The cases (NAME: what it tests):
+  blobby          marching-cubes isosurface of a metaball field (a sum of
+                  Gaussians of vtkSphere/vtkQuadric functions): slivers and
+                  small folds at every vertex
+  blobby_500      the same shape decimated to about 500 triangles
+                  (vtkQuadricDecimation): coarse facets of a curved shape
+  blobby_loop     blobby_500 after 4 rounds of vtkLoopSubdivisionFilter
+                  (about 130k triangles of a smooth surface)
+  blobby_fine     the same field contoured on a fine grid (about 200k
+                  triangles): a fine scan-like input
+  noisy_sphere    vtkSphereSource with every vertex moved along the normal
+                  by seeded uniform noise of +-3 % of the radius
+  thin_plate      a 1 x 1 x 0.02 box with sharp edges (long side triangles)
+  thin_plate_round the same plate with its edges rounded by half the
+                  thickness (8 facets per half turn)
+  near_spheres    two spheres of radius 1 in one surface, 2 components,
+                  gap 0.01 (1 % of the radius)
+  coarse_torus    a 10 x 10 parametric torus, 200 triangles (36-degree folds)
+  fillet_block    a 1 x 0.7 x 0.5 block whose edges and corners are rounded
+                  by a fillet of radius 0.1 with 4 facets per quarter turn,
+                  coarse flat faces (the fandisk kind of input)
+  genus3          isosurface of the blend of three tori side by side:
+                  genus 3, Euler characteristic -4
+"""
+import math
+import os
+import random
+import sys
+
+try:
+    import vtk
+except ImportError:  # e.g. a pyenv python3 first on PATH: use Debian's
+    if os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3") and \
+            os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    raise
+
+vtk.vtkObject.GlobalWarningDisplayOff()
+
+
+# ---------------------------------------------------------------- fields
+
+def sample(func, bounds, dims):
+    """vtkSampleFunction of an implicit function on a regular grid."""
+    s = vtk.vtkSampleFunction()
+    s.SetImplicitFunction(func)
+    s.SetModelBounds(*bounds)
+    s.SetSampleDimensions(*dims)
+    s.SetOutputScalarTypeToDouble()
+    s.ComputeNormalsOff()
+    s.CappingOff()
+    s.Update()
+    return s.GetOutput()
+
+
+def imath(op, a, b=None, k=None, c=None):
+    """One vtkImageMathematics operation on image data (b: second input)."""
+    m = vtk.vtkImageMathematics()
+    getattr(m, "SetOperationTo" + op)()
+    m.SetInput1Data(a)
+    if b is not None:
+        m.SetInput2Data(b)
+    if k is not None:
+        m.SetConstantK(k)
+    if c is not None:
+        m.SetConstantC(c)
+    m.Update()
+    out = vtk.vtkImageData()
+    out.DeepCopy(m.GetOutput())
+    return out
+
+
+def quadric(coeffs):
+    q = vtk.vtkQuadric()
+    q.SetCoefficients(*coeffs)
+    return q
+
+
+def ellipsoid(center, axes):
+    """vtkQuadric sum ((x_i - c_i) / a_i)^2 - 1."""
+    cx, cy, cz = center
+    ax, ay, az = (1.0 / (a * a) for a in axes)
+    return quadric((ax, ay, az, 0, 0, 0, -2 * ax * cx, -2 * ay * cy, -2 * az * cz,
+                    ax * cx * cx + ay * cy * cy + az * cz * cz - 1.0))
+
+
+# The blobby shape: metaballs exp(-d^2/r^2) (spheres) and exp(-(q+1))
+# (an ellipsoid q = |A(x-c)|^2 - 1), contoured at exp(-1): a single ball alone
+# would be its sphere of radius r.
+BLOB_SPHERES = [((0.0, 0.0, 0.0), 0.62), ((0.72, 0.18, 0.08), 0.46), ((-0.52, 0.48, -0.18), 0.41),
+                ((0.12, -0.58, 0.38), 0.36), ((-0.35, -0.30, -0.45), 0.33)]
+BLOB_ELLIPSOIDS = [((0.25, 0.35, -0.42), (0.70, 0.24, 0.30))]
+BLOB_BOUNDS = (-1.45, 1.55, -1.3, 1.35, -1.25, 1.3)
+
+
+def blob_field(n):
+    """Metaball field on a grid of about n points per unit length."""
+    b = BLOB_BOUNDS
+    dims = tuple(max(8, int(round((b[2 * i + 1] - b[2 * i]) * n)) + 1) for i in range(3))
+    total = None
+    for c, r in BLOB_SPHERES:
+        sph = vtk.vtkSphere()
+        sph.SetCenter(*c)
+        sph.SetRadius(r)
+        f = sample(sph, b, dims)                            # d^2 - r^2
+        f = imath("MultiplyByK", f, k=-1.0 / (r * r))       # 1 - d^2/r^2
+        f = imath("AddConstant", f, c=-1.0)                  # -d^2/r^2
+        f = imath("Exp", f)
+        total = f if total is None else imath("Add", total, f)
+    for c, axes in BLOB_ELLIPSOIDS:
+        f = sample(ellipsoid(c, axes), b, dims)             # q
+        f = imath("MultiplyByK", f, k=-1.0)
+        f = imath("AddConstant", f, c=-1.0)                  # -(q + 1)
+        f = imath("Exp", f)
+        total = imath("Add", total, f)
+    return total
+
+
+def torus_blend_field(n):
+    """Sum of exp(-((rho - R)^2 + z^2) / r^2) over three tori of ring radius
+    R = 1 and tube radius r = 0.35 whose centres are 2 apart on the x axis."""
+    b = (-3.6, 3.6, -1.6, 1.6, -0.7, 0.7)
+    dims = tuple(int(round((b[2 * i + 1] - b[2 * i]) * n)) + 1 for i in range(3))
+    R, r = 1.0, 0.35
+    z2 = sample(quadric((0, 0, 1, 0, 0, 0, 0, 0, 0, 0)), b, dims)
+    total = None
+    for cx in (-2.0, 0.0, 2.0):
+        rho2 = sample(quadric((1, 1, 0, 0, 0, 0, -2 * cx, 0, 0, cx * cx)), b, dims)
+        f = imath("SquareRoot", rho2)
+        f = imath("AddConstant", f, c=-R)
+        f = imath("Square", f)
+        f = imath("Add", f, z2)
+        f = imath("MultiplyByK", f, k=-1.0 / (r * r))
+        f = imath("Exp", f)
+        total = f if total is None else imath("Add", total, f)
+    return total
+
+
+def contour(image, value):
+    fe = vtk.vtkFlyingEdges3D()
+    fe.SetInputData(image)
+    fe.SetValue(0, value)
+    fe.ComputeNormalsOff()
+    fe.ComputeGradientsOff()
+    fe.ComputeScalarsOff()
+    fe.Update()
+    return fe.GetOutput()
+
+
+# ---------------------------------------------------------------- meshes
+
+def polydata_to_lists(pd, tolerance=0.0):
+    """Points and triangles of a polydata, triangulated, coincident points
+    merged (tolerance: a fraction of the bounding-box diagonal)."""
+    tf = vtk.vtkTriangleFilter()
+    tf.SetInputData(pd)
+    tf.PassVertsOff()
+    tf.PassLinesOff()
+    cl = vtk.vtkCleanPolyData()
+    cl.SetInputConnection(tf.GetOutputPort())
+    cl.PointMergingOn()
+    cl.SetTolerance(tolerance)
+    cl.ConvertLinesToPointsOff()
+    cl.ConvertPolysToLinesOff()
+    cl.ConvertStripsToPolysOff()
+    cl.Update()
+    out = cl.GetOutput()
+    pts = [out.GetPoint(i) for i in range(out.GetNumberOfPoints())]
+    tris = []
+    polys = out.GetPolys()
+    polys.InitTraversal()
+    ids = vtk.vtkIdList()
+    while polys.GetNextCell(ids):
+        if ids.GetNumberOfIds() == 3:
+            tris.append((ids.GetId(0), ids.GetId(1), ids.GetId(2)))
+    return pts, tris
+
+
+def lists_to_polydata(pts, tris):
+    p = vtk.vtkPoints()
+    p.SetDataTypeToDouble()
+    for x in pts:
+        p.InsertNextPoint(*x)
+    cells = vtk.vtkCellArray()
+    for t in tris:
+        cells.InsertNextCell(3)
+        for v in t:
+            cells.InsertCellPoint(v)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(p)
+    pd.SetPolys(cells)
+    return pd
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def twice_area(pts, t):
+    n = cross(sub(pts[t[1]], pts[t[0]]), sub(pts[t[2]], pts[t[0]]))
+    return math.sqrt(dot(n, n))
+
+
+def bbox_diag(pts):
+    lo = [min(p[i] for p in pts) for i in range(3)]
+    hi = [max(p[i] for p in pts) for i in range(3)]
+    return math.sqrt(sum((hi[i] - lo[i]) ** 2 for i in range(3)))
+
+
+def components(n_pts, tris):
+    """Component index of each triangle (triangles sharing a vertex)."""
+    parent = list(range(n_pts))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for a, b, c in tris:
+        ra, rb, rc = find(a), find(b), find(c)
+        r = min(ra, rb, rc)
+        parent[ra] = parent[rb] = parent[rc] = r
+    roots = {}
+    return [roots.setdefault(find(t[0]), len(roots)) for t in tris], len(roots)
+
+
+def clean(pts, tris):
+    """Drop triangles with a repeated vertex or zero area and unused points;
+    orient each component outward (positive signed volume)."""
+    diag = bbox_diag(pts)
+    eps = 1e-14 * diag * diag
+    tris = [t for t in tris if len(set(t)) == 3 and twice_area(pts, t) > eps]
+    used = sorted({v for t in tris for v in t})
+    remap = {v: i for i, v in enumerate(used)}
+    pts = [pts[v] for v in used]
+    tris = [tuple(remap[v] for v in t) for t in tris]
+    tris = orient_consistently(tris)
+    comp, n_comp = components(len(pts), tris)
+    vol = [0.0] * n_comp
+    for t, c in zip(tris, comp):
+        vol[c] += dot(pts[t[0]], cross(pts[t[1]], pts[t[2]])) / 6.0
+    tris = [t if vol[c] > 0 else (t[0], t[2], t[1]) for t, c in zip(tris, comp)]
+    return pts, tris
+
+
+def orient_consistently(tris):
+    """Flip triangles so that every edge shared by two triangles is used in
+    opposite directions (breadth-first from the first triangle of each
+    component; the sources' own orientation is not trusted, e.g. the seam of
+    vtkParametricFunctionSource)."""
+    by_edge = {}
+    for i, t in enumerate(tris):
+        for k in range(3):
+            a, b = t[k], t[(k + 1) % 3]
+            by_edge.setdefault((min(a, b), max(a, b)), []).append(i)
+    tris = list(tris)
+    done = [False] * len(tris)
+    for s in range(len(tris)):
+        if done[s]:
+            continue
+        done[s] = True
+        queue = [s]
+        while queue:
+            i = queue.pop()
+            t = tris[i]
+            for k in range(3):
+                a, b = t[k], t[(k + 1) % 3]
+                for j in by_edge[(min(a, b), max(a, b))]:
+                    if done[j]:
+                        continue
+                    u = tris[j]
+                    same = any(u[m] == a and u[(m + 1) % 3] == b for m in range(3))
+                    if same:
+                        tris[j] = (u[0], u[2], u[1])
+                    done[j] = True
+                    queue.append(j)
+    return tris
+
+
+def check(name, pts, tris, euler):
+    """Closed, consistently oriented, edge- and vertex-manifold, no zero-area
+    triangle, positive volume per component, the expected Euler number."""
+    directed = {}
+    for t in tris:
+        for i in range(3):
+            e = (t[i], t[(i + 1) % 3])
+            directed[e] = directed.get(e, 0) + 1
+    bad = [e for e, n in directed.items() if n != 1 or directed.get((e[1], e[0]), 0) != 1]
+    if bad:
+        raise SystemExit("%s: %d edges not shared by exactly two opposite triangles (e.g. %s)"
+                         % (name, len(bad), bad[0]))
+    # vertex links: the triangles around each vertex form one fan
+    nxt = {}
+    for t in tris:
+        for i in range(3):
+            nxt.setdefault(t[i], {})[t[(i + 1) % 3]] = t[(i + 2) % 3]
+    for v, m in nxt.items():
+        start = next(iter(m))
+        w, steps = start, 0
+        while True:
+            w = m[w]
+            steps += 1
+            if w == start:
+                break
+        if steps != len(m):
+            raise SystemExit("%s: vertex %d is not manifold (%d of %d triangles in one fan)"
+                             % (name, v, steps, len(m)))
+    diag = bbox_diag(pts)
+    small = sum(1 for t in tris if twice_area(pts, t) <= 1e-14 * diag * diag)
+    if small:
+        raise SystemExit("%s: %d zero-area triangles" % (name, small))
+    n_edges = len(directed) // 2
+    chi = len(pts) - n_edges + len(tris)
+    if chi != euler:
+        raise SystemExit("%s: Euler characteristic %d, expected %d" % (name, chi, euler))
+    comp, n_comp = components(len(pts), tris)
+    vol = [0.0] * n_comp
+    for t, c in zip(tris, comp):
+        vol[c] += dot(pts[t[0]], cross(pts[t[1]], pts[t[2]])) / 6.0
+    if min(vol) <= 0:
+        raise SystemExit("%s: a component has volume %g" % (name, min(vol)))
+    return n_comp, sum(vol)
+
+
+def write_obj(path, pts, tris, comment):
+    with open(path, "w") as f:
+        f.write("# %s\n# generated by models/make_hard_surfaces.py\n" % comment)
+        for p in pts:
+            f.write("v %.10g %.10g %.10g\n" % p)
+        for t in tris:
+            f.write("f %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1))
+
+
+# ---------------------------------------------------------------- boxes
+
+def box_surface(coords, a=None, r=0.0):
+    """Triangulated surface of the box with grid lines at coords (three
+    sorted lists from -A_i to A_i). With r > 0 every grid point g is moved to
+    c + r (g - c)/|g - c|, c = g clamped to [-a_i, a_i]: the box of
+    half-extents a, rounded by a fillet of radius r (A_i = a_i + r)."""
+    index = {}
+    pts = []
+
+    def vertex(i, j, k):
+        key = (i, j, k)
+        if key not in index:
+            g = (coords[0][i], coords[1][j], coords[2][k])
+            if r > 0:
+                c = tuple(max(-a[d], min(a[d], g[d])) for d in range(3))
+                v = sub(g, c)
+                n = math.sqrt(dot(v, v))
+                g = tuple(c[d] + r * v[d] / n for d in range(3))
+            index[key] = len(pts)
+            pts.append(g)
+        return index[key]
+
+    tris = []
+    n = [len(c) - 1 for c in coords]
+    for axis in range(3):
+        u, w = (axis + 1) % 3, (axis + 2) % 3
+        for side in (0, n[axis]):
+            sign = 1 if side else -1
+            for i in range(n[u]):
+                for j in range(n[w]):
+                    quad = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        idx = [0, 0, 0]
+                        idx[axis], idx[u], idx[w] = side, i + di, j + dj
+                        quad.append(vertex(*idx))
+                    # (u, w, axis) is right-handed: counter-clockwise in (u, w)
+                    # is outward on the + side
+                    if sign < 0:
+                        quad.reverse()
+                    if (i + j) % 2:
+                        tris += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+                    else:
+                        tris += [(quad[0], quad[1], quad[3]), (quad[1], quad[2], quad[3])]
+    return pts, tris
+
+
+def fillet_coords(a, r, n_flat, k):
+    """Grid coordinates of one axis: the fillet (k facets per quarter turn, k
+    even) on both ends and n_flat segments across the flat part."""
+    ts = [r * math.tan(math.radians(90.0 * j / k)) for j in range(1, k // 2)]
+    flat = [-a + 2 * a * i / n_flat for i in range(n_flat + 1)] if a > 0 else [0.0]
+    lo = [-(a + r)] + [-(a + t) for t in reversed(ts)]
+    hi = [a + t for t in ts] + [a + r]
+    return lo + flat + hi
+
+
+# ---------------------------------------------------------------- cases
+
+def case_blobby():
+    return polydata_to_lists(contour(blob_field(22), math.exp(-1.0)))
+
+
+def decimated_blobby():
+    pd = lists_to_polydata(*clean(*case_blobby()))
+    n = pd.GetNumberOfPolys()
+    d = vtk.vtkQuadricDecimation()
+    d.SetInputData(pd)
+    d.SetTargetReduction(1.0 - 500.0 / n)
+    d.VolumePreservationOn()
+    d.Update()
+    return d.GetOutput()
+
+
+def case_blobby_500():
+    return polydata_to_lists(decimated_blobby())
+
+
+def case_blobby_loop():
+    pd = lists_to_polydata(*clean(*case_blobby_500()))
+    s = vtk.vtkLoopSubdivisionFilter()
+    s.SetInputData(pd)
+    s.SetNumberOfSubdivisions(4)
+    s.Update()
+    return polydata_to_lists(s.GetOutput())
+
+
+def case_blobby_fine():
+    return polydata_to_lists(contour(blob_field(80), math.exp(-1.0)))
+
+
+def case_noisy_sphere():
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(64)
+    s.SetPhiResolution(32)
+    s.Update()
+    pts, tris = polydata_to_lists(s.GetOutput())
+    rng = random.Random(16)
+    out = []
+    for p in pts:
+        n = math.sqrt(dot(p, p))
+        f = 1.0 + rng.uniform(-0.03, 0.03)  # along the normal p/|p|, radius 1
+        out.append(tuple(x / n * f for x in p))
+    return out, tris
+
+
+def case_thin_plate():
+    cx = [-0.5 + i / 10.0 for i in range(11)]
+    return box_surface([cx, cx, [-0.01, 0.01]])
+
+
+def case_thin_plate_round():
+    r = 0.01
+    a = (0.49, 0.49, 0.0)
+    coords = [fillet_coords(a[0], r, 10, 4), fillet_coords(a[1], r, 10, 4),
+              fillet_coords(0.0, r, 1, 4)]
+    return box_surface(coords, a, r)
+
+
+def case_near_spheres():
+    app = vtk.vtkAppendPolyData()
+    for cx in (-1.005, 1.005):
+        s = vtk.vtkSphereSource()
+        s.SetRadius(1.0)
+        s.SetCenter(cx, 0, 0)
+        s.SetThetaResolution(48)  # a vertex at (cx +- 1, 0, 0): the gap is 0.01
+        s.SetPhiResolution(24)
+        app.AddInputConnection(s.GetOutputPort())
+    app.Update()
+    return polydata_to_lists(app.GetOutput())
+
+
+def case_coarse_torus():
+    t = vtk.vtkParametricTorus()
+    t.SetRingRadius(1.0)
+    t.SetCrossSectionRadius(0.4)
+    src = vtk.vtkParametricFunctionSource()
+    src.SetParametricFunction(t)
+    src.SetUResolution(11)  # 11 samples with the seam shared: 10 x 10 quads
+    src.SetVResolution(11)
+    src.GenerateTextureCoordinatesOff()
+    src.SetScalarModeToNone()
+    src.SetOutputPointsPrecision(vtk.vtkAlgorithm.DOUBLE_PRECISION)
+    src.Update()
+    return polydata_to_lists(src.GetOutput(), tolerance=1e-9)
+
+
+def case_fillet_block():
+    r = 0.1
+    a = (0.5 - r, 0.35 - r, 0.25 - r)
+    coords = [fillet_coords(a[0], r, 3, 4), fillet_coords(a[1], r, 2, 4),
+              fillet_coords(a[2], r, 1, 4)]
+    return box_surface(coords, a, r)
+
+
+def case_genus3():
+    return polydata_to_lists(contour(torus_blend_field(14), math.exp(-1.0)))
+
+
+# name, builder, what it tests, expected Euler characteristic
+CASES = [
+    ("blobby", case_blobby, "marching-cubes metaball isosurface: slivers and folds at every vertex", 2),
+    ("blobby_500", case_blobby_500, "blobby decimated to ~500 triangles (vtkQuadricDecimation): coarse facets of a curved shape", 2),
+    ("blobby_loop", case_blobby_loop, "blobby_500 after 4 Loop subdivisions: smooth, ~130k triangles", 2),
+    ("blobby_fine", case_blobby_fine, "blobby contoured on a fine grid: ~200k marching-cubes triangles", 2),
+    ("noisy_sphere", case_noisy_sphere, "sphere with seeded +-3% radial noise per vertex: kinks everywhere", 2),
+    ("thin_plate", case_thin_plate, "1 x 1 x 0.02 box with sharp edges: thin part, long side triangles", 2),
+    ("thin_plate_round", case_thin_plate_round, "1 x 1 x 0.02 plate with rounded edges (8 facets per half turn)", 2),
+    ("near_spheres", case_near_spheres, "two spheres, 2 components, gap 1% of the radius", 4),
+    ("coarse_torus", case_coarse_torus, "200-triangle parametric torus: 36-degree folds at every edge", 0),
+    ("fillet_block", case_fillet_block, "1 x 0.7 x 0.5 block, fillets of radius 0.1 in 4 facets per quarter turn (fandisk kind)", 2),
+    ("genus3", case_genus3, "blend of three tori: genus 3 marching-cubes isosurface", -4),
+]
+
+
+def main():
+    if len(sys.argv) < 2 or sys.argv[1].startswith("-"):
+        sys.stderr.write(__doc__)
+        return 2
+    outdir = sys.argv[1]
+    only = set(sys.argv[2:])
+    unknown = only - {c[0] for c in CASES}
+    if unknown:
+        sys.stderr.write("unknown case(s): %s\n" % ", ".join(sorted(unknown)))
+        return 2
+    os.makedirs(outdir, exist_ok=True)
+    rows = []
+    for name, build, what, euler in CASES:
+        if only and name not in only:
+            continue
+        pts, tris = clean(*build())
+        n_comp, vol = check(name, pts, tris, euler)
+        write_obj(os.path.join(outdir, name + ".obj"), pts, tris, what)
+        rows.append((name, len(tris), what, euler))
+        print("%-17s %7d triangles %7d vertices  euler %3d  components %d  volume %.6g"
+              % (name, len(tris), len(pts), euler, n_comp, vol))
+    with open(os.path.join(outdir, "manifest.csv"), "w") as f:
+        f.write("name,triangles,tests,euler\n")
+        for name, n, what, euler in rows:
+            f.write('%s,%d,"%s",%d\n' % (name, n, what.replace('"', "'"), euler))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
