@@ -297,7 +297,9 @@ if check("cells" in rows, "flipped: no table in %r" % so):
 
 # (c) the reference sphere
 sphere = os.path.join(MODELS, "sphere.obj")
-if os.path.isfile(sphere):
+if not os.path.isfile(sphere):
+    print("(c) skipped: %s not found (the shared reference models directory is missing)" % sphere)
+else:
     mesh_dir = path("sphere")
     os.makedirs(mesh_dir)
     rc, so, se = run("compare", sphere, "--mesh-dir", mesh_dir, "--quiet")

@@ -29,7 +29,9 @@ its PATH. Debian 12 installs /usr/bin/checkMesh, which needs WM_PROJECT_DIR
 (set by the script) to find its etc/controlDict.
 
 Usage: e2e_foam.py PART: "synthetic" ((a) to (e) and the bad cases, from the
-repository alone) or one model of (f) (fertility.off: the extended suite);
+repository alone) or one model of (f) (fertility.off: the extended suite):
+MODEL the default case (and the 1-thread case of torus.obj), MODEL+exact
+the exact case (--foam-max-skew 0, --connections);
 one ctest test per part (tests/CMakeLists.txt). A model part skips (exit 77)
 when the shared models directory is missing.
 
@@ -54,12 +56,14 @@ from e2eutil import models_dir  # noqa: E402
 
 # One part per ctest test (tests/CMakeLists.txt): "synthetic" (a) to (e) and
 # the bad cases, from the repository alone; or one model of (f).
-PARTS = ("synthetic", "torus.obj", "bracket.obj", "fandisk.off", "fertility.off")
+PARTS = ("synthetic", "torus.obj", "bracket.obj", "fandisk.off", "fertility.off", "torus.obj+exact",
+         "bracket.obj+exact", "fandisk.off+exact")
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_foam.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
 PART = sys.argv[1]
-TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_foam", PART.replace(".", "_"))
+TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_foam",
+                   PART.replace(".", "_").replace("+", "_"))
 shutil.rmtree(TMP, ignore_errors=True)
 os.makedirs(TMP)
 if PART != "synthetic":
@@ -606,8 +610,9 @@ def check_collapsed_case(name, case, vtu):
                                         (len(vtu_faces) - len(vtu_boundary))))
 
 
+model_part, _, mode = PART.partition("+")
 for model, skew_rec in SKEW_EXACT.items():
-    if model != PART:
+    if model != model_part:
         continue
     path = os.path.join(MODELS, model)
     if not os.path.exists(path):
@@ -616,32 +621,34 @@ for model, skew_rec in SKEW_EXACT.items():
     name = "model_" + model.replace(".", "_")
     vtu = os.path.join(TMP, name + ".vtu")
     case, exact = os.path.join(TMP, name), os.path.join(TMP, name + "_exact")
-    p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", case], capture_output=True,
-                       text=True, timeout=1800)
-    if not check(p.returncode == 0, "%s: mesh exit %d: %s" % (model, p.returncode, p.stderr[-2000:])):
-        continue
-    line = [ln.strip() for ln in p.stderr.split("\n") if "OpenFOAM case:" in ln]
-    check(line, "%s: no 'OpenFOAM case:' line in the summary" % model)
-    summary.append("%s: %s" % (model, line[0] if line else "?"))
-    grid = vtkcheck.read_vtu(vtu)
-    cells = grid.GetNumberOfCells()
-    out = checkmesh(name, case, cells)
-    m = re.search(r"Total volume = ([\d.e+-]+?)\.?\s", out)
-    total = vtu_total_volume(grid)
-    check(m and abs(float(m.group(1)) - total) <= 1e-9 * abs(total),
-          "%s: checkMesh total volume %s, .vtu %.17g" % (model, m.group(1) if m else "?", total))
-    if model == "torus.obj":
-        # the collapse is serial: the same case with one thread
-        case1 = case + "_1thread"
-        p = subprocess.run([BIN, "mesh", path, "-o", vtu + ".1.vtu", "--foam", case1, "--threads",
-                            "1", "--quiet"], capture_output=True, text=True, timeout=1800)
-        if check(p.returncode == 0, "%s: 1-thread mesh exit %d" % (model, p.returncode)):
-            for obj in ("points", "faces", "owner", "neighbour", "boundary"):
-                a, b = (os.path.join(x, "constant", "polyMesh", obj) for x in (case, case1))
-                with open(a, "rb") as fa, open(b, "rb") as fb:
-                    check(fa.read() == fb.read(), "%s: %s differs with 1 thread" % (model, obj))
-    if model in FULL_READBACK:
+    if not mode:
+        p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", case], capture_output=True,
+                           text=True, timeout=1800)
+        if not check(p.returncode == 0, "%s: mesh exit %d: %s" % (model, p.returncode, p.stderr[-2000:])):
+            continue
+        line = [ln.strip() for ln in p.stderr.split("\n") if "OpenFOAM case:" in ln]
+        check(line, "%s: no 'OpenFOAM case:' line in the summary" % model)
+        summary.append("%s: %s" % (model, line[0] if line else "?"))
+        grid = vtkcheck.read_vtu(vtu)
+        cells = grid.GetNumberOfCells()
+        out = checkmesh(name, case, cells)
+        m = re.search(r"Total volume = ([\d.e+-]+?)\.?\s", out)
+        total = vtu_total_volume(grid)
+        check(m and abs(float(m.group(1)) - total) <= 1e-9 * abs(total),
+              "%s: checkMesh total volume %s, .vtu %.17g" % (model, m.group(1) if m else "?", total))
+        if model == "torus.obj":
+            # the collapse is serial: the same case with one thread
+            case1 = case + "_1thread"
+            p = subprocess.run([BIN, "mesh", path, "-o", vtu + ".1.vtu", "--foam", case1, "--threads",
+                                "1", "--quiet"], capture_output=True, text=True, timeout=1800)
+            if check(p.returncode == 0, "%s: 1-thread mesh exit %d" % (model, p.returncode)):
+                for obj in ("points", "faces", "owner", "neighbour", "boundary"):
+                    a, b = (os.path.join(x, "constant", "polyMesh", obj) for x in (case, case1))
+                    with open(a, "rb") as fa, open(b, "rb") as fb:
+                        check(fa.read() == fb.read(), "%s: %s differs with 1 thread" % (model, obj))
+    if not mode and model in FULL_READBACK:
         check_collapsed_case(name, case, vtu)
+    if mode == "exact":
         # the exact Voronoi case, face by face against the same .vtu
         conn = os.path.join(TMP, name + "_connections.csv")
         p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", exact, "--foam-max-skew", "0",
@@ -649,6 +656,7 @@ for model, skew_rec in SKEW_EXACT.items():
                            capture_output=True, text=True, timeout=1800)
         if check(p.returncode == 0, "%s: exact mesh exit %d: %s"
                  % (model, p.returncode, p.stderr[-2000:])):
+            cells = vtkcheck.read_vtu(vtu).GetNumberOfCells()
             out = checkmesh(name + "_exact", exact, cells, allow_skew=True)
             m = re.search(r"Max skewness = ([\d.e+-]+)", out)
             skew = float(m.group(1)) if m else float("inf")

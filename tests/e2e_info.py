@@ -9,7 +9,14 @@ import e2eutil  # noqa: E402
 from e2eutil import check, failures, field  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
-MODELS = os.environ["VC_MODELS"]
+# Two parts, one ctest test each (tests/CMakeLists.txt): "models" (fertility.off
+# and cube.off from the shared models: skipped, exit 77, without them) and
+# "cli" (help and bad input, from the repository alone).
+if len(sys.argv) != 2 or sys.argv[1] not in ("models", "cli"):
+    print("usage: e2e_info.py models|cli", file=sys.stderr)
+    sys.exit(2)
+PART = sys.argv[1]
+MODELS = e2eutil.models_dir() if PART == "models" else None
 TMP = os.environ.get("VC_TMP", "/tmp")
 
 
@@ -17,74 +24,76 @@ def run(*args):
     return e2eutil.run([BIN, "info", *args], timeout=60)
 
 
-# A good model: fertility (genus 4).
-path = os.path.join(MODELS, "fertility.off")
-rc, out, err = run(path)
-check(rc == 0, "fertility.off: exit %d, stderr %r" % (rc, err))
-check(err == "", "fertility.off: unexpected stderr %r" % err)
-check(field(out, "vertices") == "4494", "fertility vertices %r" % field(out, "vertices"))
-check(field(out, "triangles") == "9000", "fertility triangles %r" % field(out, "triangles"))
-check(field(out, "euler characteristic") == "-6", "fertility euler %r" % field(out, "euler characteristic"))
-check(field(out, "genus") == "4", "fertility genus %r" % field(out, "genus"))
-check(field(out, "boundary edges") == "0", "fertility boundary edges")
-check(field(out, "non-manifold edges") == "0", "fertility non-manifold edges")
-check(field(out, "closed") == "yes", "fertility closed")
-vol = field(out, "enclosed volume")
-check(vol is not None and float(vol.split()[0]) > 0, "fertility volume %r" % vol)
-check(field(out, "bounding box") is not None, "fertility bounding box missing")
+if PART == "models":
+    # A good model: fertility (genus 4).
+    path = os.path.join(MODELS, "fertility.off")
+    rc, out, err = run(path)
+    check(rc == 0, "fertility.off: exit %d, stderr %r" % (rc, err))
+    check(err == "", "fertility.off: unexpected stderr %r" % err)
+    check(field(out, "vertices") == "4494", "fertility vertices %r" % field(out, "vertices"))
+    check(field(out, "triangles") == "9000", "fertility triangles %r" % field(out, "triangles"))
+    check(field(out, "euler characteristic") == "-6", "fertility euler %r" % field(out, "euler characteristic"))
+    check(field(out, "genus") == "4", "fertility genus %r" % field(out, "genus"))
+    check(field(out, "boundary edges") == "0", "fertility boundary edges")
+    check(field(out, "non-manifold edges") == "0", "fertility non-manifold edges")
+    check(field(out, "closed") == "yes", "fertility closed")
+    vol = field(out, "enclosed volume")
+    check(vol is not None and float(vol.split()[0]) > 0, "fertility volume %r" % vol)
+    check(field(out, "bounding box") is not None, "fertility bounding box missing")
 
-# Quads: a warning line on stderr, exit 0.
-rc, out, err = run(os.path.join(MODELS, "cube.off"))
-check(rc == 0, "cube.off exit %d" % rc)
-lines = err.strip().splitlines()
-check(len(lines) == 1 and "cube.off: 6 non-triangle faces triangulated" in lines[0],
-      "cube.off stderr %r" % err)
-check(abs(float(field(out, "enclosed volume").split()[0]) - 4.0) < 1e-9, "cube.off volume")
-
-# Help.
-rc, out, err = run("--help")
-check(rc == 0 and "usage: vorocrust info" in out, "--help: exit %d, %r" % (rc, out))
-
-
-def expect_error(args, needle, name):
-    rc, out, err = run(*args)
+    # Quads: a warning line on stderr, exit 0.
+    rc, out, err = run(os.path.join(MODELS, "cube.off"))
+    check(rc == 0, "cube.off exit %d" % rc)
     lines = err.strip().splitlines()
-    check(rc != 0, "%s: exit code 0" % name)
-    check(len(lines) == 1, "%s: %d stderr lines: %r" % (name, len(lines), err))
-    check(lines and lines[-1].startswith("vorocrust: ") and name in lines[-1] and needle in lines[-1],
-          "%s: stderr %r lacks %r" % (name, err, needle))
+    check(len(lines) == 1 and "cube.off: 6 non-triangle faces triangulated" in lines[0],
+          "cube.off stderr %r" % err)
+    check(abs(float(field(out, "enclosed volume").split()[0]) - 4.0) < 1e-9, "cube.off volume")
+
+if PART == "cli":
+    # Help.
+    rc, out, err = run("--help")
+    check(rc == 0 and "usage: vorocrust info" in out, "--help: exit %d, %r" % (rc, out))
 
 
-missing = os.path.join(TMP, "e2e_info_missing.obj")
-expect_error([missing], "cannot open", missing)
+    def expect_error(args, needle, name):
+        rc, out, err = run(*args)
+        lines = err.strip().splitlines()
+        check(rc != 0, "%s: exit code 0" % name)
+        check(len(lines) == 1, "%s: %d stderr lines: %r" % (name, len(lines), err))
+        check(lines and lines[-1].startswith("vorocrust: ") and name in lines[-1] and needle in lines[-1],
+              "%s: stderr %r lacks %r" % (name, err, needle))
 
-nan = os.path.join(TMP, "e2e_info_nan.obj")
-with open(nan, "w") as f:
-    f.write("v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n")
-expect_error([nan], "non-finite", nan)
 
-bad_ext = os.path.join(TMP, "e2e_info.xyz")
-with open(bad_ext, "w") as f:
-    f.write("0 0 0\n")
-expect_error([bad_ext], "unsupported file extension", bad_ext)
+    missing = os.path.join(TMP, "e2e_info_missing.obj")
+    expect_error([missing], "cannot open", missing)
 
-empty = os.path.join(TMP, "e2e_info_empty.stl")
-open(empty, "w").close()
-expect_error([empty], "empty file", empty)
+    nan = os.path.join(TMP, "e2e_info_nan.obj")
+    with open(nan, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n")
+    expect_error([nan], "non-finite", nan)
 
-# Open surface: a warning, exit 0; with --require-closed exit 1.
-tet_open = os.path.join(TMP, "e2e_info_open.obj")
-with open(tet_open, "w") as f:
-    f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n")
-rc, out, err = run(tet_open)
-check(rc == 0 and field(out, "boundary edges") == "3", "open tet: exit %d, out %r" % (rc, out))
-check("3 open boundary edges" in err and len(err.strip().splitlines()) == 1, "open tet stderr %r" % err)
-rc, out, err = run(tet_open, "--require-closed")
-check(rc == 1 and err.strip().splitlines()[-1] ==
-      "vorocrust: %s: 3 open boundary edges (surface is not closed)" % tet_open,
-      "--require-closed: exit %d, stderr %r" % (rc, err))
+    bad_ext = os.path.join(TMP, "e2e_info.xyz")
+    with open(bad_ext, "w") as f:
+        f.write("0 0 0\n")
+    expect_error([bad_ext], "unsupported file extension", bad_ext)
+
+    empty = os.path.join(TMP, "e2e_info_empty.stl")
+    open(empty, "w").close()
+    expect_error([empty], "empty file", empty)
+
+    # Open surface: a warning, exit 0; with --require-closed exit 1.
+    tet_open = os.path.join(TMP, "e2e_info_open.obj")
+    with open(tet_open, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n")
+    rc, out, err = run(tet_open)
+    check(rc == 0 and field(out, "boundary edges") == "3", "open tet: exit %d, out %r" % (rc, out))
+    check("3 open boundary edges" in err and len(err.strip().splitlines()) == 1, "open tet stderr %r" % err)
+    rc, out, err = run(tet_open, "--require-closed")
+    check(rc == 1 and err.strip().splitlines()[-1] ==
+          "vorocrust: %s: 3 open boundary edges (surface is not closed)" % tet_open,
+          "--require-closed: exit %d, stderr %r" % (rc, err))
 
 if failures:
     print("e2e_info: %d failures" % len(failures), file=sys.stderr)
     sys.exit(1)
-print("e2e_info: all passed")
+print("e2e_info %s: all passed" % PART)
