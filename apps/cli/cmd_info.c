@@ -13,6 +13,7 @@ static void usage(FILE *f)
         "usage: vorocrust info INPUT [--require-closed] [--features [--sharp-angle DEG]]\n"
         "  INPUT              triangle surface: .obj, .off, .stl (ASCII or binary), .ply\n"
         "  --require-closed   fail (exit 1) when the surface has open boundary edges\n"
+        "                     or cannot bound a volume (see 'solid' below)\n"
         "  --features         also detect sharp features (thesis 6.2.2) and print the\n"
         "                     numbers of sharp edges, sharp corners, creases (open and\n"
         "                     closed) and surface patches\n"
@@ -22,7 +23,10 @@ static void usage(FILE *f)
         "                     implies --features\n"
         "Prints counts, bounding box, topology (boundary, non-manifold and\n"
         "inconsistently oriented edges, components, Euler characteristic, genus)\n"
-        "and enclosed volume. Problems are printed to stderr, one line each;\n"
+        "and enclosed volume, then whether the surface can bound a volume ('solid':\n"
+        "no repeated or zero-area triangles, no self-intersection, a volume above\n"
+        "1e-9 of the bounding box's, coordinates within 1e9 times the model's size).\n"
+        "Problems are printed to stderr, one line each;\n"
         "only unreadable or unusable input makes the exit code non-zero.\n",
         VC_FEATURES_DEFAULT_SHARP_ANGLE);
 }
@@ -78,6 +82,19 @@ int vc_cmd_info(int argc, char **argv)
     }
     for (int i = 0; i < rep.n_warnings; i++)
         fprintf(stderr, "vorocrust: warning: %s\n", rep.warnings[i]);
+    /* Can it bound a volume? A warning, or with --require-closed on a
+     * closed surface the error line at the end. */
+    vc_solid_report solid;
+    vc_error solid_err = {0, ""};
+    int solid_rc = vc_surface_check_solid(&s, &rep, &solid, &solid_err);
+    if (solid_rc == VC_ENOMEM) {
+        fprintf(stderr, "vorocrust: %s\n", solid_err.msg);
+        vc_surface_free(&s);
+        return 1;
+    }
+    int closed = rep.n_boundary_edges == 0;
+    if (solid_rc && !(require_closed && closed))
+        fprintf(stderr, "vorocrust: warning: %s\n", solid_err.msg);
 
     const double *b = rep.bbox;
     printf("file: %s\n", rep.name);
@@ -95,6 +112,13 @@ int vc_cmd_info(int argc, char **argv)
     printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
     printf("inconsistently oriented edges: %lld\n", (long long)rep.n_inconsistent_edges);
     printf("degenerate triangles: %lld\n", (long long)rep.n_degenerate);
+    int64_t n_repeated = solid.n_repeated_same + solid.n_repeated_opposite;
+    printf("repeated triangles: %lld", (long long)n_repeated);
+    if (n_repeated)
+        printf(" (%lld with the same orientation, %lld reversed)", (long long)solid.n_repeated_same,
+               (long long)solid.n_repeated_opposite);
+    printf("\n");
+    printf("self-intersections: %lld\n", (long long)solid.n_self_intersections);
     printf("components: %lld\n", (long long)rep.n_components);
     printf("euler characteristic: %lld\n", (long long)rep.euler);
     if (rep.genus >= 0)
@@ -103,6 +127,18 @@ int vc_cmd_info(int argc, char **argv)
     printf("enclosed volume: %.9g%s\n", rep.volume,
            rep.n_boundary_edges ? " (meaningless: surface is open)"
            : rep.signed_volume < 0 ? " (oriented inward)" : "");
+    const char *why = solid.coordinate_ratio > VC_SOLID_MAX_COORDINATE_RATIO ? "coordinates too large for the model's size"
+                      : solid.n_zero_area ? "zero-area triangles"
+                      : solid.n_repeated_same ? "repeated triangles"
+                      : solid.n_repeated_opposite ? "zero-thickness walls"
+                      : solid.n_self_intersections ? "self-intersections"
+                      : !closed ? "open"
+                      : rep.n_inconsistent_edges ? "inconsistently oriented"
+                      : "no enclosed volume";
+    if (solid_rc == 0 && closed && !rep.n_inconsistent_edges)
+        printf("solid: yes\n");
+    else
+        printf("solid: no (%s)\n", why);
 
     int rc = 0;
     if (features) {
@@ -127,6 +163,9 @@ int vc_cmd_info(int argc, char **argv)
     }
     if (require_closed && vc_surface_require_closed(&rep, &err)) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
+        rc = 1;
+    } else if (require_closed && solid_rc) {
+        fprintf(stderr, "vorocrust: %s\n", solid_err.msg);
         rc = 1;
     }
     vc_surface_free(&s);

@@ -376,6 +376,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                           (long long)out->input.n_inconsistent_edges);
         goto fail;
     }
+    /* And it can bound a volume: no repeated or zero-area triangle, no
+     * self-intersection, a volume (before sampling, which would not end). */
+    if ((rc = vc_surface_check_solid(s, &out->input, NULL, err)) != 0)
+        goto fail;
 
     if ((rc = sample(s, &opt, name, out, err)) != 0)
         goto fail;

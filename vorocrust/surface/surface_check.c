@@ -54,7 +54,18 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
             if (x > bb[k + 3])
                 bb[k + 3] = x;
         }
-    double c[3] = {0.5 * (bb[0] + bb[3]), 0.5 * (bb[1] + bb[4]), 0.5 * (bb[2] + bb[5])};
+    double c[3] = {0.5 * bb[0] + 0.5 * bb[3], 0.5 * bb[1] + 0.5 * bb[4], 0.5 * bb[2] + 0.5 * bb[5]};
+    /* Differences are scaled by sc = 2^-escale, the box's largest extent
+     * being about 2^escale: exact, and the products below then neither overflow nor
+     * underflow for models from 1e-300 to 1e300 (the verdicts are
+     * scale-free; the figures are those of the unscaled sums). */
+    double emax = 0;
+    for (int k = 0; k < 3; k++)
+        emax = fmax(emax, bb[k + 3] - bb[k]);
+    int escale = 0;
+    if (emax > 0 && isfinite(emax))
+        frexp(emax, &escale);
+    const double sc = ldexp(1.0, -escale);
 
     /* Degenerate triangles and volume (relative to the box centre, which
      * leaves the closed-surface sum unchanged and keeps it accurate). */
@@ -66,13 +77,13 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
         for (int j = 0; j < 3; j++) {
             p[j] = s->xyz + 3 * s->tri[3 * t + j];
             for (int k = 0; k < 3; k++)
-                r[j][k] = p[j][k] - c[k];
+                r[j][k] = (p[j][k] - c[k]) * sc;
         }
         double u[3], v[3], w[3], lmax = 0;
         for (int k = 0; k < 3; k++) {
-            u[k] = p[1][k] - p[0][k];
-            v[k] = p[2][k] - p[0][k];
-            w[k] = p[2][k] - p[1][k];
+            u[k] = (p[1][k] - p[0][k]) * sc;
+            v[k] = (p[2][k] - p[0][k]) * sc;
+            w[k] = (p[2][k] - p[1][k]) * sc;
         }
         double lu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
         double lv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
@@ -88,7 +99,7 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
                 r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
     }
     rep->n_degenerate = degenerate;
-    rep->signed_volume = vol6 / 6.0;
+    rep->signed_volume = ldexp(vol6 / 6.0, 3 * escale);
     rep->volume = fabs(rep->signed_volume);
     if (degenerate == nt)
         return vc_error_set(err, VC_EINPUT, "%s: all %lld triangles are degenerate (zero area)",

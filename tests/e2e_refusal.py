@@ -1,0 +1,101 @@
+"""End-to-end test of the refusal of surfaces that cannot bound a volume
+(issue 16, and issue 17's offset cube): `vorocrust mesh F -o OUT.vtu` on
+each of the six reproducers of ../shared/repro/hangs (their contents are
+copied here) exits 1 in under 1 s (10 s under the sanitizers) with one
+stderr line "vorocrust: F: ..." naming the problem, and leaves no OUT.vtu
+and no temporary file. `vorocrust info` reports the counts, and
+--require-closed fails on them. Environment: VC_BIN, VC_TMP, VC_SOURCE,
+VC_SANITIZED."""
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import e2eutil  # noqa: E402
+from e2eutil import check, failures, field  # noqa: E402
+
+BIN = os.environ["VC_BIN"]
+TMP = e2eutil.fresh_tmp("e2e_refusal")
+LIMIT = 10.0 if os.environ.get("VC_SANITIZED", "0") in ("1", "ON", "TRUE", "true") else 1.0
+
+CUBE_V = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+CUBE_F = ("f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+          "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n")
+BIG = "1.0000000000000001e+300"
+
+# name: (contents, words the line must contain)
+CASES = {
+    "cube_dup.obj": (CUBE_V + CUBE_F + "f 1 3 2\nf 1 4 3\n",
+                     ["2 triangles repeat an earlier one with the same orientation", "triangles 1 and 13"]),
+    "cube_zeroarea.obj": (CUBE_V + "v 0.5 0 0\n" + "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 9 2\nf 1 2 6\n"
+                          "f 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\nf 1 2 9\n",
+                          ["2 zero-area triangles", "triangle 5"]),
+    "cubes_overlap.obj": (CUBE_V + "".join("v %g %g %g\n" % (x + 0.5, y + 0.5, z + 0.5)
+                                           for x, y, z in [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
+                                                           (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)])
+                          + CUBE_F + "".join("f %s\n" % " ".join(str(int(i) + 8) for i in l.split()[1:])
+                                             for l in CUBE_F.splitlines()),
+                          ["intersects itself", "pairs of triangles"]),
+    "flat.obj": ("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\nf 1 4 3\n",
+                 ["opposite orientation", "zero thickness"]),
+    "flat_box_zero_h.obj": ("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" * 2 + CUBE_F,
+                            ["opposite orientation", "zero thickness"]),
+    "cube_offset_1e300.obj": ("".join("v %s %s %s\n" % (BIG, y, z)
+                                      for y, z in [(0, 0), (0, 0), (1, 0), (1, 0), (0, 1), (0, 1), (1, 1), (1, 1)])
+                              + CUBE_F, ["double precision", "near the origin"]),
+}
+
+for name, (text, words) in CASES.items():
+    path = os.path.join(TMP, name)
+    with open(path, "w") as f:
+        f.write(text)
+    out = os.path.join(TMP, name + ".vtu")
+    t0 = time.monotonic()
+    rc, _, err = e2eutil.run([BIN, "mesh", path, "-o", out], timeout=120)
+    dt = time.monotonic() - t0
+    lines = err.strip().splitlines()
+    check(rc == 1, "%s: exit %d (stderr %r)" % (name, rc, err))
+    check(dt < LIMIT, "%s: %.2f s (limit %g s)" % (name, dt, LIMIT))
+    check(len(lines) == 1 and lines[0].startswith("vorocrust: %s: " % path),
+          "%s: stderr is not one 'vorocrust: %s: ...' line: %r" % (name, path, err))
+    for w in words:
+        check(w in err, "%s: stderr lacks %r: %r" % (name, w, err))
+    left = sorted(f for f in os.listdir(TMP) if f.startswith(name + ".vtu"))
+    check(not left, "%s: left %r" % (name, left))
+    print("%s: exit %d, %.3f s: %s" % (name, rc, dt, lines[0] if lines else ""))
+
+    # info: the counts, a warning, exit 0; with --require-closed exit 1.
+    rc, out_text, err = e2eutil.run([BIN, "info", path], timeout=60)
+    check(rc == 0, "info %s: exit %d" % (name, rc))
+    check(field(out_text, "solid") is not None and field(out_text, "solid").startswith("no ("),
+          "info %s: solid %r" % (name, field(out_text, "solid")))
+    check(field(out_text, "repeated triangles") is not None and field(out_text, "self-intersections") is not None,
+          "info %s: no repeated/self-intersection lines" % name)
+    rc, _, err = e2eutil.run([BIN, "info", path, "--require-closed"], timeout=60)
+    lines = err.strip().splitlines()
+    check(rc == 1 and lines and lines[-1].startswith("vorocrust: %s: " % path) and words[0] in lines[-1],
+          "info --require-closed %s: exit %d, stderr %r" % (name, rc, err))
+    check(not any(l.startswith("vorocrust: warning: ") and words[0] in l for l in lines),
+          "info --require-closed %s: the problem printed twice: %r" % (name, err))
+
+# The counts info prints.
+_, out_text, _ = e2eutil.run([BIN, "info", os.path.join(TMP, "cube_dup.obj")], timeout=60)
+check(field(out_text, "repeated triangles") == "2 (2 with the same orientation, 0 reversed)",
+      "cube_dup repeated triangles %r" % field(out_text, "repeated triangles"))
+_, out_text, _ = e2eutil.run([BIN, "info", os.path.join(TMP, "cubes_overlap.obj")], timeout=60)
+n = field(out_text, "self-intersections")
+check(n is not None and int(n) > 0, "cubes_overlap self-intersections %r" % n)
+
+# A good cube: solid, no warning.
+good = os.path.join(TMP, "cube.obj")
+with open(good, "w") as f:
+    f.write(CUBE_V + CUBE_F)
+rc, out_text, err = e2eutil.run([BIN, "info", good, "--require-closed"], timeout=60)
+check(rc == 0 and err == "", "cube: exit %d, stderr %r" % (rc, err))
+check(field(out_text, "solid") == "yes" and field(out_text, "repeated triangles") == "0" and
+      field(out_text, "self-intersections") == "0", "cube: %r" % out_text)
+
+if failures:
+    print("e2e_refusal: %d failures" % len(failures), file=sys.stderr)
+    sys.exit(1)
+print("e2e_refusal: all passed")
