@@ -329,7 +329,9 @@ static int mps(sampler *S, pool *P, int nv)
     double area0 = 0;
     for (int64_t i = 0; i < P->n; i++)
         area0 += measure(&P->f[i], nv);
-    int64_t darts = 0;
+    /* darts since the last progress line, and how many of them fell on
+     * covered ground: the share of the pool's area covered, estimated */
+    int64_t darts = 0, darts_covered = 0;
     for (int round = 0; P->n > 0 && round < 60; round++) {
         if (P->n > cum_cap) {
             double *q = realloc(cum, sizeof(double) * (size_t)P->n);
@@ -347,15 +349,18 @@ static int mps(sampler *S, pool *P, int nv)
         }
         int misses = 0;
         while (misses < MAX_MISSES && total > 0) {
-            /* a line every 2 s: phase, share of the area (length) left
-             * uncovered at the start of this round, balls */
+            /* a line every 2 s: phase, the share of the area (length) covered
+             * (that of the pool left at the start of this round, covered
+             * since, as the recent darts saw it), balls */
             if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
                 S->t_logged = now();
+                const double left = area0 > 0 ? total / area0 : 0;
+                const double seen = (double)darts_covered / (double)darts;
                 vc_log(S->opt.log, VC_LOG_INFO,
                        "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
-                       nv == 2 ? "creases" : "patches",
-                       area0 > 0 ? 100.0 * (1 - total / area0) : 100.0,
+                       nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
                        nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
+                darts = darts_covered = 0;
             }
             double t = vc_rng_uniform(&S->rng) * total;
             int64_t lo = 0, hi = P->n - 1;
@@ -370,6 +375,7 @@ static int mps(sampler *S, pool *P, int nv)
             double x[3];
             random_point(&S->rng, sf, nv, x);
             if (point_covered(S, x, kind)) {
+                darts_covered++;
                 misses++;
                 continue;
             }

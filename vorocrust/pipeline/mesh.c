@@ -208,6 +208,10 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
             break;
         }
         if (smooth > 0) {
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %d rounds of Loop smoothing of the patches (%lld triangles, about %lld "
+                   "after)", smooth, (long long)s->n_triangles,
+                   (long long)s->n_triangles << (2 * smooth));
             vc_surface_free(&smoothed);
             if (vc_surface_smooth(s, &f, smooth, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &smoothed, err)) {
                 rc = named(err, name, "smoothing");
