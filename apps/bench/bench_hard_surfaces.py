@@ -5,6 +5,7 @@ surfaces of models/make_hard_surfaces.py and the shared models.
 usage: /usr/bin/python3 apps/bench/bench_hard_surfaces.py --bin build/gen/vorocrust
            [--surfaces DIR] [--models DIR ...] [--timeout 120] [--threads N]
            [--max-memory-gb 8] [--only NAME ...] [--keep DIR]
+(--keep DIR: the outputs and each run's stderr, NAME.log, stay in DIR)
 
 Generates the hard surfaces into a temporary directory (or takes them from
 --surfaces DIR), then runs, with default options, one process per input,
@@ -16,6 +17,8 @@ when its resident memory exceeds --max-memory-gb. One table row per input
   triangles   of the input
   exit        the exit code, "timeout" or "memory"
   wall        seconds
+  peak MiB    the high-water mark of the run's resident memory (VmHWM in
+              /proc, read every 50 ms)
   balls       from the summary ("balls: N")
   resampled   yes when the summary says "after sampling at A diverged" or
               the kept sampling ran after N > 0 smoothing rounds
@@ -173,18 +176,26 @@ def hausdorff(a, b, n_target=150000):
 # ---------------------------------------------------------------- runs
 
 def rss_mib(pid):
+    """(resident, high-water mark) MiB of a running process. Not wait4's
+    ru_maxrss: that counts the pages of this (large) Python process the
+    child shared between fork and exec."""
+    rss = hwm = 0.0
     try:
         with open("/proc/%d/status" % pid) as f:
             for line in f:
                 if line.startswith("VmRSS:"):
-                    return int(line.split()[1]) / 1024.0
+                    rss = int(line.split()[1]) / 1024.0
+                elif line.startswith("VmHWM:"):
+                    hwm = int(line.split()[1]) / 1024.0
     except OSError:
         pass
-    return 0.0
+    return rss, hwm
 
 
 def run(cmd, timeout, max_mib):
-    """(exit code | 'timeout' | 'memory', stderr text, wall s, peak MiB)."""
+    """(exit code | 'timeout' | 'memory', stderr text, wall s, peak MiB: the
+    last VmHWM seen, every 50 ms; the summary's "peak memory" is getrusage's
+    ru_maxrss, which keeps the pages of this Python process across exec)."""
     with tempfile.TemporaryFile(mode="w+") as err:
         t0 = time.monotonic()
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err)
@@ -193,10 +204,11 @@ def run(cmd, timeout, max_mib):
             pid, status, ru = os.wait4(p.pid, os.WNOHANG)
             if pid == p.pid:
                 break
-            peak = max(peak, rss_mib(p.pid))
+            rss, hwm = rss_mib(p.pid)
+            peak = max(peak, hwm)
             if time.monotonic() - t0 > timeout:
                 why = "timeout"
-            elif peak > max_mib:
+            elif rss > max_mib:
                 why = "memory"
             if why:
                 p.kill()
@@ -206,7 +218,7 @@ def run(cmd, timeout, max_mib):
         wall = time.monotonic() - t0
         p.returncode = os.waitstatus_to_exitcode(status)
         err.seek(0)
-        return (why or p.returncode), err.read(), wall, max(peak, ru.ru_maxrss / 1024.0)
+        return (why or p.returncode), err.read(), wall, peak
 
 
 def summary(err):
@@ -299,6 +311,9 @@ def main():
             cmd = [a.bin, "mesh", path, "-o", vtu, "--surface", surf, "--threads", str(a.threads)]
             code, err, wall, peak = run(cmd, a.timeout, a.max_memory_gb * 1024)
             s = summary(err)
+            if a.keep:
+                with open(os.path.join(out, stem + ".log"), "w") as f:
+                    f.write(err)
             notes = []
             haus = dvol = None
             eul = "-"
