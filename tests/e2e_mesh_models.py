@@ -82,16 +82,6 @@ GENERATED = {"coarse-torus": (0.405, 0.6, 5.0, 14)}
 SANITIZED = os.environ.get("VC_SANITIZED", "0") == "1"
 
 
-def boundary_cells(grid):
-    """Cells with a face no other cell has."""
-    owner = {}
-    for c in range(grid.GetNumberOfCells()):
-        for f in vtkcheck.cell_faces(grid, c):
-            key = tuple(sorted(f))
-            owner[key] = -1 if key in owner else c
-    return {c for c in owner.values() if c >= 0}
-
-
 def check(cond, what):
     if not cond:
         failures.append(what)
@@ -217,7 +207,7 @@ for model in sys.argv[1:]:
         fig = vtkcheck.check_vtu(vtu, expected_volume=sv)
         grid = vtkcheck.read_vtu(vtu)
         fat = vtkcheck.cell_array(grid, "fatness")
-        on_boundary = boundary_cells(grid)
+        on_boundary = fig["boundary_cells"]  # cells with a face no other cell has
         worst_inner = max((x for c, x in enumerate(fat) if c not in on_boundary), default=1)
         check(len(fat) == fig["n_cells"] and min(fat) >= 1 and worst_inner <= 14
               and max(fat) <= fat_bnd,

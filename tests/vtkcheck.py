@@ -361,8 +361,9 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
       face shared by 2 cells is seen in opposite orientations.
 
     Returns a dict: n_cells, n_points, total_volume, n_faces_shared,
-    n_faces_boundary, boundary_volume, vtk_boundary_volume, vtk_flagged (cells vtkCellValidator rejects in the
-    original orientation), vtk_rejected_tiny, vtk_volume_off (cells where
+    n_faces_boundary, boundary_volume, vtk_boundary_volume, boundary_cells (the
+    set of cells with a face no other cell has), vtk_flagged (cells
+    vtkCellValidator rejects in the original orientation), vtk_rejected_tiny, vtk_volume_off (cells where
     vtkCellSizeFilter loses volume). Raises CheckError on failure."""
     grid = read_vtu(path)
     n_cells = grid.GetNumberOfCells()
@@ -494,6 +495,7 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
         "vtk_volume_off": vtk_off,
         "boundary_volume": surf_vol,
         "vtk_boundary_volume": vtk_surf_vol,
+        "boundary_cells": {e[2] for e in faces.values() if e[0] == 1},
     }
 
 
