@@ -1,6 +1,6 @@
-/* Small helpers the sub-commands share. libc only: vc-tetgen (apps/tetgen)
- * compiles cli_util.c too, so it must not need the vorocrust library or
- * anything else. */
+/* Small helpers the sub-commands share. libc, and the tracker of the
+ * library's temporary files (io/tmpfile.h) only: vc-tetgen (apps/tetgen)
+ * compiles cli_util.c too, so it must need nothing else of the CLI. */
 #ifndef VC_CLI_UTIL_H
 #define VC_CLI_UTIL_H
 
@@ -17,8 +17,10 @@ int vc_cli_parse_int(const char *s, long lo, long hi, long *out);
 int vc_cli_directory_writable(const char *path);
 
 /* Refuses (one line on stderr, returns the exit code 1) an output file
- * whose directory is missing or not writable, or that is a directory;
- * returns 0 when it can be written. */
+ * that exists and is not a regular file (a character or block device, a
+ * FIFO, a socket, a directory; a symbolic link is followed: "PATH: is a
+ * character device, not a regular file: refusing to replace it"), or whose
+ * directory is missing or not writable; returns 0 when it can be written. */
 int vc_cli_check_output_file(const char *path);
 
 /* The same, with the message starting "prog: " (vc_cli_check_output_file
@@ -42,5 +44,40 @@ int vc_cli_missing(const char *prog, const char *command, const char *what);
  * (its polyMesh is replaced) or a new one in a writable directory, never a
  * file. Returns 0, or the exit code (2 for an empty name, 1 otherwise). */
 int vc_cli_check_case_dir(const char *path);
+
+/* Repeated options: each command's loop calls vc_cli_repeated on every
+ * argument it reads as an option or a positional (not on option values);
+ * an option given a second time ("-o" and "--output" are the same) is
+ * refused: "prog: OPT given twice (see 'COMMAND --help')", exit code 2
+ * returned; otherwise 0. */
+#define VC_CLI_SEEN_MAX 64
+typedef struct vc_cli_seen {
+    const char *names[VC_CLI_SEEN_MAX];
+    int n;
+} vc_cli_seen;
+
+int vc_cli_repeated(vc_cli_seen *seen, const char *prog, const char *command, const char *arg);
+
+/* Outputs: all or none. vc_cli_outputs_begin (once, before the first
+ * output is written) registers a tracker of the library's temporary files
+ * (vc_tmpfile_track) and installs handlers of SIGINT, SIGTERM, SIGHUP and
+ * SIGXFSZ (a signal ignored at start stays ignored). On such a signal the
+ * handler removes (unlink, rmdir, from paths recorded beforehand: no
+ * allocation) every temporary file and directory and every output this run
+ * has committed, then dies by the same signal (default action, raised
+ * again). vc_cli_outputs_remove does the same removal without dying (a
+ * write failed: call it before returning the error); vc_cli_outputs_keep,
+ * after the last output is committed, makes the committed outputs
+ * permanent (a later signal leaves them). */
+void vc_cli_outputs_begin(void);
+void vc_cli_outputs_remove(void);
+void vc_cli_outputs_keep(void);
+
+/* A temporary directory of the program's own (not the library's), removed
+ * with its contents by a signal or vc_cli_outputs_remove: the slot, or -1
+ * when it cannot be recorded. vc_cli_untrack(slot) forgets it (the program
+ * removed it itself). */
+int vc_cli_track_temp_dir(const char *dir);
+void vc_cli_untrack(int slot);
 
 #endif

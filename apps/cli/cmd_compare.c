@@ -154,8 +154,11 @@ int vc_cmd_compare(int argc, char **argv)
     const char *threads = NULL, *seed = "1";
     long target = 0;
     int quiet = 0;
+    vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust compare", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
@@ -234,6 +237,8 @@ int vc_cmd_compare(int argc, char **argv)
     }
 
     char work[3968]; /* room left in paths for "/vorocrust.log" */
+    int work_slot = -1;
+    vc_cli_outputs_begin(); /* a signal removes the work directory and the report */
     if (mesh_dir) {
         snprintf(work, sizeof work, "%s", mesh_dir);
     } else {
@@ -245,6 +250,7 @@ int vc_cmd_compare(int argc, char **argv)
             vc_surface_free(&input);
             return 1;
         }
+        work_slot = vc_cli_track_temp_dir(work);
     }
     enum { VORO_MESH, VORO_LOG, TET_MESH, TET_LOG, TET_BOUND_LOG, N_PATHS };
     static const char *const names[N_PATHS] = {"vorocrust.vtu", "vorocrust.log", "tetgen.vtu",
@@ -329,8 +335,11 @@ int vc_cmd_compare(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         rc = 1;
     }
-    if (!mesh_dir)
+    vc_cli_outputs_keep();
+    if (!mesh_dir) {
         remove_work_dir(work, paths, N_PATHS);
+        vc_cli_untrack(work_slot);
+    }
     for (int s = 0; s < VC_COMPARE_SIDES; s++)
         vc_mesh_report_free(&c.side[s].report);
     vc_surface_free(&input);

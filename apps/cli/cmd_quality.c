@@ -54,8 +54,11 @@ static void print_stats(const char *name, const vc_stats *st)
 int vc_cmd_quality(int argc, char **argv)
 {
     const char *mesh_path = NULL, *input_path = NULL;
+    vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust quality", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;

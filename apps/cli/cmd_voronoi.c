@@ -53,9 +53,12 @@ int vc_cmd_voronoi(int argc, char **argv)
     vc_voronoi_options_default(&opt);
     vc_vtu_encoding enc = VC_VTU_ZLIB;
     int validate = 1, quiet = 0, verbose = 0;
+    vc_cli_seen seen = {{NULL}, 0};
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust voronoi", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
@@ -139,6 +142,7 @@ int vc_cmd_voronoi(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s: named by both -o and --connections\n", out_path);
         return 2;
     }
+    vc_cli_outputs_begin();
     vc_logger log;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
     opt.log = &log;
@@ -170,22 +174,16 @@ int vc_cmd_voronoi(int argc, char **argv)
         }
     }
     double t3 = vc_cli_now();
-    if (vc_write_vtu(&mesh, out_path, enc, &err) != 0) {
+    /* All outputs or none: a failed write or a signal removes the ones
+     * already committed (vc_cli_outputs_begin, at the start). */
+    if (vc_write_vtu(&mesh, out_path, enc, &err) != 0 ||
+        (conn_path && vc_write_connections_csv(&mesh, conn_path, &err) != 0) ||
+        (foam_path && vc_write_openfoam(&mesh, foam_path, &err) != 0)) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
+        vc_cli_outputs_remove();
         goto out;
     }
-    if (conn_path && vc_write_connections_csv(&mesh, conn_path, &err) != 0) {
-        fprintf(stderr, "vorocrust: %s\n", err.msg);
-        remove(out_path); /* all outputs or none */
-        goto out;
-    }
-    if (foam_path && vc_write_openfoam(&mesh, foam_path, &err) != 0) {
-        fprintf(stderr, "vorocrust: %s\n", err.msg);
-        remove(out_path); /* all outputs or none */
-        if (conn_path)
-            remove(conn_path);
-        goto out;
-    }
+    vc_cli_outputs_keep();
     double t4 = vc_cli_now();
     if (!quiet) {
         vc_polymesh_stats st;

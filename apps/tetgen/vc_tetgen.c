@@ -140,8 +140,11 @@ int main(int argc, char **argv)
     const char *input = NULL, *output = NULL;
     double target = 0, max_volume = 0, radius_edge = 1.414;
     int quiet = 0, bound_only = 0;
+    vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (vc_cli_repeated(&seen, "vc-tetgen", "vc-tetgen", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
@@ -191,6 +194,7 @@ int main(int argc, char **argv)
     }
     if (output && vc_cli_check_output_file_as("vc-tetgen", output))
         return 1;
+    vc_cli_outputs_begin(); /* a signal while writing leaves no temporary file */
 
     double t0 = vc_cli_now();
     vc_error err = {0, ""};
@@ -258,6 +262,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "vc-tetgen: %s\n", err.msg);
         goto out;
     }
+    vc_cli_outputs_keep();
     double t_write = vc_cli_now();
     if (!quiet) {
         double volume = 0;

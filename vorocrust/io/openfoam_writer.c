@@ -28,7 +28,6 @@
  * blocks of entries in parallel (OpenMP), written in order. */
 #include "vorocrust/io.h"
 #include "io/tmpfile.h"
-#include "file_mode.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -810,22 +809,15 @@ static int foam_mkdir(const char *path, const char *report, vc_error *err)
     return VC_OK;
 }
 
-/* A new case: everything in CASE_DIR.tmp.XXXXXX, renamed at the end. */
+/* A new case: everything in CASE_DIR.tmp.XXXXXX (a tracked vc_tmpdir),
+ * renamed at the end. */
 static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const foam_plan *pl,
                                vc_error *err)
 {
-    size_t n = strlen(case_dir);
-    char *stage = malloc(n + sizeof ".tmp.XXXXXX");
-    if (!stage)
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
-    memcpy(stage, case_dir, n);
-    memcpy(stage + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
-    if (!mkdtemp(stage)) {
-        int e = errno;
-        free(stage);
-        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(e));
-    }
-    (void)chmod(stage, 0777 & ~vc_io_umask()); /* mkdtemp gives 0700 */
+    vc_tmpdir sd;
+    if (vc_tmpdir_create(&sd, case_dir, "tmp", err) != VC_OK)
+        return err ? err->code : VC_EIO;
+    const char *stage = sd.tmp_path;
     char *constant = foam_join(stage, "constant");
     char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
     char *system = foam_join(stage, "system");
@@ -843,14 +835,15 @@ static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const
         rc = foam_write_polymesh(poly, case_dir, m, pl, err);
     if (rc == VC_OK)
         rc = foam_write_system_files(system, case_dir, m, pl, 0, added, err);
-    if (rc == VC_OK && rename(stage, case_dir) != 0)
-        rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", case_dir, strerror(errno));
-    if (rc != VC_OK)
-        foam_remove_tree(stage, 0);
+    if (rc == VC_OK)
+        rc = vc_tmpdir_commit(&sd, err);
+    if (rc != VC_OK) {
+        foam_remove_tree(sd.tmp_path, 0);
+        vc_tmpdir_drop(&sd);
+    }
     free(constant);
     free(poly);
     free(system);
-    free(stage);
     return rc;
 }
 
@@ -862,7 +855,8 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
     char *constant = foam_join(case_dir, "constant");
     char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
     char *system = foam_join(case_dir, "system");
-    char *stage = NULL, *old = NULL;
+    vc_tmpdir sd = {NULL, NULL, -1}, od = {NULL, NULL, -1};
+    const char *stage = NULL;
     int made_constant = 0, made_system = 0, have_old = 0;
     int added[FOAM_N_SYSTEM] = {0};
     struct stat st;
@@ -893,24 +887,8 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
         }
     }
     if (rc == VC_OK) {
-        size_t n = strlen(poly);
-        stage = malloc(n + sizeof ".tmp.XXXXXX");
-        old = malloc(n + sizeof ".old.XXXXXX");
-        if (!stage || !old) {
-            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", case_dir);
-        } else {
-            memcpy(stage, poly, n);
-            memcpy(stage + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
-            memcpy(old, poly, n);
-            memcpy(old + n, ".old.XXXXXX", sizeof ".old.XXXXXX");
-            if (!mkdtemp(stage)) {
-                rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
-                free(stage);
-                stage = NULL;
-            } else {
-                (void)chmod(stage, 0777 & ~vc_io_umask()); /* mkdtemp gives 0700 */
-            }
-        }
+        rc = vc_tmpdir_create(&sd, poly, "tmp", err);
+        stage = sd.tmp_path;
     }
     if (rc == VC_OK)
         rc = foam_write_polymesh(stage, case_dir, m, pl, err);
@@ -929,24 +907,30 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
 
     /* The swap: old polyMesh aside, new one in, old one removed. */
     if (rc == VC_OK && have_old) {
-        if (!mkdtemp(old))
-            rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
-        else if (rename(poly, old) != 0) {
+        rc = vc_tmpdir_create(&od, poly, "old", err);
+        if (rc == VC_OK && rename(poly, od.tmp_path) != 0) {
             rc = vc_error_set(err, VC_EIO, "%s: cannot replace: %s", poly, strerror(errno));
-            rmdir(old);
+            rmdir(od.tmp_path);
+            vc_tmpdir_drop(&od);
         }
     }
-    if (rc == VC_OK && rename(stage, poly) != 0) {
-        rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", poly, strerror(errno));
-        if (have_old)
-            (void)rename(old, poly); /* put the old mesh back */
+    if (rc == VC_OK && vc_tmpdir_commit(&sd, err) != VC_OK) {
+        rc = err ? err->code : VC_EIO;
+        if (have_old && od.tmp_path) {
+            (void)rename(od.tmp_path, poly); /* put the old mesh back */
+            vc_tmpdir_drop(&od);
+        }
     }
     if (rc == VC_OK) {
-        if (have_old)
-            foam_remove_tree(old, 0);
+        if (have_old && od.tmp_path) {
+            foam_remove_tree(od.tmp_path, 0);
+            vc_tmpdir_drop(&od);
+        }
     } else {
-        if (stage)
-            foam_remove_tree(stage, 0);
+        if (sd.tmp_path) {
+            foam_remove_tree(sd.tmp_path, 0);
+            vc_tmpdir_drop(&sd);
+        }
         for (int i = 0; i < FOAM_N_SYSTEM && system; i++)
             if (added[i]) {
                 char *f = foam_join(system, foam_system_files[i]);
@@ -962,8 +946,6 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
     free(constant);
     free(poly);
     free(system);
-    free(stage);
-    free(old);
     return rc;
 }
 

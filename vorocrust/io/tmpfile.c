@@ -1,15 +1,24 @@
-/* Temporary file next to the target, renamed over it on success: a failed or
- * interrupted run never leaves a half-written output file behind. */
+/* Temporary file next to the target, renamed over it on success: a failed
+ * run never leaves a half-written output file behind, and an interrupted one
+ * neither when the program tracks the temporary files (vc_tmpfile_track:
+ * the CLI removes them from its signal handlers).
+ *
+ * The temporary names are made here rather than by mkstemp, so that the
+ * tracker records a name before the file exists (O_CREAT | O_EXCL, retried
+ * on a clash): a signal can never find a temporary file it does not know. */
 #include "vorocrust/io.h"
 #include "io/tmpfile.h"
 #include "file_mode.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
+#include <time.h>
 #include <unistd.h>
 
 mode_t vc_io_umask(void)
@@ -40,6 +49,141 @@ static char *vc_strdup(const char *s)
     return d;
 }
 
+/* ---- tracking --------------------------------------------------------------- */
+
+static vc_tmpfile_tracker vc_tracker; /* set by vc_tmpfile_track only */
+
+void vc_tmpfile_track(const vc_tmpfile_tracker *tracker)
+{
+    if (tracker)
+        vc_tracker = *tracker;
+    else
+        memset(&vc_tracker, 0, sizeof vc_tracker);
+}
+
+static int vc_track(vc_tmpfile_event ev, int slot, const char *tmp, const char *final, int is_dir)
+{
+    if (!vc_tracker.event)
+        return ev == VC_TMPFILE_ADD ? -1 : 0;
+    if (ev != VC_TMPFILE_ADD && slot < 0)
+        return 0;
+    return vc_tracker.event(vc_tracker.user, ev, slot, tmp, final, is_dir);
+}
+
+/* ---- names -------------------------------------------------------------------- */
+
+const char *vc_tmpfile_kind(unsigned int st_mode)
+{
+    mode_t m = (mode_t)st_mode;
+    if (S_ISCHR(m))
+        return "character device";
+    if (S_ISBLK(m))
+        return "block device";
+    if (S_ISFIFO(m))
+        return "FIFO";
+    if (S_ISSOCK(m))
+        return "socket";
+    if (S_ISDIR(m))
+        return "directory";
+    return "special file";
+}
+
+int vc_tmpfile_check_target(const char *path, vc_error *err)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || S_ISREG(st.st_mode) || S_ISLNK(st.st_mode))
+        return VC_OK;
+    if (S_ISDIR(st.st_mode))
+        return vc_error_set(err, VC_EIO, "%s: cannot write: Is a directory", path);
+    return vc_error_set(err, VC_EIO, "%s: is a %s, not a regular file: refusing to replace it",
+                        path, vc_tmpfile_kind((unsigned int)st.st_mode));
+}
+
+/* Fills the last 6 characters of name (the XXXXXX) from state. */
+static void vc_fill_name(char *name, uint64_t *state)
+{
+    static const char letters[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    size_t n = strlen(name);
+    uint64_t x = *state;
+    for (size_t i = n - 6; i < n; i++) {
+        /* splitmix64 step */
+        x += 0x9E3779B97F4A7C15ull;
+        uint64_t z = x;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        name[i] = letters[z % 62];
+    }
+    *state = x;
+}
+
+static uint64_t vc_name_seed(const void *where)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30) ^ ((uint64_t)getpid() << 20) ^
+           (uint64_t)(uintptr_t)where;
+}
+
+/* "<path>.<kind>.XXXXXX" (malloc'ed) or NULL. */
+static char *vc_tmp_template(const char *path, const char *kind)
+{
+    size_t n = strlen(path), k = strlen(kind);
+    char *s = malloc(n + k + 9);
+    if (!s)
+        return NULL;
+    memcpy(s, path, n);
+    s[n] = '.';
+    memcpy(s + n + 1, kind, k);
+    memcpy(s + n + 1 + k, ".XXXXXX", 8);
+    return s;
+}
+
+#define VC_TMP_ATTEMPTS 100
+
+/* Creates tmp (a template; its XXXXXX replaced) as a file (returns the
+ * descriptor) or a directory (returns 0), tracked in *slot; -1 with errno
+ * (ENOLCK: the tracker refused). */
+static int vc_tmp_create(char *tmp, const char *final, int is_dir, int *slot)
+{
+    uint64_t state = vc_name_seed(tmp);
+    const int tracked = vc_tracker.event != NULL;
+    for (int attempt = 0; attempt < VC_TMP_ATTEMPTS; attempt++) {
+        vc_fill_name(tmp, &state);
+        *slot = -1;
+        if (tracked) {
+            *slot = vc_track(VC_TMPFILE_ADD, -1, tmp, final, is_dir);
+            if (*slot < 0) {
+                errno = ENOLCK;
+                return -1;
+            }
+        }
+        int fd = is_dir ? mkdir(tmp, 0777)
+                        : open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0)
+            return fd;
+        int e = errno;
+        vc_track(VC_TMPFILE_DROP, *slot, tmp, final, is_dir);
+        *slot = -1;
+        errno = e;
+        if (e != EEXIST)
+            return -1;
+    }
+    errno = EEXIST;
+    return -1;
+}
+
+static int vc_create_error(vc_error *err, const char *path, int e)
+{
+    if (e == ENOLCK)
+        return vc_error_set(err, VC_EIO, "%s: cannot track the temporary file (too many "
+                            "outputs, or a path too long)", path);
+    return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(e));
+}
+
+/* ---- files ---------------------------------------------------------------------- */
+
 static void vc_tmpfile_clear(vc_tmpfile *t)
 {
     free(t->tmp_path);
@@ -47,6 +191,7 @@ static void vc_tmpfile_clear(vc_tmpfile *t)
     t->tmp_path = NULL;
     t->final_path = NULL;
     t->fp = NULL;
+    t->slot = -1;
 }
 
 int vc_tmpfile_open(vc_tmpfile *t, const char *path, vc_error *err)
@@ -54,32 +199,33 @@ int vc_tmpfile_open(vc_tmpfile *t, const char *path, vc_error *err)
     t->fp = NULL;
     t->tmp_path = NULL;
     t->final_path = NULL;
+    t->slot = -1;
     if (!path || !*path)
         return vc_error_set(err, VC_EPARAM, "output path is empty");
+    int rc = vc_tmpfile_check_target(path, err);
+    if (rc)
+        return rc;
 
-    size_t n = strlen(path);
     t->final_path = vc_strdup(path);
-    t->tmp_path = malloc(n + sizeof ".tmp.XXXXXX");
+    t->tmp_path = vc_tmp_template(path, "tmp");
     if (!t->final_path || !t->tmp_path) {
         vc_tmpfile_clear(t);
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     }
-    memcpy(t->tmp_path, path, n);
-    memcpy(t->tmp_path + n, ".tmp.XXXXXX", sizeof ".tmp.XXXXXX");
-
-    int fd = mkstemp(t->tmp_path);
+    /* open(..., 0666) gives the output what fopen would give it (the umask
+     * applies) */
+    int fd = vc_tmp_create(t->tmp_path, path, 0, &t->slot);
     if (fd < 0) {
         int e = errno;
         vc_tmpfile_clear(t);
-        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(e));
+        return vc_create_error(err, path, e);
     }
-    /* mkstemp gives 0600; the output gets what fopen would give it */
-    (void)fchmod(fd, (mode_t)(0666 & ~vc_io_umask()));
     FILE *fp = fdopen(fd, "wb");
     if (!fp) {
         int e = errno;
         close(fd);
         remove(t->tmp_path);
+        vc_track(VC_TMPFILE_DROP, t->slot, t->tmp_path, path, 0);
         vc_tmpfile_clear(t);
         return vc_error_set(err, VC_EIO, "%s: cannot write: %s", path, strerror(e));
     }
@@ -101,15 +247,28 @@ int vc_tmpfile_commit(vc_tmpfile *t, vc_error *err)
     if (fclose(fp) != 0 && !e)
         e = errno ? errno : EIO;
     t->fp = NULL;
-    if (!e && rename(t->tmp_path, t->final_path) != 0)
-        e = errno ? errno : EIO;
-    if (e) {
+    int rc = VC_OK;
+    if (!e) {
+        /* Checked again at the last moment: a device or a FIFO made there
+         * since the open is not replaced either. */
+        rc = vc_tmpfile_check_target(t->final_path, err);
+        if (rc == VC_OK) {
+            vc_track(VC_TMPFILE_RENAMING, t->slot, t->tmp_path, t->final_path, 0);
+            if (rename(t->tmp_path, t->final_path) != 0) {
+                e = errno ? errno : EIO;
+                vc_track(VC_TMPFILE_UNRENAMED, t->slot, t->tmp_path, t->final_path, 0);
+            }
+        }
+    }
+    if (e || rc) {
         remove(t->tmp_path);
-        int rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", t->final_path,
-                              strerror(e));
+        vc_track(VC_TMPFILE_DROP, t->slot, t->tmp_path, t->final_path, 0);
+        if (e)
+            rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", t->final_path, strerror(e));
         vc_tmpfile_clear(t);
         return rc;
     }
+    vc_track(VC_TMPFILE_COMMITTED, t->slot, t->tmp_path, t->final_path, 0);
     vc_tmpfile_clear(t);
     return VC_OK;
 }
@@ -120,7 +279,60 @@ void vc_tmpfile_discard(vc_tmpfile *t)
         return;
     if (t->fp)
         fclose((FILE *)t->fp);
-    if (t->tmp_path)
+    if (t->tmp_path) {
         remove(t->tmp_path);
+        vc_track(VC_TMPFILE_DROP, t->slot, t->tmp_path, t->final_path, 0);
+    }
     vc_tmpfile_clear(t);
+}
+
+/* ---- directories ------------------------------------------------------------------ */
+
+static void vc_tmpdir_clear(vc_tmpdir *d)
+{
+    free(d->tmp_path);
+    free(d->final_path);
+    d->tmp_path = NULL;
+    d->final_path = NULL;
+    d->slot = -1;
+}
+
+int vc_tmpdir_create(vc_tmpdir *d, const char *path, const char *kind, vc_error *err)
+{
+    d->slot = -1;
+    d->final_path = vc_strdup(path);
+    d->tmp_path = vc_tmp_template(path, kind);
+    if (!d->final_path || !d->tmp_path) {
+        vc_tmpdir_clear(d);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    }
+    if (vc_tmp_create(d->tmp_path, path, 1, &d->slot) < 0) {
+        int e = errno;
+        vc_tmpdir_clear(d);
+        return vc_create_error(err, path, e);
+    }
+    return VC_OK;
+}
+
+int vc_tmpdir_commit(vc_tmpdir *d, vc_error *err)
+{
+    vc_track(VC_TMPFILE_RENAMING, d->slot, d->tmp_path, d->final_path, 1);
+    if (rename(d->tmp_path, d->final_path) != 0) {
+        int e = errno;
+        vc_track(VC_TMPFILE_UNRENAMED, d->slot, d->tmp_path, d->final_path, 1);
+        return vc_error_set(err, VC_EIO, "%s: cannot write: %s", d->final_path, strerror(e));
+    }
+    vc_track(VC_TMPFILE_COMMITTED, d->slot, d->tmp_path, d->final_path, 1);
+    d->slot = -1; /* the tracker's now */
+    vc_tmpdir_clear(d);
+    return VC_OK;
+}
+
+void vc_tmpdir_drop(vc_tmpdir *d)
+{
+    if (!d)
+        return;
+    if (d->tmp_path)
+        vc_track(VC_TMPFILE_DROP, d->slot, d->tmp_path, d->final_path, 1);
+    vc_tmpdir_clear(d);
 }
