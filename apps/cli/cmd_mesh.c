@@ -62,7 +62,11 @@ static void usage(FILE *f)
         "                      that reaches N (default: what this machine's memory holds)\n"
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n"
-        "  --verbose           also the phase timings of the Voronoi engine on stderr\n",
+        "  --verbose           also the phase timings of the Voronoi engine on stderr\n"
+        "  --fold-creases      when sliver elimination diverges, make the folds over 10\n"
+        "                      degrees where it is stuck creases and sample again (up to 4\n"
+        "                      times, then all such folds), instead of the default second\n"
+        "                      sampling at 20 degrees or after smoothing (experimental)\n",
         FOAM_DEFAULT_MAX_SKEW, d.sharp_angle, VC_SMOOTH_MAX_ITERATIONS, VC_SMOOTH_DEFAULT_ITERATIONS, d.max_error,
         d.lipschitz, (unsigned long long)d.seed);
 }
@@ -189,7 +193,7 @@ static int run_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
-    int surface_only = 0, quiet = 0, verbose = 0, sharp_angle_given = 0,
+    int surface_only = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
     vc_skew_collapse_stats foam_skew;
@@ -208,6 +212,8 @@ static int run_mesh(int argc, char **argv)
             quiet = 1;
         } else if (!strcmp(a, "--verbose")) {
             verbose = 1;
+        } else if (!strcmp(a, "--fold-creases")) {
+            fold_creases = 1;
         } else if (takes_value(a) && !v) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust mesh --help')\n", a);
             return 2;
@@ -376,7 +382,9 @@ static int run_mesh(int argc, char **argv)
         if (i < 5 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
             return 1;
     }
-    if (sharp_angle_given)
+    if (fold_creases)
+        opt.resample = VC_RESAMPLE_FOLDS;
+    else if (sharp_angle_given)
         opt.resample = 0;
     else if (smooth_iterations_given)
         opt.resample = VC_RESAMPLE_CREASES;

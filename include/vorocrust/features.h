@@ -56,7 +56,8 @@ extern "C" {
 enum {
     VC_SHARP_ANGLE = 1,       /* two triangles, normals differ by more than theta_sharp */
     VC_SHARP_BOUNDARY = 2,    /* one triangle */
-    VC_SHARP_NONMANIFOLD = 4  /* three or more triangles */
+    VC_SHARP_NONMANIFOLD = 4, /* three or more triangles */
+    VC_SHARP_FOLD = 8         /* a fold below theta_sharp the caller made a crease */
 };
 
 /* Why a vertex is a sharp corner (bits of vertex_corner; 0 = no corner). */
@@ -150,6 +151,14 @@ typedef struct vc_features {
  * VC_ENOMEM. */
 int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features *out,
                        vc_error *err);
+
+/* The same, with the edges e for which extra_sharp[e] != 0 sharp too
+ * (VC_SHARP_FOLD) when no other rule makes them so; extra_sharp (or NULL)
+ * is indexed like the edges of vc_features_detect on the same surface
+ * (they are numbered by their sorted vertex pairs, so the numbering does
+ * not depend on the angle). */
+int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
+                            const unsigned char *extra_sharp, vc_features *out, vc_error *err);
 
 /* Frees the arrays of f and zeroes it. Safe on a zeroed vc_features. */
 void vc_features_free(vc_features *f);

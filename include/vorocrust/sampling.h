@@ -45,6 +45,14 @@ typedef struct vc_sampling_options {
     int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100 */
     int64_t max_balls;    /* refuse a sampling predicted to need more balls, and stop one
                              that reaches this many (VC_EPARAM); <= 0: no limit (default) */
+    unsigned char *stuck_tri; /* NULL, or n_triangles bytes: when sliver elimination
+                             diverges, set to 1 for the triangles the balls of its last
+                             pass reached before they were shrunk (where it is stuck),
+                             0 elsewhere */
+    double fold_stop_angle; /* > 0, with stuck_tri: also stop (diverged) as soon as the
+                             half-covered pairs stop halving per pass, the balls having
+                             doubled since the first coverage, when they are stuck at a
+                             non-sharp edge folded by more than this many degrees */
 } vc_sampling_options;
 
 void vc_sampling_options_default(vc_sampling_options *opt);

@@ -70,7 +70,11 @@ enum {
     /* The surface bends too much everywhere: sample again after
      * VC_SMOOTH_DEFAULT_ITERATIONS rounds of Loop smoothing of the patches
      * at theta_sharp 120 (this moves the surface off the input). */
-    VC_RESAMPLE_SMOOTH = 2
+    VC_RESAMPLE_SMOOTH = 2,
+    /* Make the folds over 10 degrees where sliver elimination is stuck
+     * creases and sample again, up to 4 times, then every fold over 10
+     * degrees (the surface is not moved; experimental, not a default). */
+    VC_RESAMPLE_FOLDS = 4
 };
 
 typedef struct vc_mesh_options {

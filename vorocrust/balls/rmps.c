@@ -845,6 +845,8 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->log = NULL;
     opt->max_sliver_iterations = 100;
     opt->max_balls = 0;
+    opt->stuck_tri = NULL;
+    opt->fold_stop_angle = 0;
 }
 
 void vc_balls_free(vc_balls *b)
@@ -855,6 +857,44 @@ void vc_balls_free(vc_balls *b)
     free(b->element);
     free(b->normal);
     memset(b, 0, sizeof *b);
+}
+
+/* The triangles the balls shrunk by the last sliver pass reached before
+ * (where sliver elimination is stuck), into stuck (n_triangles bytes). */
+static void mark_stuck(const sampler *S, const unsigned char *shrunk, const double *old_r,
+                       unsigned char *stuck)
+{
+    memset(stuck, 0, (size_t)S->s->n_triangles);
+    unsigned char *me = calloc((size_t)S->f->n_edges + 1, 1);
+    if (!me)
+        return;
+    near_ctx nc = {me, stuck};
+    for (int64_t i = 0; i < S->bs.b.n; i++)
+        if (shrunk[i])
+            vc_sizing_elements_near(&S->z, S->bs.b.center + 3 * i, old_r[i], mark_near, &nc);
+    free(me);
+}
+
+/* Whether a stuck triangle has an edge that is not sharp and folds by more
+ * than the angle whose cosine is cos_fold. */
+static int stuck_at_fold(const sampler *S, const unsigned char *stuck, double cos_fold)
+{
+    const vc_features *f = S->f;
+    for (int64_t t = 0; t < S->s->n_triangles; t++) {
+        if (!stuck[t])
+            continue;
+        const int64_t *v = S->s->tri + 3 * t;
+        for (int k = 0; k < 3; k++) {
+            int64_t e = vc_features_find_edge(f, v[k], v[(k + 1) % 3]);
+            if (e < 0 || f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+                continue;
+            int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
+            const double *n1 = f->tri_normal + 3 * t1, *n2 = f->tri_normal + 3 * t2;
+            if (n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] < cos_fold)
+                return 1;
+        }
+    }
+    return 0;
 }
 
 static int grow_scratch(double **old_r, unsigned char **shrunk, int64_t n)
@@ -974,6 +1014,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                (long long)S.bs.b.n);
     const int64_t n_first = S.bs.b.n;
     int diverged = 0, rising = 0;
+    int64_t prev_half = INT64_MAX;
     int64_t last_half = -1;
     double where[3] = {0, 0, 0};
 
@@ -1051,6 +1092,18 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             diverged = 1;
             break;
         }
+        /* With fold_stop_angle: stop as soon as the half-covered pairs stop
+         * halving per pass once the balls have doubled, if they are stuck
+         * at a fold the caller can make a crease. */
+        if (opt->fold_stop_angle > 0 && opt->stuck_tri && iter >= 2 && n_half > 0 &&
+            2 * n_half > prev_half && S.bs.b.n > 2 * n_first) {
+            mark_stuck(&S, shrunk, old_r, opt->stuck_tri);
+            if (stuck_at_fold(&S, opt->stuck_tri, cos(opt->fold_stop_angle * 3.14159265358979323846 / 180.0))) {
+                diverged = 1;
+                break;
+            }
+        }
+        prev_half = n_half;
         if (iter == opt->max_sliver_iterations && !st->safe_mode) {
             st->safe_mode = 1;
             S.alpha = opt->alpha / 2;
@@ -1059,6 +1112,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         rc = resample_around(&S, old_r, shrunk);
     }
+    if (diverged && opt->stuck_tri)
+        mark_stuck(&S, shrunk, old_r, opt->stuck_tri);
     free(old_r);
     free(shrunk);
     free(facets.f);

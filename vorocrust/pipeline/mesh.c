@@ -178,8 +178,40 @@ static int resample_plan(const vc_surface *s, const vc_features *f_input, double
     return 0;
 }
 
-/* The sampling, with one more attempt when it diverges (resample_plan).
- * Fills out's sampling fields and balls. */
+/* Folds that defeat sliver elimination become creases (VC_RESAMPLE_FOLDS):
+ * after a divergence, every edge of a triangle where it is stuck whose
+ * fold exceeds FOLD_FLAT joins the creases (extra[e] = 1); after
+ * FOLD_LOCAL_ROUNDS such rounds, every fold above FOLD_FLAT of the whole
+ * surface. Returns the number of edges added. The surface is not moved:
+ * the patches keep their triangles, only cut along more creases, and the
+ * folds left inside them are at most FOLD_FLAT, the smoothness the
+ * thesis' sampling assumes (6.2.1: theta_flat, 10 to 15 degrees). */
+#define FOLD_FLAT 10.0
+#define FOLD_LOCAL_ROUNDS 4
+static int64_t promote_folds(const vc_surface *s, const vc_features *f,
+                             const unsigned char *stuck_tri, int everywhere, unsigned char *extra)
+{
+    const double cos_flat = cos(FOLD_FLAT * 3.14159265358979323846 / 180.0);
+    int64_t added = 0;
+    for (int64_t e = 0; e < f->n_edges; e++) {
+        if (extra[e] || f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+            continue;
+        const int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
+        if (!everywhere && !stuck_tri[t1] && !stuck_tri[t2])
+            continue;
+        const double *n1 = f->tri_normal + 3 * t1, *n2 = f->tri_normal + 3 * t2;
+        const double d = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
+        if (d < cos_flat) {
+            extra[e] = 1;
+            added++;
+        }
+    }
+    (void)s;
+    return added;
+}
+
+/* The sampling, with more attempts when it diverges (resample_plan,
+ * promote_folds). Fills out's sampling fields and balls. */
 static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *name,
                   vc_mesh_result *out, vc_error *err)
 {
@@ -200,10 +232,20 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     memset(&smoothed, 0, sizeof smoothed);
     int rc = 0;
     out->first_sharp_angle = so.sharp_angle;
+    const int folds = (opt->resample & VC_RESAMPLE_FOLDS) && smooth == 0;
+    unsigned char *stuck = NULL, *extra = NULL;
+    int fold_round = 0;
+    if (folds) {
+        stuck = calloc((size_t)s->n_triangles + 1, 1);
+        if (!stuck)
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+        so.stuck_tri = stuck;
+        so.fold_stop_angle = FOLD_FLAT;
+    }
     for (int attempt = 0;; attempt++) {
         const double t1 = now();
         const vc_surface *sampled = s;
-        if (vc_features_detect(s, so.sharp_angle, &f, err)) {
+        if (vc_features_detect_with(s, so.sharp_angle, extra, &f, err)) {
             rc = named(err, name, NULL);
             break;
         }
@@ -237,6 +279,32 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         int new_smooth = smooth;
         int64_t n_folds = 0, n_edges = 0;
         vc_error why = *err;
+        if (folds && out->sampling.diverged && fold_round <= FOLD_LOCAL_ROUNDS) {
+            if (!extra && !(extra = calloc((size_t)f.n_edges + 1, 1))) {
+                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+                break;
+            }
+            int everywhere = fold_round == FOLD_LOCAL_ROUNDS;
+            int64_t added = promote_folds(s, &f, stuck, everywhere, extra);
+            if (added == 0 && !everywhere) {
+                everywhere = 1;
+                fold_round = FOLD_LOCAL_ROUNDS;
+                added = promote_folds(s, &f, stuck, 1, extra);
+            }
+            fold_round++;
+            if (added > 0) {
+                vc_log(opt->log, VC_LOG_INFO, "mesh: %s", why.msg);
+                vc_log(opt->log, VC_LOG_INFO,
+                       "mesh: sampling again with %lld more folds of over %g degrees as creases "
+                       "(%s; round %d)", (long long)added, FOLD_FLAT,
+                       everywhere ? "all of them" : "where sliver elimination is stuck",
+                       fold_round);
+                vc_features_free(&f);
+                out->resampled = 1;
+                out->time.failed_sampling += now() - t1;
+                continue;
+            }
+        }
         /* f holds the input's features at theta_sharp unless the input was
          * smoothed first */
         int plan = attempt == 0 && out->sampling.diverged
@@ -269,10 +337,12 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         so.sharp_angle = new_angle;
         smooth = new_smooth;
         out->resampled = 1;
-        out->time.failed_sampling = now() - t1;
+        out->time.failed_sampling += now() - t1;
     }
     vc_features_free(&f);
     vc_surface_free(&smoothed);
+    free(stuck);
+    free(extra);
     return rc;
 }
 

@@ -246,7 +246,8 @@ static double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_theta)
+static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_theta,
+                             const unsigned char *extra)
 {
     int64_t n_sharp = 0, n_angle = 0, n_boundary = 0, n_nm = 0;
     for (int64_t e = 0; e < f->n_edges; e++) {
@@ -273,6 +274,8 @@ static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_the
                 }
             }
         }
+        if (!why && extra && extra[e])
+            why = VC_SHARP_FOLD;
         f->edge_sharp[e] = why;
         n_sharp += why != 0;
     }
@@ -711,6 +714,12 @@ static int build_creases(vc_features *f, const int64_t *adj_start, const int64_t
 int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features *out,
                        vc_error *err)
 {
+    return vc_features_detect_with(s, theta_sharp_deg, NULL, out, err);
+}
+
+int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
+                            const unsigned char *extra_sharp, vc_features *out, vc_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!(theta_sharp_deg > 0 && theta_sharp_deg < 180))
         return vc_error_set(err, VC_EPARAM, "sharp angle %g degrees: must be in (0, 180)",
@@ -748,7 +757,7 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
     }
     if (!rc) {
         compute_normals(s, f);
-        find_sharp_edges(s, f, cos_theta);
+        find_sharp_edges(s, f, cos_theta, extra_sharp);
         rc = sharp_adjacency(f, &adj_start, &adj, err);
     }
     if (!rc)
