@@ -6,6 +6,7 @@
 #include "vorocrust/seeds.h"
 #include "vorocrust/io.h"
 #include "io/csv_rows.h"
+#include "io/text_escape.h"
 #include "util/number_span.h"
 
 #include <errno.h>
@@ -14,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int vc_seeds_alloc(vc_seeds *s, int64_t n, vc_error *err)
 {
@@ -92,8 +94,10 @@ static int is_blank(char c)
     return c == ' ' || c == '\t';
 }
 
-/* Field text for messages: at most 40 characters. */
-#define FIELD_SHOW(b, e) (int)((e) - (b) > 40 ? 40 : (e) - (b)), (b)
+/* Field text for messages: at most 40 characters, control characters
+ * escaped as \xNN (uses a local char shown[FIELD_SHOW_CAP]). */
+#define FIELD_SHOW_CAP 176
+#define FIELD_SHOW(b, e) vc_escape_span((b), (size_t)((e) - (b) > 40 ? 40 : (e) - (b)), shown, sizeof shown)
 
 /* Bounds of the next field of a line: [*fs, *fe) trimmed; returns the
  * position after the field (its ',' or the line end). */
@@ -123,16 +127,26 @@ static int field_is_number(const char *fs, const char *fe, double *v)
     return vc_strtod_span(fs, fe, v, &erange) == (size_t)(fe - fs);
 }
 
-int vc_seeds_read_csv(const char *path, vc_seeds *out, vc_error *err)
+int vc_seeds_read_csv(const char *orig_path, vc_seeds *out, vc_error *err)
 {
+    const char *path = orig_path;
     out->n = 0;
     out->xyz = NULL;
     out->label = NULL;
     if (!path)
         return vc_error_set(err, VC_EPARAM, "vc_seeds_read_csv: NULL path");
-    FILE *fp = fopen(path, "rb");
+    char shown[FIELD_SHOW_CAP];
+    char name[VC_ERROR_LEN];
+    vc_escape_name(path, name, sizeof name);
+    path = name; /* only messages use it from here on */
+    FILE *fp = fopen(orig_path, "rb");
     if (!fp)
         return vc_error_set(err, VC_EIO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(fp), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(fp);
+        return vc_error_set(err, VC_EIO, "%s: is a directory", path);
+    }
     size_t len = 0;
     int rerr = 0;
     char *buf = seeds_slurp(fp, &len, &rerr);
@@ -208,13 +222,13 @@ int vc_seeds_read_csv(const char *path, vc_seeds *out, vc_error *err)
             if (k < 3) {
                 if (!field_is_number(fs, fe, &xyz[k])) {
                     rc = vc_error_set(err, VC_EFORMAT,
-                                      "%s:%" PRId64 ": field %d \"%.*s\" is not a number",
+                                      "%s:%" PRId64 ": field %d \"%s\" is not a number",
                                       path, line, k + 1, FIELD_SHOW(fs, fe));
                     break;
                 }
                 if (!isfinite(xyz[k])) {
                     rc = vc_error_set(err, VC_EINPUT,
-                                      "%s:%" PRId64 ": field %d \"%.*s\" is not finite",
+                                      "%s:%" PRId64 ": field %d \"%s\" is not finite",
                                       path, line, k + 1, FIELD_SHOW(fs, fe));
                     break;
                 }
@@ -224,7 +238,7 @@ int vc_seeds_read_csv(const char *path, vc_seeds *out, vc_error *err)
                 if (fs == fe || used != (size_t)(fe - fs) || erange || lab < INT32_MIN ||
                     lab > INT32_MAX) {
                     rc = vc_error_set(err, VC_EFORMAT,
-                                      "%s:%" PRId64 ": label \"%.*s\" is not a 32-bit "
+                                      "%s:%" PRId64 ": label \"%s\" is not a 32-bit "
                                       "integer", path, line, FIELD_SHOW(fs, fe));
                     break;
                 }

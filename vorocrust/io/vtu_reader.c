@@ -262,6 +262,8 @@ static int b64_group(byte_source *s)
 static int src_read(byte_source *s, void *out, size_t n)
 {
     unsigned char *o = out;
+    if (n == 0)
+        return 0; /* out may be NULL (an empty block) */
     if (!s->base64) {
         if ((size_t)(s->e - s->p) < n)
             return -1;
@@ -354,10 +356,15 @@ static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
         (nb > 0 && bs > ((uint64_t)1 << 40)))
         return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
                     " blocks of %" PRIu64 " bytes, last %" PRIu64 ")", f->path, name, nb, bs, last);
+    if (nb > 1 && nb - 1 > (UINT64_MAX - bs) / bs)
+        return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
+                    " blocks of %" PRIu64 " bytes)", f->path, name, nb, bs);
     uint64_t total = nb == 0 ? 0 : (nb - 1) * bs + (last ? last : bs);
     if (total / 1100 > (uint64_t)f->size + 1024) /* zlib cannot compress beyond ~1000:1 */
         return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
                     " bytes from a %zu-byte file)", f->path, name, total, f->size);
+    if (total > SIZE_MAX / 2)
+        return FAIL(VC_ENOMEM, "%s: array '%s': %" PRIu64 " bytes is too large", f->path, name, total);
     uint64_t *csize = malloc(sizeof *csize * (size_t)(nb ? nb : 1));
     unsigned char *b = malloc(total ? (size_t)total : 1);
     unsigned char *cbuf = NULL;
@@ -646,6 +653,12 @@ static int scan_xml(vtu_file *f, vc_error *err)
                 !tag_attr(&t, "NumberOfCells", val, sizeof val) || parse_count(val, &f->n_cells))
                 return FAIL(VC_EFORMAT, "%s: Piece without valid NumberOfPoints and NumberOfCells",
                             f->path);
+            /* Far beyond any file (a point is 3 values, a cell an offset and
+             * a type): refused here so that later count arithmetic (3 x
+             * points, cells + 1) cannot overflow. */
+            if (f->n_points > ((int64_t)1 << 52) || f->n_cells > ((int64_t)1 << 52))
+                return FAIL(VC_EFORMAT, "%s: Piece announces %" PRId64 " points and %" PRId64
+                            " cells, beyond what a file can hold", f->path, f->n_points, f->n_cells);
         } else if (tag_is(&t, "Points") && !t.self_closing) {
             in_points = in_piece;
         } else if (tag_is(&t, "Cells") && !t.self_closing) {
@@ -715,14 +728,21 @@ static int scan_xml(vtu_file *f, vc_error *err)
              * the end: raw data may hold any byte). A file cut short has
              * none, and then its data simply runs to the end. */
             f->app_e = e;
-            const char *tail = e - 15 > f->app_b ? e - 15 : f->app_b;
-            for (const char *r = tail; r >= f->app_b; r--)
-                if (*r == '<' && e - r >= 15 && !memcmp(r, "</AppendedData>", 15)) {
-                    f->app_e = r;
-                    break;
-                } else if (e - r > 4096) {
-                    break; /* only trailing whitespace and </VTKFile> may follow */
+            /* Offsets, not pointers before the buffer; r stays in
+             * [app_b, e - 15] (no candidate when fewer than 15 bytes
+             * follow the marker, e.g. a file cut just after it). */
+            size_t data = (size_t)(e - f->app_b);
+            if (data >= 15) {
+                for (size_t back = 15; back <= data; back++) {
+                    const char *r = e - back;
+                    if (*r == '<' && !memcmp(r, "</AppendedData>", 15)) {
+                        f->app_e = r;
+                        break;
+                    }
+                    if (back > 4096)
+                        break; /* only trailing whitespace and </VTKFile> may follow */
                 }
+            }
             if (f->appended_base64) /* the text ends at the closing tag or any '<' */
                 f->app_e = find_char(f->app_b, f->app_e, '<');
             break;
@@ -797,7 +817,7 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
         }
         if ((rc = read_array(f, ARR_POINTS, 1, &pts, err)))
             goto out;
-        if (pts.n != 3 * np) {
+        if (pts.n % 3 != 0 || pts.n / 3 != np) {
             rc = FAIL(VC_EFORMAT, "%s: Points hold %" PRId64 " values, expected 3 x %" PRId64,
                       f->path, pts.n, np);
             goto out;
@@ -923,6 +943,14 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
                               f->path, c, face);
                     goto out;
                 }
+                /* A face bounds at most two cells: more uses in all than
+                 * twice the face connectivity is a hostile file (its output
+                 * would grow as cells x faces). */
+                if (fv.n > 2 * fconn.n + 1024 - (foffs.i[face + 1] - foffs.i[face])) {
+                    rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": 'polyhedron_to_faces' uses the faces "
+                              "more than twice in all", f->path, c);
+                    goto out;
+                }
                 for (int64_t j = foffs.i[face]; j < foffs.i[face + 1]; j++) {
                     CHECK_ID(fconn.i[j], c);
                     PUSH(fv, fconn.i[j]);
@@ -939,7 +967,7 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
             int64_t k = faces_start, nfaces = faces.i[k++];
             for (int64_t j = 0; j < nfaces; j++) {
                 int64_t len = k < end ? faces.i[k++] : -1;
-                if (len < 3 || k + len > end) {
+                if (len < 3 || len > end - k) {
                     rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": face %" PRId64 " of its record in "
                               "'faces' is malformed", f->path, c, j);
                     goto out;
@@ -1014,7 +1042,9 @@ int vc_vtu_read(const char *path, vc_vtu_mesh *out, vc_error *err)
     int rc = VC_OK;
     struct stat st;
     if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
-        rc = FAIL(VC_EIO, "%s: cannot read: not a regular file", path);
+        rc = FAIL(VC_EIO, "%s: %s", path,
+                  fstat(fileno(fp), &st) == 0 && S_ISDIR(st.st_mode) ? "is a directory"
+                                                                     : "cannot read: not a regular file");
         goto out;
     }
     if (fseek(fp, 0, SEEK_END) != 0) {

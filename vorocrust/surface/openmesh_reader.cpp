@@ -3,7 +3,10 @@
  * Choice of reader (see surface.c): the project's own C readers
  * (read_obj.c, read_off.c, read_stl.c, read_ply.c) are the reader of record
  * for OBJ, OFF, STL and PLY, and this adapter serves the variants they
- * leave to OpenMesh (binary OFF, nOFF/4OFF, OpenMesh's .om). Measured with
+ * leave to OpenMesh: OpenMesh's .om, and any file when VC_READER_OPENMESH
+ * is asked for, after our own reader has accepted it (OpenMesh's readers
+ * trust header counts: gigabytes reserved for a 100-byte binary OFF).
+ * Binary OFF is read by read_off.c. Measured with
  * OpenMesh 9.0, its OBJ and OFF readers go through float (an input of
  * 0.1234567890123 comes back as 0.12345679104), skip a vertex line holding
  * "nan" without notice (shifting every later index), drop faces that
@@ -113,7 +116,7 @@ extern "C" int vc_openmesh_can_read(const char *ext)
     }
 }
 
-extern "C" int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err)
+extern "C" int vc_openmesh_read(const char *path, const char *name, vc_soup *s, vc_error *err)
 {
     silence_openmesh();
     try {
@@ -121,7 +124,7 @@ extern "C" int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err)
         RecordingImporter imp(mesh);
         OpenMesh::IO::Options opt;
         if (!OpenMesh::IO::IOManager().read(path, imp, opt))
-            return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh could not read the file", path);
+            return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh could not read the file", name);
         if (imp.face_offsets.size() == 1 && mesh.n_faces() > 0) {
             /* Formats that store the halfedge structure itself (.om) build
              * faces from halfedges, not vertex lists: take the mesh. */
@@ -144,7 +147,7 @@ extern "C" int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err)
         s->idx = (int64_t *)std::malloc((s->ni ? s->ni : 1) * sizeof(int64_t));
         if (!s->xyz || !s->off || !s->idx) {
             vc_soup_free(s);
-            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
         }
         if (nv)
             std::memcpy(s->xyz, imp.xyz.data(), nv * 3 * sizeof(double));
@@ -154,10 +157,10 @@ extern "C" int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err)
         s->cap_f = (int64_t)nf + 1;
         return 0;
     } catch (const std::bad_alloc &) {
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
     } catch (const std::exception &e) {
-        return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh failed: %s", path, e.what());
+        return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh failed: %s", name, e.what());
     } catch (...) {
-        return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh failed", path);
+        return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh failed", name);
     }
 }

@@ -1,9 +1,52 @@
 /* Wavefront OBJ reader: "v x y z [w]" and "f a b c ..." lines, where an
- * index may be written a, a/t, a//n or a/t/n and may be negative (counted
- * back from the last vertex read). Every other line type is ignored. */
+ * index may be written a, a/t, a//n or a/t/n (a, t and n integers) and may
+ * be negative (counted back from the last vertex read; one reaching before
+ * the first vertex is refused with its value). Every other line type is
+ * ignored. */
 #include "surface/surface_internal.h"
 
+#include "util/number_span.h"
+
 #include <stdlib.h>
+
+/* Parses an optional integer at *p (for the t and n of a/t/n); returns 0
+ * when the text there is neither empty nor an integer. */
+static int obj_sub_index(vc_scan *sc)
+{
+    if (sc->p >= sc->end || *sc->p == '/' || vc_scan_is_end(sc, sc->p))
+        return 1;
+    long long k;
+    int erange;
+    size_t used = vc_strtoll_span(sc->p, sc->end, &k, &erange);
+    if (used == 0 || erange)
+        return 0;
+    sc->p += used;
+    return 1;
+}
+
+/* Parses one face vertex "a", "a/t", "a//n" or "a/t/n" into *k (a); 0 when
+ * malformed (a not an integer, e.g. "2.7", or junk after it). */
+static int obj_face_index(vc_scan *sc, int64_t *k)
+{
+    vc_scan_blanks(sc);
+    if (sc->p >= sc->end || *sc->p == '\n')
+        return 0;
+    long long v;
+    int erange;
+    size_t used = vc_strtoll_span(sc->p, sc->end, &v, &erange);
+    if (used == 0 || erange)
+        return 0;
+    sc->p += used;
+    for (int slash = 0; slash < 2 && sc->p < sc->end && *sc->p == '/'; slash++) {
+        sc->p++;
+        if (!obj_sub_index(sc))
+            return 0;
+    }
+    if (!vc_scan_is_end(sc, sc->p))
+        return 0;
+    *k = (int64_t)v;
+    return 1;
+}
 
 int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err)
 {
@@ -11,6 +54,7 @@ int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
     int64_t *face = NULL, cap = 0;
     int rc = 0;
     s->expected_faces = -1;
+    s->index_base = 1;
     while (sc.p < sc.end) {
         vc_scan_blanks(&sc);
         const char *p = sc.p;
@@ -28,15 +72,31 @@ int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
             sc.p += 1;
             int64_t n = 0, k;
             while (!vc_scan_at_eol(&sc)) {
-                if (!vc_scan_int(&sc, &k) || k == 0) {
-                    rc = vc_error_set(err, VC_EFORMAT, "%s: line %lld: malformed face index",
+                if (!obj_face_index(&sc, &k)) {
+                    rc = vc_error_set(err, VC_EFORMAT,
+                                      "%s: line %lld: malformed face index (expected an integer "
+                                      "a, a/t, a//n or a/t/n)", name, (long long)sc.line);
+                    goto done;
+                }
+                if (k == 0) {
+                    rc = vc_error_set(err, VC_EFORMAT,
+                                      "%s: line %lld: face index 0 (OBJ indices start at 1)",
                                       name, (long long)sc.line);
                     goto done;
                 }
-                /* Skip "/t/n". */
-                while (sc.p < sc.end && !vc_scan_is_blank(*sc.p) && *sc.p != '\n')
-                    sc.p++;
+                if (k < 0 && k < -s->nv) {
+                    rc = vc_error_set(err, VC_EINPUT,
+                                      "%s: line %lld: relative face index %lld refers before the "
+                                      "first vertex (%lld vertices read so far)",
+                                      name, (long long)sc.line, (long long)k, (long long)s->nv);
+                    goto done;
+                }
                 if (n == cap) {
+                    if (cap > ((int64_t)1 << 40)) {
+                        rc = vc_error_set(err, VC_EFORMAT, "%s: line %lld: face with too many vertices",
+                                          name, (long long)sc.line);
+                        goto done;
+                    }
                     cap = cap ? 2 * cap : 16;
                     int64_t *q = realloc(face, (size_t)cap * sizeof *q);
                     if (!q) {

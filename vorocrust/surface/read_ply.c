@@ -3,6 +3,7 @@
  * skipped; the vertex element gives x, y, z and the face element its
  * "vertex_indices" (or "vertex_index") list. */
 #include "surface/surface_internal.h"
+#include "io/text_escape.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -85,6 +86,7 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
     vc_scan_word(&sc, w, sizeof w);
     if (strcmp(w, "ply"))
         FAIL(VC_EFORMAT, "%s: line 1: missing 'ply' header", name);
+    s->index_base = 0;
     for (;;) {
         vc_scan_next_line(&sc);
         if (sc.p >= sc.end)
@@ -97,13 +99,20 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
             vc_scan_word(&sc, w2, sizeof w2);
             format = !strcmp(w2, "ascii") ? 0 : !strcmp(w2, "binary_little_endian") ? 1
                    : !strcmp(w2, "binary_big_endian") ? 2 : -2;
-            if (format == -2)
-                FAIL(VC_EFORMAT, "%s: line %lld: unknown PLY format '%s'", name, (long long)sc.line, w2);
+            if (format == -2) {
+                char shown[96];
+                FAIL(VC_EFORMAT, "%s: line %lld: unknown PLY format '%s'", name, (long long)sc.line,
+                     vc_escape_str(w2, shown, sizeof shown));
+            }
         } else if (!strcmp(w, "element")) {
             int64_t n;
             if (ne == PLY_MAX_ELEMS)
                 FAIL(VC_EFORMAT, "%s: line %lld: more than %d elements", name, (long long)sc.line, PLY_MAX_ELEMS);
-            vc_scan_word(&sc, el[ne].name, sizeof el[ne].name);
+            {
+                char raw[32];
+                vc_scan_word(&sc, raw, sizeof raw);
+                vc_escape_str(raw, el[ne].name, sizeof el[ne].name);
+            }
             if (!vc_scan_int(&sc, &n) || n < 0)
                 FAIL(VC_EFORMAT, "%s: line %lld: malformed element count", name, (long long)sc.line);
             el[ne].count = n;
@@ -127,8 +136,11 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
                     FAIL(VC_EFORMAT, "%s: line %lld: unknown list property types", name, (long long)sc.line);
             } else {
                 pr->type = type_of(w2);
-                if (pr->type == T_NONE)
-                    FAIL(VC_EFORMAT, "%s: line %lld: unknown property type '%s'", name, (long long)sc.line, w2);
+                if (pr->type == T_NONE) {
+                    char shown[96];
+                    FAIL(VC_EFORMAT, "%s: line %lld: unknown property type '%s'", name, (long long)sc.line,
+                         vc_escape_str(w2, shown, sizeof shown));
+                }
             }
             vc_scan_word(&sc, w3, sizeof w3);
             if (e->kind == 1 && !pr->count_type && w3[0] >= 'x' && w3[0] <= 'z' && !w3[1])
@@ -154,6 +166,26 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
     }
 
     const unsigned char *p = (const unsigned char *)sc.p, *end = (const unsigned char *)sc.end;
+    /* Nothing is reserved from the counts (rows past the end of the file
+     * are reported where they run out), but an element without properties
+     * would take no bytes per row: 1e18 such rows would loop for ever.
+     * Every row takes at least a byte per value in binary (a list: its
+     * length), two in ascii ("0 "). */
+    {
+        uint64_t left = (uint64_t)(end - p) + (format == 0); /* the last value needs no blank */
+        for (int i = 0; i < ne; i++) {
+            uint64_t row = 0;
+            for (int k = 0; k < el[i].n_props; k++)
+                row += format == 0 ? 2 : type_size(el[i].props[k].count_type ? el[i].props[k].count_type
+                                                                            : el[i].props[k].type);
+            if (el[i].count > 0 && row == 0)
+                FAIL(VC_EFORMAT, "%s: PLY element '%s' has %lld rows but no properties", name, el[i].name,
+                     (long long)el[i].count);
+            if (row && (uint64_t)el[i].count > left / row)
+                break; /* the rows run past the end: reported where they do */
+            left -= (uint64_t)el[i].count * row;
+        }
+    }
     for (int i = 0; i < ne; i++) {
         ply_elem *e = &el[i];
         for (int64_t r = 0; r < e->count; r++) {
@@ -179,8 +211,10 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
                         c = decode(p, pr->count_type, format == 2);
                         p += type_size(pr->count_type);
                     }
-                    if (c < 0 || c > 1e6)
-                        FAIL(VC_EFORMAT, "%s: element '%s' %lld: list length %g", name, e->name, (long long)r, c);
+                    /* (NaN fails every comparison: tested this way round) */
+                    if (!(c >= 0 && c <= 1e6) || c != (double)(int64_t)c)
+                        FAIL(VC_EFORMAT, "%s: element '%s' %lld: list length %g is not an integer from 0 to 1e6",
+                             name, e->name, (long long)r, c);
                     nval = (int64_t)c;
                     if (pr->role == 4) {
                         if (nval < 3)
@@ -224,6 +258,15 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
             if (e->kind == 2 && vc_soup_add_face(s, face, nface))
                 FAIL(VC_ENOMEM, "%s: out of memory", name);
         }
+    }
+    if (format == 0) {
+        vc_scan_space(&sc, 0);
+        if (sc.p < sc.end)
+            FAIL(VC_EFORMAT, "%s: line %lld: data after the last element (more rows than the header "
+                 "announces?)", name, (long long)sc.line);
+    } else if (p != end) {
+        FAIL(VC_EFORMAT, "%s: %llu bytes after the last element (more rows than the header announces?)",
+             name, (unsigned long long)(end - p));
     }
 #undef FAIL
 done:

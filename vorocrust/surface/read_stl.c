@@ -1,8 +1,10 @@
 /* STL reader. Binary when the size is 84 + 50 * (the uint32 count at byte
- * 80); otherwise ASCII ("solid ... facet normal ... outer loop vertex x y z
+ * 80), whatever the header says (binary headers often start with
+ * "solid"); otherwise ASCII when the file is text (no control bytes) ("solid ... facet normal ... outer loop vertex x y z
  * ... endloop endfacet ... endsolid"). Every facet gets its own three
  * vertices: the caller merges equal positions. */
 #include "surface/surface_internal.h"
+#include "io/text_escape.h"
 
 #include <string.h>
 
@@ -78,8 +80,10 @@ static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s,
         } else if (!strcmp(w, "outer") || !strcmp(w, "loop") || !strcmp(w, "endloop")) {
             /* structure only */
         } else {
-            return vc_error_set(err, VC_EFORMAT, "%s: line %lld: unexpected word '%.*s' in ASCII STL",
-                                name, (long long)sc.line, (int)(wl < sizeof w ? wl : sizeof w - 1), w);
+            char shown[64];
+            return vc_error_set(err, VC_EFORMAT, "%s: line %lld: unexpected word '%s' in ASCII STL",
+                                name, (long long)sc.line, vc_escape_span(w, wl < sizeof w ? wl : sizeof w - 1,
+                                                                         shown, sizeof shown));
         }
     }
     if (n >= 0)
@@ -99,12 +103,22 @@ int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
     size_t i = 0;
     while (i < len && (vc_scan_is_blank(buf[i]) || buf[i] == '\n'))
         i++;
-    if (len - i >= 5 && !memcmp(buf + i, "solid", 5))
+    /* ASCII STL is text: a file that starts with "solid" but holds control
+     * bytes (binary writers often start their 80-byte header with "solid")
+     * is a binary STL whose size does not match its triangle count. */
+    int text = 1;
+    for (size_t k = 0; k < len && text; k++) {
+        unsigned char c = (unsigned char)buf[k];
+        if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v') || c == 0x7f)
+            text = 0;
+    }
+    if (text && len - i >= 5 && !memcmp(buf + i, "solid", 5))
         return read_ascii(name, buf, len, s, err);
     if (len >= 84)
         return vc_error_set(err, VC_EFORMAT,
-                            "%s: malformed STL: binary header announces %lu triangles (%llu bytes) but the file has %llu bytes",
+                            "%s: malformed binary STL: the header announces %lu triangles (%llu bytes) but the file has %llu bytes",
                             name, (unsigned long)le32(b + 80), 84 + 50 * (unsigned long long)le32(b + 80),
                             (unsigned long long)len);
-    return vc_error_set(err, VC_EFORMAT, "%s: malformed STL: neither 'solid' (ASCII) nor a binary header", name);
+    return vc_error_set(err, VC_EFORMAT, "%s: malformed STL: neither ASCII text starting with 'solid' nor a binary "
+                        "STL (84 bytes at least)", name);
 }

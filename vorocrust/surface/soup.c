@@ -11,8 +11,13 @@ static int grow(void **p, int64_t *cap, int64_t need, size_t elem)
     if (need <= *cap)
         return 0;
     int64_t c = *cap ? *cap : 1024;
-    while (c < need)
+    while (c < need) {
+        if (c > INT64_MAX / 2)
+            return -1;
         c *= 2;
+    }
+    if ((uint64_t)c > SIZE_MAX / elem)
+        return -1;
     void *q = realloc(*p, (size_t)c * elem);
     if (!q)
         return -1;
@@ -34,6 +39,8 @@ int vc_soup_add_vertex(vc_soup *s, double x, double y, double z)
 
 int vc_soup_add_face(vc_soup *s, const int64_t *v, int64_t n)
 {
+    if (n < 0 || n > INT64_MAX - s->ni)
+        return VC_ENOMEM;
     if (grow((void **)&s->off, &s->cap_f, s->nf + 2, sizeof(int64_t)) ||
         grow((void **)&s->idx, &s->cap_i, s->ni + n, sizeof(int64_t)))
         return VC_ENOMEM;
@@ -81,9 +88,7 @@ int vc_scan_double(vc_scan *sc, double *v)
     const char *e = sc->p + vc_strtod_span(sc->p, sc->end, &d, &erange);
     /* ERANGE on underflow still gives a usable value; overflow gives inf,
      * which the caller's finiteness check reports. */
-    if (e == sc->p || e > sc->end)
-        return 0;
-    if (e < sc->end && !vc_scan_is_blank(*e) && *e != '\n' && *e != '#')
+    if (e == sc->p || e > sc->end || !vc_scan_is_end(sc, e))
         return 0;
     sc->p = e;
     *v = d;
@@ -98,7 +103,7 @@ int vc_scan_int(vc_scan *sc, int64_t *v)
     long long k;
     int erange;
     const char *e = sc->p + vc_strtoll_span(sc->p, sc->end, &k, &erange);
-    if (e == sc->p || erange)
+    if (e == sc->p || erange || !vc_scan_is_end(sc, e))
         return 0;
     sc->p = e;
     *v = (int64_t)k;

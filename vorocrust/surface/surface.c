@@ -6,6 +6,7 @@
  * defer and any other format it knows. */
 #include "vorocrust/surface.h"
 #include "surface/surface_internal.h"
+#include "io/text_escape.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -14,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 void vc_surface_free(vc_surface *s)
 {
@@ -35,21 +37,31 @@ void vc_surface_report_warn(vc_surface_report *rep, const char *fmt, ...)
 }
 
 /* Reads the whole file, with a NUL byte after the last one. */
-static int slurp(const char *path, char **buf, size_t *len, vc_error *err)
+static int slurp(const char *path, const char *name, char **buf, size_t *len, vc_error *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
-        return vc_error_set(err, VC_EIO, "%s: cannot open (%s)", path, strerror(errno));
+        return vc_error_set(err, VC_EIO, "%s: cannot open (%s)", name, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return vc_error_set(err, VC_EIO, "%s: is a directory", name);
+    }
     char *b = NULL;
     size_t n = 0, cap = 0;
     for (;;) {
         if (cap - n < 65536) {
+            if (cap > SIZE_MAX / 4) {
+                free(b);
+                fclose(f);
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            }
             size_t c = cap ? 2 * cap : 1 << 20;
             char *q = realloc(b, c + 1);
             if (!q) {
                 free(b);
                 fclose(f);
-                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
             }
             b = q;
             cap = c;
@@ -59,11 +71,11 @@ static int slurp(const char *path, char **buf, size_t *len, vc_error *err)
         if (r == 0)
             break;
     }
-    int bad = ferror(f);
+    int bad = ferror(f) ? (errno ? errno : EIO) : 0;
     fclose(f);
     if (bad) {
         free(b);
-        return vc_error_set(err, VC_EIO, "%s: read error", path);
+        return vc_error_set(err, VC_EIO, "%s: read error (%s)", name, strerror(bad));
     }
     b[n] = '\0';
     *buf = b;
@@ -109,9 +121,13 @@ static int soup_to_surface(const char *name, const vc_soup *sp, vc_surface *out,
         npoly += n > 3;
         for (int64_t k = sp->off[f]; k < sp->off[f + 1]; k++)
             if (sp->idx[k] < 0 || sp->idx[k] >= sp->nv)
+                /* The index as the file writes it (0- or 1-based; a
+                                 * 1-based reader stored it minus 1: no overflow). */
                 return vc_error_set(err, VC_EINPUT,
-                                    "%s: face %lld refers to vertex %lld, but the file has %lld vertices",
-                                    name, (long long)(f + 1), (long long)sp->idx[k] + 1, (long long)sp->nv);
+                                    "%s: face %lld refers to vertex %lld, but the file has %lld vertices "
+                                    "(numbered from %d)",
+                                    name, (long long)(f + 1), (long long)sp->idx[k] + sp->index_base,
+                                    (long long)sp->nv, sp->index_base);
     }
     if (nt == 0)
         return vc_error_set(err, VC_EINPUT, "%s: no triangles (%lld vertices, 0 faces)", name, (long long)sp->nv);
@@ -164,7 +180,7 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
         rep = &local;
     memset(rep, 0, sizeof *rep);
     memset(out, 0, sizeof *out);
-    snprintf(rep->name, sizeof rep->name, "%s", path);
+    vc_escape_name(path, rep->name, sizeof rep->name);
     const char *name = rep->name;
 
     char ext[16];
@@ -178,7 +194,7 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
                             name, ext[0] ? "." : "", ext);
     char *buf = NULL;
     size_t len = 0;
-    int rc = slurp(path, &buf, &len, err);
+    int rc = slurp(path, name, &buf, &len, err);
     if (rc)
         return rc;
     size_t i = 0;
@@ -192,15 +208,19 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
     memset(&sp, 0, sizeof sp);
     sp.expected_faces = -1;
     rep->reader = "vorocrust";
-    if (which == VC_READER_OPENMESH)
-        reader = NULL;
     rc = reader ? reader(name, buf, len, &sp, err) : VC_SURFACE_DEFER_TO_OPENMESH;
     free(buf);
+    /* OpenMesh's readers trust the header counts (gigabytes reserved, or
+     * loops past the end, for a file of 100 bytes): a file in a format of
+     * our own readers goes to OpenMesh only once our reader has accepted
+     * it, counts checked against the file's size. */
+    if (rc == 0 && which == VC_READER_OPENMESH)
+        rc = VC_SURFACE_DEFER_TO_OPENMESH;
     if (rc == VC_SURFACE_DEFER_TO_OPENMESH) {
         int64_t expected = sp.expected_faces;
         vc_soup_free(&sp);
         rep->reader = "OpenMesh";
-        rc = vc_openmesh_read(path, &sp, err);
+        rc = vc_openmesh_read(path, name, &sp, err);
         sp.expected_faces = expected;
     }
     if (!rc && sp.expected_faces > sp.nf) {

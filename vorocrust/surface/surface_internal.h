@@ -23,6 +23,9 @@ typedef struct vc_soup {
     /* Faces the file announces (header counts), or -1 when unknown; lets
      * the caller see faces a reader skipped. */
     int64_t expected_faces;
+    /* How the file numbers its vertices (0 for OFF and PLY, 1 for OBJ):
+     * messages quote an index as the file writes it. */
+    int index_base;
 } vc_soup;
 
 int vc_soup_add_vertex(vc_soup *s, double x, double y, double z);
@@ -42,8 +45,9 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
 #define VC_SURFACE_DEFER_TO_OPENMESH (-100)
 
 /* Reads any format OpenMesh knows through OpenMesh's IO manager
- * (openmesh_reader.cpp). Coordinates come through OpenMesh's float path. */
-int vc_openmesh_read(const char *path, vc_soup *s, vc_error *err);
+ * (openmesh_reader.cpp). Coordinates come through OpenMesh's float path.
+ * name (the path, escaped) is used in messages. */
+int vc_openmesh_read(const char *path, const char *name, vc_soup *s, vc_error *err);
 /* Whether OpenMesh has a reader for this extension (without the dot). */
 int vc_openmesh_can_read(const char *ext);
 
@@ -82,12 +86,19 @@ static inline int vc_scan_at_eol(vc_scan *sc)
 
 /* Skips whitespace, newlines and '#' comments (when comments is set). */
 void vc_scan_space(vc_scan *sc, int comments);
-/* Parses a number on the current line (after blanks). Return 1 on success. */
+/* Parses a number on the current line (after blanks); the number must end
+ * at a blank, a line end, a '#' or the end of the buffer ("2.7" is not an
+ * integer, "3abc" not a number). Return 1 on success. */
 int vc_scan_double(vc_scan *sc, double *v);
 int vc_scan_int(vc_scan *sc, int64_t *v);
 /* Copies the next blank-delimited word of the current line (truncated to
  * cap - 1 characters); returns its length, 0 at end of line. */
 size_t vc_scan_word(vc_scan *sc, char *w, size_t cap);
+/* Whether a number may end at p (blank, line end, '#' or end). */
+static inline int vc_scan_is_end(const vc_scan *sc, const char *p)
+{
+    return p >= sc->end || vc_scan_is_blank(*p) || *p == '\n' || *p == '#';
+}
 
 #ifdef __cplusplus
 }
