@@ -58,20 +58,23 @@ typedef struct build_elem {
     int64_t id;
 } build_elem;
 
-static int g_axis; /* only used inside the qsort of one build (single thread) */
-static int cmp_axis(const void *a, const void *b)
+/* The elements ordered along one axis (then by kind and id): one
+ * comparator per axis, since qsort passes no context and a static axis
+ * would race between two sizings built on two threads. */
+static int cmp_along(const build_elem *a, const build_elem *b, int axis)
 {
-    double x = ((const build_elem *)a)->c[g_axis], y = ((const build_elem *)b)->c[g_axis];
+    double x = a->c[axis], y = b->c[axis];
     if (x < y)
         return -1;
     if (x > y)
         return 1;
-    int64_t i = ((const build_elem *)a)->id, j = ((const build_elem *)b)->id;
-    int ki = ((const build_elem *)a)->kind, kj = ((const build_elem *)b)->kind;
-    if (ki != kj)
-        return ki < kj ? -1 : 1;
-    return (i > j) - (i < j);
+    if (a->kind != b->kind)
+        return a->kind < b->kind ? -1 : 1;
+    return (a->id > b->id) - (a->id < b->id);
 }
+static int cmp_x(const void *a, const void *b) { return cmp_along(a, b, 0); }
+static int cmp_y(const void *a, const void *b) { return cmp_along(a, b, 1); }
+static int cmp_z(const void *a, const void *b) { return cmp_along(a, b, 2); }
 
 static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t count)
 {
@@ -99,8 +102,8 @@ static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t co
     for (int d = 1; d < 3; d++)
         if (chi[d] - clo[d] > chi[axis] - clo[axis])
             axis = d;
-    g_axis = axis;
-    qsort(e + start, (size_t)count, sizeof(build_elem), cmp_axis);
+    qsort(e + start, (size_t)count, sizeof(build_elem),
+          axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
     int64_t half = count / 2;
     nd->start = start;
     nd->count = 0;
