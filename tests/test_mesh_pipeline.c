@@ -17,6 +17,8 @@
  * - 1 and 2 threads give the same mesh, array by array;
  * - the logger receives progress (VC_LOG_INFO) and nothing above its
  *   max_level; a NULL logger is silent;
+ * - two calls at once on two threads give what one call alone gives (the
+ *   library keeps no shared state);
  * - the ball count is predicted before sampling: absurd work (max_size
  *   1e-9, or a limit below the prediction) is refused at once with
  *   VC_EPARAM, and a sampling that reaches max_balls stops with VC_EPARAM. */
@@ -238,6 +240,35 @@ int main(void)
         }
         CHECKF(vc_mesh_default_max_balls() > 10000, "default ball limit %lld",
                (long long)vc_mesh_default_max_balls());
+    }
+
+    /* two calls at once, on two threads, against one alone */
+    {
+        vc_mesh_options c = d;
+        c.surface_only = 1;
+        c.threads = 1;
+        vc_mesh_result alone, both[2];
+        vc_error e2[2];
+        int rc_alone = vc_mesh(&ico, &c, &alone, &err), rc2[2] = {-1, -1};
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+        for (int k = 0; k < 2; k++)
+            rc2[k] = vc_mesh(&ico, &c, &both[k], &e2[k]);
+        for (int k = 0; k < 2; k++) {
+            CHECKF(rc_alone == 0 && rc2[k] == 0, "concurrent call %d: %s", k, e2[k].msg);
+            if (rc_alone || rc2[k])
+                continue;
+            CHECKF(alone.balls.n == both[k].balls.n &&
+                       !memcmp(alone.balls.center, both[k].balls.center,
+                               sizeof(double) * 3 * (size_t)alone.balls.n) &&
+                       !memcmp(alone.balls.radius, both[k].balls.radius,
+                               sizeof(double) * (size_t)alone.balls.n) &&
+                       alone.seeds.n == both[k].seeds.n &&
+                       !memcmp(alone.seeds.xyz, both[k].seeds.xyz,
+                               sizeof(double) * 3 * (size_t)alone.seeds.n),
+                   "concurrent call %d differs from a call alone", k);
+            vc_mesh_result_free(&both[k]);
+        }
+        vc_mesh_result_free(&alone);
     }
 
     /* lattice and no interior: no MPI needed either */
