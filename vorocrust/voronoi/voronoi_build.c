@@ -573,6 +573,34 @@ nomem:
     return vc_error_set(err, VC_ENOMEM, "out of memory repairing a degenerate mesh");
 }
 
+/* The seeds' (or the box's) span: cell volumes go as its cube, the
+ * duplicate distance as its square; outside these bounds either leaves the
+ * normal doubles. */
+#define VC_SPAN_MAX 1e60
+#define VC_SPAN_MIN 1e-60
+
+/* The diagonal of the box lo..hi without overflow or underflow: the
+ * extents scaled by a power of two (exact), so that it is bit for bit
+ * sqrt(dx^2 + dy^2 + dz^2) whenever that does not overflow; +inf when an
+ * extent does. */
+static double span_diagonal(const double lo[3], const double hi[3])
+{
+    double m = 0;
+    for (int d = 0; d < 3; d++)
+        if (hi[d] - lo[d] > m)
+            m = hi[d] - lo[d];
+    if (!(m > 0) || !isfinite(m))
+        return m > 0 ? INFINITY : 0;
+    int e;
+    (void)frexp(m, &e);
+    double sum = 0;
+    for (int d = 0; d < 3; d++) {
+        double u = ldexp(hi[d] - lo[d], -e);
+        sum += u * u;
+    }
+    return ldexp(sqrt(sum), e);
+}
+
 int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                      vc_polymesh *out, vc_error *err)
 {
@@ -609,8 +637,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
 
     cell_job job;
     memset(&job, 0, sizeof job);
-    double diag = sqrt((shi[0] - slo[0]) * (shi[0] - slo[0]) + (shi[1] - slo[1]) * (shi[1] - slo[1]) +
-                       (shi[2] - slo[2]) * (shi[2] - slo[2]));
+    double diag = span_diagonal(slo, shi);
     if (opt.has_box) {
         for (int d = 0; d < 3; d++) {
             if (!(opt.box[d] < opt.box[d + 3]) || !isfinite(opt.box[d]) || !isfinite(opt.box[d + 3]))
@@ -627,12 +654,19 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                                         seeds->xyz[3 * i], seeds->xyz[3 * i + 1],
                                         seeds->xyz[3 * i + 2]);
             }
-        double bd = 0;
-        for (int d = 0; d < 3; d++)
-            bd += (job.box_hi[d] - job.box_lo[d]) * (job.box_hi[d] - job.box_lo[d]);
-        if (sqrt(bd) > diag)
-            diag = sqrt(bd);
-    } else {
+        double bd = span_diagonal(job.box_lo, job.box_hi);
+        if (bd > diag)
+            diag = bd;
+    }
+    /* Squared distances and cell volumes must stay normal doubles: spans
+     * beyond VC_SPAN_MAX overflow them (seeds at 0 and 1e300 would all
+     * look coincident), spans below VC_SPAN_MIN underflow them. */
+    if (!(diag <= VC_SPAN_MAX) || (diag > 0 && diag < VC_SPAN_MIN))
+        return vc_error_set(err, VC_EINPUT,
+                            "the seeds%s span %g: beyond what double precision can mesh "
+                            "(squared distances and cell volumes need a span from %g to %g)",
+                            opt.has_box ? " and the box" : "", diag, VC_SPAN_MIN, VC_SPAN_MAX);
+    if (!opt.has_box) {
         double margin = diag > 0 ? diag : 1.0;
         for (int d = 0; d < 3; d++) {
             job.box_lo[d] = slo[d] - margin;
