@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "vorocrust/surface.h"
 
@@ -449,6 +450,54 @@ static void test_bad_inputs(void)
                "all 1 triangles are degenerate");
     read_fails(write_text("allcollapsed.obj", "v 0 0 0\nv 1 0 0\nf 1 1 2\n"), VC_EINPUT,
                "every triangle repeats a vertex");
+
+    /* Strict parsing, the real value in the message (issue 17). */
+    {
+        static const char tet_v[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+        static const char tet_off[] = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+        char t[512];
+        snprintf(t, sizeof t, "%sf 2.7 3 4\n", tet_v);
+        read_fails(write_text("frac.obj", t), VC_EFORMAT, "line 5: malformed face index");
+        snprintf(t, sizeof t, "%sf 1 2 3x\n", tet_v);
+        read_fails(write_text("junk.obj", t), VC_EFORMAT, "line 5: malformed face index");
+        snprintf(t, sizeof t, "%sf -5 1 2\n", tet_v);
+        read_fails(write_text("rel.obj", t), VC_EINPUT, "relative face index -5 refers before the first vertex");
+        snprintf(t, sizeof t, "%sf 1/1/1 2//2 9223372036854775807\n", tet_v);
+        read_fails(write_text("huge.obj", t), VC_EINPUT, "refers to vertex 9223372036854775807");
+        snprintf(t, sizeof t, "OFF\n4 4 0\n%s3 0 1 9223372036854775807\n", tet_off);
+        read_fails(write_text("int64max.off", t), VC_EFORMAT, "data after the 4 faces");
+        snprintf(t, sizeof t, "OFF\n4 3 0\n%s", tet_off);
+        read_fails(write_text("surplus.off", t), VC_EFORMAT, "line 10: data after the 3 faces");
+        read_fails(write_text("idx.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 9223372036854775807\n"),
+                   VC_EINPUT, "refers to vertex 9223372036854775807, but the file has 4 vertices (numbered from 0)");
+        read_fails(write_text("4d.off", "4OFF\n0 0 0\n"), VC_EFORMAT, "4OFF (vertex dimension other than 3)");
+        read_fails(write_text("word.off", "OFFx\n0 0 0\n"), VC_EFORMAT, "missing OFF header (found 'OFFx')");
+        snprintf(t, sizeof t,
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 3\nproperty list uchar int vertex_indices\nend_header\n%s", tet_off);
+        read_fails(write_text("surplus.ply", t), VC_EFORMAT, "data after the last element");
+        snprintf(t, sizeof t,
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nend_header\n%snan 0 1 2\n", "0 0 0\n1 0 0\n0 1 0\n0 0 1\n");
+        read_fails(write_text("nan.ply", t), VC_EFORMAT, "list length nan is not an integer");
+        read_fails(write_text("ctrl.ply", "ply\nformat \x1b[1m 1.0\n"), VC_EFORMAT, "unknown PLY format '\\x1b[1m'");
+        /* Binary STL whose header starts with "solid" and whose count is wrong. */
+        unsigned char stl[184];
+        memset(stl, 0, sizeof stl);
+        memcpy(stl, "solid x", 7);
+        stl[80] = 5;
+        read_fails(write_file("solid.stl", stl, sizeof stl), VC_EFORMAT,
+                   "binary STL: the header announces 5 triangles (334 bytes) but the file has 184 bytes");
+        /* Binary OFF with counts beyond the file. */
+        unsigned char boff[11 + 12 + 8] = "OFF BINARY\n";
+        boff[11] = 0xff;
+        boff[12] = 0xff;
+        boff[13] = 0xff;
+        read_fails(write_file("huge_binary.off", boff, sizeof boff), VC_EFORMAT,
+                   "binary OFF: the header announces 16777215 vertices");
+        mkdir(tmp_path("dir.obj"), 0755);
+        read_fails(tmp_path("dir.obj"), VC_EIO, "dir.obj: is a directory");
+    }
 
     /* Degenerate triangle (kept, counted) and a triangle repeating a
      * vertex (removed, counted), next to the closed box. */
