@@ -200,9 +200,12 @@ static int run_mesh(int argc, char **argv)
     memset(&foam_skew, 0, sizeof foam_skew);
     vc_mesh_options opt;
     vc_mesh_options_default(&opt);
+    vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust mesh", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
@@ -397,6 +400,7 @@ static int run_mesh(int argc, char **argv)
         return 1;
 
     vc_error err = {0, ""};
+    vc_cli_outputs_begin(); /* a signal removes the temporary files and the outputs */
     const double t0 = vc_cli_now();
     vc_surface s;
     if (vc_surface_read(in_path, &s, NULL, &err)) {
@@ -413,37 +417,31 @@ static int run_mesh(int argc, char **argv)
         return 1;
     }
 
-    /* All outputs or none. */
-    const char *written[6];
-    int n_written = 0;
+    /* All outputs or none: a failed write (vc_cli_outputs_remove) or a
+     * signal removes the ones already committed. */
     const double tw = vc_cli_now();
     double t_write_mesh = 0;
     rc = 1;
     if (surf_path) {
         if (vc_polysurface_write(&r.surface, surf_path, &err))
             goto write_failed;
-        written[n_written++] = surf_path;
     }
     if (balls_path) {
         if (vc_balls_write_csv(&r.balls, balls_path, &err))
             goto write_failed;
-        written[n_written++] = balls_path;
     }
     if (seeds_path) {
         if (vc_seeds_write_csv(seeds_path, &r.seeds, &err))
             goto write_failed;
-        written[n_written++] = seeds_path;
     }
     const double t_write_surface = vc_cli_now() - tw;
     if (out_path) {
         const double tm = vc_cli_now();
         if (vc_write_vtu(&r.mesh, out_path, VC_VTU_ZLIB, &err))
             goto write_failed;
-        written[n_written++] = out_path;
         if (conn_path) {
             if (vc_write_connections_csv(&r.mesh, conn_path, &err))
                 goto write_failed;
-            written[n_written++] = conn_path;
         }
         if (foam_path && foam_max_skew > 0 &&
             vc_polymesh_collapse_skew_faces(&r.mesh, foam_max_skew, FOAM_COLLAPSE_ROUNDS,
@@ -455,6 +453,7 @@ static int run_mesh(int argc, char **argv)
             goto write_failed;
         t_write_mesh = vc_cli_now() - tm;
     }
+    vc_cli_outputs_keep();
     if (!quiet)
         print_summary(in_path, n_input_triangles, &opt, &r, foam_path && foam_max_skew > 0,
                       foam_max_skew, &foam_skew, t_read, t_write_surface, t_write_mesh,
@@ -463,8 +462,7 @@ static int run_mesh(int argc, char **argv)
     goto out;
 write_failed:
     fprintf(stderr, "vorocrust: %s\n", err.msg);
-    for (int i = 0; i < n_written; i++)
-        remove(written[i]);
+    vc_cli_outputs_remove();
 out:
     vc_mesh_result_free(&r);
     return rc;
