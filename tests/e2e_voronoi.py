@@ -730,7 +730,7 @@ if PART == "synthetic":
     f = bad_file("outside.csv", "x,y,z\n0.5,0.5,0.5\n3,0.5,0.5\n")
     expect_error("outside", [f, "--box", "0", "0", "0", "1", "1", "1", "-o", "OUT"],
                  ["seed 1", "outside the box"], f)
-    expect_error("seeds_dir", [TMP, "-o", "OUT"], ["Is a directory"], TMP)
+    expect_error("seeds_dir", [TMP, "-o", "OUT"], ["is a directory"], TMP)
     expect_error("inverted_box", [p_one, "--box", "1", "0", "0", "0", "1", "1", "-o", "OUT"],
                  ["--box", "axis x"], None)
     expect_error("box_nan", [p_one, "--box", "0", "0", "0", "1", "nan", "1", "-o", "OUT"],

@@ -24,6 +24,10 @@
                              back beyond 120 degrees stay creases */
 #define LOCAL_FOLDS 50    /* "few folds": at most one edge in 50 */
 
+/* The model sizes vc_mesh accepts (see vc_voronoi_build's seed extent). */
+#define VC_MESH_MIN_SIZE 1e-60
+#define VC_MESH_MAX_SIZE 1e60
+
 const char *vc_version(void) { return VC_VERSION_STRING; }
 
 int vc_version_number(void) { return VC_VERSION_NUMBER; }
@@ -454,6 +458,21 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * self-intersection, a volume (before sampling, which would not end). */
     if ((rc = vc_surface_check_solid(s, &out->input, NULL, err)) != 0)
         goto fail;
+    /* A size the sampling and the engine handle in double precision: their
+     * squared distances and volumes (a size cubed) must stay normal
+     * numbers, as vc_voronoi_build requires of the seeds' extent. */
+    {
+        const double *b = out->input.bbox;
+        const double dx = b[3] - b[0], dy = b[4] - b[1], dz = b[5] - b[2];
+        const double size = fmax(dx, fmax(dy, dz));
+        if (!(size >= VC_MESH_MIN_SIZE && size <= VC_MESH_MAX_SIZE)) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the model's size (%g) is outside what the mesher handles in "
+                              "double precision (%g to %g): scale it (the mesh scales with it)",
+                              name, size, VC_MESH_MIN_SIZE, VC_MESH_MAX_SIZE);
+            goto fail;
+        }
+    }
 
     if ((rc = sample(s, &opt, name, out, err)) != 0)
         goto fail;
