@@ -27,7 +27,7 @@ sampling) on the shared models, checked independently of the C code:
 Usage: e2e_mesh.py PART (one ctest test per part, tests/CMakeLists.txt):
 surface (the five models' surfaces), volume (sphere, cube, onebox volume
 meshes), icosphere (models/icosphere.obj's volume mesh and --foam),
-fandisk_a, fandisk_b (the seeds 2 to 8), determinism (and smoothing),
+fandisk_a, fandisk_b, fandisk_c (the seeds 2 to 8; fandisk_c, seeds 5 to 8, in the extended suite), determinism (and smoothing),
 bad_input (on models/icosphere.obj). icosphere and bad_input need only the
 repository; the others skip (exit 77) when the shared models are missing.
 Environment: VC_BIN, VC_MODELS, VC_TMP."""
@@ -50,7 +50,8 @@ from e2eutil import models_dir  # noqa: E402
 # One part per ctest test (tests/CMakeLists.txt); "icosphere" and
 # "bad_input" need only the repository, the others the shared models (they
 # skip, exit 77, when the directory is missing).
-PARTS = ("surface", "volume", "icosphere", "fandisk_a", "fandisk_b", "determinism", "bad_input")
+PARTS = ("surface", "volume", "icosphere", "fandisk_a", "fandisk_b", "fandisk_c", "determinism",
+         "bad_input")
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_mesh.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
@@ -269,7 +270,7 @@ if PART == "icosphere":
         check(note is not None and int(note.group(1)) == grid.GetNumberOfCells(),
               "mesh --foam: owner note %r, .vtu cells %d" % (note and note.group(0), grid.GetNumberOfCells()))
 
-if PART in ("fandisk_a", "fandisk_b"):
+if PART in ("fandisk_a", "fandisk_b", "fandisk_c"):
     # The warning for a reconstructed surface that is not a closed oriented
     # 2-manifold of the input's Euler characteristic: fandisk.off at 45 degrees
     # with --seed 4 gave one (3 boundary edges, Euler characteristic 1) when
@@ -301,7 +302,8 @@ if PART in ("fandisk_a", "fandisk_b"):
     # characteristic 2, Q min in the thesis' range for sharp models (at least
     # 0.09) and the Hausdorff distance within 0.5%. Until 2026-11-25 only seed 1
     # succeeded. The sanitized build (several times slower) checks two seeds.
-    # Two parts: fandisk_a the warning above and seeds 2 to 4, fandisk_b 5 to 8.
+    # Three parts: fandisk_a the warning above and seed 2, fandisk_b seeds 3
+    # and 4, fandisk_c (the extended suite) seeds 5 to 8.
     SANITIZED = os.environ.get("VC_SANITIZED", "0") == "1"
     fd_path = os.path.join(MODELS, "fandisk.off")
     fd_pts, fd_polys = read_surface(fd_path)
@@ -309,7 +311,7 @@ if PART in ("fandisk_a", "fandisk_b"):
                         [max(p[k] for p in fd_pts) for k in range(3)])
     fd_inp = polydata(fd_pts, fd_polys)
     fd_samples = samples(fd_pts, fd_polys)
-    seeds = (2, 3, 4) if PART == "fandisk_a" else (5, 6, 7, 8)
+    seeds = {"fandisk_a": (2,), "fandisk_b": (3, 4), "fandisk_c": (5, 6, 7, 8)}[PART]
     for seed in seeds[:1] if SANITIZED else seeds:
         rc, err, surf, _, _ = mesh("fandisk.off", "fandisk_seed%d" % seed, "--seed", str(seed))
         what = "fandisk --seed %d" % seed
