@@ -47,18 +47,6 @@ static int off_keyword(const char *w, int *extra, int *dim_not_3)
     return !strcmp(w, "OFF");
 }
 
-static uint32_t le32(const unsigned char *b)
-{
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
-static double lefloat(const unsigned char *b)
-{
-    uint32_t u = le32(b);
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return (double)f;
-}
 
 /* Binary OFF from b (just after the header line) to end. */
 static int read_binary(const char *name, const unsigned char *b, const unsigned char *end, int extra,
@@ -67,7 +55,7 @@ static int read_binary(const char *name, const unsigned char *b, const unsigned 
     size_t left = (size_t)(end - b);
     if (left < 12)
         return vc_error_set(err, VC_EFORMAT, "%s: binary OFF: file ends inside the counts", name);
-    uint64_t nv = le32(b), nf = le32(b + 4);
+    uint64_t nv = vc_le32(b), nf = vc_le32(b + 4);
     b += 12;
     left -= 12;
     /* A vertex takes 4 * (3 + extra) bytes, a face at least 16 (n and three
@@ -82,7 +70,7 @@ static int read_binary(const char *name, const unsigned char *b, const unsigned 
                             (unsigned long long)(nv * vbytes + nf * 16), (unsigned long long)left);
     s->expected_faces = (int64_t)nf;
     for (uint64_t i = 0; i < nv; i++) {
-        if (vc_soup_add_vertex(s, lefloat(b), lefloat(b + 4), lefloat(b + 8)))
+        if (vc_soup_add_vertex(s, vc_le_float(b), vc_le_float(b + 4), vc_le_float(b + 8)))
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
         b += vbytes;
     }
@@ -95,7 +83,7 @@ static int read_binary(const char *name, const unsigned char *b, const unsigned 
                               name, (unsigned long long)f, (unsigned long long)nf);
             break;
         }
-        uint64_t n = le32(b);
+        uint64_t n = vc_le32(b);
         b += 4;
         left -= 4;
         if (n < 3 || n * 4 > left) {
@@ -115,7 +103,7 @@ static int read_binary(const char *name, const unsigned char *b, const unsigned 
             cap = (int64_t)n;
         }
         for (uint64_t j = 0; j < n; j++)
-            face[j] = le32(b + 4 * j);
+            face[j] = vc_le32(b + 4 * j);
         b += 4 * n;
         if (vc_soup_add_face(s, face, (int64_t)n))
             rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);

@@ -8,18 +8,6 @@
 
 #include <string.h>
 
-static uint32_t le32(const unsigned char *b)
-{
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
-static double lefloat(const unsigned char *b)
-{
-    uint32_t u = le32(b);
-    float f;
-    memcpy(&f, &u, sizeof f);
-    return (double)f;
-}
 
 static int read_binary(const char *name, const unsigned char *b, uint32_t n, vc_soup *s, vc_error *err)
 {
@@ -29,7 +17,7 @@ static int read_binary(const char *name, const unsigned char *b, uint32_t n, vc_
         int64_t v[3];
         for (int k = 0; k < 3; k++) {
             v[k] = s->nv;
-            if (vc_soup_add_vertex(s, lefloat(r + 12 * k), lefloat(r + 12 * k + 4), lefloat(r + 12 * k + 8)))
+            if (vc_soup_add_vertex(s, vc_le_float(r + 12 * k), vc_le_float(r + 12 * k + 4), vc_le_float(r + 12 * k + 8)))
                 return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
         }
         if (vc_soup_add_face(s, v, 3))
@@ -96,7 +84,7 @@ int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
 {
     const unsigned char *b = (const unsigned char *)buf;
     if (len >= 84) {
-        uint32_t n = le32(b + 80);
+        uint32_t n = vc_le32(b + 80);
         if ((uint64_t)len == 84 + 50 * (uint64_t)n)
             return read_binary(name, b, n, s, err);
     }
@@ -117,7 +105,7 @@ int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
     if (len >= 84)
         return vc_error_set(err, VC_EFORMAT,
                             "%s: malformed binary STL: the header announces %lu triangles (%llu bytes) but the file has %llu bytes",
-                            name, (unsigned long)le32(b + 80), 84 + 50 * (unsigned long long)le32(b + 80),
+                            name, (unsigned long)vc_le32(b + 80), 84 + 50 * (unsigned long long)vc_le32(b + 80),
                             (unsigned long long)len);
     return vc_error_set(err, VC_EFORMAT, "%s: malformed STL: neither ASCII text starting with 'solid' nor a binary "
                         "STL (84 bytes at least)", name);

@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 #include "vorocrust/error.h"
 
 #ifdef __cplusplus
@@ -98,6 +99,19 @@ size_t vc_scan_word(vc_scan *sc, char *w, size_t cap);
 static inline int vc_scan_is_end(const vc_scan *sc, const char *p)
 {
     return p >= sc->end || vc_scan_is_blank(*p) || *p == '\n' || *p == '#';
+}
+
+/* Little-endian fields of the binary formats (STL, binary OFF). */
+static inline uint32_t vc_le32(const unsigned char *b)
+{
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+static inline double vc_le_float(const unsigned char *b)
+{
+    uint32_t u = vc_le32(b);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return (double)f;
 }
 
 #ifdef __cplusplus
