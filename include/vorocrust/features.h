@@ -160,6 +160,11 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
 int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
                             const unsigned char *extra_sharp, vc_features *out, vc_error *err);
 
+/* The cosine of the fold at edge e: of the angle between the normals of
+ * its two triangles; 1 for an edge that is sharp or does not have exactly
+ * two triangles (no fold inside a patch). */
+double vc_features_fold_cos(const vc_features *f, int64_t e);
+
 /* Frees the arrays of f and zeroes it. Safe on a zeroed vc_features. */
 void vc_features_free(vc_features *f);
 

@@ -886,11 +886,7 @@ static int stuck_at_fold(const sampler *S, const unsigned char *stuck, double co
         const int64_t *v = S->s->tri + 3 * t;
         for (int k = 0; k < 3; k++) {
             int64_t e = vc_features_find_edge(f, v[k], v[(k + 1) % 3]);
-            if (e < 0 || f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
-                continue;
-            int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
-            const double *n1 = f->tri_normal + 3 * t1, *n2 = f->tri_normal + 3 * t2;
-            if (n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] < cos_fold)
+            if (e >= 0 && vc_features_fold_cos(f, e) < cos_fold)
                 return 1;
         }
     }

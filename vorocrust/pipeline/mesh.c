@@ -192,25 +192,20 @@ static int resample_plan(const vc_surface *s, const vc_features *f_input, double
  * thesis' sampling assumes (6.2.1: theta_flat, 10 to 15 degrees). */
 #define FOLD_FLAT 10.0
 #define FOLD_LOCAL_ROUNDS 4
-static int64_t promote_folds(const vc_surface *s, const vc_features *f,
-                             const unsigned char *stuck_tri, int everywhere, unsigned char *extra)
+static int64_t promote_folds(const vc_features *f, const unsigned char *stuck_tri,
+                             int everywhere, unsigned char *extra)
 {
     const double cos_flat = cos(FOLD_FLAT * 3.14159265358979323846 / 180.0);
     int64_t added = 0;
     for (int64_t e = 0; e < f->n_edges; e++) {
-        if (extra[e] || f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+        if (extra[e] || !(vc_features_fold_cos(f, e) < cos_flat))
             continue;
         const int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
-        if (!everywhere && !stuck_tri[t1] && !stuck_tri[t2])
-            continue;
-        const double *n1 = f->tri_normal + 3 * t1, *n2 = f->tri_normal + 3 * t2;
-        const double d = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
-        if (d < cos_flat) {
+        if (everywhere || stuck_tri[t1] || stuck_tri[t2]) {
             extra[e] = 1;
             added++;
         }
     }
-    (void)s;
     return added;
 }
 
@@ -289,11 +284,11 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                 break;
             }
             int everywhere = fold_round == FOLD_LOCAL_ROUNDS;
-            int64_t added = promote_folds(s, &f, stuck, everywhere, extra);
+            int64_t added = promote_folds(&f, stuck, everywhere, extra);
             if (added == 0 && !everywhere) {
                 everywhere = 1;
                 fold_round = FOLD_LOCAL_ROUNDS;
-                added = promote_folds(s, &f, stuck, 1, extra);
+                added = promote_folds(&f, stuck, 1, extra);
             }
             fold_round++;
             if (added > 0) {

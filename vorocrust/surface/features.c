@@ -164,6 +164,15 @@ static int build_edges(const vc_surface *s, vc_features *f, vc_error *err)
     return 0;
 }
 
+double vc_features_fold_cos(const vc_features *f, int64_t e)
+{
+    if (f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+        return 1;
+    const double *n1 = f->tri_normal + 3 * f->edge_tri[f->edge_tri_start[e]];
+    const double *n2 = f->tri_normal + 3 * f->edge_tri[f->edge_tri_start[e] + 1];
+    return n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
+}
+
 int64_t vc_features_find_edge(const vc_features *f, int64_t a, int64_t b)
 {
     if (a > b) {
