@@ -93,6 +93,25 @@ if PART == "cli":
           "vorocrust: %s: 3 open boundary edges (surface is not closed)" % tet_open,
           "--require-closed: exit %d, stderr %r" % (rc, err))
 
+    # A repeated option is refused with one line, exit 2, as in the other
+    # commands (a second --sharp-angle must not silently win).
+    tet = os.path.join(TMP, "e2e_info_tet.obj")
+    with open(tet, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    for args, opt in (([tet, "--require-closed", "--require-closed"], "--require-closed"),
+                      ([tet, "--features", "--features"], "--features"),
+                      ([tet, "--sharp-angle", "30", "--sharp-angle", "40"], "--sharp-angle"),
+                      (["--require-closed", tet, "--features", "--require-closed"], "--require-closed")):
+        rc, out, err = run(*args)
+        lines = err.strip().splitlines()
+        check(rc == 2 and len(lines) == 1 and lines[0] ==
+              "vorocrust: %s given twice (see 'vorocrust info --help')" % opt and out == "",
+              "info %s: exit %d, stdout %r, stderr %r (expected exit 2, one line '%s given twice')"
+              % (" ".join(args[1:]), rc, out[:200], err, opt))
+    rc, out, err = run(tet, "--features", "--sharp-angle", "30", "--require-closed")
+    check(rc == 0 and field(out, "sharp angle") == "30 degrees",
+          "--features --sharp-angle 30 --require-closed: exit %d, stderr %r" % (rc, err))
+
 if failures:
     print("e2e_info: %d failures" % len(failures), file=sys.stderr)
     sys.exit(1)

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/features.h"
 #include "vorocrust/surface.h"
@@ -36,8 +37,12 @@ int vc_cmd_info(int argc, char **argv)
     const char *path = NULL;
     int require_closed = 0, features = 0;
     double sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE;
+    vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        /* as every command: a second --sharp-angle must not silently win */
+        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust info", a))
+            return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return 0;
