@@ -125,6 +125,21 @@ path = write("ctrl.csv", "x,y,z\n0,0,0\n1,\x1b[2J,0\n")
 out_vtu = os.path.join(TMP, "ctrl.vtu")
 expect_one_line([BIN, "voronoi", path, "-o", out_vtu], path, "field 2 \"\\x1b[2J\" is not a number",
                 "ctrl.csv")
+# .vtu: bytes of the file quoted in a message are escaped as \xNN like in the
+# other readers (control characters, DEL and bytes >= 0x80), not shown as '?';
+# a control character in the file name too (its UTF-8 kept).
+VTU_HEAD = '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="%s">\n'
+for name, order, needle in (
+        ("ctrl.vtu", "Big\x1b[2J\x7fEndian", "byte_order 'Big\\x1b[2J\\x7fEndian' is not supported"),
+        ("high.vtu", "Big\xe9Endian", "byte_order 'Big\\xc3\\xa9Endian' is not supported")):
+    path = write(name, (VTU_HEAD % order).encode())
+    expect_one_line([BIN, "quality", path], path, needle, name)
+path = write("ctrl\x01name\u00e9.vtu", (VTU_HEAD % "BigEndian").encode())
+shown = path.replace("\x01", "\\x01")
+rc, out, err = e2eutil.run([BIN, "quality", path], timeout=60)
+check(rc == 1 and err.strip().splitlines() == ["vorocrust: %s: byte_order 'BigEndian' is not supported "
+                                               "(LittleEndian only)" % shown],
+      "vtu name with a control byte: exit %d, %r (expected the name shown as %r)" % (rc, err, shown))
 d3 = os.path.join(TMP, "adir.csv")
 os.makedirs(d3, exist_ok=True)
 expect_one_line([BIN, "voronoi", d3, "-o", out_vtu], d3, "is a directory", "directory .csv")

@@ -29,6 +29,7 @@
 #include <sys/stat.h>
 #include <zlib.h>
 
+#include "io/text_escape.h"
 #include "util/number_span.h"
 
 /* ---- small text helpers on [p, e) spans (no str* on the big buffer) ----- */
@@ -299,29 +300,37 @@ static int src_word(byte_source *s, int header64, uint64_t *w)
     return 0;
 }
 
-/* vc_error_set, keeping the message one printable line (it may quote
- * bytes of a damaged file). */
-static int vtu_fail(vc_error *err, int code, const char *fmt, ...)
+/* vc_error_set for a message about the file who: "WHO: MESSAGE". The
+ * message may quote bytes of a damaged file: they are escaped as \xNN as in
+ * the other readers (io/text_escape.h), and so are control characters of the
+ * file name (whose UTF-8 is kept), so that it stays one printable line. */
+static int vtu_fail(vc_error *err, int code, const char *who, const char *fmt, ...)
 #if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
+    __attribute__((format(printf, 4, 5)))
 #endif
     ;
-static int vtu_fail(vc_error *err, int code, const char *fmt, ...)
+static int vtu_fail(vc_error *err, int code, const char *who, const char *fmt, ...)
 {
     if (!err)
         return code;
+    char raw[sizeof err->msg], text[sizeof err->msg], name[sizeof err->msg];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    vsnprintf(raw, sizeof raw, fmt, ap);
     va_end(ap);
+    vc_escape_span(raw, strlen(raw), text, sizeof text);
+    const char *pieces[3] = {who ? vc_escape_name(who, name, sizeof name) : "", who ? ": " : "",
+                             text};
+    size_t o = 0;
+    for (int k = 0; k < 3; k++)
+        for (const char *q = pieces[k]; *q && o + 1 < sizeof err->msg; q++)
+            err->msg[o++] = *q;
+    err->msg[o] = '\0';
     err->code = code;
-    for (char *c = err->msg; *c; c++)
-        if ((unsigned char)*c < 32 || *c == 127)
-            *c = '?';
     return code;
 }
 
-#define FAIL(code, ...) vtu_fail(err, code, __VA_ARGS__)
+#define FAIL(code, who, ...) vtu_fail(err, code, who, __VA_ARGS__)
 
 /* Decodes the binary array behind src into a new buffer. */
 static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
@@ -332,17 +341,17 @@ static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
     if (!f->zlib) {
         uint64_t n;
         if (src_word(src, f->header64, &n))
-            return FAIL(VC_EFORMAT, "%s: array '%s': truncated data (no size header)", f->path, name);
+            return FAIL(VC_EFORMAT, f->path, "array '%s': truncated data (no size header)", name);
         if (n > (uint64_t)f->size * 2 + 64)
-            return FAIL(VC_EFORMAT, "%s: array '%s': size header %" PRIu64 " exceeds the file",
-                        f->path, name, n);
+            return FAIL(VC_EFORMAT, f->path, "array '%s': size header %" PRIu64 " exceeds the file",
+                        name, n);
         unsigned char *b = malloc(n ? (size_t)n : 1);
         if (!b)
-            return FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+            return FAIL(VC_ENOMEM, f->path, "out of memory");
         if (src_read(src, b, (size_t)n)) {
             free(b);
-            return FAIL(VC_EFORMAT, "%s: array '%s': truncated data (%" PRIu64 " bytes announced)",
-                        f->path, name, n);
+            return FAIL(VC_EFORMAT, f->path, "array '%s': truncated data (%" PRIu64 " bytes "
+                        "announced)", name, n);
         }
         *out = b;
         *nbytes = (size_t)n;
@@ -351,32 +360,32 @@ static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
     uint64_t nb, bs, last;
     if (src_word(src, f->header64, &nb) || src_word(src, f->header64, &bs) ||
         src_word(src, f->header64, &last))
-        return FAIL(VC_EFORMAT, "%s: array '%s': truncated compression header", f->path, name);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': truncated compression header", name);
     if (nb > (uint64_t)f->size || (nb > 0 && (bs == 0 || last > bs)) ||
         (nb > 0 && bs > ((uint64_t)1 << 40)))
-        return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
-                    " blocks of %" PRIu64 " bytes, last %" PRIu64 ")", f->path, name, nb, bs, last);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': bad compression header (%" PRIu64
+                    " blocks of %" PRIu64 " bytes, last %" PRIu64 ")", name, nb, bs, last);
     if (nb > 1 && nb - 1 > (UINT64_MAX - bs) / bs)
-        return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
-                    " blocks of %" PRIu64 " bytes)", f->path, name, nb, bs);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': bad compression header (%" PRIu64
+                    " blocks of %" PRIu64 " bytes)", name, nb, bs);
     uint64_t total = nb == 0 ? 0 : (nb - 1) * bs + (last ? last : bs);
     if (total / 1100 > (uint64_t)f->size + 1024) /* zlib cannot compress beyond ~1000:1 */
-        return FAIL(VC_EFORMAT, "%s: array '%s': bad compression header (%" PRIu64
-                    " bytes from a %zu-byte file)", f->path, name, total, f->size);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': bad compression header (%" PRIu64
+                    " bytes from a %zu-byte file)", name, total, f->size);
     if (total > SIZE_MAX / 2)
-        return FAIL(VC_ENOMEM, "%s: array '%s': %" PRIu64 " bytes is too large", f->path, name, total);
+        return FAIL(VC_ENOMEM, f->path, "array '%s': %" PRIu64 " bytes is too large", name, total);
     uint64_t *csize = malloc(sizeof *csize * (size_t)(nb ? nb : 1));
     unsigned char *b = malloc(total ? (size_t)total : 1);
     unsigned char *cbuf = NULL;
     size_t ccap = 0;
     int rc = VC_OK;
     if (!csize || !b) {
-        rc = FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+        rc = FAIL(VC_ENOMEM, f->path, "out of memory");
         goto done;
     }
     for (uint64_t i = 0; i < nb; i++)
         if (src_word(src, f->header64, &csize[i]) || csize[i] > (uint64_t)f->size) {
-            rc = FAIL(VC_EFORMAT, "%s: array '%s': truncated compression header", f->path, name);
+            rc = FAIL(VC_EFORMAT, f->path, "array '%s': truncated compression header", name);
             goto done;
         }
     for (uint64_t i = 0; i < nb; i++) {
@@ -385,19 +394,19 @@ static int decode_binary(const vtu_file *f, const char *name, byte_source *src,
             ccap = (size_t)csize[i];
             cbuf = malloc(ccap);
             if (!cbuf) {
-                rc = FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+                rc = FAIL(VC_ENOMEM, f->path, "out of memory");
                 goto done;
             }
         }
         if (src_read(src, cbuf, (size_t)csize[i])) {
-            rc = FAIL(VC_EFORMAT, "%s: array '%s': truncated compressed data", f->path, name);
+            rc = FAIL(VC_EFORMAT, f->path, "array '%s': truncated compressed data", name);
             goto done;
         }
         uint64_t want = (i + 1 < nb || last == 0) ? bs : last;
         uLongf got = (uLongf)want;
         int zr = uncompress(b + i * bs, &got, cbuf, (uLong)csize[i]);
         if (zr != Z_OK || got != want) {
-            rc = FAIL(VC_EFORMAT, "%s: array '%s': corrupt zlib block %" PRIu64 " (%s)", f->path,
+            rc = FAIL(VC_EFORMAT, f->path, "array '%s': corrupt zlib block %" PRIu64 " (%s)",
                       name, i, zr == Z_OK ? "wrong size" : zError(zr));
             goto done;
         }
@@ -434,7 +443,7 @@ static int parse_ascii(const vtu_file *f, const char *name, const array_info *a,
     int64_t n = 0;
     void *buf = malloc(cap * 8);
     if (!buf)
-        return FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+        return FAIL(VC_ENOMEM, f->path, "out of memory");
     const char *p = a->text_b, *e = a->text_e;
     for (;;) {
         while (p < e && is_space(*p))
@@ -445,7 +454,7 @@ static int parse_ascii(const vtu_file *f, const char *name, const array_info *a,
             void *nb = realloc(buf, cap * 2 * 8);
             if (!nb) {
                 free(buf);
-                return FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+                return FAIL(VC_ENOMEM, f->path, "out of memory");
             }
             buf = nb;
             cap *= 2;
@@ -466,7 +475,7 @@ static int parse_ascii(const vtu_file *f, const char *name, const array_info *a,
             while (t < e && !is_space(*t) && t - p < 20)
                 t++;
             free(buf);
-            return FAIL(VC_EFORMAT, "%s: array '%s': '%.*s' is not a%s number", f->path, name,
+            return FAIL(VC_EFORMAT, f->path, "array '%s': '%.*s' is not a%s number", name,
                         (int)(t - p), p, as_float ? "" : "n integer");
         }
         p += used;
@@ -489,9 +498,9 @@ static int read_array(const vtu_file *f, int k, int as_float, values *v, vc_erro
     int is_float, is_signed;
     int size = type_size(a->type, &is_float, &is_signed);
     if (!size)
-        return FAIL(VC_EFORMAT, "%s: array '%s': unsupported type '%s'", f->path, name, a->type);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': unsupported type '%s'", name, a->type);
     if (is_float && !as_float)
-        return FAIL(VC_EFORMAT, "%s: array '%s': type %s where integers are expected", f->path,
+        return FAIL(VC_EFORMAT, f->path, "array '%s': type %s where integers are expected",
                     name, a->type);
     if (a->format == FMT_ASCII)
         return parse_ascii(f, name, a, as_float, v, err);
@@ -504,11 +513,11 @@ static int read_array(const vtu_file *f, int k, int as_float, values *v, vc_erro
         src.e = (const unsigned char *)a->text_e;
     } else {
         if (!f->app_b)
-            return FAIL(VC_EFORMAT, "%s: array '%s' is appended but the file has no AppendedData",
-                        f->path, name);
+            return FAIL(VC_EFORMAT, f->path, "array '%s' is appended but the file has no "
+                        "AppendedData", name);
         if (a->offset > (uint64_t)(f->app_e - f->app_b))
-            return FAIL(VC_EFORMAT, "%s: array '%s': offset %" PRIu64 " is past the end of the "
-                        "appended data (truncated file?)", f->path, name, a->offset);
+            return FAIL(VC_EFORMAT, f->path, "array '%s': offset %" PRIu64 " is past the end of "
+                        "the appended data (truncated file?)", name, a->offset);
         src.base64 = f->appended_base64;
         src.p = (const unsigned char *)f->app_b + a->offset;
         src.e = (const unsigned char *)f->app_e;
@@ -520,14 +529,14 @@ static int read_array(const vtu_file *f, int k, int as_float, values *v, vc_erro
         return rc;
     if (nbytes % (size_t)size) {
         free(bytes);
-        return FAIL(VC_EFORMAT, "%s: array '%s': %zu bytes is not a whole number of %s values",
-                    f->path, name, nbytes, a->type);
+        return FAIL(VC_EFORMAT, f->path, "array '%s': %zu bytes is not a whole number of %s values",
+                    name, nbytes, a->type);
     }
     int64_t n = (int64_t)(nbytes / (size_t)size);
     void *out = malloc((size_t)(n ? n : 1) * 8);
     if (!out) {
         free(bytes);
-        return FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+        return FAIL(VC_ENOMEM, f->path, "out of memory");
     }
     for (int64_t i = 0; i < n; i++) {
         const unsigned char *b = bytes + (size_t)i * (size_t)size;
@@ -554,7 +563,7 @@ static int read_array(const vtu_file *f, int k, int as_float, values *v, vc_erro
             if (!is_signed && y > (uint64_t)INT64_MAX) {
                 free(out);
                 free(bytes);
-                return FAIL(VC_EFORMAT, "%s: array '%s': value %" PRIu64 " out of range", f->path,
+                return FAIL(VC_EFORMAT, f->path, "array '%s': value %" PRIu64 " out of range",
                             name, y);
             }
             x = (int64_t)y;
@@ -604,13 +613,13 @@ static int scan_xml(vtu_file *f, vc_error *err)
             const char *q = (e - p >= 4 && !memcmp(p, "<!--", 4)) ? find_str(p, e, "-->")
                                                                   : find_char(p, e, '>');
             if (q >= e)
-                return FAIL(VC_EFORMAT, "%s: unterminated XML declaration or comment", f->path);
+                return FAIL(VC_EFORMAT, f->path, "unterminated XML declaration or comment");
             p = q + 1;
             continue;
         }
         xml_tag t;
         if (xml_parse_tag(p, e, &t) != 0)
-            return FAIL(VC_EFORMAT, "%s: malformed XML tag at byte %td", f->path, p - f->buf);
+            return FAIL(VC_EFORMAT, f->path, "malformed XML tag at byte %td", p - f->buf);
         p = t.end;
         if (t.closing) {
             if (tag_is(&t, "Points"))
@@ -624,41 +633,41 @@ static int scan_xml(vtu_file *f, vc_error *err)
         if (tag_is(&t, "VTKFile")) {
             seen_vtkfile = 1;
             if (!tag_attr(&t, "type", val, sizeof val) || strcmp(val, "UnstructuredGrid"))
-                return FAIL(VC_EFORMAT, "%s: not an UnstructuredGrid file (VTKFile type '%s')",
-                            f->path, tag_attr(&t, "type", val, sizeof val) ? val : "");
+                return FAIL(VC_EFORMAT, f->path, "not an UnstructuredGrid file (VTKFile type '%s')",
+                            tag_attr(&t, "type", val, sizeof val) ? val : "");
             if (tag_attr(&t, "byte_order", val, sizeof val) && strcmp(val, "LittleEndian"))
-                return FAIL(VC_EFORMAT, "%s: byte_order '%s' is not supported (LittleEndian only)",
-                            f->path, val);
+                return FAIL(VC_EFORMAT, f->path, "byte_order '%s' is not supported (LittleEndian "
+                            "only)", val);
             if (tag_attr(&t, "header_type", val, sizeof val)) {
                 if (!strcmp(val, "UInt64"))
                     f->header64 = 1;
                 else if (strcmp(val, "UInt32"))
-                    return FAIL(VC_EFORMAT, "%s: header_type '%s' is not UInt32 or UInt64",
-                                f->path, val);
+                    return FAIL(VC_EFORMAT, f->path, "header_type '%s' is not UInt32 or UInt64",
+                                val);
             }
             if (tag_attr(&t, "compressor", val, sizeof val) && val[0]) {
                 if (!strcmp(val, "vtkZLibDataCompressor"))
                     f->zlib = 1;
                 else
-                    return FAIL(VC_EFORMAT, "%s: compressor '%s' is not supported "
-                                "(only vtkZLibDataCompressor)", f->path, val);
+                    return FAIL(VC_EFORMAT, f->path, "compressor '%s' is not supported "
+                                "(only vtkZLibDataCompressor)", val);
             }
         } else if (!seen_vtkfile) {
-            return FAIL(VC_EFORMAT, "%s: not a VTK XML file (no VTKFile element first)", f->path);
+            return FAIL(VC_EFORMAT, f->path, "not a VTK XML file (no VTKFile element first)");
         } else if (tag_is(&t, "Piece")) {
             if (++n_pieces > 1)
-                return FAIL(VC_EFORMAT, "%s: more than one Piece (not supported)", f->path);
+                return FAIL(VC_EFORMAT, f->path, "more than one Piece (not supported)");
             in_piece = 1;
             if (!tag_attr(&t, "NumberOfPoints", val, sizeof val) || parse_count(val, &f->n_points) ||
                 !tag_attr(&t, "NumberOfCells", val, sizeof val) || parse_count(val, &f->n_cells))
-                return FAIL(VC_EFORMAT, "%s: Piece without valid NumberOfPoints and NumberOfCells",
-                            f->path);
+                return FAIL(VC_EFORMAT, f->path, "Piece without valid NumberOfPoints and "
+                            "NumberOfCells");
             /* Far beyond any file (a point is 3 values, a cell an offset and
              * a type): refused here so that later count arithmetic (3 x
              * points, cells + 1) cannot overflow. */
             if (f->n_points > ((int64_t)1 << 52) || f->n_cells > ((int64_t)1 << 52))
-                return FAIL(VC_EFORMAT, "%s: Piece announces %" PRId64 " points and %" PRId64
-                            " cells, beyond what a file can hold", f->path, f->n_points, f->n_cells);
+                return FAIL(VC_EFORMAT, f->path, "Piece announces %" PRId64 " points and %" PRId64
+                            " cells, beyond what a file can hold", f->n_points, f->n_cells);
         } else if (tag_is(&t, "Points") && !t.self_closing) {
             in_points = in_piece;
         } else if (tag_is(&t, "Cells") && !t.self_closing) {
@@ -677,17 +686,17 @@ static int scan_xml(vtu_file *f, vc_error *err)
             array_info *a = &f->arr[k];
             a->present = 1;
             if (!tag_attr(&t, "type", a->type, sizeof a->type))
-                return FAIL(VC_EFORMAT, "%s: array '%s' has no type", f->path, array_names[k]);
+                return FAIL(VC_EFORMAT, f->path, "array '%s' has no type", array_names[k]);
             a->ncomp = 1;
             if (tag_attr(&t, "NumberOfComponents", val, sizeof val)) {
                 int64_t nc;
                 if (parse_count(val, &nc) || nc < 1 || nc > 64)
-                    return FAIL(VC_EFORMAT, "%s: array '%s': bad NumberOfComponents '%s'", f->path,
+                    return FAIL(VC_EFORMAT, f->path, "array '%s': bad NumberOfComponents '%s'",
                                 array_names[k], val);
                 a->ncomp = (int)nc;
             }
             if (!tag_attr(&t, "format", val, sizeof val))
-                return FAIL(VC_EFORMAT, "%s: array '%s' has no format", f->path, array_names[k]);
+                return FAIL(VC_EFORMAT, f->path, "array '%s' has no format", array_names[k]);
             if (!strcmp(val, "ascii"))
                 a->format = FMT_ASCII;
             else if (!strcmp(val, "binary"))
@@ -695,13 +704,13 @@ static int scan_xml(vtu_file *f, vc_error *err)
             else if (!strcmp(val, "appended"))
                 a->format = FMT_APPENDED;
             else
-                return FAIL(VC_EFORMAT, "%s: array '%s': unknown format '%s'", f->path,
+                return FAIL(VC_EFORMAT, f->path, "array '%s': unknown format '%s'",
                             array_names[k], val);
             if (a->format == FMT_APPENDED) {
                 int64_t off;
                 if (!tag_attr(&t, "offset", val, sizeof val) || parse_count(val, &off))
-                    return FAIL(VC_EFORMAT, "%s: array '%s': appended without a valid offset",
-                                f->path, array_names[k]);
+                    return FAIL(VC_EFORMAT, f->path, "array '%s': appended without a valid offset",
+                                array_names[k]);
                 a->offset = (uint64_t)off;
             } else {
                 /* the content runs to the next tag (VTK may nest an
@@ -715,14 +724,14 @@ static int scan_xml(vtu_file *f, vc_error *err)
                 if (!strcmp(val, "raw"))
                     f->appended_base64 = 0;
                 else if (strcmp(val, "base64"))
-                    return FAIL(VC_EFORMAT, "%s: AppendedData encoding '%s' is not raw or base64",
-                                f->path, val);
+                    return FAIL(VC_EFORMAT, f->path, "AppendedData encoding '%s' is not raw or "
+                                "base64", val);
             }
             const char *q = p;
             while (q < e && is_space(*q))
                 q++;
             if (q >= e || *q != '_')
-                return FAIL(VC_EFORMAT, "%s: AppendedData without the '_' marker", f->path);
+                return FAIL(VC_EFORMAT, f->path, "AppendedData without the '_' marker");
             f->app_b = q + 1;
             /* The data ends where "</AppendedData>" starts (searched from
              * the end: raw data may hold any byte). A file cut short has
@@ -749,9 +758,9 @@ static int scan_xml(vtu_file *f, vc_error *err)
         }
     }
     if (!seen_vtkfile)
-        return FAIL(VC_EFORMAT, "%s: not a VTK XML file (no VTKFile element)", f->path);
+        return FAIL(VC_EFORMAT, f->path, "not a VTK XML file (no VTKFile element)");
     if (n_pieces == 0)
-        return FAIL(VC_EFORMAT, "%s: no Piece in the UnstructuredGrid", f->path);
+        return FAIL(VC_EFORMAT, f->path, "no Piece in the UnstructuredGrid");
     return VC_OK;
 }
 
@@ -790,7 +799,7 @@ void vc_vtu_mesh_free(vc_vtu_mesh *m)
 static int need(const vtu_file *f, int k, vc_error *err)
 {
     if (!f->arr[k].present)
-        return FAIL(VC_EFORMAT, "%s: missing the '%s' array", f->path, array_names[k]);
+        return FAIL(VC_EFORMAT, f->path, "missing the '%s' array", array_names[k]);
     return VC_OK;
 }
 
@@ -811,21 +820,21 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
         goto out;
     if (np > 0) {
         if (f->arr[ARR_POINTS].ncomp != 3) {
-            rc = FAIL(VC_EFORMAT, "%s: Points have %d components, not 3", f->path,
+            rc = FAIL(VC_EFORMAT, f->path, "Points have %d components, not 3",
                       f->arr[ARR_POINTS].ncomp);
             goto out;
         }
         if ((rc = read_array(f, ARR_POINTS, 1, &pts, err)))
             goto out;
         if (pts.n % 3 != 0 || pts.n / 3 != np) {
-            rc = FAIL(VC_EFORMAT, "%s: Points hold %" PRId64 " values, expected 3 x %" PRId64,
-                      f->path, pts.n, np);
+            rc = FAIL(VC_EFORMAT, f->path, "Points hold %" PRId64 " values, expected 3 x %" PRId64,
+                      pts.n, np);
             goto out;
         }
         for (int64_t i = 0; i < pts.n; i++)
             if (!isfinite(pts.d[i])) {
-                rc = FAIL(VC_EFORMAT, "%s: point %" PRId64 " has a non-finite coordinate",
-                          f->path, i / 3);
+                rc = FAIL(VC_EFORMAT, f->path, "point %" PRId64 " has a non-finite coordinate",
+                          i / 3);
                 goto out;
             }
     }
@@ -835,8 +844,8 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
             (rc = read_array(f, ARR_TYPES, 0, &types, err)))
             goto out;
         if (offs.n != nc || types.n != nc) {
-            rc = FAIL(VC_EFORMAT, "%s: %" PRId64 " cells but %" PRId64 " offsets and %" PRId64
-                      " types", f->path, nc, offs.n, types.n);
+            rc = FAIL(VC_EFORMAT, f->path, "%" PRId64 " cells but %" PRId64 " offsets and %" PRId64
+                      " types", nc, offs.n, types.n);
             goto out;
         }
     }
@@ -846,7 +855,7 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
     for (int64_t c = 0; c < nc; c++)
         n_poly += types.i[c] == VC_VTK_POLYHEDRON;
     if (n_poly > 0 && !has_old && !has_new) {
-        rc = FAIL(VC_EFORMAT, "%s: polyhedral cells but no 'faces' / 'faceoffsets' arrays", f->path);
+        rc = FAIL(VC_EFORMAT, f->path, "polyhedral cells but no 'faces' / 'faceoffsets' arrays");
         goto out;
     }
     if (n_poly > 0 && has_new) {
@@ -858,14 +867,14 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
             (rc = read_array(f, ARR_POLY_OFFSETS, 0, &poffs, err)))
             goto out;
         if (poffs.n != nc + 1 || foffs.n < 1) {
-            rc = FAIL(VC_EFORMAT, "%s: 'polyhedron_offsets' has %" PRId64 " entries, expected %"
-                      PRId64, f->path, poffs.n, nc + 1);
+            rc = FAIL(VC_EFORMAT, f->path, "'polyhedron_offsets' has %" PRId64 " entries, "
+                      "expected %" PRId64, poffs.n, nc + 1);
             goto out;
         }
         for (int64_t i = 0; i + 1 < foffs.n; i++)
             if (foffs.i[0] != 0 || foffs.i[i] > foffs.i[i + 1] || foffs.i[foffs.n - 1] != fconn.n) {
-                rc = FAIL(VC_EFORMAT, "%s: 'face_offsets' are not increasing from 0 to the size "
-                          "of 'face_connectivity'", f->path);
+                rc = FAIL(VC_EFORMAT, f->path, "'face_offsets' are not increasing from 0 to the "
+                          "size of 'face_connectivity'");
                 goto out;
             }
     } else if (n_poly > 0) {
@@ -874,8 +883,8 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
             (rc = read_array(f, ARR_FACEOFFSETS, 0, &faceoffs, err)))
             goto out;
         if (faceoffs.n != nc) {
-            rc = FAIL(VC_EFORMAT, "%s: 'faceoffsets' has %" PRId64 " entries for %" PRId64 " cells",
-                      f->path, faceoffs.n, nc);
+            rc = FAIL(VC_EFORMAT, f->path, "'faceoffsets' has %" PRId64 " entries for %" PRId64 " "
+                      "cells", faceoffs.n, nc);
             goto out;
         }
     }
@@ -886,21 +895,21 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
     m->cell_type = malloc((size_t)(nc ? nc : 1));
     m->cell_file_index = malloc(sizeof(int64_t) * (size_t)(nc ? nc : 1));
     if (!m->cell_type || !m->cell_file_index || grow_push(&cf, 0) || grow_push(&fo, 0)) {
-        rc = FAIL(VC_ENOMEM, "%s: out of memory", f->path);
+        rc = FAIL(VC_ENOMEM, f->path, "out of memory");
         goto out;
     }
 #define PUSH(g, x)                                                   \
     do {                                                             \
         if (grow_push(&(g), (x))) {                                  \
-            rc = FAIL(VC_ENOMEM, "%s: out of memory", f->path);      \
+            rc = FAIL(VC_ENOMEM, f->path, "out of memory");      \
             goto out;                                                \
         }                                                            \
     } while (0)
 #define CHECK_ID(id, c)                                                                         \
     do {                                                                                        \
         if ((id) < 0 || (id) >= np) {                                                           \
-            rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 " uses point %" PRId64                    \
-                      " out of range (%" PRId64 " points)", f->path, (int64_t)(c), (int64_t)(id), np); \
+            rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 " uses point %" PRId64               \
+                      " out of range (%" PRId64 " points)", (int64_t)(c), (int64_t)(id), np);     \
             goto out;                                                                           \
         }                                                                                       \
     } while (0)
@@ -909,15 +918,15 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
     for (int64_t c = 0; c < nc; c++) {
         int64_t conn_end = offs.i[c];
         if (conn_end < conn_start || conn_end > conn.n) {
-            rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": offset %" PRId64 " out of order or past "
-                      "the connectivity (%" PRId64 " ids)", f->path, c, conn_end, conn.n);
+            rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": offset %" PRId64 " out of order or "
+                      "past the connectivity (%" PRId64 " ids)", c, conn_end, conn.n);
             goto out;
         }
         int64_t type = types.i[c];
         if (type == VC_VTK_TETRA) {
             if (conn_end - conn_start != 4) {
-                rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": a tetrahedron with %" PRId64 " points",
-                          f->path, c, conn_end - conn_start);
+                rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": a tetrahedron with %" PRId64 " "
+                          "points", c, conn_end - conn_start);
                 goto out;
             }
             static const int tet_faces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
@@ -932,23 +941,23 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
         } else if (type == VC_VTK_POLYHEDRON && has_new) {
             int64_t b = poffs.i[c], e = poffs.i[c + 1];
             if (b < 0 || e < b || e > p2f.n) {
-                rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": 'polyhedron_offsets' out of range",
-                          f->path, c);
+                rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": 'polyhedron_offsets' out of "
+                          "range", c);
                 goto out;
             }
             for (int64_t k = b; k < e; k++) {
                 int64_t face = p2f.i[k];
                 if (face < 0 || face + 1 >= foffs.n) {
-                    rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": face %" PRId64 " out of range",
-                              f->path, c, face);
+                    rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": face %" PRId64 " out of "
+                              "range", c, face);
                     goto out;
                 }
                 /* A face bounds at most two cells: more uses in all than
                  * twice the face connectivity is a hostile file (its output
                  * would grow as cells x faces). */
                 if (fv.n > 2 * fconn.n + 1024 - (foffs.i[face + 1] - foffs.i[face])) {
-                    rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": 'polyhedron_to_faces' uses the faces "
-                              "more than twice in all", f->path, c);
+                    rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": 'polyhedron_to_faces' uses "
+                              "the faces more than twice in all", c);
                     goto out;
                 }
                 for (int64_t j = foffs.i[face]; j < foffs.i[face + 1]; j++) {
@@ -960,16 +969,16 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
         } else if (type == VC_VTK_POLYHEDRON) {
             int64_t end = faceoffs.i[c];
             if (end < faces_start || end > faces.n || end == faces_start) {
-                rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": faceoffset %" PRId64 " out of order "
-                          "or past the 'faces' array (%" PRId64 " values)", f->path, c, end, faces.n);
+                rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": faceoffset %" PRId64 " out of "
+                          "order or past the 'faces' array (%" PRId64 " values)", c, end, faces.n);
                 goto out;
             }
             int64_t k = faces_start, nfaces = faces.i[k++];
             for (int64_t j = 0; j < nfaces; j++) {
                 int64_t len = k < end ? faces.i[k++] : -1;
                 if (len < 3 || len > end - k) {
-                    rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": face %" PRId64 " of its record in "
-                              "'faces' is malformed", f->path, c, j);
+                    rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": face %" PRId64 " of its "
+                              "record in 'faces' is malformed", c, j);
                     goto out;
                 }
                 for (int64_t i = 0; i < len; i++) {
@@ -980,8 +989,8 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
                 PUSH(fo, fv.n);
             }
             if (nfaces < 1 || k != end) {
-                rc = FAIL(VC_EFORMAT, "%s: cell %" PRId64 ": its record in 'faces' does not end "
-                          "at its faceoffset", f->path, c);
+                rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": its record in 'faces' does not "
+                          "end at its faceoffset", c);
                 goto out;
             }
             faces_start = end;
@@ -1001,8 +1010,8 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
 #undef PUSH
 #undef CHECK_ID
     if (m->n_cells == 0) {
-        rc = FAIL(VC_EINPUT, "%s: no polyhedron or tetrahedron among its %" PRId64 " cells",
-                  f->path, nc);
+        rc = FAIL(VC_EINPUT, f->path, "no polyhedron or tetrahedron among its %" PRId64 " cells",
+                  nc);
         goto out;
     }
     m->cell_faces = cf.v;
@@ -1032,42 +1041,42 @@ int vc_vtu_read(const char *path, vc_vtu_mesh *out, vc_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!path)
-        return FAIL(VC_EPARAM, "vc_vtu_read: NULL path");
+        return FAIL(VC_EPARAM, NULL, "vc_vtu_read: NULL path");
     FILE *fp = fopen(path, "rb");
     if (!fp)
-        return FAIL(VC_EIO, "%s: cannot open: %s", path, strerror(errno));
+        return FAIL(VC_EIO, path, "cannot open: %s", strerror(errno));
     vtu_file f;
     memset(&f, 0, sizeof f);
     f.path = path;
     int rc = VC_OK;
     struct stat st;
     if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
-        rc = FAIL(VC_EIO, "%s: %s", path,
+        rc = FAIL(VC_EIO, path, "%s",
                   fstat(fileno(fp), &st) == 0 && S_ISDIR(st.st_mode) ? "is a directory"
                                                                      : "cannot read: not a regular file");
         goto out;
     }
     if (fseek(fp, 0, SEEK_END) != 0) {
-        rc = FAIL(VC_EIO, "%s: cannot read: %s", path, strerror(errno));
+        rc = FAIL(VC_EIO, path, "cannot read: %s", strerror(errno));
         goto out;
     }
     long size = ftell(fp);
     if (size < 0 || fseek(fp, 0, SEEK_SET) != 0) {
-        rc = FAIL(VC_EIO, "%s: cannot read (not a regular file?)", path);
+        rc = FAIL(VC_EIO, path, "cannot read (not a regular file?)");
         goto out;
     }
     if (size == 0) {
-        rc = FAIL(VC_EFORMAT, "%s: empty file", path);
+        rc = FAIL(VC_EFORMAT, path, "empty file");
         goto out;
     }
     f.size = (size_t)size;
     f.buf = malloc(f.size);
     if (!f.buf) {
-        rc = FAIL(VC_ENOMEM, "%s: out of memory", path);
+        rc = FAIL(VC_ENOMEM, path, "out of memory");
         goto out;
     }
     if (fread(f.buf, 1, f.size, fp) != f.size) {
-        rc = FAIL(VC_EIO, "%s: cannot read: %s", path, ferror(fp) ? strerror(errno) : "short read");
+        rc = FAIL(VC_EIO, path, "cannot read: %s", ferror(fp) ? strerror(errno) : "short read");
         goto out;
     }
     rc = scan_xml(&f, err);
