@@ -18,6 +18,9 @@
       still written and saying so;
   (c) the reference sphere.obj (VC_MODELS), when present: counts and volumes
       against VTK;
+  (d) SIGTERM or SIGINT sent to compare alone while vc-tetgen runs: the
+      child is stopped with it, the work directory (TMPDIR) and the report
+      are removed, compare dies by the signal;
   and bad input: exit 1 (2 for usage), one stderr line naming the problem.
 
 Environment: VC_BIN, VC_TETGEN (vc-tetgen must sit next to VC_BIN), VC_SOURCE,
@@ -28,7 +31,10 @@ import math
 import os
 import re
 import shutil
+import signal
+import subprocess
 import sys
+import time
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtk  # noqa: E402
@@ -331,6 +337,75 @@ bad("threads 0", [ico, "--threads", "0"], 2, r"--threads: '0'")
 bad("target 0", [ico, "--target-cells", "0"], 2, r"--target-cells: '0'")
 bad("seed without value", [ico, "--seed"], 2, r"--seed needs a value")
 bad("two inputs", [ico, ico], 2, r"unexpected argument")
+
+
+# (d) a signal sent to compare alone (kill PID, not the process group) while
+# a mesher runs: compare sends it on to the child and waits for it, then
+# removes its work directory and the report, and dies by that signal. The
+# child is vc-tetgen searching the volume bound of a large target (tens of
+# seconds): it must be gone when compare is, and TMPDIR left empty.
+def children(pid):
+    try:
+        with open("/proc/%d/task/%d/children" % (pid, pid)) as fh:
+            return [int(c) for c in fh.read().split()]
+    except OSError:
+        return []
+
+
+def cmdline(pid):
+    try:
+        with open("/proc/%d/cmdline" % pid, "rb") as fh:
+            return fh.read().replace(b"\0", b" ").decode(errors="replace")
+    except OSError:
+        return ""
+
+
+def alive(pid):
+    try:
+        with open("/proc/%d/stat" % pid) as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+for sig in (signal.SIGTERM, signal.SIGINT):
+    name = "compare killed by %s" % sig.name
+    tmpdir = path("tmpdir-%s" % sig.name)
+    os.makedirs(tmpdir)
+    report = path("killed-%s.html" % sig.name)
+    env = dict(os.environ, TMPDIR=tmpdir)
+    p = subprocess.Popen([BIN, "compare", ico, "-o", report, "--target-cells", "1000000", "--threads", "1",
+                          "--quiet"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
+                         start_new_session=True)  # a terminal's Ctrl-C would reach the child itself
+    child = None
+    t0 = time.time()
+    while p.poll() is None and time.time() - t0 < 120 and child is None:
+        for c in children(p.pid):
+            if "vc-tetgen" in cmdline(c):
+                child = c
+        time.sleep(0.01)
+    if check(child is not None, "%s: vc-tetgen never ran (exit %s)" % (name, p.returncode)):
+        time.sleep(0.3)  # well inside its run
+        p.send_signal(sig)
+        try:
+            p.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+        err = p.stderr.read().decode(errors="replace")
+        check(p.returncode == -sig, "%s: exit %s, expected death by the signal (%s)" % (name, p.returncode, err[-300:]))
+        left_running = alive(child)
+        check(not left_running, "%s: its child %d (%s) still runs" % (name, child, cmdline(child)[:200]))
+        if left_running:
+            os.kill(child, signal.SIGKILL)
+        check(os.listdir(tmpdir) == [], "%s: TMPDIR holds %r" % (name, os.listdir(tmpdir)))
+        check(not os.path.exists(report), "%s: the report was written" % name)
+        if not left_running:
+            print("%s: child %d stopped with it, %.1f s" % (name, child, time.time() - t0))
+    else:
+        p.kill()
+        p.wait()
+    p.stderr.close()
 
 if failures:
     print("%d failure(s)" % len(failures), file=sys.stderr)

@@ -14,7 +14,13 @@
    in the output directory, not even the outputs it had already committed,
    and dies by that signal; the same for SIGXFSZ (`ulimit -f`), in
    `vorocrust voronoi` and in `vorocrust mesh` (whose surface, balls and
-   seeds fit under the limit and are committed before the .vtu exceeds it).
+   seeds fit under the limit and are committed before the .vtu exceeds it);
+ - a signal at a given moment of an OpenFOAM write into an existing case
+   (the VC_TEST_SIGNAL_AT hook: when constant/ or system/ is made, when the
+   old polyMesh is set aside, between that and the new one renamed in,
+   after it): the case is left as it was (the old polyMesh byte for byte,
+   no directory of the run's); uninterrupted, the polyMesh is replaced and
+   no .old directory stays.
 Environment: VC_BIN, VC_TMP, VC_SOURCE, VC_SANITIZED (fewer seeds), VC_TETGEN
 (optional: vc-tetgen's checks)."""
 import os
@@ -253,6 +259,71 @@ xfsz(2000, [BIN, "voronoi", SEEDS_BIG, "-o", o("m.vtu"), "--connections", o("c.c
 xfsz(400, [BIN, "mesh", ICOSPHERE, "--surface", o("s.obj"), "--balls", o("b.csv"), "--seeds",
            o("s.csv"), "-o", o("m.vtu"), "--quiet", "--threads", "2"],
      "ulimit -f 400: mesh (surface, balls, seeds committed before the .vtu)")
+
+# ---- a signal at a given moment of an OpenFOAM write into an existing case ----
+# VC_TEST_SIGNAL_AT="EVENT:SUFFIX:SIGNAL" (apps/cli/cli_util.h) makes the
+# program raise SIGNAL in itself when the library reports EVENT for an output
+# path ending in SUFFIX. The case must be left as it was: its old polyMesh in
+# place, byte for byte (even when the signal comes between the old one set
+# aside and the new one renamed in), and no constant/ or system/ made by the
+# run, no .old/.tmp directory, no other output.
+CASES_DIR = os.path.join(TMP, "cases")
+os.makedirs(CASES_DIR)
+CASE = os.path.join(CASES_DIR, "case")
+SEEDS_OTHER = os.path.join(TMP, "other.csv")
+write_seeds(SEEDS_OTHER, 300, 3)
+
+
+def snapshot(top):
+    """{relative path: file bytes, or None for a directory} under top."""
+    snap = {}
+    for root, dirs, files in os.walk(top):
+        for d in dirs:
+            snap[os.path.relpath(os.path.join(root, d), top)] = None
+        for f in files:
+            with open(os.path.join(root, f), "rb") as fh:
+                snap[os.path.relpath(os.path.join(root, f), top)] = fh.read()
+    return snap
+
+
+def foam_at(spec, sig, label):
+    before = snapshot(CASES_DIR)
+    env = dict(os.environ, VC_TEST_SIGNAL_AT="%s:%d" % (spec, sig))
+    p = subprocess.run([BIN, "voronoi", SEEDS_OTHER, "-o", o("v.vtu"), "--connections", o("c.csv"),
+                        "--foam", CASE, "--quiet"], capture_output=True, text=True, timeout=120, env=env)
+    check(p.returncode == -sig, "%s: exit %s, expected death by signal %d (%s)"
+          % (label, p.returncode, sig, p.stderr[-300:]))
+    after = snapshot(CASES_DIR)
+    changed = sorted(k for k in set(before) | set(after) if before.get(k, 0) != after.get(k, 0))
+    check(not changed, "%s: the case changed: %s" % (label, changed[:12]))
+    out_empty(label)
+
+
+os.makedirs(CASE)  # an existing, empty case: constant/ and system/ are the run's
+for spec, sig in (("mkdir:/case/constant", signal.SIGTERM), ("mkdir:/case/system", signal.SIGINT),
+                  ("renaming:/case/constant/polyMesh", signal.SIGHUP),
+                  ("committed:/case/constant/polyMesh", signal.SIGTERM),
+                  ("committed:/case/system/controlDict", signal.SIGXFSZ)):
+    foam_at(spec, sig, "signal %d at %s, into an empty case" % (sig, spec))
+rc, err = run([BIN, "voronoi", SEEDS_SMALL, "-o", o("v.vtu"), "--foam", CASE, "--quiet"])
+check(rc == 0, "a case with a polyMesh: exit %d (%s)" % (rc, err[-300:]))
+os.remove(o("v.vtu"))
+for spec, sig in (("add:/case/constant/polyMesh", signal.SIGTERM),
+                  ("backup:/case/constant/polyMesh", signal.SIGINT),
+                  ("renaming:/case/constant/polyMesh", signal.SIGTERM),
+                  ("committed:/case/constant/polyMesh", signal.SIGHUP),
+                  ("renaming:/c.csv", signal.SIGXFSZ)):
+    foam_at(spec, sig, "signal %d at %s, into a case with a polyMesh" % (sig, spec))
+# Not interrupted: the new polyMesh replaces the old one, nothing else left.
+old_points = snapshot(CASES_DIR)[os.path.join("case", "constant", "polyMesh", "points")]
+rc, err = run([BIN, "voronoi", SEEDS_OTHER, "-o", o("v.vtu"), "--foam", CASE, "--quiet"])
+snap = snapshot(CASES_DIR)
+check(rc == 0 and snap[os.path.join("case", "constant", "polyMesh", "points")] != old_points
+      and sorted(k for k in snap if snap[k] is None) == ["case", "case/constant", "case/constant/polyMesh",
+                                                           "case/system"],
+      "a case replaced: exit %d, %s (%s)" % (rc, sorted(k for k in snap if snap[k] is None), err[-300:]))
+os.remove(o("v.vtu"))
+shutil.rmtree(CASE)
 
 # A run that is not interrupted keeps its outputs (the tracking does not
 # remove them at exit).

@@ -1,11 +1,15 @@
 /* Child processes for vorocrust compare: fork, exec, wait4 for the rusage
  * (CPU time and peak memory belong to the child alone), the child's
- * output kept in a log file whose last line explains a failure. */
+ * output kept in a log file whose last line explains a failure. The
+ * running child is recorded in the output registry (cli_util.h), so that a
+ * signal that stops compare stops the child first. */
 #define _DEFAULT_SOURCE /* wait4 and struct rusage */
 #include "child_process.h"
+#include "cli_util.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -58,14 +62,21 @@ int vc_child_run(char *const argv[], const char *log_path, vc_child_result *res)
     }
     fflush(NULL); /* nothing buffered may be written twice */
     double t0 = now();
+    /* Blocked from the fork until the child is recorded: a signal in
+     * between would leave it running, unknown to the handler. */
+    sigset_t saved;
+    vc_cli_block_signals(&saved);
     pid_t pid = fork();
     if (pid < 0) {
+        int e = errno;
+        vc_cli_restore_signals(&saved);
         snprintf(res->message, sizeof res->message, "cannot start %s: %s", argv[0],
-                 strerror(errno));
+                 strerror(e));
         close(fd);
         return -1;
     }
     if (pid == 0) {
+        vc_cli_child_exec_prepare(&saved);
         if (dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0)
             _exit(127);
         close(fd);
@@ -73,17 +84,32 @@ int vc_child_run(char *const argv[], const char *log_path, vc_child_result *res)
         dprintf(STDERR_FILENO, "cannot run %s: %s\n", argv[0], strerror(errno));
         _exit(127);
     }
+    vc_cli_child_started(pid);
+    vc_cli_restore_signals(&saved);
     close(fd);
+    /* Waited for without reaping it first (WNOWAIT): its pid stays its own
+     * until it is reaped with the signals blocked and forgotten at once, so
+     * that a handler never signals a pid reused by another process. */
+    siginfo_t info;
+    int w;
+    do {
+        w = waitid(P_PID, (id_t)pid, &info, WEXITED | WNOWAIT);
+    } while (w < 0 && errno == EINTR);
     int status = 0;
     struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    vc_cli_block_signals(&saved);
     pid_t got;
     do {
         got = wait4(pid, &status, 0, &ru);
     } while (got < 0 && errno == EINTR);
+    int wait_errno = errno;
+    vc_cli_child_ended();
+    vc_cli_restore_signals(&saved);
     res->wall_seconds = now() - t0;
     if (got < 0) {
         snprintf(res->message, sizeof res->message, "waiting for %s: %s", argv[0],
-                 strerror(errno));
+                 strerror(wait_errno));
         return -1;
     }
     res->started = 1;

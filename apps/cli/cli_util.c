@@ -5,10 +5,12 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -201,7 +203,7 @@ int vc_cli_repeated(vc_cli_seen *seen, const char *prog, const char *command, co
 #define OUT_SLOTS 64
 #define OUT_PATH 4200 /* paths are checked shorter than PATH_MAX + ".tmp.XXXXXX" */
 
-enum { SLOT_FREE, SLOT_TEMP, SLOT_RENAMING, SLOT_COMMITTED };
+enum { SLOT_FREE, SLOT_TEMP, SLOT_RENAMING, SLOT_COMMITTED, SLOT_MADE_DIR, SLOT_BACKUP };
 
 typedef struct out_slot {
     atomic_int state;
@@ -212,6 +214,13 @@ typedef struct out_slot {
 
 static out_slot out_slots[OUT_SLOTS];
 static atomic_int out_dying;
+static atomic_int out_owner; /* getpid() of the program once begun, else 0 */
+static pthread_t out_thread; /* the thread the handlers run in */
+static atomic_int out_child; /* the running child's pid, 0 when none */
+
+/* VC_TEST_SIGNAL_AT (cli_util.h): -1 when unset. */
+static int hook_event = -1, hook_signal;
+static char hook_suffix[256];
 
 static const int caught_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGXFSZ};
 #define N_CAUGHT ((int)(sizeof caught_signals / sizeof caught_signals[0]))
@@ -274,9 +283,9 @@ static int remove_path(const char *path)
     return remove_tree_at(AT_FDCWD, path, 0);
 }
 
-/* Removes what slot s holds for this run: the temporary path, and the
- * committed output (when renaming: when the temporary one is gone, the
- * rename happened). Async-signal-safe. */
+/* Pass 1 of the removal: what slot s holds for this run, the temporary
+ * path and the committed output (when renaming: when the temporary one is
+ * gone, the rename happened). Async-signal-safe. */
 static void remove_slot(out_slot *s)
 {
     int st = atomic_load(&s->state);
@@ -292,19 +301,58 @@ static void remove_slot(out_slot *s)
     }
 }
 
+/* Pass 2: a replaced directory goes back once the new one is removed; when
+ * the swap had not begun, tmp is the empty directory made for it (rename
+ * fails on the old one, non-empty) and only it goes (rmdir: never data). */
+static void restore_slot(out_slot *s)
+{
+    if (atomic_load(&s->state) == SLOT_BACKUP && rename(s->tmp, s->final) != 0)
+        rmdir(s->tmp);
+}
+
+/* Pass 3: the directories this run made, once emptied by the passes before
+ * (rmdir: only when empty). */
+static void unmake_slot(out_slot *s)
+{
+    if (atomic_load(&s->state) == SLOT_MADE_DIR)
+        rmdir(s->final);
+}
+
 static void remove_all(void)
 {
     int saved = errno;
     for (int i = OUT_SLOTS - 1; i >= 0; i--)
         remove_slot(&out_slots[i]);
+    for (int i = OUT_SLOTS - 1; i >= 0; i--)
+        restore_slot(&out_slots[i]);
+    for (int pass = 0; pass < 2; pass++) /* nested ones: the inner first */
+        for (int i = OUT_SLOTS - 1; i >= 0; i--)
+            unmake_slot(&out_slots[i]);
     errno = saved;
 }
 
-static void on_signal(int sig)
+static void caught_set(sigset_t *set)
 {
-    atomic_store(&out_dying, 1);
-    remove_all();
-    /* Die by the same signal: default action, unblocked, raised again. */
+    sigemptyset(set);
+    for (int i = 0; i < N_CAUGHT; i++)
+        sigaddset(set, caught_signals[i]);
+}
+
+void vc_cli_block_signals(sigset_t *saved)
+{
+    sigset_t set;
+    caught_set(&set);
+    pthread_sigmask(SIG_BLOCK, &set, saved);
+}
+
+void vc_cli_restore_signals(const sigset_t *saved)
+{
+    pthread_sigmask(SIG_SETMASK, saved, NULL);
+}
+
+/* Dies by sig: default action, unblocked, raised again. */
+static void die_by(int sig)
+{
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = SIG_DFL;
@@ -313,16 +361,65 @@ static void on_signal(int sig)
     sigset_t set;
     sigemptyset(&set);
     sigaddset(&set, sig);
-    sigprocmask(SIG_UNBLOCK, &set, NULL);
+    pthread_sigmask(SIG_UNBLOCK, &set, NULL);
     raise(sig);
     _exit(128 + sig); /* not reached */
+}
+
+/* The running child gets sig too and is waited for: it removes its own
+ * temporary files and stops writing into what the removal is about to
+ * remove. Async-signal-safe. */
+static void stop_child(int sig)
+{
+    pid_t pid = (pid_t)atomic_exchange(&out_child, 0);
+    if (pid <= 0)
+        return;
+    kill(pid, sig);
+    for (int i = 0; i < 500; i++) { /* 5 s */
+        pid_t r = waitpid(pid, NULL, WNOHANG);
+        if (r == pid || (r < 0 && errno != EINTR))
+            return;
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+    }
+    kill(pid, SIGKILL);
+    while (waitpid(pid, NULL, 0) < 0 && errno == EINTR) {
+    }
+}
+
+static void on_signal(int sig)
+{
+    if (atomic_load(&out_owner) != (int)getpid())
+        die_by(sig); /* a child between fork and exec: nothing here is its */
+    if (!pthread_equal(pthread_self(), out_thread)) {
+        /* Another thread (an OpenMP worker) got a signal meant for the
+         * process: the cleanup runs in the writing thread, which blocks the
+         * signals while a swap of directories is halfway. */
+        int saved = errno;
+        pthread_kill(out_thread, sig);
+        errno = saved;
+        return;
+    }
+    atomic_store(&out_dying, 1);
+    stop_child(sig);
+    remove_all();
+    die_by(sig);
+}
+
+static void test_hook(int ev, const char *final_path)
+{
+    if (ev != hook_event)
+        return;
+    size_t n = strlen(final_path), k = strlen(hook_suffix);
+    if (n >= k && !strcmp(final_path + n - k, hook_suffix))
+        raise(hook_signal);
 }
 
 static int track_event(void *user, vc_tmpfile_event ev, int slot, const char *tmp_path,
                        const char *final_path, int is_dir)
 {
     (void)user;
-    if (ev == VC_TMPFILE_ADD) {
+    if (ev == VC_TMPFILE_ADD || ev == VC_TMPFILE_MKDIR) {
         if (atomic_load(&out_dying))
             return -1;
         size_t nt = strlen(tmp_path), nf = strlen(final_path);
@@ -335,7 +432,8 @@ static int track_event(void *user, vc_tmpfile_event ev, int slot, const char *tm
             memcpy(s->tmp, tmp_path, nt + 1);
             memcpy(s->final, final_path, nf + 1);
             s->is_dir = is_dir;
-            atomic_store(&s->state, SLOT_TEMP);
+            atomic_store(&s->state, ev == VC_TMPFILE_MKDIR ? SLOT_MADE_DIR : SLOT_TEMP);
+            test_hook((int)ev, final_path);
             return i;
         }
         return -1;
@@ -343,26 +441,58 @@ static int track_event(void *user, vc_tmpfile_event ev, int slot, const char *tm
     if (slot < 0 || slot >= OUT_SLOTS)
         return 0;
     out_slot *s = &out_slots[slot];
+    int keep = 0;
     switch (ev) {
     case VC_TMPFILE_DROP: atomic_store(&s->state, SLOT_FREE); break;
     case VC_TMPFILE_RENAMING: atomic_store(&s->state, SLOT_RENAMING); break;
     case VC_TMPFILE_UNRENAMED: atomic_store(&s->state, SLOT_TEMP); break;
     case VC_TMPFILE_COMMITTED: atomic_store(&s->state, SLOT_COMMITTED); break;
+    case VC_TMPFILE_BACKUP:
+        atomic_store(&s->state, SLOT_BACKUP);
+        keep = 1; /* until vc_cli_outputs_keep: a signal puts it back */
+        break;
     default: break;
     }
-    return 0;
+    test_hook((int)ev, final_path);
+    return keep;
+}
+
+static void read_test_hook(void)
+{
+    static const char *const names[] = {"add", "drop", "renaming", "unrenamed", "committed",
+                                         "mkdir", "backup"};
+    static const vc_tmpfile_event events[] = {VC_TMPFILE_ADD, VC_TMPFILE_DROP,
+                                              VC_TMPFILE_RENAMING, VC_TMPFILE_UNRENAMED,
+                                              VC_TMPFILE_COMMITTED, VC_TMPFILE_MKDIR,
+                                              VC_TMPFILE_BACKUP};
+    const char *spec = getenv("VC_TEST_SIGNAL_AT");
+    const char *c1 = spec ? strchr(spec, ':') : NULL;
+    const char *c2 = spec ? strrchr(spec, ':') : NULL;
+    long sig;
+    if (!c1 || c2 == c1 || (size_t)(c2 - c1 - 1) >= sizeof hook_suffix ||
+        vc_cli_parse_int(c2 + 1, 1, 64, &sig))
+        return;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strlen(names[i]) == (size_t)(c1 - spec) &&
+            !strncmp(spec, names[i], (size_t)(c1 - spec))) {
+            memcpy(hook_suffix, c1 + 1, (size_t)(c2 - c1 - 1));
+            hook_suffix[c2 - c1 - 1] = 0;
+            hook_signal = (int)sig;
+            hook_event = (int)events[i];
+        }
 }
 
 void vc_cli_outputs_begin(void)
 {
     static const vc_tmpfile_tracker tracker = {track_event, NULL};
+    read_test_hook();
+    out_thread = pthread_self();
+    atomic_store(&out_owner, (int)getpid());
     vc_tmpfile_track(&tracker);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    for (int i = 0; i < N_CAUGHT; i++)
-        sigaddset(&sa.sa_mask, caught_signals[i]); /* one cleanup at a time per thread */
+    caught_set(&sa.sa_mask); /* one cleanup at a time per thread */
     for (int i = 0; i < N_CAUGHT; i++) {
         struct sigaction old;
         /* A signal the shell made ignored (nohup, a background job) stays
@@ -384,16 +514,56 @@ void vc_cli_untrack(int slot)
         track_event(NULL, VC_TMPFILE_DROP, slot, "", "", 0);
 }
 
+/* Both run with the signals blocked: a handler must not find a slot
+ * halfway between two states. */
 void vc_cli_outputs_remove(void)
 {
+    sigset_t saved;
+    vc_cli_block_signals(&saved);
     remove_all();
     for (int i = 0; i < OUT_SLOTS; i++)
         atomic_store(&out_slots[i].state, SLOT_FREE);
+    vc_cli_restore_signals(&saved);
 }
 
 void vc_cli_outputs_keep(void)
 {
-    for (int i = 0; i < OUT_SLOTS; i++)
-        if (atomic_load(&out_slots[i].state) == SLOT_COMMITTED)
-            atomic_store(&out_slots[i].state, SLOT_FREE);
+    sigset_t saved;
+    vc_cli_block_signals(&saved);
+    for (int i = 0; i < OUT_SLOTS; i++) {
+        out_slot *s = &out_slots[i];
+        int st = atomic_load(&s->state);
+        if (st == SLOT_BACKUP)
+            remove_path(s->tmp); /* the replaced directory, no longer needed */
+        if (st == SLOT_COMMITTED || st == SLOT_MADE_DIR || st == SLOT_BACKUP)
+            atomic_store(&s->state, SLOT_FREE);
+    }
+    vc_cli_restore_signals(&saved);
+}
+
+void vc_cli_child_started(pid_t pid)
+{
+    atomic_store(&out_child, (int)pid);
+}
+
+void vc_cli_child_ended(void)
+{
+    atomic_store(&out_child, 0);
+}
+
+void vc_cli_child_exec_prepare(const sigset_t *saved)
+{
+    /* The program's handlers are not the child's: the defaults (an
+     * ignored signal stays ignored), then the mask from before the fork. */
+    for (int i = 0; i < N_CAUGHT; i++) {
+        struct sigaction old;
+        if (sigaction(caught_signals[i], NULL, &old) == 0 && old.sa_handler == on_signal) {
+            struct sigaction sa;
+            memset(&sa, 0, sizeof sa);
+            sa.sa_handler = SIG_DFL;
+            sigemptyset(&sa.sa_mask);
+            sigaction(caught_signals[i], &sa, NULL);
+        }
+    }
+    vc_cli_restore_signals(saved);
 }

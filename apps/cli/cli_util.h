@@ -4,6 +4,9 @@
 #ifndef VC_CLI_UTIL_H
 #define VC_CLI_UTIL_H
 
+#include <signal.h>
+#include <sys/types.h>
+
 /* Monotonic clock in seconds. */
 double vc_cli_now(void);
 
@@ -72,6 +75,34 @@ int vc_cli_repeated(vc_cli_seen *seen, const char *prog, const char *command, co
 void vc_cli_outputs_begin(void);
 void vc_cli_outputs_remove(void);
 void vc_cli_outputs_keep(void);
+/* Two more kinds of output the registry handles: a directory this run made
+ * (removed after the outputs, only when empty), and an existing directory
+ * the run replaced (an OpenFOAM case's polyMesh): put back on a signal or
+ * vc_cli_outputs_remove, removed by vc_cli_outputs_keep. The handlers run
+ * in the thread that called vc_cli_outputs_begin (a signal another thread
+ * receives is sent on to it), so that the library can block the signals
+ * across a swap of directories (vc_tmpdir_replace).
+ *
+ * Test hook: with VC_TEST_SIGNAL_AT="EVENT:SUFFIX:SIGNAL" in the
+ * environment (EVENT one of add, mkdir, renaming, backup, committed), the
+ * program raises SIGNAL (a number) in itself when the library reports that
+ * event for an output path ending in SUFFIX: a signal at a given moment of
+ * the writing, for the tests. */
+
+/* Child processes (vorocrust compare): a signal handled by the registry is
+ * first sent on to the running child, which is waited for (up to 5 s, then
+ * SIGKILL), so that it stops writing before its directory is removed.
+ * vc_cli_block_signals blocks the handled signals in this thread (saved
+ * receives the mask to restore with vc_cli_restore_signals): around the
+ * fork and the recording of the child (vc_cli_child_started), and around
+ * its reaping (vc_cli_child_ended), so that no handler sees a child that
+ * is not recorded, or a recorded pid already reaped (and reusable). In the
+ * child, vc_cli_child_exec_prepare restores the defaults before exec. */
+void vc_cli_block_signals(sigset_t *saved);
+void vc_cli_restore_signals(const sigset_t *saved);
+void vc_cli_child_started(pid_t pid);
+void vc_cli_child_ended(void);
+void vc_cli_child_exec_prepare(const sigset_t *saved);
 
 /* A temporary directory of the program's own (not the library's), removed
  * with its contents by a signal or vc_cli_outputs_remove: the slot, or -1

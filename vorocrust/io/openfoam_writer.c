@@ -21,7 +21,9 @@
  * existing case, the new polyMesh is assembled in
  * "constant/polyMesh.tmp.XXXXXX" and swapped with the old one (which is
  * then removed with its contents); a missing system/controlDict is added
- * through a temporary file. A failure removes whatever was created.
+ * through a temporary file. A failure removes whatever was created; so
+ * does a signal in a program that tracks the temporary files (io/tmpfile.h:
+ * the directories this run made, and the old polyMesh put back).
  *
  * Numbers are formatted by hand (17 significant digits for coordinates,
  * enough to read back the same doubles; printf is several times slower),
@@ -666,34 +668,6 @@ static char *foam_join(const char *a, const char *b)
     return s;
 }
 
-/* Removes path and, for a directory, everything under it (no symlink is
- * followed). Errors are ignored: this is cleanup. */
-static void foam_remove_tree(const char *path, int depth)
-{
-    struct stat st;
-    if (lstat(path, &st) != 0)
-        return;
-    if (S_ISDIR(st.st_mode) && depth < 32) {
-        DIR *d = opendir(path);
-        if (d) {
-            struct dirent *e;
-            while ((e = readdir(d)) != NULL) {
-                if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-                    continue;
-                char *sub = foam_join(path, e->d_name);
-                if (sub) {
-                    foam_remove_tree(sub, depth + 1);
-                    free(sub);
-                }
-            }
-            closedir(d);
-        }
-        rmdir(path);
-    } else {
-        unlink(path);
-    }
-}
-
 typedef enum { FOAM_POINTS, FOAM_FACES, FOAM_OWNER, FOAM_NEIGHBOUR, FOAM_BOUNDARY,
                FOAM_SYSTEM0 } foam_file; /* FOAM_SYSTEM0 + i: foam_system_files[i] */
 
@@ -838,7 +812,7 @@ static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const
     if (rc == VC_OK)
         rc = vc_tmpdir_commit(&sd, err);
     if (rc != VC_OK) {
-        foam_remove_tree(sd.tmp_path, 0);
+        vc_remove_tree(sd.tmp_path);
         vc_tmpdir_drop(&sd);
     }
     free(constant);
@@ -855,9 +829,12 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
     char *constant = foam_join(case_dir, "constant");
     char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
     char *system = foam_join(case_dir, "system");
-    vc_tmpdir sd = {NULL, NULL, -1}, od = {NULL, NULL, -1};
+    vc_tmpdir sd = {NULL, NULL, -1};
     const char *stage = NULL;
+    /* constant/ and system/ made by this run: tracked (vc_outdir_make), so
+     * that a signal removes them too, and removed on failure. */
     int made_constant = 0, made_system = 0, have_old = 0;
+    int constant_slot = -1, system_slot = -1;
     int added[FOAM_N_SYSTEM] = {0};
     struct stat st;
     int rc = VC_OK;
@@ -870,7 +847,7 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
             if (!S_ISDIR(st.st_mode))
                 rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", constant);
         } else if (errno == ENOENT) {
-            rc = foam_mkdir(constant, constant, err);
+            rc = vc_outdir_make(constant, constant, &constant_slot, err);
             made_constant = rc == VC_OK;
         } else {
             rc = vc_error_set(err, VC_EIO, "%s: cannot write: %s", constant, strerror(errno));
@@ -896,7 +873,7 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
     /* The system/ files, only those missing. */
     if (rc == VC_OK) {
         if (stat(system, &st) != 0) {
-            rc = foam_mkdir(system, system, err);
+            rc = vc_outdir_make(system, system, &system_slot, err);
             made_system = rc == VC_OK;
         } else if (!S_ISDIR(st.st_mode)) {
             rc = vc_error_set(err, VC_EIO, "%s: cannot write: Not a directory", system);
@@ -905,30 +882,13 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
     if (rc == VC_OK)
         rc = foam_write_system_files(system, case_dir, m, pl, 1, added, err);
 
-    /* The swap: old polyMesh aside, new one in, old one removed. */
-    if (rc == VC_OK && have_old) {
-        rc = vc_tmpdir_create(&od, poly, "old", err);
-        if (rc == VC_OK && rename(poly, od.tmp_path) != 0) {
-            rc = vc_error_set(err, VC_EIO, "%s: cannot replace: %s", poly, strerror(errno));
-            rmdir(od.tmp_path);
-            vc_tmpdir_drop(&od);
-        }
-    }
-    if (rc == VC_OK && vc_tmpdir_commit(&sd, err) != VC_OK) {
-        rc = err ? err->code : VC_EIO;
-        if (have_old && od.tmp_path) {
-            (void)rename(od.tmp_path, poly); /* put the old mesh back */
-            vc_tmpdir_drop(&od);
-        }
-    }
-    if (rc == VC_OK) {
-        if (have_old && od.tmp_path) {
-            foam_remove_tree(od.tmp_path, 0);
-            vc_tmpdir_drop(&od);
-        }
-    } else {
+    /* The swap: old polyMesh aside, new one in, old one removed (or kept
+     * by the tracker until the outputs are: a signal puts it back). */
+    if (rc == VC_OK)
+        rc = have_old ? vc_tmpdir_replace(&sd, err) : vc_tmpdir_commit(&sd, err);
+    if (rc != VC_OK) {
         if (sd.tmp_path) {
-            foam_remove_tree(sd.tmp_path, 0);
+            vc_remove_tree(sd.tmp_path);
             vc_tmpdir_drop(&sd);
         }
         for (int i = 0; i < FOAM_N_SYSTEM && system; i++)
@@ -939,9 +899,9 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
                 free(f);
             }
         if (made_system)
-            rmdir(system);
+            vc_outdir_unmake(system, system_slot);
         if (made_constant)
-            rmdir(constant);
+            vc_outdir_unmake(constant, constant_slot);
     }
     free(constant);
     free(poly);

@@ -10,8 +10,10 @@
 #include "io/tmpfile.h"
 #include "file_mode.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,9 +65,10 @@ void vc_tmpfile_track(const vc_tmpfile_tracker *tracker)
 
 static int vc_track(vc_tmpfile_event ev, int slot, const char *tmp, const char *final, int is_dir)
 {
+    const int adds = ev == VC_TMPFILE_ADD || ev == VC_TMPFILE_MKDIR;
     if (!vc_tracker.event)
-        return ev == VC_TMPFILE_ADD ? -1 : 0;
-    if (ev != VC_TMPFILE_ADD && slot < 0)
+        return adds ? -1 : 0;
+    if (!adds && slot < 0)
         return 0;
     return vc_tracker.event(vc_tracker.user, ev, slot, tmp, final, is_dir);
 }
@@ -335,4 +338,130 @@ void vc_tmpdir_drop(vc_tmpdir *d)
     if (d->tmp_path)
         vc_track(VC_TMPFILE_DROP, d->slot, d->tmp_path, d->final_path, 1);
     vc_tmpdir_clear(d);
+}
+
+/* The swap of an existing directory. The signals a program's cleanup
+ * handler catches are blocked in this thread from before the old directory
+ * is set aside until the new one is in (or the old one back): a handler
+ * then sees the tracker's slots and the directories agree. */
+static void vc_block_cleanup_signals(sigset_t *saved)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGXFSZ);
+    pthread_sigmask(SIG_BLOCK, &set, saved);
+}
+
+int vc_tmpdir_replace(vc_tmpdir *d, vc_error *err)
+{
+    vc_tmpdir od;
+    int rc = vc_tmpdir_create(&od, d->final_path, "old", err);
+    if (rc != VC_OK)
+        return rc;
+    sigset_t saved;
+    vc_block_cleanup_signals(&saved);
+    /* Announced before the rename: a handler that finds od still empty
+     * fails to rename it over the old directory and only removes it. */
+    const int tracker_keeps =
+        vc_track(VC_TMPFILE_BACKUP, od.slot, od.tmp_path, od.final_path, 1) == 1;
+    if (rename(d->final_path, od.tmp_path) != 0) {
+        int e = errno;
+        rmdir(od.tmp_path);
+        vc_tmpdir_drop(&od);
+        pthread_sigmask(SIG_SETMASK, &saved, NULL);
+        return vc_error_set(err, VC_EIO, "%s: cannot replace: %s", d->final_path, strerror(e));
+    }
+    rc = vc_tmpdir_commit(d, err);
+    if (rc != VC_OK) {
+        if (rename(od.tmp_path, od.final_path) != 0) {
+            /* Never removed: the message says where the old one is. */
+            int e = errno;
+            char first[VC_ERROR_LEN];
+            snprintf(first, sizeof first, "%s", err ? err->msg : "");
+            rc = vc_error_set(err, VC_EIO, "%s; the old directory could not be put back (%s): "
+                              "it is %s", first, strerror(e), od.tmp_path);
+        }
+        vc_tmpdir_drop(&od);
+    } else if (!tracker_keeps) {
+        vc_remove_tree(od.tmp_path);
+        vc_tmpdir_drop(&od);
+    } else {
+        od.slot = -1; /* the tracker's: removed when the outputs are kept */
+        vc_tmpdir_clear(&od);
+    }
+    pthread_sigmask(SIG_SETMASK, &saved, NULL);
+    return rc;
+}
+
+/* ---- new directories of the run ---------------------------------------------------- */
+
+int vc_outdir_make(const char *path, const char *report, int *slot, vc_error *err)
+{
+    *slot = -1;
+    if (vc_tracker.event) {
+        *slot = vc_track(VC_TMPFILE_MKDIR, -1, path, path, 1);
+        if (*slot < 0)
+            return vc_create_error(err, report, ENOLCK);
+    }
+    if (mkdir(path, 0777) != 0) {
+        int e = errno;
+        vc_track(VC_TMPFILE_DROP, *slot, path, path, 1);
+        *slot = -1;
+        return vc_error_set(err, VC_EIO, "%s: cannot create: %s", report, strerror(e));
+    }
+    return VC_OK;
+}
+
+void vc_outdir_unmake(const char *path, int slot)
+{
+    rmdir(path);
+    vc_track(VC_TMPFILE_DROP, slot, path, path, 1);
+}
+
+/* ---- removal ------------------------------------------------------------------------ */
+
+static char *vc_join(const char *a, const char *b)
+{
+    size_t na = strlen(a), nb = strlen(b);
+    char *s = malloc(na + nb + 2);
+    if (!s)
+        return NULL;
+    memcpy(s, a, na);
+    s[na] = '/';
+    memcpy(s + na + 1, b, nb + 1);
+    return s;
+}
+
+static void vc_remove_tree_at(const char *path, int depth)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return;
+    if (S_ISDIR(st.st_mode) && depth < 32) {
+        DIR *d = opendir(path);
+        if (d) {
+            struct dirent *e;
+            while ((e = readdir(d)) != NULL) {
+                if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+                    continue;
+                char *sub = vc_join(path, e->d_name);
+                if (sub) {
+                    vc_remove_tree_at(sub, depth + 1);
+                    free(sub);
+                }
+            }
+            closedir(d);
+        }
+        rmdir(path);
+    } else {
+        unlink(path);
+    }
+}
+
+void vc_remove_tree(const char *path)
+{
+    vc_remove_tree_at(path, 0);
 }

@@ -39,6 +39,27 @@
  *   VC_TMPFILE_COMMITTED final_path is now this run's output; the slot
  *                        stays the tracker's (the library reports nothing
  *                        more about it).
+ * Two more kinds of slot:
+ *   VC_TMPFILE_MKDIR     (instead of ADD) final_path (tmp_path the same) is
+ *                        about to be made as a new directory of this run's
+ *                        (vc_outdir_make): return a slot >= 0 or -1 to
+ *                        refuse. A DROP follows when it was not made or
+ *                        the library removed it; otherwise the slot stays
+ *                        the tracker's: remove the directory with the
+ *                        outputs, after them and only if empty (rmdir).
+ *   VC_TMPFILE_BACKUP    (on a slot of a temporary directory) tmp_path is
+ *                        about to receive what final_path holds (the old
+ *                        directory of vc_tmpdir_replace), before the new
+ *                        one is renamed over final_path. From now on the
+ *                        old content is in tmp_path, or still in
+ *                        final_path while tmp_path is an empty directory:
+ *                        to undo the run, rename tmp_path back over
+ *                        final_path once the outputs are removed (and
+ *                        rmdir tmp_path when that fails: it is then the
+ *                        empty one). Return 1 to keep tmp_path until the
+ *                        outputs are kept (then remove it with its
+ *                        contents): the slot is the tracker's. Return 0
+ *                        and the library removes it after the swap (DROP).
  * The callback runs in the writing thread; with writers in several threads
  * it must be thread-safe. tmp_path and final_path are valid only during
  * the call (copy them). */
@@ -47,7 +68,9 @@ typedef enum vc_tmpfile_event {
     VC_TMPFILE_DROP,
     VC_TMPFILE_RENAMING,
     VC_TMPFILE_UNRENAMED,
-    VC_TMPFILE_COMMITTED
+    VC_TMPFILE_COMMITTED,
+    VC_TMPFILE_MKDIR,
+    VC_TMPFILE_BACKUP
 } vc_tmpfile_event;
 
 typedef struct vc_tmpfile_tracker {
@@ -89,6 +112,27 @@ typedef struct vc_tmpdir {
 int vc_tmpdir_create(vc_tmpdir *d, const char *path, const char *kind, vc_error *err);
 int vc_tmpdir_commit(vc_tmpdir *d, vc_error *err);
 void vc_tmpdir_drop(vc_tmpdir *d);
+
+/* The directory d->final_path exists: it is renamed aside to
+ * "<path>.old.XXXXXX" and d renamed over it, then the old one is removed
+ * (or left to the tracker: VC_TMPFILE_BACKUP). SIGINT, SIGTERM, SIGHUP and
+ * SIGXFSZ are blocked in the calling thread across the two renames and
+ * the restore, so that a handler never sees a state halfway. When d cannot
+ * be renamed in, the old directory is put back (err says so; d is left to
+ * the caller, still tracked, as by vc_tmpdir_commit). */
+int vc_tmpdir_replace(vc_tmpdir *d, vc_error *err);
+
+/* A new directory of this run's: made (mkdir 0777, less the umask) and
+ * tracked (VC_TMPFILE_MKDIR) so that a handler can remove it with the
+ * outputs when it is empty; *slot is the tracker's slot (-1 untracked).
+ * report names it in messages. vc_outdir_unmake removes it (rmdir: only
+ * when empty) and tells the tracker. */
+int vc_outdir_make(const char *path, const char *report, int *slot, vc_error *err);
+void vc_outdir_unmake(const char *path, int slot);
+
+/* Removes path and, for a directory, everything under it (no symbolic
+ * link followed); errors are ignored (this is cleanup). */
+void vc_remove_tree(const char *path);
 
 /* 0 when path is absent, a regular file or a symbolic link; otherwise
  * sets err ("PATH: is a FIFO, not a regular file") and returns VC_EIO.
