@@ -80,6 +80,7 @@ void vc_ball_set_free(vc_ball_set *bs)
     free(bs->key);
     free(bs->level);
     free(bs->level_pos);
+    free(bs->changed_reach);
     for (int l = 0; l < VC_BALL_LEVELS; l++)
         free(bs->level_list[l]);
     memset(bs, 0, sizeof *bs);
@@ -153,6 +154,7 @@ static int grow(vc_ball_set *bs)
     GROW(bs->key, uint64_t, 1);
     GROW(bs->level, int, 1);
     GROW(bs->level_pos, int64_t, 1);
+    GROW(bs->changed_reach, double, 1);
 #undef GROW
     bs->cap = c;
     /* keep the table at least as large as the ball count */
@@ -186,6 +188,8 @@ int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, 
         b->normal[3 * i + d] = normal[d];
     }
     b->radius[i] = r;
+    bs->changed_reach[i] = r;
+    bs->n_changed++;
     b->kind[i] = (signed char)kind;
     b->element[i] = element;
     bs->level[i] = level_of(bs, r);
@@ -196,8 +200,18 @@ int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, 
     return i;
 }
 
+void vc_ball_set_forget_changes(vc_ball_set *bs)
+{
+    if (bs->n_changed > 0)
+        memset(bs->changed_reach, 0, sizeof(double) * (size_t)bs->b.n);
+    bs->n_changed = 0;
+}
+
 int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
 {
+    if (!(bs->changed_reach[i] > 0))
+        bs->n_changed++;
+    bs->changed_reach[i] = fmax(bs->changed_reach[i], fmax(bs->b.radius[i], r));
     bs->b.radius[i] = r;
     int l = level_of(bs, r);
     if (l == bs->level[i])

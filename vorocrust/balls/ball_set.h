@@ -30,6 +30,12 @@ typedef struct vc_ball_set {
     int64_t *level_pos;  /* position of the ball in its level's list */
     int64_t *level_list[VC_BALL_LEVELS];
     int64_t level_n[VC_BALL_LEVELS], level_cap[VC_BALL_LEVELS];
+    /* Balls added or resized since the last vc_ball_set_forget_changes:
+     * changed_reach[i] > 0 is the largest radius ball i had since (what it
+     * could reach: a shrunk ball still matters where it was), 0 for a ball
+     * unchanged; a local sliver scan needs only the neighbourhood of these. */
+    double *changed_reach;
+    int64_t n_changed;
 } vc_ball_set;
 
 /* lo: the low corner of the surface's bounding box, diag its diagonal. */
@@ -42,6 +48,9 @@ int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, 
 
 /* Sets the radius of ball i (re-indexing it when its level changes). */
 int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
+
+/* Marks every ball unchanged (see changed_reach). */
+void vc_ball_set_forget_changes(vc_ball_set *bs);
 
 /* Calls fn(ctx, i) for every ball whose centre is within distance
  * reach + its radius * radius_factor of p (a superset filter: fn tests the

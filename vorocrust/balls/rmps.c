@@ -650,7 +650,7 @@ static void on_triplet(void *ctx, const vc_triplet *t)
 /* Also leaves the facets of the balls as they were before shrinking in
  * *facets. */
 static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrunk,
-                                 int64_t *n_half, double where[3], facet_list *facets)
+                                 int64_t *n_half, double where[3], facet_list *facets, int all)
 {
     facets->n = 0;
     vc_balls *b = &S->bs.b;
@@ -664,7 +664,9 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     if (!c.target)
         return -1;
     memcpy(c.target, b->radius, sizeof(double) * (size_t)n);
-    if (vc_triplets_scan(&S->bs, on_triplet, &c) || facets->oom) {
+    if ((all ? vc_triplets_scan_all(&S->bs, S->opt.threads, on_triplet, &c)
+             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c)) ||
+        facets->oom) {
         free(c.target);
         return -1;
     }
@@ -1038,7 +1040,13 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         double tb = now();
         int64_t n_half = 0;
-        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets);
+        /* only the triplets near balls added or resized since the last
+         * scan can have changed; when none is half covered, every triplet
+         * once more: that proves it for all of them, and the flat-facet
+         * pass needs all the facets */
+        int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 0);
+        if (ns == 0)
+            ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 1);
         st->t_slivers += now() - tb;
         if (ns < 0) {
             rc = -1;

@@ -1,5 +1,9 @@
 #include "balls/triplets.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,42 +128,175 @@ static int64_t best_cover(const vc_balls *b, const nb_list *L, int64_t j, int64_
     return best;
 }
 
+/* The triplets whose smallest ball is i, appended to *out in increasing
+ * (j, k) order. */
+typedef struct triplet_buf {
+    vc_triplet *t;
+    int64_t n, cap;
+    int oom;
+} triplet_buf;
+
+static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_buf *out)
+{
+    const vc_balls *b = &bs->b;
+    L->self = i;
+    L->n = 0;
+    vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, 0.0, collect_overlapping, L);
+    if (L->oom) {
+        out->oom = 1;
+        return;
+    }
+    qsort(L->ids, (size_t)L->n, sizeof(int64_t), cmp_i64);
+    for (int64_t a = 0; a < L->n; a++) {
+        int64_t j = L->ids[a];
+        if (j < i)
+            continue;
+        for (int64_t c = a + 1; c < L->n; c++) {
+            int64_t k = L->ids[c];
+            if (!overlap(b, j, k))
+                continue;
+            vc_triplet t;
+            t.i = i;
+            t.j = j;
+            t.k = k;
+            if (!vc_sphere_triple_points(b->center + 3 * i, b->radius[i], b->center + 3 * j,
+                                         b->radius[j], b->center + 3 * k, b->radius[k], t.up,
+                                         t.down))
+                continue;
+            t.cover_up = best_cover(b, L, j, k, t.up);
+            t.cover_down = best_cover(b, L, j, k, t.down);
+            if (out->n == out->cap) {
+                int64_t c2 = out->cap ? 2 * out->cap : 1024;
+                vc_triplet *q = realloc(out->t, sizeof(vc_triplet) * (size_t)c2);
+                if (!q) {
+                    out->oom = 1;
+                    return;
+                }
+                out->t = q;
+                out->cap = c2;
+            }
+            out->t[out->n++] = t;
+        }
+    }
+}
+
+/* A ball's triplets change only when it, or a ball that reaches it (whose
+ * triplets it shares, or which covers points of its sphere), was added or
+ * resized: mark[i] = 1 for those, from the set's changed_reach. */
+typedef struct reach_ctx {
+    const vc_balls *b;
+    const double *c;
+    double reach;
+    unsigned char *mark;
+} reach_ctx;
+
+static int mark_reached(void *ctx, int64_t i)
+{
+    reach_ctx *r = ctx;
+    const double *p = r->b->center + 3 * i;
+    double d[3] = {p[0] - r->c[0], p[1] - r->c[1], p[2] - r->c[2]};
+    double s = r->reach + r->b->radius[i];
+    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s * s)
+        r->mark[i] = 1;
+    return 0;
+}
+
+/* Balls per block: the triplets of a block are computed in parallel, then
+ * handed to fn in (i, j, k) order, so fn sees the same sequence for any
+ * thread count. */
+#define SCAN_BLOCK 4096
+
+static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
+                void (*fn)(void *ctx, const vc_triplet *t), void *ctx)
+{
+    const vc_balls *b = &bs->b;
+    const int64_t n = b->n;
+#ifdef _OPENMP
+    if (threads <= 0)
+        threads = omp_get_max_threads();
+#else
+    threads = 1;
+#endif
+    if (threads < 1)
+        threads = 1;
+    int64_t *first = malloc(sizeof(int64_t) * SCAN_BLOCK), *count = malloc(sizeof(int64_t) * SCAN_BLOCK);
+    int *owner = malloc(sizeof(int) * SCAN_BLOCK);
+    triplet_buf *buf = calloc((size_t)threads, sizeof *buf);
+    nb_list *lists = calloc((size_t)threads, sizeof *lists);
+    int rc = (!first || !count || !owner || !buf || !lists) ? -1 : 0;
+    for (int64_t start = 0; start < n && !rc; start += SCAN_BLOCK) {
+        const int64_t end = start + SCAN_BLOCK < n ? start + SCAN_BLOCK : n;
+        for (int t = 0; t < threads; t++)
+            buf[t].n = 0;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads)
+        for (int64_t i = start; i < end; i++) {
+            int t = 0;
+#ifdef _OPENMP
+            t = omp_get_thread_num();
+#endif
+            owner[i - start] = t;
+            first[i - start] = buf[t].n;
+            if (!only || only[i]) {
+                lists[t].b = b;
+                triplets_of(bs, i, &lists[t], &buf[t]);
+            }
+            count[i - start] = buf[t].n - first[i - start];
+        }
+        for (int t = 0; t < threads; t++)
+            if (buf[t].oom || lists[t].oom)
+                rc = -1;
+        if (rc)
+            break;
+        for (int64_t i = start; i < end; i++) {
+            const triplet_buf *tb = &buf[owner[i - start]];
+            for (int64_t q = first[i - start]; q < first[i - start] + count[i - start]; q++)
+                fn(ctx, &tb->t[q]);
+        }
+    }
+    for (int t = 0; buf && t < threads; t++)
+        free(buf[t].t);
+    for (int t = 0; lists && t < threads; t++)
+        free(lists[t].ids);
+    free(buf);
+    free(lists);
+    free(first);
+    free(count);
+    free(owner);
+    return rc;
+}
+
 int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_triplet *t),
                      void *ctx)
 {
+    return scan(bs, NULL, 1, fn, ctx);
+}
+
+int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
+                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx)
+{
     const vc_balls *b = &bs->b;
-    nb_list L = {b, 0, NULL, 0, 0, 0};
-    for (int64_t i = 0; i < b->n; i++) {
-        L.self = i;
-        L.n = 0;
-        vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, 0.0, collect_overlapping, &L);
-        if (L.oom) {
-            free(L.ids);
+    unsigned char *mark = NULL;
+    if (bs->n_changed < b->n / 2) {
+        mark = calloc((size_t)b->n + 1, 1);
+        if (!mark)
             return -1;
-        }
-        qsort(L.ids, (size_t)L.n, sizeof(int64_t), cmp_i64);
-        for (int64_t a = 0; a < L.n; a++) {
-            int64_t j = L.ids[a];
-            if (j < i)
+        for (int64_t q = 0; q < b->n; q++) {
+            if (!(bs->changed_reach[q] > 0))
                 continue;
-            for (int64_t c = a + 1; c < L.n; c++) {
-                int64_t k = L.ids[c];
-                if (!overlap(b, j, k))
-                    continue;
-                vc_triplet t;
-                t.i = i;
-                t.j = j;
-                t.k = k;
-                if (!vc_sphere_triple_points(b->center + 3 * i, b->radius[i], b->center + 3 * j,
-                                             b->radius[j], b->center + 3 * k, b->radius[k],
-                                             t.up, t.down))
-                    continue;
-                t.cover_up = best_cover(b, &L, j, k, t.up);
-                t.cover_down = best_cover(b, &L, j, k, t.down);
-                fn(ctx, &t);
-            }
+            mark[q] = 1;
+            reach_ctx r = {b, b->center + 3 * q, bs->changed_reach[q], mark};
+            vc_ball_set_query(bs, r.c, r.reach, 1.0, 0.0, mark_reached, &r);
         }
     }
-    free(L.ids);
-    return 0;
+    vc_ball_set_forget_changes(bs);
+    int rc = scan(bs, mark, threads, fn, ctx);
+    free(mark);
+    return rc;
+}
+
+int vc_triplets_scan_all(vc_ball_set *bs, int threads,
+                         void (*fn)(void *ctx, const vc_triplet *t), void *ctx)
+{
+    vc_ball_set_forget_changes(bs);
+    return scan(bs, NULL, threads, fn, ctx);
 }

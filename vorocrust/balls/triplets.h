@@ -32,4 +32,17 @@ typedef struct vc_triplet {
 int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_triplet *t),
                      void *ctx);
 
+/* The same for the triplets that may have changed since the last call:
+ * those of every ball that was added or resized (changed_reach) or that
+ * reaches such a ball, computed on threads threads (<= 0: OpenMP's
+ * default) and handed to fn in the same order for any thread count. Marks
+ * the set unchanged. With most balls changed, every triplet. */
+int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
+                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx);
+
+/* Every triplet, as vc_triplets_scan, on threads threads; marks the set
+ * unchanged. */
+int vc_triplets_scan_all(vc_ball_set *bs, int threads,
+                         void (*fn)(void *ctx, const vc_triplet *t), void *ctx);
+
 #endif
