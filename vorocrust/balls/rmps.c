@@ -25,6 +25,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "balls/ball_estimate.h"
 #include "balls/ball_set.h"
@@ -71,7 +74,7 @@ typedef struct sampler {
      * pass: only they can constrain other radii */
     unsigned char *dirty;
     int64_t dirty_cap;
-    int64_t last_cover; /* the ball that covered the last subface tested, or -1 */
+    int threads;        /* for the parallel parts (OpenMP's default when opt.threads <= 0) */
     int too_many;       /* the ball count reached opt.max_balls */
     const char *phase;  /* for the progress lines */
     double t_start, t_logged;
@@ -172,7 +175,8 @@ static int covers_subface(void *ctx, int64_t i)
 }
 
 /* Is the whole subface covered by one ball (balls are convex)? */
-static int subface_covered(sampler *S, const subface *sf, int nv, int kind)
+static int subface_covered(const sampler *S, const subface *sf, int nv, int kind,
+                           int64_t *last_cover)
 {
     double c[3] = {0, 0, 0};
     for (int m = 0; m < nv; m++)
@@ -186,13 +190,43 @@ static int subface_covered(sampler *S, const subface *sf, int nv, int kind)
      * mesh order): the ball that covered the last one often covers this
      * one too, and trying it first skips most queries. The answer (is
      * there a covering ball?) does not depend on which ball is found. */
-    if (S->last_cover >= 0 && S->last_cover < S->bs.b.n && covers_subface(&cc, S->last_cover))
+    if (*last_cover >= 0 && *last_cover < S->bs.b.n && covers_subface(&cc, *last_cover))
         return 1;
     /* a ball holding every vertex has a radius of at least reach / 2 */
     int found = vc_ball_set_query(&S->bs, c, reach, 1.0, 0.5 * reach, covers_subface, &cc);
     if (found)
-        S->last_cover = cc.found;
+        *last_cover = cc.found;
     return found;
+}
+
+/* Keeps the subfaces of P that no single ball covers, in their order. The
+ * tests only read the balls, so they run in parallel in chunks of
+ * neighbouring subfaces (each chunk with its own last covering ball); the
+ * answer does not depend on the thread count. */
+static int drop_covered(const sampler *S, pool *P, int nv, int kind)
+{
+    const int64_t n = P->n;
+    if (n == 0)
+        return 0;
+    unsigned char *keep = malloc((size_t)n);
+    if (!keep)
+        return -1;
+    const int64_t chunk = 256;
+    const int64_t n_chunks = (n + chunk - 1) / chunk;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(S->threads) if (n > 2 * chunk)
+    for (int64_t c = 0; c < n_chunks; c++) {
+        int64_t last = -1;
+        const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
+        for (int64_t i = c * chunk; i < end; i++)
+            keep[i] = !subface_covered(S, &P->f[i], nv, kind, &last);
+    }
+    int64_t m = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (keep[i])
+            P->f[m++] = P->f[i];
+    P->n = m;
+    free(keep);
+    return 0;
 }
 
 /* ---------------------------------------------------------------------
@@ -319,13 +353,8 @@ static int mps(sampler *S, pool *P, int nv)
     pool next = {NULL, 0, 0};
     int rc = 0;
     /* drop what is already covered */
-    {
-        int64_t m = 0;
-        for (int64_t i = 0; i < P->n; i++)
-            if (!subface_covered(S, &P->f[i], nv, kind))
-                P->f[m++] = P->f[i];
-        P->n = m;
-    }
+    if (drop_covered(S, P, nv, kind))
+        return -1;
     double area0 = 0;
     for (int64_t i = 0; i < P->n; i++)
         area0 += measure(&P->f[i], nv);
@@ -423,10 +452,12 @@ static int mps(sampler *S, pool *P, int nv)
             }
             for (int q = 0; q < nch; q++) {
                 ch[q].elem = sf->elem;
-                if (!subface_covered(S, &ch[q], nv, kind) && pool_push(&next, &ch[q]))
+                if (pool_push(&next, &ch[q]))
                     rc = -1;
             }
         }
+        if (!rc && drop_covered(S, &next, nv, kind))
+            rc = -1;
         pool tmp = *P;
         *P = next;
         next = tmp;
@@ -936,7 +967,11 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
 
     sampler S;
     memset(&S, 0, sizeof S);
-    S.last_cover = -1;
+#ifdef _OPENMP
+    S.threads = opt->threads > 0 ? opt->threads : omp_get_max_threads();
+#else
+    S.threads = 1;
+#endif
     S.s = s;
     S.f = f;
     S.opt = *opt;
