@@ -271,12 +271,12 @@ if PART == "icosphere":
               "mesh --foam: owner note %r, .vtu cells %d" % (note and note.group(0), grid.GetNumberOfCells()))
 
 if PART in ("fandisk_a", "fandisk_b", "fandisk_c"):
-    # The warning for a reconstructed surface that is not a closed oriented
-    # 2-manifold of the input's Euler characteristic: fandisk.off at 45 degrees
-    # with --seed 4 gave one (3 boundary edges, Euler characteristic 1) when
-    # this test was written. The warning must come exactly when the surface
-    # (checked here) is broken, so the test stays right once the sampling is
-    # fixed.
+    # A reconstructed surface that is not a closed oriented 2-manifold of the
+    # input's Euler characteristic is an error (exit 1, no output): fandisk.off
+    # at 45 degrees with --seed 4 gave one (3 boundary edges, Euler
+    # characteristic 1) when this test was written. Exit 0 must come with a
+    # surface that is right (checked here), so the test stays right once the
+    # sampling is fixed.
     rc, err, surf, _, _ = mesh("fandisk.off", "broken45", "--seed", "4", "--sharp-angle", "45",
                                "--max-error", "0.0035") if PART == "fandisk_a" else (None,) * 5
     if rc is None:
@@ -285,14 +285,16 @@ if PART in ("fandisk_a", "fandisk_b", "fandisk_c"):
         pts, polys = read_surface(surf)
         euler, bad, misoriented, pinched = topology(pts, polys)
         broken = euler != 2 or bad or misoriented or pinched
-        warned = re.search(r"^vorocrust: warning: .*fandisk\.off: the reconstructed surface is not a "
-                           r"closed consistently oriented 2-manifold", err, re.M) is not None
-        check(warned == bool(broken), "fandisk --seed 4 at 45 degrees: surface euler %d, %d bad "
-              "edges, %d misoriented, %d pinched; warning %s" % (euler, bad, misoriented, pinched, warned))
-        print("fandisk --seed 4 at 45 degrees: surface broken %s, warned %s" % (bool(broken), warned))
+        check(not broken, "fandisk --seed 4 at 45 degrees: exit 0 with a broken surface: euler %d, "
+              "%d bad edges, %d misoriented, %d pinched" % (euler, bad, misoriented, pinched))
+        print("fandisk --seed 4 at 45 degrees: exit 0, surface right")
     else:
-        check("sliver elimination does not converge" in err,
-              "fandisk --seed 4 at 45 degrees: exit %d: %s" % (rc, err[-1500:]))
+        check(re.search(r"^vorocrust: .*fandisk\.off: (the reconstructed surface is not a closed "
+                        r"consistently oriented 2-manifold|sliver elimination does not converge)",
+                        err, re.M) is not None and not os.path.exists(surf),
+              "fandisk --seed 4 at 45 degrees: exit %d (output left: %s): %s"
+              % (rc, os.path.exists(surf), err[-1500:]))
+        print("fandisk --seed 4 at 45 degrees: exit %d, %s" % (rc, err.strip().splitlines()[-1][:160]))
 
     # fandisk.off with the default parameters and seeds 2 to 8 (seed 1 is in
     # e2e_mesh_models): the sampling at 60 degrees diverges at the folds of 20

@@ -6,7 +6,44 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "vorocrust/features.h"
+#include "vorocrust/regions.h"
 #include "vorocrust/surface.h"
+
+/* The regions of the arrangement: what the surface bounds, and whether
+ * its orientation makes it one solid (what vorocrust mesh needs). */
+static int print_regions(const vc_surface *s)
+{
+    vc_regions r;
+    vc_error err = {0, ""};
+    if (vc_surface_regions(s, &r, &err)) {
+        fprintf(stderr, "vorocrust: %s\n", err.msg);
+        return -1;
+    }
+    int64_t n_kind[4] = {0, 0, 0, 0};
+    for (int64_t i = 0; i < r.n_regions; i++)
+        n_kind[r.region[i].kind]++;
+    printf("regions: %lld (%lld solid, %lld void, %lld mixed); %lld triangles between two regions",
+           (long long)r.n_regions, (long long)n_kind[VC_REGION_SOLID], (long long)n_kind[VC_REGION_VOID],
+           (long long)n_kind[VC_REGION_MIXED], (long long)r.n_interface);
+    if (r.n_twice)
+        printf(", %lld given twice", (long long)r.n_twice);
+    printf("\n");
+    static const char *kind[4] = {"", "solid", "void", "mixed"};
+    for (int64_t i = 0; i < r.n_regions; i++) {
+        const vc_region *g = &r.region[i];
+        printf("region %lld: volume %.9g, %s, ", (long long)i + 1, g->volume, kind[g->kind]);
+        if (g->parent >= 0)
+            printf("inside region %lld", (long long)g->parent + 1);
+        else
+            printf("outermost");
+        printf(", %lld holes, %lld triangle sides from triangle %lld\n", (long long)g->n_holes,
+               (long long)g->n_sides, (long long)g->first_triangle + 1);
+    }
+    const int one = vc_regions_single_solid(&r);
+    printf("one solid by orientation: %s\n", one > 0 ? "yes" : one < 0 ? "yes (oriented inward)" : "no");
+    vc_regions_free(&r);
+    return 0;
+}
 
 static void usage(FILE *f)
 {
@@ -144,6 +181,10 @@ int vc_cmd_info(int argc, char **argv)
         printf("solid: yes\n");
     else
         printf("solid: no (%s)\n", why);
+    if (closed && print_regions(&s) != 0) {
+        vc_surface_free(&s);
+        return 1;
+    }
 
     int rc = 0;
     if (features) {

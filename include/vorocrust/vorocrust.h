@@ -141,6 +141,7 @@ typedef struct vc_mesh_result {
     /* The input as vc_mesh checked it (topology, Euler characteristic,
      * enclosed volume). */
     vc_surface_report input;
+    int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
 
     /* The sampling that was kept. */
     double first_sharp_angle;   /* the angle of the first attempt */
@@ -163,7 +164,8 @@ typedef struct vc_mesh_result {
     vc_polysurface_topology surface_topology;
     int64_t n_tjunctions_repaired;
     int surface_closed;         /* closed, consistently oriented 2-manifold with the
-                                   input's Euler characteristic */
+                                   input's Euler characteristic (always 1 on success:
+                                   vc_mesh fails otherwise) */
     double surface_volume;      /* enclosed by it (polygons fanned) */
     vc_surface_quality surface_quality;
 
@@ -183,9 +185,13 @@ typedef struct vc_mesh_result {
 
 /* Runs the pipeline on the surface s (as read by vc_surface_read, or built
  * by the caller). On success fills *out (free it with vc_mesh_result_free).
- * On failure *out is left empty and err says why: VC_EINPUT for an open
- * or inconsistently oriented surface, or a sampling that diverged even
- * after the resampling allowed; VC_EPARAM for a bad option or, with the
+ * On failure *out is left empty and err says why: VC_EINPUT for an input
+ * that cannot bound one solid (open, inconsistently oriented, repeated or
+ * zero-area triangles, self-intersections, no volume, several regions
+ * that are not one solid: see vc_regions_single_solid), a sampling that
+ * diverged even after the resampling allowed, or a reconstructed surface
+ * that is not a closed oriented 2-manifold of the input's Euler
+ * characteristic; VC_EPARAM for a bad option or, with the
  * octree interior, MPI not initialised; VC_ENOMEM; VC_EINTERNAL. */
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt, vc_mesh_result *out,
             vc_error *err);

@@ -15,6 +15,7 @@
 
 #include "mesh_measures.h"
 #include "vorocrust/features.h"
+#include "vorocrust/regions.h"
 #include "vorocrust/smoothing.h"
 #include "vorocrust/voronoi.h"
 
@@ -453,6 +454,30 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * self-intersection, a volume (before sampling, which would not end). */
     if ((rc = vc_surface_check_solid(s, &out->input, NULL, err)) != 0)
         goto fail;
+    /* And one solid, as its orientation defines it: the regions of its
+     * arrangement each inside or outside, every triangle between the two.
+     * Several materials (an interface with a region on both sides, nested
+     * shells of the same orientation) would come out wrong. */
+    {
+        vc_regions regions;
+        if ((rc = vc_surface_regions(s, &regions, err)) != 0) {
+            rc = named(err, name, NULL);
+            goto fail;
+        }
+        const int one = vc_regions_single_solid(&regions);
+        out->n_regions = regions.n_regions;
+        if (!one) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the surface bounds %lld regions that are not one solid (%lld "
+                              "triangles between two regions): several materials, or nested "
+                              "shells of the same orientation; vorocrust meshes one material so "
+                              "far ('vorocrust info' lists the regions)",
+                              name, (long long)regions.n_regions, (long long)regions.n_interface);
+            vc_regions_free(&regions);
+            goto fail;
+        }
+        vc_regions_free(&regions);
+    }
     /* A size the sampling and the engine handle in double precision: their
      * squared distances and volumes (a size cubed) must stay normal
      * numbers, as vc_voronoi_build requires of the seeds' extent. */
@@ -502,15 +527,20 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     out->surface_closed = !topo->n_boundary_edges && !topo->n_nonmanifold_edges &&
                           !topo->n_misoriented_edges && !topo->n_nonmanifold_vertices &&
                           topo->euler == out->input.euler;
-    if (!out->surface_closed)
-        vc_log(opt.log, VC_LOG_WARNING,
-               "%s: the reconstructed surface is not a closed consistently oriented 2-manifold "
-               "with the input's Euler characteristic (%lld boundary, %lld non-manifold and "
-               "%lld misoriented edges, %lld non-manifold vertices; Euler characteristic %lld, "
-               "input %lld)",
-               name, (long long)topo->n_boundary_edges, (long long)topo->n_nonmanifold_edges,
-               (long long)topo->n_misoriented_edges, (long long)topo->n_nonmanifold_vertices,
-               (long long)topo->euler, (long long)out->input.euler);
+    /* a surface known to be wrong is an error, not a mesh with a warning */
+    if (!out->surface_closed) {
+        rc = vc_error_set(err, VC_EINPUT,
+                          "%s: the reconstructed surface is not a closed consistently oriented "
+                          "2-manifold with the input's Euler characteristic (%lld boundary, %lld "
+                          "non-manifold and %lld misoriented edges, %lld non-manifold vertices; "
+                          "Euler characteristic %lld, input %lld): the sampling did not resolve "
+                          "the surface; try another --seed or a smaller --max-error",
+                          name, (long long)topo->n_boundary_edges,
+                          (long long)topo->n_nonmanifold_edges, (long long)topo->n_misoriented_edges,
+                          (long long)topo->n_nonmanifold_vertices, (long long)topo->euler,
+                          (long long)out->input.euler);
+        goto fail;
+    }
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = vc_polysurface_volume(&out->surface);
 

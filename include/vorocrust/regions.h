@@ -1,0 +1,82 @@
+/* The regions of space a closed triangle surface bounds: the cells of its
+ * arrangement (thesis 6.2.2, non-manifold domains).
+ *
+ * Around every edge the triangles are ordered by angle; the two triangle
+ * sides that face each other across a wedge between consecutive triangles
+ * bound the same piece of space. Joined over all edges, the triangle sides
+ * fall into shells: closed oriented surfaces, each bounding one connected
+ * piece of a region. A shell whose enclosed signed volume is positive
+ * bounds its piece from outside; the one negative shell of each connected
+ * surface component faces away from it, and lies inside a positive shell
+ * of another component (the smallest that contains it: the component is
+ * nested there, as a cavity or an inclusion) or in the unbounded region.
+ * A region is a positive shell with the negative shells directly inside
+ * it. Triangles given twice with opposite orientation (two closed
+ * surfaces that share an interface) count once.
+ *
+ * Regions are numbered in input order: by the first triangle (lowest
+ * index) on their boundary. */
+#ifndef VORO_CRUST_REGIONS_H
+#define VORO_CRUST_REGIONS_H
+
+#include <stdint.h>
+
+#include "vorocrust/error.h"
+#include "vorocrust/surface.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What the triangles' orientation says a region is. */
+typedef enum vc_region_kind {
+    VC_REGION_SOLID = 1, /* every boundary triangle's normal points out of it */
+    VC_REGION_VOID = 2,  /* every boundary triangle's normal points into it (a cavity) */
+    VC_REGION_MIXED = 3  /* both: the orientation does not say (an interface, or nested
+                            shells of the same orientation) */
+} vc_region_kind;
+
+typedef struct vc_region {
+    double volume;          /* enclosed: the outer shell's minus its holes' */
+    int64_t first_triangle; /* the lowest triangle index on its boundary (0-based) */
+    int64_t n_sides;        /* triangle sides on its boundary */
+    int64_t n_holes;        /* shells of nested components bounding it from inside */
+    int64_t parent;         /* the region its outer shell lies in, -1: the unbounded one */
+    vc_region_kind kind;
+} vc_region;
+
+typedef struct vc_regions {
+    int64_t n_regions;      /* bounded regions */
+    vc_region *region;
+    /* per triangle: the region on its front side (where its normal
+     * points; 2t) and on its back side (2t + 1); -1: the unbounded region */
+    int64_t *side_region;
+    int64_t n_triangles;
+    int64_t n_components;   /* surface components connected through edges */
+    int64_t n_twice;        /* triangles given a second time, reversed (counted once) */
+    int unbounded_sides;    /* which sides the unbounded region touches: 1 front, 2 back, 3 both */
+    int64_t n_interface;    /* triangles with a bounded region on both sides */
+} vc_regions;
+
+/* The regions of the closed surface s (call it after vc_surface_check has
+ * found no boundary edge; an edge of one distinct triangle, such as the
+ * rim of a wall given twice, joins that triangle's two sides). Returns 0
+ * or VC_ENOMEM. */
+int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err);
+
+/* Whether the regions are those of one solid as the orientation defines
+ * it: every region VC_REGION_SOLID or VC_REGION_VOID, the unbounded region
+ * outside, and every triangle between a solid and a void: returns 1; or
+ * so with every triangle reversed (a surface oriented inward): returns -1;
+ * else 0 (an interface between regions, nested shells of the same
+ * orientation, components oriented differently). */
+int vc_regions_single_solid(const vc_regions *r);
+
+/* Frees the arrays of r and zeroes it. Safe on a zeroed vc_regions. */
+void vc_regions_free(vc_regions *r);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,177 @@
+"""End-to-end test of the regions of a surface's arrangement
+(include/vorocrust/regions.h): `vorocrust info` lists them (count,
+volumes, kinds, nesting), and `vorocrust mesh` meshes one solid (with
+cavities, several disjoint parts, inward orientation) and refuses the
+others (interfaces between materials, nested shells of the same
+orientation) with one line and no output.
+
+The surfaces are generated here from voxel labellings of a small grid:
+every unit face between two cells of different labels becomes two
+triangles (once, its normal towards the lower label, label 0 being empty
+space; or, with `twice`, once per labelled side facing out of it), so
+the exact region volumes are the cell counts. Environment: VC_BIN, VC_TMP,
+VC_SOURCE."""
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import e2eutil  # noqa: E402
+from e2eutil import check, failures  # noqa: E402
+
+BIN = os.environ["VC_BIN"]
+TMP = os.path.join(os.environ.get("VC_TMP", "/tmp"), "e2e_regions")
+os.makedirs(TMP, exist_ok=True)
+
+
+def voxel_surface(path, dims, label, twice=False, flip=False):
+    """Writes the OBJ of the faces between differently labelled cells of a
+    dims grid; label(i, j, k) gives each cell's label (outside the grid: 0)."""
+    nx, ny, nz = dims
+
+    def lab(i, j, k):
+        if 0 <= i < nx and 0 <= j < ny and 0 <= k < nz:
+            return label(i, j, k)
+        return 0
+
+    verts = {}
+
+    def vid(p):
+        if p not in verts:
+            verts[p] = len(verts) + 1
+        return verts[p]
+
+    tris = []
+
+    def quad(corners, towards_plus):
+        # corners in counter-clockwise order seen from +axis
+        a, b, c, d = (vid(q) for q in corners)
+        if towards_plus:
+            tris.append((a, b, c))
+            tris.append((a, c, d))
+        else:
+            tris.append((a, c, b))
+            tris.append((a, d, c))
+
+    for i in range(-1, nx):
+        for j in range(-1, ny):
+            for k in range(-1, nz):
+                here = lab(i, j, k)
+                for axis in range(3):
+                    o = [i, j, k]
+                    o[axis] += 1
+                    there = lab(*o)
+                    if here == there:
+                        continue
+                    # the face between cell (i, j, k) and its +axis
+                    # neighbour, corners counter-clockwise seen from +axis
+                    u, v = (axis + 1) % 3, (axis + 2) % 3
+                    base = [i, j, k]
+                    base[axis] += 1
+                    corners = []
+                    for du, dv in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        q = list(base)
+                        q[u] += du
+                        q[v] += dv
+                        corners.append(tuple(q))
+                    if twice:
+                        # each labelled side its own copy, facing out of it
+                        sides = ([True] if here else []) + ([False] if there else [])
+                    else:
+                        # towards the lower label (0: empty space)
+                        sides = [there < here]
+                    for towards_plus in sides:
+                        quad(corners, towards_plus != flip)
+    with open(path, "w") as f:
+        pts = sorted(verts.items(), key=lambda kv: kv[1])
+        for p, _ in pts:
+            f.write("v %d %d %d\n" % p)
+        for t in tris:
+            f.write("f %d %d %d\n" % t)
+
+
+def info_regions(path):
+    rc, out, err = e2eutil.run([BIN, "info", path], timeout=60)
+    regions = []
+    for m in re.finditer(r"^region (\d+): volume ([-0-9.e+]+), (\w+), (outermost|inside region (\d+)), "
+                         r"(\d+) holes", out, re.M):
+        regions.append((float(m.group(2)), m.group(3), int(m.group(5)) if m.group(5) else 0,
+                        int(m.group(6))))
+    m = re.search(r"^one solid by orientation: (.*)$", out, re.M)
+    return rc, regions, m.group(1) if m else None, out, err
+
+
+def obj_volume(path):
+    pts, vol = [], 0.0
+    with open(path) as f:
+        for line in f:
+            w = line.split()
+            if w and w[0] == "v":
+                pts.append(tuple(map(float, w[1:4])))
+            elif w and w[0] == "f":
+                idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
+                a = pts[idx[0]]
+                for q in range(1, len(idx) - 1):
+                    b, c = pts[idx[q]], pts[idx[q + 1]]
+                    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                            a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    return vol
+
+
+# name: dims, label, twice, flip; expected regions (volume, kind, parent, holes)
+# in input order, whether one solid, and the solid volume vorocrust mesh
+# must reproduce (None: refused)
+CASES = {
+    "cube": ((2, 2, 2), lambda i, j, k: 1, False, False,
+             [(8, "solid", 0, 0)], "yes", 8),
+    "cube_inward": ((2, 2, 2), lambda i, j, k: 1, False, True,
+                    [(8, "void", 0, 0)], "yes (oriented inward)", 8),
+    "two_cubes": ((5, 2, 2), lambda i, j, k: 0 if i == 2 else 1, False, False,
+                  [(8, "solid", 0, 0), (8, "solid", 0, 0)], "yes", 16),
+    "cavity": ((4, 4, 4), lambda i, j, k: 0 if 1 <= i <= 2 and 1 <= j <= 2 and 1 <= k <= 2 else 1,
+               False, False, [(56, "solid", 0, 1), (8, "void", 1, 0)], "yes", 56),
+    "inclusion": ((4, 4, 4), lambda i, j, k: 2 if 1 <= i <= 2 and 1 <= j <= 2 and 1 <= k <= 2 else 1,
+                  False, False, [(56, "mixed", 0, 1), (8, "solid", 1, 0)], "no", None),
+    "shared_face": ((4, 2, 2), lambda i, j, k: 1 if i < 2 else 2, False, False,
+                    [(8, "solid", 0, 0), (8, "mixed", 0, 0)], "no", None),
+    "three_layers": ((2, 2, 3), lambda i, j, k: k + 1, False, False,
+                     [(4, "solid", 0, 0), (4, "mixed", 0, 0), (4, "mixed", 0, 0)], "no", None),
+    "t_wall": ((4, 2, 2), lambda i, j, k: 3 if i >= 2 else (1 if j == 0 else 2), False, False,
+               [(4, "mixed", 0, 0), (4, "mixed", 0, 0), (8, "solid", 0, 0)], "no", None),
+    "shared_face_twice": ((4, 2, 2), lambda i, j, k: 1 if i < 2 else 2, True, False,
+                          [(8, "solid", 0, 0), (8, "solid", 0, 0)], "no", None),
+}
+
+for name, (dims, label, twice, flip, want, one, mesh_volume) in CASES.items():
+    path = os.path.join(TMP, name + ".obj")
+    voxel_surface(path, dims, label, twice, flip)
+    rc, regions, single, out, err = info_regions(path)
+    check(rc == 0, "%s: info exit %d: %s" % (name, rc, err))
+    got = sorted(regions, key=lambda r: (r[0], r[1]))
+    exp = sorted([(float(v), k, p, h) for v, k, p, h in want], key=lambda r: (r[0], r[1]))
+    ok = len(got) == len(exp) and all(abs(g[0] - e[0]) <= 1e-9 * max(1, e[0]) and g[1:] == e[1:]
+                                      for g, e in zip(got, exp))
+    check(ok, "%s: regions %r, expected %r" % (name, regions, want))
+    check(single == one, "%s: one solid %r, expected %r" % (name, single, one))
+    print("%s: %d regions %s, one solid: %s" % (name, len(regions), regions, single), flush=True)
+
+    surf = os.path.join(TMP, name + "_surface.obj")
+    if os.path.exists(surf):
+        os.remove(surf)
+    rc, out, err = e2eutil.run([BIN, "mesh", path, "--surface-only", "--surface", surf,
+                                "--threads", "2"], timeout=110)
+    if mesh_volume is None:
+        lines = err.strip().splitlines()
+        # (a face given twice is refused earlier, as a wall of zero thickness)
+        why = "wall of zero thickness" if twice else "regions that are not one solid"
+        check(rc == 1 and len(lines) == 1 and why in err and not os.path.exists(surf),
+              "%s: mesh must be refused with one line and no output: exit %d, %r" % (name, rc, err))
+    else:
+        check(rc == 0, "%s: mesh exit %d: %s" % (name, rc, err[-800:]))
+        if rc == 0:
+            v = abs(obj_volume(surf))
+            check(abs(v - mesh_volume) <= 0.005 * mesh_volume,
+                  "%s: reconstructed volume %.6g, the solid's %g" % (name, v, mesh_volume))
+            print("%s: meshed, reconstructed volume %.6g of %g" % (name, v, mesh_volume), flush=True)
+
+sys.exit(1 if failures else 0)
