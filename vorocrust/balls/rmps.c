@@ -37,6 +37,7 @@
 #include "vorocrust/quality.h"
 
 #define MAX_MISSES 100
+#define PARENT_BATCH 16384 /* subfaces split at a time before their children are tested */
 #define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
 /* Flat facets (see unflatten_facets): the quality below which a facet is
  * worked on (the top of the thesis' 0.37 to 0.40 on smooth models), the
@@ -199,15 +200,16 @@ static int subface_covered(const sampler *S, const subface *sf, int nv, int kind
     return found;
 }
 
-/* Keeps the subfaces of P that no single ball covers, in their order. The
- * tests only read the balls, so they run in parallel in chunks of
- * neighbouring subfaces (each chunk with its own last covering ball); the
- * answer does not depend on the thread count. */
-static int drop_covered(const sampler *S, pool *P, int nv, int kind)
+/* Keeps the subfaces of P from index `from` on that no single ball
+ * covers, in their order. The tests only read the balls, so they run in
+ * parallel in chunks of neighbouring subfaces (each chunk with its own
+ * last covering ball); the answer does not depend on the thread count. */
+static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kind)
 {
-    const int64_t n = P->n;
-    if (n == 0)
+    const int64_t n = P->n - from;
+    if (n <= 0)
         return 0;
+    subface *f = P->f + from;
     unsigned char *keep = malloc((size_t)n);
     if (!keep)
         return -1;
@@ -218,13 +220,13 @@ static int drop_covered(const sampler *S, pool *P, int nv, int kind)
         int64_t last = -1;
         const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
         for (int64_t i = c * chunk; i < end; i++)
-            keep[i] = !subface_covered(S, &P->f[i], nv, kind, &last);
+            keep[i] = !subface_covered(S, &f[i], nv, kind, &last);
     }
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++)
         if (keep[i])
-            P->f[m++] = P->f[i];
-    P->n = m;
+            f[m++] = f[i];
+    P->n = from + m;
     free(keep);
     return 0;
 }
@@ -353,7 +355,7 @@ static int mps(sampler *S, pool *P, int nv)
     pool next = {NULL, 0, 0};
     int rc = 0;
     /* drop what is already covered */
-    if (drop_covered(S, P, nv, kind))
+    if (drop_covered(S, P, 0, nv, kind))
         return -1;
     double area0 = 0;
     for (int64_t i = 0; i < P->n; i++)
@@ -422,8 +424,11 @@ static int mps(sampler *S, pool *P, int nv)
         }
         if (rc)
             break;
-        /* subdivide and keep the uncovered children */
+        /* subdivide and keep the uncovered children, tested in batches
+         * (children of PARENT_BATCH parents at a time, not all at once:
+         * the pool can be large) */
         next.n = 0;
+        int64_t batch_from = 0;
         for (int64_t i = 0; i < P->n && !rc; i++) {
             const subface *sf = &P->f[i];
             subface ch[4];
@@ -455,8 +460,13 @@ static int mps(sampler *S, pool *P, int nv)
                 if (pool_push(&next, &ch[q]))
                     rc = -1;
             }
+            if (!rc && (i + 1) % PARENT_BATCH == 0) {
+                if (drop_covered(S, &next, batch_from, nv, kind))
+                    rc = -1;
+                batch_from = next.n;
+            }
         }
-        if (!rc && drop_covered(S, &next, nv, kind))
+        if (!rc && drop_covered(S, &next, batch_from, nv, kind))
             rc = -1;
         pool tmp = *P;
         *P = next;
