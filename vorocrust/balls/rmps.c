@@ -77,7 +77,6 @@ typedef struct sampler {
     int64_t dirty_cap;
     int threads;        /* for the parallel parts (OpenMP's default when opt.threads <= 0) */
     int too_many;       /* the ball count reached opt.max_balls */
-    double lo[3];       /* the low corner of the surface's bounding box */
     const char *phase;  /* for the progress lines */
     double t_start, t_logged;
 } sampler;
@@ -272,6 +271,29 @@ static int nearest_centre(void *ctx, int64_t i)
     return 0;
 }
 
+/* The radius for a new ball at x on element sp, or a negative value when
+ * density regulation drops the sample. */
+static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3])
+{
+    double r = S->sz;
+    r = vc_sizing_radius_bound(&S->z, sp, x, r);
+    int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
+             : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
+                                          : VC_BALL_SURFACE;
+    radius_ctx rc = {&S->bs.b, x, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
+    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
+    r = rc.r;
+    spacing_ctx sc = {&S->bs.b, x, INFINITY};
+    vc_ball_set_query(&S->bs, x, r, 0.0, 0.0, nearest_centre, &sc);
+    double deep = 1 - S->alpha;
+    if (sc.nearest < deep * r) {
+        if (vc_rng_uniform(&S->rng) < 0.1)
+            return -1;
+        r = sc.nearest / deep;
+    }
+    return r;
+}
+
 static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp)
 {
     if (S->opt.max_balls > 0 && S->bs.b.n >= S->opt.max_balls) {
@@ -325,66 +347,6 @@ static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3])
         x[d] = sf->v[d] + u * (sf->v[3 + d] - sf->v[d]) + v * (sf->v[6 + d] - sf->v[d]);
 }
 
-/* A dart of a batch: where it fell, and what the balls of before the
- * batch say about it. */
-typedef struct dart {
-    double x[3];
-    int64_t sf;      /* the subface */
-    double u_drop;   /* the draw for density regulation */
-    int covered;
-    double r;        /* radius bound from the sizing and C3 with the earlier balls */
-    double nearest;  /* the nearest earlier centre within r */
-} dart;
-
-#define MIN_BATCH 64
-#define MAX_BATCH 4096
-
-/* new_radius's part that depends on the balls of before the batch only:
- * the sizing, C3 with the balls of the same kind, the nearest centre. */
-static void radius_before(const sampler *S, const vc_surface_point *sp, const double x[3],
-                          double *r_out, double *nearest)
-{
-    double r = vc_sizing_radius_bound(&S->z, sp, x, S->sz);
-    int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
-             : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
-                                          : VC_BALL_SURFACE;
-    radius_ctx rc = {&S->bs.b, x, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
-    spacing_ctx sc = {&S->bs.b, x, INFINITY};
-    vc_ball_set_query(&S->bs, x, rc.r, 0.0, 0.0, nearest_centre, &sc);
-    *r_out = rc.r;
-    *nearest = sc.nearest;
-}
-
-/* The rest of new_radius, with the balls the batch added so far (a set of
- * their own); negative when density regulation drops the dart. */
-static double radius_after(const sampler *S, const vc_ball_set *batch_balls, int elem_kind,
-                           const dart *D)
-{
-    int kind = elem_kind == VC_ELEM_EDGE ? VC_BALL_EDGE : VC_BALL_SURFACE;
-    radius_ctx rc = {&batch_balls->b, D->x, kind, D->r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    vc_ball_set_query(batch_balls, D->x, D->r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
-    double r = rc.r;
-    spacing_ctx sc = {&batch_balls->b, D->x, D->nearest};
-    vc_ball_set_query(batch_balls, D->x, r, 0.0, 0.0, nearest_centre, &sc);
-    double deep = 1 - S->alpha;
-    if (sc.nearest < deep * r) {
-        if (D->u_drop < 0.1)
-            return -1;
-        r = sc.nearest / deep;
-    }
-    return r;
-}
-
-/* Does a ball of the set cover x (of a stratum of kind elem_kind)? */
-static int ball_set_covers(const vc_ball_set *bs, const double x[3], int elem_kind, double deep)
-{
-    if (bs->b.n == 0)
-        return 0;
-    cover_ctx c = {&bs->b, x, elem_kind, deep};
-    return vc_ball_set_query(bs, x, 0, 1.0, 0.0, covers_point, &c);
-}
-
 static int mps(sampler *S, pool *P, int nv)
 {
     int kind = nv == 2 ? VC_ELEM_EDGE : VC_ELEM_TRIANGLE;
@@ -401,12 +363,6 @@ static int mps(sampler *S, pool *P, int nv)
     /* darts since the last progress line, and how many of them fell on
      * covered ground: the share of the pool's area covered, estimated */
     int64_t darts = 0, darts_covered = 0;
-    dart *darts_buf = malloc(sizeof(dart) * MAX_BATCH);
-    if (!darts_buf)
-        return -1;
-    int64_t batch = MIN_BATCH;
-    vc_ball_set batch_balls;
-    memset(&batch_balls, 0, sizeof batch_balls);
     for (int round = 0; P->n > 0 && round < 60; round++) {
         if (P->n > cum_cap) {
             double *q = realloc(cum, sizeof(double) * (size_t)P->n);
@@ -423,81 +379,48 @@ static int mps(sampler *S, pool *P, int nv)
             cum[i] = total;
         }
         int misses = 0;
-        while (misses < MAX_MISSES && total > 0 && !rc) {
-            /* a batch of darts: drawn in order, tested against the balls
-             * of before the batch in parallel, then taken in order against
-             * the balls the batch added (batch_balls) */
-            const int64_t K = batch;
-            for (int64_t d = 0; d < K; d++) {
-                dart *D = &darts_buf[d];
-                double t = vc_rng_uniform(&S->rng) * total;
-                int64_t lo = 0, hi = P->n - 1;
-                while (lo < hi) {
-                    int64_t mid = (lo + hi) / 2;
-                    if (cum[mid] <= t)
-                        lo = mid + 1;
-                    else
-                        hi = mid;
-                }
-                D->sf = lo;
-                random_point(&S->rng, &P->f[lo], nv, D->x);
-                D->u_drop = vc_rng_uniform(&S->rng);
+        while (misses < MAX_MISSES && total > 0) {
+            /* a line every 2 s: phase, the share of the area (length) covered
+             * (that of the pool left at the start of this round, covered
+             * since, as the recent darts saw it), balls */
+            if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
+                S->t_logged = now();
+                const double left = area0 > 0 ? total / area0 : 0;
+                const double seen = (double)darts_covered / (double)darts;
+                vc_log(S->opt.log, VC_LOG_INFO,
+                       "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
+                       nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
+                       nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
+                darts = darts_covered = 0;
             }
-#pragma omp parallel for schedule(dynamic, 16) num_threads(S->threads) if (K > 64)
-            for (int64_t d = 0; d < K; d++) {
-                dart *D = &darts_buf[d];
-                D->covered = point_covered(S, D->x, kind);
-                if (D->covered)
-                    continue;
-                vc_surface_point sp = {kind, P->f[D->sf].elem};
-                radius_before(S, &sp, D->x, &D->r, &D->nearest);
+            double t = vc_rng_uniform(&S->rng) * total;
+            int64_t lo = 0, hi = P->n - 1;
+            while (lo < hi) {
+                int64_t mid = (lo + hi) / 2;
+                if (cum[mid] <= t)
+                    lo = mid + 1;
+                else
+                    hi = mid;
             }
-            int64_t taken = 0;
-            vc_ball_set_free(&batch_balls);
-            if (vc_ball_set_init(&batch_balls, S->lo, S->z.diag)) {
+            const subface *sf = &P->f[lo];
+            double x[3];
+            random_point(&S->rng, sf, nv, x);
+            if (point_covered(S, x, kind)) {
+                darts_covered++;
+                misses++;
+                continue;
+            }
+            vc_surface_point sp = {kind, sf->elem};
+            double r = new_radius(S, &sp, x);
+            if (r <= 0) {
+                misses++;
+                continue;
+            }
+            if (add_ball(S, x, r, &sp)) {
                 rc = -1;
                 break;
             }
-            for (int64_t d = 0; d < K && misses < MAX_MISSES; d++) {
-                const dart *D = &darts_buf[d];
-                /* a line every 2 s: phase, the share of the area (length)
-                 * covered (that of the pool left at the start of this
-                 * round, covered since, as the recent darts saw it), balls */
-                if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
-                    S->t_logged = now();
-                    const double left = area0 > 0 ? total / area0 : 0;
-                    const double seen = (double)darts_covered / (double)darts;
-                    vc_log(S->opt.log, VC_LOG_INFO,
-                           "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
-                           nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
-                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
-                    darts = darts_covered = 0;
-                }
-                if (D->covered || ball_set_covers(&batch_balls, D->x, kind, 1 - S->alpha)) {
-                    darts_covered++;
-                    misses++;
-                    continue;
-                }
-                vc_surface_point sp = {kind, P->f[D->sf].elem};
-                double r = radius_after(S, &batch_balls, kind, D);
-                if (r <= 0) {
-                    misses++;
-                    continue;
-                }
-                if (add_ball(S, D->x, r, &sp) ||
-                    vc_ball_set_add(&batch_balls, D->x, r, S->bs.b.kind[S->bs.b.n - 1], sp.id,
-                                    S->bs.b.normal + 3 * (S->bs.b.n - 1)) < 0) {
-                    rc = -1;
-                    break;
-                }
-                taken++;
-                misses = 0;
-            }
-            /* the next batch: twice the darts this one placed (most darts
-             * of a batch are taken early in a round, few at its end) */
-            batch = 2 * taken + MIN_BATCH;
-            if (batch > MAX_BATCH)
-                batch = MAX_BATCH;
+            misses = 0;
         }
         if (rc)
             break;
@@ -552,8 +475,6 @@ static int mps(sampler *S, pool *P, int nv)
     }
     free(cum);
     free(next.f);
-    free(darts_buf);
-    vc_ball_set_free(&batch_balls);
     if (S->oom)
         rc = -1;
     return rc;
@@ -1075,7 +996,6 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     for (int64_t v = 0; v < s->n_vertices; v++)
         for (int d = 0; d < 3; d++)
             lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
-    memcpy(S.lo, lo, sizeof lo);
     if (vc_ball_set_init(&S.bs, lo, S.z.diag)) {
         vc_sizing_free(&S.z);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the balls");
