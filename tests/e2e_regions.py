@@ -142,6 +142,15 @@ CASES = {
                           [(8, "solid", 0, 0), (8, "solid", 0, 0)], "no", None),
 }
 
+def nested(i, j, k):
+    # a 6-cube holding a 4-cube holding a 2-cube, every shell outward
+    d = min(i, j, k, 5 - i, 5 - j, 5 - k)
+    return 1 if d == 0 else 2 if d == 1 else 3
+
+
+CASES["nested3"] = ((6, 6, 6), nested, False, False,
+                    [(152, "mixed", 0, 1), (56, "mixed", 1, 1), (8, "solid", 2, 0)], "no", None)
+
 for name, (dims, label, twice, flip, want, one, mesh_volume) in CASES.items():
     path = os.path.join(TMP, name + ".obj")
     voxel_surface(path, dims, label, twice, flip)
@@ -173,5 +182,26 @@ for name, (dims, label, twice, flip, want, one, mesh_volume) in CASES.items():
             check(abs(v - mesh_volume) <= 0.005 * mesh_volume,
                   "%s: reconstructed volume %.6g, the solid's %g" % (name, v, mesh_volume))
             print("%s: meshed, reconstructed volume %.6g of %g" % (name, v, mesh_volume), flush=True)
+
+# --cavities: nested closed shells alternate solid and cavity (the
+# outermost solid) whatever their orientation; an interface is refused.
+for name, volume in (("inclusion", 56), ("nested3", 152 + 8), ("cavity", 56), ("cube_inward", 8),
+                     ("shared_face", None)):
+    path = os.path.join(TMP, name + ".obj")
+    surf = os.path.join(TMP, name + "_cavities.obj")
+    if os.path.exists(surf):
+        os.remove(surf)
+    rc, out, err = e2eutil.run([BIN, "mesh", path, "--cavities", "--surface-only", "--surface", surf,
+                                "--threads", "2"], timeout=110)
+    if volume is None:
+        check(rc == 1 and len(err.strip().splitlines()) == 1 and "--cavities needs closed shells" in err
+              and not os.path.exists(surf), "%s --cavities: exit %d, %r" % (name, rc, err))
+        continue
+    check(rc == 0, "%s --cavities: exit %d: %s" % (name, rc, err[-800:]))
+    if rc == 0:
+        v = abs(obj_volume(surf))
+        check(abs(v - volume) <= 0.005 * volume, "%s --cavities: reconstructed volume %.6g, the "
+              "solid's %g" % (name, v, volume))
+        print("%s --cavities: meshed, reconstructed volume %.6g of %g" % (name, v, volume), flush=True)
 
 sys.exit(1 if failures else 0)

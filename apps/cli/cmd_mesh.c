@@ -63,6 +63,8 @@ static void usage(FILE *f)
         "  --threads N         threads, 1 to 4096 (default: all cores)\n"
         "  --quiet             no progress and no summary on stderr\n"
         "  --verbose           also the phase timings of the Voronoi engine on stderr\n"
+        "  --cavities          nested closed shells alternate solid and cavity (the\n"
+        "                      outermost solid), whatever their orientation\n"
         "  --fold-creases      when sliver elimination diverges, make the folds over 10\n"
         "                      degrees where it is stuck creases and sample again (up to 4\n"
         "                      times, then all such folds), instead of the default second\n"
@@ -217,6 +219,8 @@ static int run_mesh(int argc, char **argv)
             verbose = 1;
         } else if (!strcmp(a, "--fold-creases")) {
             fold_creases = 1;
+        } else if (!strcmp(a, "--cavities")) {
+            opt.cavities = 1;
         } else if (takes_value(a) && !v) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust mesh --help')\n", a);
             return 2;

@@ -53,9 +53,15 @@ typedef struct vc_regions {
     int64_t *side_region;
     int64_t n_triangles;
     int64_t n_components;   /* surface components connected through edges */
+    int64_t *component_of;  /* per triangle: its component, numbered by first triangle */
+    int64_t *component_depth; /* per component: how many components enclose it */
+    unsigned char *component_outward; /* per component: its triangles' normals point away
+                                         from the space it encloses */
     int64_t n_twice;        /* triangles given a second time, reversed (counted once) */
     int unbounded_sides;    /* which sides the unbounded region touches: 1 front, 2 back, 3 both */
     int64_t n_interface;    /* triangles with a bounded region on both sides */
+    int closed_shells;      /* every edge has exactly two distinct triangles: the
+                               components are closed 2-manifold shells */
 } vc_regions;
 
 /* The regions of the closed surface s (call it after vc_surface_check has
@@ -71,6 +77,15 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err);
  * else 0 (an interface between regions, nested shells of the same
  * orientation, components oriented differently). */
 int vc_regions_single_solid(const vc_regions *r);
+
+/* The orientation the even-odd rule gives a surface of nested closed
+ * shells: the outermost components bound solid, the ones inside them
+ * cavities, the ones inside those solid again, and so on. Writes to flip
+ * (n_triangles bytes) 1 for every triangle whose component must be
+ * reversed for that, and returns how many components; -1 when some
+ * component is not a closed 2-manifold shell of its own (closed_shells 0:
+ * an interface between regions, where the rule does not apply). */
+int64_t vc_regions_even_odd_flips(const vc_regions *r, unsigned char *flip);
 
 /* Frees the arrays of r and zeroes it. Safe on a zeroed vc_regions. */
 void vc_regions_free(vc_regions *r);

@@ -88,6 +88,11 @@ typedef struct vc_mesh_options {
     int resample;           /* VC_RESAMPLE_* flags, default both */
     /* Stop after the reconstructed surface (no interior, no volume mesh). */
     int surface_only;
+    /* Nested closed shells alternate solid and cavity by the even-odd rule
+     * (outermost solid), whatever their orientation: each component is
+     * reoriented before sampling. Without it the orientation decides, and
+     * nested shells of the same orientation (an inclusion) are refused. */
+    int cavities;
     vc_interior_kind interior;
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */

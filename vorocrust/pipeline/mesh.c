@@ -418,9 +418,34 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_res
     return 0;
 }
 
+/* s with the triangles flip[t] != 0 reversed, into *out. */
+static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
+                           vc_error *err)
+{
+    out->n_vertices = s->n_vertices;
+    out->n_triangles = s->n_triangles;
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
+    if (!out->xyz || !out->tri) {
+        vc_surface_free(out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
+    }
+    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        const int64_t *v = s->tri + 3 * t;
+        int64_t *w = out->tri + 3 * t;
+        w[0] = v[0];
+        w[1] = flip[t] ? v[2] : v[1];
+        w[2] = flip[t] ? v[1] : v[2];
+    }
+    return 0;
+}
+
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *out,
             vc_error *err)
 {
+    vc_surface oriented; /* the input reoriented by --cavities */
+    memset(&oriented, 0, sizeof oriented);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -457,12 +482,43 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     /* And one solid, as its orientation defines it: the regions of its
      * arrangement each inside or outside, every triangle between the two.
      * Several materials (an interface with a region on both sides, nested
-     * shells of the same orientation) would come out wrong. */
+     * shells of the same orientation) would come out wrong. With
+     * opt.cavities, nested shells are reoriented by the even-odd rule. */
     {
         vc_regions regions;
         if ((rc = vc_surface_regions(s, &regions, err)) != 0) {
             rc = named(err, name, NULL);
             goto fail;
+        }
+        if (opt.cavities) {
+            unsigned char *flip = malloc((size_t)s->n_triangles + 1);
+            const int64_t n_flipped = flip ? vc_regions_even_odd_flips(&regions, flip) : 0;
+            if (!flip)
+                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            else if (n_flipped < 0)
+                rc = vc_error_set(err, VC_EINPUT,
+                                  "%s: --cavities needs closed shells, each a 2-manifold of its "
+                                  "own; this surface has edges of more than two triangles (an "
+                                  "interface between materials)", name);
+            else if (n_flipped > 0)
+                rc = reoriented_copy(s, flip, &oriented, err);
+            free(flip);
+            if (rc) {
+                vc_regions_free(&regions);
+                goto fail;
+            }
+            if (n_flipped > 0) {
+                vc_log(opt.log, VC_LOG_INFO,
+                       "mesh: %lld of %lld surface components reversed: nested shells "
+                       "alternate solid and cavity (--cavities)",
+                       (long long)n_flipped, (long long)regions.n_components);
+                s = &oriented;
+                vc_regions_free(&regions);
+                if ((rc = vc_surface_regions(s, &regions, err)) != 0) {
+                    rc = named(err, name, NULL);
+                    goto fail;
+                }
+            }
         }
         const int one = vc_regions_single_solid(&regions);
         out->n_regions = regions.n_regions;
@@ -470,8 +526,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             rc = vc_error_set(err, VC_EINPUT,
                               "%s: the surface bounds %lld regions that are not one solid (%lld "
                               "triangles between two regions): several materials, or nested "
-                              "shells of the same orientation; vorocrust meshes one material so "
-                              "far ('vorocrust info' lists the regions)",
+                              "shells of the same orientation (--cavities makes nested shells "
+                              "cavities); vorocrust meshes one material so far ('vorocrust "
+                              "info' lists the regions)",
                               name, (long long)regions.n_regions, (long long)regions.n_interface);
             vc_regions_free(&regions);
             goto fail;
@@ -547,8 +604,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     if (!opt.surface_only && (rc = volume_mesh(&opt, name, out, err)) != 0)
         goto fail;
     out->time.total = now() - t0;
+    vc_surface_free(&oriented);
     return 0;
 fail:
+    vc_surface_free(&oriented);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }

@@ -126,6 +126,7 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
     }
 
     /* triangles given twice count once */
+    int any_alias = 0;
     for (int64_t t = 0; t < nt; t++) {
         int64_t *v = keys[t].v;
         for (int k = 0; k < 3; k++)
@@ -149,6 +150,7 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
             const int64_t *f = s->tri + 3 * first;
             alias_flip[b->tri] = !walks(s, b->tri, f[0], f[1]);
             out->n_twice += alias_flip[b->tri];
+            any_alias = 1;
         }
     }
 
@@ -168,11 +170,14 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
     qsort(er, (size_t)ne, sizeof *er, cmp_edge_rec);
     vc_uf_init(side, 2 * nt);
     vc_uf_init(comp, nt);
+    out->closed_shells = !any_alias;
     for (int64_t i = 0; i < ne;) {
         int64_t j = i;
         while (j < ne && er[j].lo == er[i].lo && er[j].hi == er[i].hi)
             j++;
         const int64_t k = j - i;
+        if (k != 2)
+            out->closed_shells = 0;
         if (k < 2) {
             /* one distinct triangle (an open edge, or the edge of a wall
              * given twice): around the edge, one side leads to the other */
@@ -420,6 +425,52 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
         }
     }
 
+    /* components, numbered by first triangle; their nesting depth and
+     * orientation */
+    out->component_of = malloc(sizeof(int64_t) * (size_t)(nt + 1));
+    out->component_depth = calloc((size_t)out->n_components + 1, sizeof(int64_t));
+    out->component_outward = calloc((size_t)out->n_components + 1, 1);
+    if (!out->component_of || !out->component_depth || !out->component_outward) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory for the regions");
+        goto done;
+    }
+    {
+        int64_t *number = malloc(sizeof(int64_t) * (size_t)(nt + 1)); /* by root triangle */
+        if (!number) {
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory for the regions");
+            goto done;
+        }
+        int64_t nc = 0;
+        for (int64_t t = 0; t < nt; t++)
+            number[t] = -1;
+        for (int64_t t = 0; t < nt; t++) {
+            const int64_t root = vc_uf_find(comp, alias[t]);
+            if (number[root] < 0)
+                number[root] = nc++;
+            out->component_of[t] = number[root];
+        }
+        /* depth: the components whose regions enclose its outer shell,
+         * following the regions' parents */
+        for (int64_t h = 0; h < n_shells; h++) {
+            const int64_t c = number[shell_comp[h]];
+            if (comp_outer[shell_comp[h]] == h) {
+                int64_t depth = 0;
+                for (int64_t g = shell_parent[h]; g >= 0;) {
+                    depth++;
+                    const int64_t outer = comp_outer[shell_comp[g]];
+                    g = outer >= 0 ? shell_parent[outer] : -1;
+                }
+                out->component_depth[c] = depth;
+            }
+        }
+        /* outward: the back side of its first triangle faces a space it
+         * encloses (a positive shell) */
+        for (int64_t t = nt - 1; t >= 0; t--)
+            if (alias[t] == t)
+                out->component_outward[number[vc_uf_find(comp, t)]] = shell_vol[shell_of[2 * t + 1]] > 0;
+        free(number);
+    }
+
     /* sides, kinds */
     unsigned char *seen_front = calloc((size_t)n_regions + 2, 1), *seen_back = calloc((size_t)n_regions + 2, 1);
     if (!seen_front || !seen_back) {
@@ -508,11 +559,28 @@ int vc_regions_single_solid(const vc_regions *r)
     return orientation;
 }
 
+int64_t vc_regions_even_odd_flips(const vc_regions *r, unsigned char *flip)
+{
+    if (!r->closed_shells)
+        return -1;
+    int64_t n_flipped = 0;
+    for (int64_t c = 0; c < r->n_components; c++)
+        n_flipped += (r->component_depth[c] % 2 == 0) != (r->component_outward[c] != 0);
+    for (int64_t t = 0; t < r->n_triangles; t++) {
+        const int64_t c = r->component_of[t];
+        flip[t] = (r->component_depth[c] % 2 == 0) != (r->component_outward[c] != 0);
+    }
+    return n_flipped;
+}
+
 void vc_regions_free(vc_regions *r)
 {
     if (!r)
         return;
     free(r->region);
     free(r->side_region);
+    free(r->component_of);
+    free(r->component_depth);
+    free(r->component_outward);
     memset(r, 0, sizeof *r);
 }
