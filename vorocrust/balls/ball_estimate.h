@@ -17,8 +17,10 @@ typedef struct vc_ball_estimate {
 
 /* Predicts the ball count of a sampling with the sizing z and largest
  * radius sz. The radius bound is evaluated at the centroid of every
- * triangle and the midpoint of every sharp edge (threads threads; the
- * result does not depend on their number); a patch takes 0.93 / r^2
+ * triangle and the midpoint of every sharp edge, or of every k-th of them
+ * (in file order, weighted by area and length) on surfaces with more than
+ * 16,384 (threads threads; the result does not depend on their number;
+ * r_min is that of the evaluated ones); a patch takes 0.93 / r^2
  * balls per unit area and a crease 0.86 / r per unit length (maximal
  * Poisson-disk densities in 2D and 1D at the spacing (1 - alpha) r of
  * deep coverage, alpha = 1 - sqrt(3) / 2). The Lipschitz condition and

@@ -1000,7 +1000,6 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         vc_sizing_free(&S.z);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the balls");
     }
-    st->t_sizing = now() - t0;
     S.t_start = S.t_logged = t0;
 
     /* The work predicted from the sizing, said before any is done, and
@@ -1012,6 +1011,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         return vc_error_set(err, VC_ENOMEM, "out of memory for the ball estimate");
     }
     st->n_balls_predicted = est.n_balls;
+    st->t_sizing = now() - t0; /* the sizing structures and the prediction */
     vc_log(opt->log, VC_LOG_INFO,
            "mesh: sampling %lld triangles: about %.3g balls predicted from the sizing "
            "(radius bound %.3g to %.3g)", (long long)s->n_triangles, est.n_balls, est.r_min,
