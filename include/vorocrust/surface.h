@@ -68,8 +68,9 @@ typedef struct vc_surface_report {
 } vc_surface_report;
 
 /* Reads, cleans and checks the surface in path; the format follows the
- * extension (.obj, .off, .stl, .ply, any case; other extensions OpenMesh
- * reads, such as .om, go through OpenMesh). rep may be NULL.
+ * extension (.obj, .off, .stl, .ply, any case; any other extension is
+ * refused: the project reads only formats its own readers validate).
+ * rep may be NULL.
  * Fails (out is then empty) with
  *   VC_EIO      missing or unreadable file;
  *   VC_EFORMAT  unsupported extension, malformed file (message names the
@@ -81,8 +82,9 @@ int vc_surface_read(const char *path, vc_surface *out, vc_surface_report *rep,
                     vc_error *err);
 
 /* Which reader vc_surface_read_with uses: the one for the extension
- * (vc_surface_read's choice), or OpenMesh for every format (for
- * cross-checking the readers). */
+ * (vc_surface_read's choice), or OpenMesh, after the project's reader has
+ * accepted the file (for cross-checking the readers; the same four
+ * formats). */
 typedef enum vc_surface_reader { VC_READER_AUTO = 0, VC_READER_OPENMESH = 1 } vc_surface_reader;
 
 int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *out,

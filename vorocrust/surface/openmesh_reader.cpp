@@ -2,14 +2,14 @@
  *
  * Choice of reader (see surface.c): the project's own C readers
  * (read_obj.c, read_off.c, read_stl.c, read_ply.c) are the reader of record
- * for OBJ, OFF, STL and PLY, and this adapter serves the variants they
- * leave to OpenMesh: OpenMesh's .om, and any file when VC_READER_OPENMESH
- * is asked for, after our own reader has accepted it (OpenMesh's readers
- * trust header counts: gigabytes reserved for a 100-byte binary OFF).
- * Binary OFF is read by read_off.c; a .om file's counts are checked against
- * its size here first (check_om_counts). Known gap: the .om chunk headers
- * are not checked, and a malformed one (a 1-D position chunk) trips an
- * assertion inside OpenMesh (abort). Measured with
+ * for OBJ, OFF, STL and PLY, and this adapter reads the same files a
+ * second time when VC_READER_OPENMESH is asked for (to cross-check the
+ * readers), only after our own reader has accepted them: OpenMesh's readers
+ * trust header counts (gigabytes reserved for a 100-byte binary OFF). No
+ * other format goes to OpenMesh: its .om reader loops over the header's
+ * counts (2.7 GB and 15 s for a 118-byte file) and aborts on an assertion
+ * when a chunk header is malformed (a 1-D position chunk), and no reader of
+ * ours validates .om first. Measured with
  * OpenMesh 9.0, its OBJ and OFF readers go through float (an input of
  * 0.1234567890123 comes back as 0.12345679104), skip a vertex line holding
  * "nan" without notice (shifting every later index), drop faces that
@@ -36,8 +36,6 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
-#include <cctype>
-#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -100,63 +98,6 @@ private:
     }
 };
 
-/* OpenMesh's .om reader loops over the header's counts without looking at
- * the end of the file (an edge added per announced edge: 2.7 GB and 15 s for
- * a 118-byte file announcing 3e8 edges), so the counts are checked against
- * the file's size first. An element takes at least: a vertex its position
- * (three 32-bit floats), a face one halfedge index (8 bits at least; three
- * vertex indices before format 2.0), an edge its two halfedges' next,
- * to-vertex and face indices (6 bytes; before 2.0 edges are not stored and
- * each lies on a face: at most one per face index byte). The header is
- * "OM", the mesh kind, the version (major << 5 | minor), then the three
- * counts as little-endian uint32. */
-bool has_om_extension(const char *path)
-{
-    const char *dot = std::strrchr(path, '.');
-    const char *slash = std::strrchr(path, '/');
-    return dot && (!slash || dot > slash) && std::tolower((unsigned char)dot[1]) == 'o' &&
-           std::tolower((unsigned char)dot[2]) == 'm' && !dot[3];
-}
-
-/* 0 when the counts fit in the file, or the error set. */
-int check_om_counts(const char *path, const char *name, vc_error *err)
-{
-    std::FILE *fp = std::fopen(path, "rb");
-    if (!fp)
-        return vc_error_set(err, VC_EIO, "%s: cannot open: %s", name, std::strerror(errno));
-    unsigned char h[16];
-    size_t got = std::fread(h, 1, sizeof h, fp);
-    long long size = -1;
-    if (std::fseek(fp, 0, SEEK_END) == 0)
-        size = std::ftell(fp);
-    std::fclose(fp);
-    if (got < sizeof h || h[0] != 'O' || h[1] != 'M')
-        return vc_error_set(err, VC_EFORMAT, "%s: not an OpenMesh .om file (no 'OM' header of "
-                            "16 bytes)", name);
-    if (size < 0)
-        return vc_error_set(err, VC_EIO, "%s: cannot read: %s", name, std::strerror(errno));
-    auto le32 = [&](int k) {
-        return (uint64_t)h[k] | (uint64_t)h[k + 1] << 8 | (uint64_t)h[k + 2] << 16 |
-               (uint64_t)h[k + 3] << 24;
-    };
-    const uint64_t nv = le32(4), nf = le32(8), ne = le32(12);
-    const bool v2 = (h[3] >> 5) >= 2;
-    const uint64_t left = (uint64_t)size - 16;
-    /* 32-bit counts: the products stay far below 2^64. */
-    uint64_t need = 12 * nv + (v2 ? 1 : 3) * nf + (v2 ? 6 * ne : 0);
-    if (!v2 && ne > need)
-        need = ne;
-    if (need > left)
-        return vc_error_set(err, VC_EFORMAT,
-                            "%s: .om: the header announces %llu vertices, %llu faces and %llu "
-                            "edges (at least %llu bytes) but %llu bytes follow it",
-                            name, (unsigned long long)nv, (unsigned long long)nf,
-                            (unsigned long long)ne,
-                            (unsigned long long)need,
-                            (unsigned long long)left);
-    return 0;
-}
-
 void silence_openmesh()
 {
     ::omerr().disable();
@@ -166,27 +107,8 @@ void silence_openmesh()
 
 } // namespace
 
-extern "C" int vc_openmesh_can_read(const char *ext)
-{
-    silence_openmesh();
-    try {
-        /* IOManager::can_read opens "dummy.EXT" for some formats (OFF, PLY,
-         * OM check the header), so look the extension up in the filter
-         * list instead: "... ( *.obj *.off *.om ... );;". */
-        std::string filters = OpenMesh::IO::IOManager().qt_read_filters();
-        return filters.find(std::string("*.") + ext + " ") != std::string::npos ? 1 : 0;
-    } catch (...) {
-        return 0;
-    }
-}
-
 extern "C" int vc_openmesh_read(const char *path, const char *name, vc_soup *s, vc_error *err)
 {
-    if (has_om_extension(path)) {
-        int rc = check_om_counts(path, name, err);
-        if (rc)
-            return rc;
-    }
     silence_openmesh();
     try {
         Mesh mesh;
@@ -194,19 +116,6 @@ extern "C" int vc_openmesh_read(const char *path, const char *name, vc_soup *s, 
         OpenMesh::IO::Options opt;
         if (!OpenMesh::IO::IOManager().read(path, imp, opt))
             return vc_error_set(err, VC_EFORMAT, "%s: OpenMesh could not read the file", name);
-        if (imp.face_offsets.size() == 1 && mesh.n_faces() > 0) {
-            /* Formats that store the halfedge structure itself (.om) build
-             * faces from halfedges, not vertex lists: take the mesh. */
-            imp.xyz.clear();
-            for (const auto &vh : mesh.vertices())
-                for (int k = 0; k < 3; k++)
-                    imp.xyz.push_back(mesh.point(vh)[k]);
-            for (const auto &fh : mesh.faces()) {
-                for (const auto &vh : mesh.fv_range(fh))
-                    imp.face_indices.push_back(vh.idx());
-                imp.face_offsets.push_back((int64_t)imp.face_indices.size());
-            }
-        }
         const size_t nv = imp.xyz.size() / 3, nf = imp.face_offsets.size() - 1;
         s->nv = s->cap_v = (int64_t)nv;
         s->nf = s->cap_f = (int64_t)nf;

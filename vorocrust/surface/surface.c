@@ -1,9 +1,9 @@
 /* Reading a surface file: format dispatch, validation of the polygon soup,
  * triangulation, merging of equal vertices, memory.
  *
- * The C readers of this folder read OBJ, OFF, STL and PLY; OpenMesh
- * (openmesh_reader.cpp, which explains the choice) reads the variants they
- * defer and any other format it knows. */
+ * The C readers of this folder read OBJ, OFF, STL and PLY, the only
+ * formats accepted; OpenMesh (openmesh_reader.cpp, which explains the
+ * choice) reads the same files again on request, to cross-check them. */
 #include "vorocrust/surface.h"
 #include "surface/surface_internal.h"
 #include "io/text_escape.h"
@@ -188,7 +188,10 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
     int (*reader)(const char *, const char *, size_t, vc_soup *, vc_error *) =
         !strcmp(ext, "obj") ? vc_read_obj : !strcmp(ext, "off") ? vc_read_off
         : !strcmp(ext, "stl") ? vc_read_stl : !strcmp(ext, "ply") ? vc_read_ply : NULL;
-    if (!reader && !(ext[0] && vc_openmesh_can_read(ext)))
+    /* Only formats our own readers validate: another format would go to
+     * OpenMesh unchecked (its .om reader trusts the header's counts and
+     * aborts on a malformed chunk). */
+    if (!reader)
         return vc_error_set(err, VC_EFORMAT,
                             "%s: unsupported file extension '%s%s' (expected .obj, .off, .stl or .ply)",
                             name, ext[0] ? "." : "", ext);

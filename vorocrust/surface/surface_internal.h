@@ -49,8 +49,6 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
  * (openmesh_reader.cpp). Coordinates come through OpenMesh's float path.
  * name (the path, escaped) is used in messages. */
 int vc_openmesh_read(const char *path, const char *name, vc_soup *s, vc_error *err);
-/* Whether OpenMesh has a reader for this extension (without the dot). */
-int vc_openmesh_can_read(const char *ext);
 
 /* --- Text scanning over a NUL-terminated buffer. --- */
 typedef struct vc_scan {
