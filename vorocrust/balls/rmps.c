@@ -35,6 +35,7 @@
 #include "sizing/sizing.h"
 #include "vorocrust/random.h"
 #include "vorocrust/quality.h"
+#include "util/threads.h"
 
 #define MAX_MISSES 100
 #define PARENT_BATCH 16384 /* subfaces split at a time before their children are tested */
@@ -977,11 +978,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
 
     sampler S;
     memset(&S, 0, sizeof S);
-#ifdef _OPENMP
-    S.threads = opt->threads > 0 ? opt->threads : omp_get_max_threads();
-#else
-    S.threads = 1;
-#endif
+    S.threads = vc_threads_or_default(opt->threads);
     S.s = s;
     S.f = f;
     S.opt = *opt;

@@ -1,4 +1,5 @@
 #include "balls/triplets.h"
+#include "util/threads.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -211,14 +212,7 @@ static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
 {
     const vc_balls *b = &bs->b;
     const int64_t n = b->n;
-#ifdef _OPENMP
-    if (threads <= 0)
-        threads = omp_get_max_threads();
-#else
-    threads = 1;
-#endif
-    if (threads < 1)
-        threads = 1;
+    threads = vc_threads_or_default(threads);
     int64_t *first = malloc(sizeof(int64_t) * SCAN_BLOCK), *count = malloc(sizeof(int64_t) * SCAN_BLOCK);
     int *owner = malloc(sizeof(int) * SCAN_BLOCK);
     triplet_buf *buf = calloc((size_t)threads, sizeof *buf);

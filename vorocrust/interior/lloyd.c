@@ -14,6 +14,7 @@
 #include "ball_tree.h"
 #include "nearest_seed.h"
 #include "vorocrust/voronoi.h"
+#include "util/threads.h"
 
 static double now(void)
 {
@@ -60,10 +61,7 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
         rc = vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
         goto done;
     }
-#ifdef _OPENMP
-    if (threads <= 0)
-        threads = omp_get_max_threads();
-#endif
+    threads = vc_threads_or_default(threads);
     /* One more build than iterations: the mesh of the relaxed seeds is
      * checked too. A relaxed seed set whose mesh fails the validator (the
      * engine can leave a cell open on nearly degenerate seeds: a slightly

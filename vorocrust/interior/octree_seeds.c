@@ -21,6 +21,7 @@
 #include "ball_tree.h"
 #include "nearest_seed.h"
 #include "octree_runtime.h"
+#include "util/threads.h"
 
 /* Bricks longer than this many trees on their long side are not worth it:
  * refinement reaches every scale anyway. */
@@ -205,14 +206,8 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
      * the leaf's inscribed ball: it already gives that region its cell,
      * and a seed at the centre would split it into two thin cells. Half the
      * side is also the lattice's rule (half a spacing). */
-    int threads = opt->threads;
-#ifdef _OPENMP
-    if (threads <= 0)
-        threads = omp_get_max_threads();
+    const int threads = vc_threads_or_default(opt->threads);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-#else
-    (void)threads;
-#endif
     for (int64_t k = 0; k < nl; k++) {
         const double *c = center + 3 * k;
         if (vc_ball_tree_covers(&tree, c)) {

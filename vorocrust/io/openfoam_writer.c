@@ -656,18 +656,6 @@ static void foam_write_system(foam_out *o, int which)
 
 /* ---- files and directories ------------------------------------------------ */
 
-static char *foam_join(const char *a, const char *b)
-{
-    size_t na = strlen(a), nb = strlen(b);
-    char *s = malloc(na + nb + 2);
-    if (!s)
-        return NULL;
-    memcpy(s, a, na);
-    s[na] = '/';
-    memcpy(s + na + 1, b, nb + 1);
-    return s;
-}
-
 typedef enum { FOAM_POINTS, FOAM_FACES, FOAM_OWNER, FOAM_NEIGHBOUR, FOAM_BOUNDARY,
                FOAM_SYSTEM0 } foam_file; /* FOAM_SYSTEM0 + i: foam_system_files[i] */
 
@@ -733,7 +721,7 @@ static int foam_write_polymesh(const char *dir, const char *case_dir, const vc_p
                                const foam_plan *pl, vc_error *err)
 {
     for (int i = 0; i < 5; i++) {
-        char *path = foam_join(dir, foam_mesh_files[i]);
+        char *path = vc_path_join(dir, foam_mesh_files[i]);
         char report[4200];
         snprintf(report, sizeof report, "%s/constant/polyMesh/%s", case_dir,
                  foam_mesh_files[i]);
@@ -757,7 +745,7 @@ static int foam_write_system_files(const char *dir, const char *case_dir, const 
     for (int i = 0; i < FOAM_N_SYSTEM; i++)
         added[i] = 0;
     for (int i = 0; i < FOAM_N_SYSTEM; i++) {
-        char *path = foam_join(dir, foam_system_files[i]);
+        char *path = vc_path_join(dir, foam_system_files[i]);
         char report[4200];
         snprintf(report, sizeof report, "%s/system/%s", case_dir, foam_system_files[i]);
         if (!path)
@@ -792,9 +780,9 @@ static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const
     if (vc_tmpdir_create(&sd, case_dir, "tmp", err) != VC_OK)
         return err ? err->code : VC_EIO;
     const char *stage = sd.tmp_path;
-    char *constant = foam_join(stage, "constant");
-    char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
-    char *system = foam_join(stage, "system");
+    char *constant = vc_path_join(stage, "constant");
+    char *poly = constant ? vc_path_join(constant, "polyMesh") : NULL;
+    char *system = vc_path_join(stage, "system");
     int added[FOAM_N_SYSTEM];
     int rc = VC_OK;
     if (!constant || !poly || !system)
@@ -826,9 +814,9 @@ static int foam_write_new_case(const char *case_dir, const vc_polymesh *m, const
 static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, const foam_plan *pl,
                                 vc_error *err)
 {
-    char *constant = foam_join(case_dir, "constant");
-    char *poly = constant ? foam_join(constant, "polyMesh") : NULL;
-    char *system = foam_join(case_dir, "system");
+    char *constant = vc_path_join(case_dir, "constant");
+    char *poly = constant ? vc_path_join(constant, "polyMesh") : NULL;
+    char *system = vc_path_join(case_dir, "system");
     vc_tmpdir sd = {NULL, NULL, -1};
     const char *stage = NULL;
     /* constant/ and system/ made by this run: tracked (vc_outdir_make), so
@@ -893,7 +881,7 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
         }
         for (int i = 0; i < FOAM_N_SYSTEM && system; i++)
             if (added[i]) {
-                char *f = foam_join(system, foam_system_files[i]);
+                char *f = vc_path_join(system, foam_system_files[i]);
                 if (f)
                     unlink(f);
                 free(f);

@@ -423,7 +423,7 @@ void vc_outdir_unmake(const char *path, int slot)
 
 /* ---- removal ------------------------------------------------------------------------ */
 
-static char *vc_join(const char *a, const char *b)
+char *vc_path_join(const char *a, const char *b)
 {
     size_t na = strlen(a), nb = strlen(b);
     char *s = malloc(na + nb + 2);
@@ -447,7 +447,7 @@ static void vc_remove_tree_at(const char *path, int depth)
             while ((e = readdir(d)) != NULL) {
                 if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
                     continue;
-                char *sub = vc_join(path, e->d_name);
+                char *sub = vc_path_join(path, e->d_name);
                 if (sub) {
                     vc_remove_tree_at(sub, depth + 1);
                     free(sub);

@@ -134,6 +134,9 @@ void vc_outdir_unmake(const char *path, int slot);
  * link followed); errors are ignored (this is cleanup). */
 void vc_remove_tree(const char *path);
 
+/* "a/b", malloc'ed (NULL when out of memory). */
+char *vc_path_join(const char *a, const char *b);
+
 /* 0 when path is absent, a regular file or a symbolic link; otherwise
  * sets err ("PATH: is a FIFO, not a regular file") and returns VC_EIO.
  * vc_tmpfile_kind names the kind of a st_mode ("character device", ...). */

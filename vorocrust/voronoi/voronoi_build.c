@@ -18,6 +18,7 @@
 #include "convex_cell.h"
 #include "seed_grid.h"
 #include "polymesh/repair.h"
+#include "util/threads.h"
 
 static double wall_seconds(void)
 {
@@ -743,13 +744,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     free(kept_index);
     free(bin_order);
 
-    int threads = opt.threads;
-#ifdef _OPENMP
-    if (threads <= 0)
-        threads = omp_get_max_threads();
-#else
-    threads = 1;
-#endif
+    const int threads = vc_threads_or_default(opt.threads);
     int64_t done = 0, next_report = n_kept / 10;
     const int progress = vc_log_enabled(opt.log, VC_LOG_INFO);
     const double t_start = wall_seconds();
