@@ -28,26 +28,19 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     double *tri_r = malloc(sizeof(double) * (size_t)(nt > 0 ? nt : 1));
     double *edge_n = malloc(sizeof(double) * (size_t)(ne > 0 ? ne : 1));
     double *edge_r = malloc(sizeof(double) * (size_t)(ne > 0 ? ne : 1));
-    double *tri_area = calloc((size_t)(nt > 0 ? nt : 1), sizeof(double));
     int64_t *edge_rank = malloc(sizeof(int64_t) * (size_t)(ne > 0 ? ne : 1)); /* among sharp edges */
-    if (!tri_n || !tri_r || !edge_n || !edge_r || !tri_area || !edge_rank) {
+    if (!tri_n || !tri_r || !edge_n || !edge_r || !edge_rank) {
         free(tri_n);
         free(tri_r);
         free(edge_n);
         free(edge_r);
-        free(tri_area);
         free(edge_rank);
         return -1;
     }
-    {
-        int64_t k = 0;
-        for (int64_t e = 0; e < ne; e++)
-            edge_rank[e] = f->edge_sharp[e] ? k++ : -1;
-    }
-    const int64_t tri_stride = nt > MAX_EVALUATED ? (nt + MAX_EVALUATED - 1) / MAX_EVALUATED : 1;
     int64_t n_sharp = 0;
     for (int64_t e = 0; e < ne; e++)
-        n_sharp += f->edge_sharp[e] != 0;
+        edge_rank[e] = f->edge_sharp[e] ? n_sharp++ : -1;
+    const int64_t tri_stride = nt > MAX_EVALUATED ? (nt + MAX_EVALUATED - 1) / MAX_EVALUATED : 1;
     const int64_t edge_stride = n_sharp > MAX_EVALUATED ? (n_sharp + MAX_EVALUATED - 1) / MAX_EVALUATED : 1;
     for (int64_t t = 0; t < nt; t++) {
         tri_n[t] = 0;
@@ -72,7 +65,6 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
         const double r = vc_sizing_radius_bound(z, &sp, x, sz);
         tri_r[t] = r;
         tri_n[t] = area > 0 ? (r > 0 ? PATCH_DENSITY * area / (r * r) : INFINITY) : 0;
-        tri_area[t] = area;
     }
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads > 0 ? threads : 1)
     for (int64_t e = 0; e < ne; e++) {
@@ -104,7 +96,7 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
         const double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
         area_all += area;
         if (t % tri_stride == 0)
-            area_eval += tri_area[t];
+            area_eval += area;
     }
     for (int64_t e = 0; e < ne; e++) {
         if (!f->edge_sharp[e])
@@ -151,7 +143,6 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     free(tri_r);
     free(edge_n);
     free(edge_r);
-    free(tri_area);
     free(edge_rank);
     return 0;
 }

@@ -25,9 +25,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "balls/ball_estimate.h"
 #include "balls/ball_set.h"
