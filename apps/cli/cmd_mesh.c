@@ -54,6 +54,13 @@ static void usage(FILE *f)
         "                      thesis uses %d, but Loop moves the surface off the input)\n"
         "  --max-error E       approximation error bound, a fraction of the bounding-box\n"
         "                      diagonal, 0 <= E < 1 (default %g; 0: none, as in the thesis)\n"
+        "  --smooth-width K    experimental: centre the surface balls on a smooth surface\n"
+        "                      near the input (moving least squares, kernel K times the\n"
+        "                      error bound; 4 is a good start) instead of on its facets,\n"
+        "                      so that folds between facets do not defeat sliver\n"
+        "                      elimination; slower (default 0: off)\n"
+        "  --curvature-factor C  with --smooth-width: radii at most C times the smooth\n"
+        "                      surface's radius of curvature (default 0.2)\n"
         "  --lipschitz L       0 < L < 1 (default %g)\n"
         "  --max-size H        largest ball radius and cap of the octree sizing (default:\n"
         "                      the bounding-box diagonal)\n"
@@ -76,7 +83,7 @@ static void usage(FILE *f)
 static int takes_value(const char *a)
 {
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
-                                             "--sharp-angle", "--max-error", "--lipschitz",
+                                             "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
                                              "--foam-max-skew", "--connections", "--max-balls"};
@@ -294,6 +301,20 @@ static int run_mesh(int argc, char **argv)
             if (vc_cli_parse_double(v, &opt.max_error) ||
                 !(opt.max_error >= 0 && opt.max_error < 1)) {
                 fprintf(stderr, "vorocrust: --max-error needs a number in [0, 1), got '%s'\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--smooth-width")) {
+            if (vc_cli_parse_double(v, &opt.smooth_width) ||
+                !(opt.smooth_width >= 0 && opt.smooth_width <= 100)) {
+                fprintf(stderr, "vorocrust: --smooth-width needs a number in [0, 100], got '%s'\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--curvature-factor")) {
+            if (vc_cli_parse_double(v, &opt.curvature_factor) ||
+                !(opt.curvature_factor > 0 && opt.curvature_factor <= 10)) {
+                fprintf(stderr, "vorocrust: --curvature-factor needs a number in (0, 10], got '%s'\n", v);
                 return 2;
             }
             i++;

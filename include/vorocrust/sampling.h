@@ -53,6 +53,12 @@ typedef struct vc_sampling_options {
                              half-covered pairs stop halving per pass, the balls having
                              doubled since the first coverage, when they are stuck at a
                              non-sharp edge folded by more than this many degrees */
+    double smooth_width;  /* > 0: surface balls are centred on a smooth surface S' near
+                             the input (an APSS fit of kernel radius smooth_width times
+                             the error bound; sizing/smooth_surface.h) instead of on its
+                             facets, and their radii are bounded by curvature_factor
+                             times its radius of curvature; 0: on the facets */
+    double curvature_factor; /* see smooth_width */
 } vc_sampling_options;
 
 void vc_sampling_options_default(vc_sampling_options *opt);

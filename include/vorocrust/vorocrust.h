@@ -81,6 +81,11 @@ typedef struct vc_mesh_options {
     /* The sampling (see vc_sampling_options for the meaning of each). */
     double sharp_angle;     /* theta_sharp, degrees, default 60 */
     double max_error;       /* fraction of the bounding-box diagonal, default 0.004 */
+    double smooth_width;    /* > 0: surface ball centres on a smooth surface near the
+                               input (an APSS fit whose kernel radius is this many times
+                               the error bound), radii at most curvature_factor times its
+                               radius of curvature; 0 (default): on the input's facets */
+    double curvature_factor; /* default 0.2 */
     double lipschitz;       /* L, default 0.25 */
     double max_size;        /* largest ball radius; <= 0: the bounding-box diagonal */
     uint64_t seed;          /* random seed, default 1 */

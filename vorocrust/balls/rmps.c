@@ -30,6 +30,7 @@
 #include "balls/ball_set.h"
 #include "balls/triplets.h"
 #include "sizing/sizing.h"
+#include "sizing/smooth_surface.h"
 #include "vorocrust/random.h"
 #include "vorocrust/quality.h"
 #include "util/threads.h"
@@ -37,6 +38,9 @@
 #define MAX_MISSES 100
 #define PARENT_BATCH 16384 /* subfaces split at a time before their children are tested */
 #define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
+/* the same on S', whose near-co-planar centres otherwise let a few balls
+ * take turns shrinking by tiny steps without end */
+#define SMOOTH_SHRINK_MARGIN 1e-4
 /* Flat facets (see unflatten_facets): the quality below which a facet is
  * worked on (the top of the thesis' 0.37 to 0.40 on smooth models), the
  * largest cut of a radius for it, how far inside the covering ball the
@@ -47,10 +51,22 @@
 #define FLAT_MAX_SHRINK 0.2
 #define FLAT_SEED_DEPTH 0.01
 #define FLAT_PASSES 3
+/* subfaces whose midpoints lie this close to S' (times the kernel width)
+ * are subdivided without projecting them */
+#define SAG_TOLERANCE 1e-2
+/* ... and darts on them are centres without projection below this */
+#define ACCURATE_SAG 1e-6
 
 typedef struct subface {
-    double v[9];   /* a segment (v[0..5]) or a triangle */
+    double v[9];   /* a segment (v[0..5]) or a triangle, on the input */
+    double p[9];   /* a triangle's corners on the smooth surface S' (when sampled):
+                      the coverage tests use these */
+    double pn[9];  /* S's unit normals there */
     int64_t elem;  /* the sharp edge or triangle */
+    unsigned char todo; /* bit m: p's corner m is a first guess, not yet projected */
+    unsigned char interpolated; /* some corner of p is a midpoint never projected */
+    double sag;    /* how far the midpoints of p's edges may lie from S' (the last
+                      projections' corrections, a quarter per subdivision since) */
 } subface;
 
 typedef struct pool {
@@ -76,6 +92,9 @@ typedef struct sampler {
     int threads;        /* for the parallel parts (OpenMP's default when opt.threads <= 0) */
     int too_many;       /* the ball count reached opt.max_balls */
     const char *phase;  /* for the progress lines */
+    vc_smooth_surface ss; /* S', when opt.smooth_width > 0 */
+    int smooth;         /* centres of surface balls on S' */
+    double *tri_on_smooth; /* 18 per triangle: its corners on S', then S's normals there */
     double t_start, t_logged;
 } sampler;
 
@@ -156,6 +175,7 @@ typedef struct subface_cover_ctx {
     int nv;
     int kind;
     double deep;
+    double margin; /* how far the corners may be from S' (0 on the input) */
     int64_t found; /* the covering ball */
 } subface_cover_ctx;
 
@@ -165,7 +185,7 @@ static int covers_subface(void *ctx, int64_t i)
     int k = c->b->kind[i];
     if (k > c->kind)
         return 0;
-    double r = c->b->radius[i] * (k < c->kind ? 1.0 : c->deep);
+    double r = c->b->radius[i] * (k < c->kind ? 1.0 : c->deep) + c->margin;
     for (int m = 0; m < c->nv; m++)
         if (dist(c->b->center + 3 * i, c->v + 3 * m) > r)
             return 0;
@@ -177,14 +197,19 @@ static int covers_subface(void *ctx, int64_t i)
 static int subface_covered(const sampler *S, const subface *sf, int nv, int kind,
                            int64_t *last_cover)
 {
+    const double *v = S->smooth && nv == 3 ? sf->p : sf->v;
     double c[3] = {0, 0, 0};
     for (int m = 0; m < nv; m++)
         for (int d = 0; d < 3; d++)
-            c[d] += sf->v[3 * m + d] / nv;
+            c[d] += v[3 * m + d] / nv;
     double reach = 0;
     for (int m = 0; m < nv; m++)
-        reach = fmax(reach, dist(c, sf->v + 3 * m));
-    subface_cover_ctx cc = {&S->bs.b, sf->v, nv, kind, 1 - S->alpha, -1};
+        reach = fmax(reach, dist(c, v + 3 * m));
+    /* corners placed between projected ones lie off S' by about the sag:
+     * they count as covered that much further out, or the darts (on S')
+     * and the subfaces would disagree at the edges of the coverage */
+    const double margin = S->smooth && nv == 3 && sf->interpolated ? sf->sag : 0;
+    subface_cover_ctx cc = {&S->bs.b, v, nv, kind, 1 - S->alpha, margin, -1};
     /* Subfaces come in runs of neighbours (a face's children, triangles in
      * mesh order): the ball that covered the last one often covers this
      * one too, and trying it first skips most queries. The answer (is
@@ -196,6 +221,45 @@ static int subface_covered(const sampler *S, const subface *sf, int nv, int kind
     if (found)
         *last_cover = cc.found;
     return found;
+}
+
+/* The midpoint of the cubic through a and b whose tangents there are the
+ * chord's projections on the tangent planes (normals na, nb): on a circle
+ * of radius rho it lies the sag L^2 / (8 rho) above the chord, so a guess
+ * for S' between two of its points good to third order. Also the
+ * normalised mean normal. */
+static void curved_midpoint(const double a[3], const double na[3], const double b[3],
+                            const double nb[3], double m[3], double nm[3])
+{
+    const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double sa = ab[0] * na[0] + ab[1] * na[1] + ab[2] * na[2];
+    const double sb = ab[0] * nb[0] + ab[1] * nb[1] + ab[2] * nb[2];
+    double l = 0;
+    for (int d = 0; d < 3; d++) {
+        m[d] = 0.5 * (a[d] + b[d]) + 0.125 * (sb * nb[d] - sa * na[d]);
+        nm[d] = na[d] + nb[d];
+        l += nm[d] * nm[d];
+    }
+    l = sqrt(l);
+    for (int d = 0; d < 3; d++)
+        nm[d] = l > 0 ? nm[d] / l : na[d];
+}
+
+/* Projects the corners of a triangle subface not yet on S'. */
+static void project_corners(const sampler *S, subface *sf)
+{
+    double sag = 0;
+    for (int m = 0; m < 3; m++) {
+        if (!(sf->todo >> m & 1))
+            continue;
+        double start[3] = {sf->p[3 * m], sf->p[3 * m + 1], sf->p[3 * m + 2]}, rho;
+        vc_smooth_surface_project(&S->ss, sf->elem, sf->v + 3 * m, start, sf->p + 3 * m,
+                                  sf->pn + 3 * m, &rho);
+        sag = fmax(sag, dist(start, sf->p + 3 * m));
+    }
+    if (sf->todo)
+        sf->sag = sag;
+    sf->todo = 0;
 }
 
 /* Keeps the subfaces of P from index `from` on that no single ball
@@ -217,8 +281,11 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
     for (int64_t c = 0; c < n_chunks; c++) {
         int64_t last = -1;
         const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
-        for (int64_t i = c * chunk; i < end; i++)
+        for (int64_t i = c * chunk; i < end; i++) {
+            if (S->smooth && nv == 3)
+                project_corners(S, &f[i]);
             keep[i] = !subface_covered(S, &f[i], nv, kind, &last);
+        }
     }
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++)
@@ -271,18 +338,24 @@ static int nearest_centre(void *ctx, int64_t i)
 
 /* The radius for a new ball at x on element sp, or a negative value when
  * density regulation drops the sample. */
-static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3])
+/* x: the dart on the input; c: the centre (x, or its projection on S' with
+ * radius of curvature rho there). */
+static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3],
+                         const double c[3], double rho)
 {
     double r = S->sz;
     r = vc_sizing_radius_bound(&S->z, sp, x, r);
+    if (S->smooth && sp->kind == VC_ELEM_TRIANGLE)
+        r = fmin(r, S->opt.curvature_factor * rho);
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
              : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
                                           : VC_BALL_SURFACE;
-    radius_ctx rc = {&S->bs.b, x, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    vc_ball_set_query(&S->bs, x, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
+    /* the conditions among balls hold at the centre */
+    radius_ctx rc = {&S->bs.b, c, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
+    vc_ball_set_query(&S->bs, c, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
     r = rc.r;
-    spacing_ctx sc = {&S->bs.b, x, INFINITY};
-    vc_ball_set_query(&S->bs, x, r, 0.0, 0.0, nearest_centre, &sc);
+    spacing_ctx sc = {&S->bs.b, c, INFINITY};
+    vc_ball_set_query(&S->bs, c, r, 0.0, 0.0, nearest_centre, &sc);
     double deep = 1 - S->alpha;
     if (sc.nearest < deep * r) {
         if (vc_rng_uniform(&S->rng) < 0.1)
@@ -292,14 +365,19 @@ static double new_radius(sampler *S, const vc_surface_point *sp, const double x[
     return r;
 }
 
-static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp)
+/* normal: the outward normal at x, or NULL for the input's */
+static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp,
+                    const double *normal)
 {
     if (S->opt.max_balls > 0 && S->bs.b.n >= S->opt.max_balls) {
         S->too_many = 1;
         return -1;
     }
     double n[3];
-    vc_sizing_point_normal(&S->z, sp, n);
+    if (normal)
+        memcpy(n, normal, sizeof n);
+    else
+        vc_sizing_point_normal(&S->z, sp, n);
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
              : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
                                           : VC_BALL_SURFACE;
@@ -328,7 +406,9 @@ static double measure(const subface *sf, int nv)
     return 0.5 * sqrt(x * x + y * y + z * z);
 }
 
-static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3])
+/* x on the subface; on a triangle, also z at the same place of its corners
+ * on S' (z may be NULL) */
+static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3], double *z)
 {
     if (nv == 2) {
         double t = vc_rng_uniform(rng);
@@ -343,6 +423,9 @@ static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3])
     }
     for (int d = 0; d < 3; d++)
         x[d] = sf->v[d] + u * (sf->v[3 + d] - sf->v[d]) + v * (sf->v[6 + d] - sf->v[d]);
+    if (z)
+        for (int d = 0; d < 3; d++)
+            z[d] = sf->p[d] + u * (sf->p[3 + d] - sf->p[d]) + v * (sf->p[6 + d] - sf->p[d]);
 }
 
 static int mps(sampler *S, pool *P, int nv)
@@ -401,20 +484,40 @@ static int mps(sampler *S, pool *P, int nv)
                     hi = mid;
             }
             const subface *sf = &P->f[lo];
-            double x[3];
-            random_point(&S->rng, sf, nv, x);
-            if (point_covered(S, x, kind)) {
+            double x[3], c[3], cn[3], rho = INFINITY;
+            const int on_smooth = S->smooth && nv == 3;
+            /* on S': the dart between the subface's corners there is tested
+             * first (most darts land on covered ground), then its projection */
+            random_point(&S->rng, sf, nv, x, on_smooth ? c : NULL);
+            if (!on_smooth)
+                memcpy(c, x, sizeof c);
+            if (point_covered(S, c, kind)) {
                 darts_covered++;
                 misses++;
                 continue;
             }
+            if (on_smooth) {
+                double z[3] = {c[0], c[1], c[2]};
+                vc_smooth_surface_project(&S->ss, sf->elem, x, z, c, cn, &rho);
+                /* on a subface whose corners pin S' down to far below the
+                 * noise sliver elimination tolerates, the dart itself is the
+                 * centre: a projection lands a little aside, and a gap on
+                 * the subface would never get its ball */
+                if (sf->interpolated && sf->sag <= ACCURATE_SAG * S->ss.width)
+                    memcpy(c, z, sizeof z);
+                if (point_covered(S, c, kind)) {
+                    darts_covered++;
+                    misses++;
+                    continue;
+                }
+            }
             vc_surface_point sp = {kind, sf->elem};
-            double r = new_radius(S, &sp, x);
+            double r = new_radius(S, &sp, x, c, rho);
             if (r <= 0) {
                 misses++;
                 continue;
             }
-            if (add_ball(S, x, r, &sp)) {
+            if (add_ball(S, c, r, &sp, on_smooth ? cn : NULL)) {
                 rc = -1;
                 break;
             }
@@ -430,6 +533,7 @@ static int mps(sampler *S, pool *P, int nv)
         for (int64_t i = 0; i < P->n && !rc; i++) {
             const subface *sf = &P->f[i];
             subface ch[4];
+            memset(ch, 0, sizeof ch);
             int nch;
             if (nv == 2) {
                 double m[3];
@@ -448,9 +552,39 @@ static int mps(sampler *S, pool *P, int nv)
                 const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
                 const double *tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
                                            {m[0], m[1], m[2]}};
-                for (int q = 0; q < 4; q++)
+                /* the same on S': the parent's corners, and the midpoints
+                 * of its corners there as the start of their projection
+                 * (by drop_covered) */
+                double pm[3][3], nm[3][3];
+                if (S->smooth)
                     for (int e = 0; e < 3; e++)
+                        curved_midpoint(sf->p + 3 * e, sf->pn + 3 * e, sf->p + 3 * ((e + 1) % 3),
+                                        sf->pn + 3 * ((e + 1) % 3), pm[e], nm[e]);
+                const double *pa = sf->p, *pb = sf->p + 3, *pc = sf->p + 6;
+                const double *ptri[4][3] = {{pa, pm[0], pm[2]}, {pm[0], pb, pm[1]},
+                                            {pm[2], pm[1], pc}, {pm[0], pm[1], pm[2]}};
+                const double *na = sf->pn, *nb = sf->pn + 3, *nc = sf->pn + 6;
+                const double *ntri[4][3] = {{na, nm[0], nm[2]}, {nm[0], nb, nm[1]},
+                                            {nm[2], nm[1], nc}, {nm[0], nm[1], nm[2]}};
+                /* the midpoints are projected until the corrections that
+                 * makes are negligible: then S' is flat enough across the
+                 * subface (the chord sag falls fourfold per subdivision) */
+                const int exact = S->smooth && !(sf->sag <= SAG_TOLERANCE * S->ss.width);
+                static const unsigned char todo_of[4] = {6, 5, 3, 7};
+                const unsigned char todo[4] = {exact ? todo_of[0] : 0, exact ? todo_of[1] : 0,
+                                               exact ? todo_of[2] : 0, exact ? todo_of[3] : 0};
+                for (int q = 0; q < 4; q++) {
+                    for (int e = 0; e < 3; e++) {
                         memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                        if (S->smooth) {
+                            memcpy(ch[q].p + 3 * e, ptri[q][e], sizeof(double) * 3);
+                            memcpy(ch[q].pn + 3 * e, ntri[q][e], sizeof(double) * 3);
+                        }
+                    }
+                    ch[q].todo = todo[q];
+                    ch[q].sag = 0.25 * sf->sag;
+                    ch[q].interpolated = sf->interpolated || !exact;
+                }
                 nch = 4;
             }
             for (int q = 0; q < nch; q++) {
@@ -485,6 +619,7 @@ static void edge_subface(const sampler *S, int64_t e, subface *sf)
 {
     const double *a = S->s->xyz + 3 * S->f->edge_vertex[2 * e];
     const double *b = S->s->xyz + 3 * S->f->edge_vertex[2 * e + 1];
+    memset(sf, 0, sizeof *sf);
     memcpy(sf->v, a, sizeof(double) * 3);
     memcpy(sf->v + 3, b, sizeof(double) * 3);
     sf->elem = e;
@@ -494,6 +629,13 @@ static void tri_subface(const sampler *S, int64_t t, subface *sf)
 {
     for (int k = 0; k < 3; k++)
         memcpy(sf->v + 3 * k, S->s->xyz + 3 * S->s->tri[3 * t + k], sizeof(double) * 3);
+    if (S->smooth) {
+        memcpy(sf->p, S->tri_on_smooth + 18 * t, sizeof sf->p);
+        memcpy(sf->pn, S->tri_on_smooth + 18 * t + 9, sizeof sf->pn);
+    }
+    sf->todo = 0;
+    sf->interpolated = 0;
+    sf->sag = INFINITY; /* unknown: the midpoints are projected */
     sf->elem = t;
 }
 
@@ -665,6 +807,7 @@ static void collect_facet(facet_list *l, const vc_triplet *t)
 typedef struct sliver_ctx {
     const vc_balls *b;
     double *target;
+    double margin;     /* SHRINK_MARGIN, or more on S' */
     int64_t n_half;
     double where[3]; /* the first half-covered point found */
     facet_list *facets; /* the triplets with both seeds uncovered */
@@ -681,7 +824,7 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     const double *g = t->cover_up >= 0 ? t->up : t->down;
     if (c->n_half++ == 0)
         memcpy(c->where, g, sizeof c->where);
-    double r = dist(c->b->center + 3 * f, g) * (1 - SHRINK_MARGIN);
+    double r = dist(c->b->center + 3 * f, g) * (1 - c->margin);
     if (r < c->target[f])
         c->target[f] = r;
 }
@@ -698,7 +841,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    sliver_ctx c = {b, NULL, 0, {0, 0, 0}, facets};
+    sliver_ctx c = {b, NULL, S->smooth ? SMOOTH_SHRINK_MARGIN : SHRINK_MARGIN, 0, {0, 0, 0}, facets};
     c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
     if (!c.target)
         return -1;
@@ -888,6 +1031,8 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->max_balls = 0;
     opt->stuck_tri = NULL;
     opt->fold_stop_angle = 0;
+    opt->smooth_width = 0;
+    opt->curvature_factor = 0.2;
 }
 
 void vc_balls_free(vc_balls *b)
@@ -995,12 +1140,37 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         return vc_error_set(err, VC_ENOMEM, "out of memory for the balls");
     }
     S.t_start = S.t_logged = t0;
+    if (opt->smooth_width > 0 && isfinite(S.z.eps)) {
+        if (vc_smooth_surface_init(&S.ss, &S.z, opt->smooth_width * S.z.eps)) {
+            vc_ball_set_free(&S.bs);
+            vc_sizing_free(&S.z);
+            return vc_error_set(err, VC_ENOMEM, "out of memory for the smooth surface");
+        }
+        S.smooth = 1;
+        S.tri_on_smooth = malloc(sizeof(double) * 18 * (size_t)(s->n_triangles ? s->n_triangles : 1));
+        if (!S.tri_on_smooth) {
+            vc_smooth_surface_free(&S.ss);
+            vc_ball_set_free(&S.bs);
+            vc_sizing_free(&S.z);
+            return vc_error_set(err, VC_ENOMEM, "out of memory for the smooth surface");
+        }
+#pragma omp parallel for schedule(dynamic, 256) num_threads(S.threads)
+        for (int64_t t = 0; t < s->n_triangles; t++)
+            for (int k = 0; k < 3; k++) {
+                const double *x = s->xyz + 3 * s->tri[3 * t + k];
+                double rho;
+                vc_smooth_surface_project(&S.ss, t, x, x, S.tri_on_smooth + 18 * t + 3 * k,
+                                          S.tri_on_smooth + 18 * t + 9 + 3 * k, &rho);
+            }
+    }
 
     /* The work predicted from the sizing, said before any is done, and
      * refused when it exceeds the limit. */
     vc_ball_estimate est;
     if (vc_ball_estimate_compute(&S.z, S.sz, opt->threads, &est)) {
         vc_ball_set_free(&S.bs);
+        vc_smooth_surface_free(&S.ss);
+        free(S.tri_on_smooth);
         vc_sizing_free(&S.z);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the ball estimate");
     }
@@ -1013,6 +1183,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (opt->max_balls > 0 && !(est.n_balls <= (double)opt->max_balls)) {
         const double diag = S.z.diag;
         vc_ball_set_free(&S.bs);
+        vc_smooth_surface_free(&S.ss);
+        free(S.tri_on_smooth);
         vc_sizing_free(&S.z);
         return vc_error_set(err, VC_EPARAM,
                             "about %.3g balls predicted from the sizing, above the limit of "
@@ -1035,7 +1207,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         vc_surface_point sp = {VC_ELEM_CORNER, v};
         const double *x = s->xyz + 3 * v;
         double r = vc_sizing_radius_bound(&S.z, &sp, x, S.sz);
-        rc = add_ball(&S, x, r, &sp);
+        rc = add_ball(&S, x, r, &sp, NULL);
     }
     if (!rc && (rc = grow_scratch(&old_r, &shrunk, S.bs.b.n)) == 0)
         rc = enforce_lipschitz(&S, old_r, shrunk) < 0 ? -1 : 0;
@@ -1161,6 +1333,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     free(shrunk);
     free(facets.f);
     free(S.dirty);
+    vc_smooth_surface_free(&S.ss);
+    free(S.tri_on_smooth);
     vc_sizing_free(&S.z);
     if (rc) {
         vc_ball_set_free(&S.bs);

@@ -60,6 +60,8 @@ void vc_mesh_options_default(vc_mesh_options *opt)
     vc_sampling_options_default(&so);
     opt->sharp_angle = so.sharp_angle;
     opt->max_error = so.max_error;
+    opt->smooth_width = so.smooth_width;
+    opt->curvature_factor = so.curvature_factor;
     opt->lipschitz = so.lipschitz;
     opt->max_size = so.max_size;
     opt->seed = so.seed;
@@ -87,6 +89,12 @@ static int check_options(const vc_mesh_options *o, vc_error *err)
     if (!(o->sharp_angle > 0 && o->sharp_angle < 180))
         return vc_error_set(err, VC_EPARAM, "sharp angle %g: needs degrees in (0, 180)",
                             o->sharp_angle);
+    if (!(o->smooth_width >= 0 && o->smooth_width <= 100))
+        return vc_error_set(err, VC_EPARAM, "smooth width %g: needs a number in [0, 100]",
+                            o->smooth_width);
+    if (!(o->curvature_factor > 0 && o->curvature_factor <= 10))
+        return vc_error_set(err, VC_EPARAM, "curvature factor %g: needs a number in (0, 10]",
+                            o->curvature_factor);
     if (!(o->max_error >= 0 && o->max_error < 1))
         return vc_error_set(err, VC_EPARAM, "max error %g: needs a number in [0, 1)", o->max_error);
     if (!(o->lipschitz > 0 && o->lipschitz < 1))
@@ -219,6 +227,8 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     vc_sampling_options_default(&so);
     so.sharp_angle = opt->sharp_angle;
     so.max_error = opt->max_error;
+    so.smooth_width = opt->smooth_width;
+    so.curvature_factor = opt->curvature_factor;
     so.lipschitz = opt->lipschitz;
     so.max_size = opt->max_size;
     so.seed = opt->seed;
