@@ -57,7 +57,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtkcheck  # noqa: E402
-from e2eutil import models_dir  # noqa: E402
+from e2eutil import coarse_torus, models_dir  # noqa: E402
 from surfacecheck import (enclosed_volume, fan, max_distance, polydata, quality,  # noqa: E402
                           read_surface, samples)
 
@@ -89,23 +89,6 @@ def check(cond, what):
     if not cond:
         failures.append(what)
         print("FAIL:", what, file=sys.stderr)
-
-
-def coarse_torus(path, nu=12, nv=8, big=1.0, small=0.4):
-    """A torus of 2 nu nv triangles: nu steps around the axis, nv around
-    the tube (every edge folded by 360 / nu or 360 / nv degrees)."""
-    with open(path, "w") as f:
-        for i in range(nu):
-            for j in range(nv):
-                u, v = 2 * math.pi * i / nu, 2 * math.pi * j / nv
-                f.write("v %.17g %.17g %.17g\n" % ((big + small * math.cos(v)) * math.cos(u),
-                                                   (big + small * math.cos(v)) * math.sin(u),
-                                                   small * math.sin(v)))
-        for i in range(nu):
-            for j in range(nv):
-                a, b = i * nv + j, ((i + 1) % nu) * nv + j
-                c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
-                f.write("f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1))
 
 
 if len(sys.argv) != 2 or sys.argv[1] not in list(EXPECTED) + list(GENERATED):

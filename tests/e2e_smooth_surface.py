@@ -16,33 +16,11 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from e2eutil import check, coarse_torus, failures  # noqa: E402
 from surfacecheck import enclosed_volume, max_distance, polydata, read_surface, samples  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
 TMP = os.environ.get("VC_TMP", "/tmp")
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what, file=sys.stderr)
-
-
-def coarse_torus(path, nu, nv, big=1.0, small=0.4):
-    with open(path, "w") as f:
-        for i in range(nu):
-            for j in range(nv):
-                u, v = 2 * math.pi * i / nu, 2 * math.pi * j / nv
-                f.write("v %.17g %.17g %.17g\n" % ((big + small * math.cos(v)) * math.cos(u),
-                                                   (big + small * math.cos(v)) * math.sin(u),
-                                                   small * math.sin(v)))
-        for i in range(nu):
-            for j in range(nv):
-                a, b = i * nv + j, ((i + 1) % nu) * nv + j
-                c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
-                f.write("f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1))
-
 
 inp = os.path.join(TMP, "smooth_surface_torus.obj")
 surf = os.path.join(TMP, "smooth_surface_torus_out.obj")

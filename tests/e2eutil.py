@@ -66,3 +66,21 @@ def field(out, name):
     """The value of the line "name: value" of out, or None."""
     m = re.search(r"^%s: (.*)$" % re.escape(name), out, re.M)
     return m.group(1) if m else None
+
+
+def coarse_torus(path, nu=12, nv=8, big=1.0, small=0.4):
+    """Writes an OBJ torus of 2 nu nv triangles: nu steps around the axis,
+    nv around the tube (every edge folded by 360 / nu or 360 / nv degrees)."""
+    import math
+    with open(path, "w") as f:
+        for i in range(nu):
+            for j in range(nv):
+                u, v = 2 * math.pi * i / nu, 2 * math.pi * j / nv
+                f.write("v %.17g %.17g %.17g\n" % ((big + small * math.cos(v)) * math.cos(u),
+                                                   (big + small * math.cos(v)) * math.sin(u),
+                                                   small * math.sin(v)))
+        for i in range(nu):
+            for j in range(nv):
+                a, b = i * nv + j, ((i + 1) % nu) * nv + j
+                c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+                f.write("f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1))

@@ -59,19 +59,26 @@
 
 typedef struct subface {
     double v[9];   /* a segment (v[0..5]) or a triangle, on the input */
-    double p[9];   /* a triangle's corners on the smooth surface S' (when sampled):
-                      the coverage tests use these */
-    double pn[9];  /* S's unit normals there */
     int64_t elem;  /* the sharp edge or triangle */
-    unsigned char todo; /* bit m: p's corner m is a first guess, not yet projected */
-    unsigned char interpolated; /* some corner of p is a midpoint never projected */
-    double sag;    /* how far the midpoints of p's edges may lie from S' (the last
-                      projections' corrections, a quarter per subdivision since) */
 } subface;
 
+/* A triangle subface on the smooth surface S' (sampled with
+ * opt.smooth_width): its corners there, which the coverage tests use. */
+typedef struct subface_on_smooth {
+    double p[9];   /* the corners on S' */
+    double pn[9];  /* S's unit normals there */
+    double sag;    /* how far the midpoints of p's edges may lie from S' (the last
+                      projections' corrections, a quarter per subdivision since) */
+    unsigned char todo; /* bit m: corner m is a first guess, not yet projected */
+    unsigned char interpolated; /* some corner is a midpoint never projected */
+} subface_on_smooth;
+
+/* Subfaces; g (the same indices) only for triangles on S'. */
 typedef struct pool {
     subface *f;
+    subface_on_smooth *g;
     int64_t n, cap;
+    int smooth;
 } pool;
 
 typedef struct sampler {
@@ -128,7 +135,7 @@ static double dist(const double *a, const double *b)
     return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-static int pool_push(pool *P, const subface *sf)
+static int pool_push(pool *P, const subface *sf, const subface_on_smooth *sg)
 {
     if (P->n == P->cap) {
         int64_t c = P->cap ? 2 * P->cap : 1024;
@@ -136,8 +143,16 @@ static int pool_push(pool *P, const subface *sf)
         if (!q)
             return -1;
         P->f = q;
+        if (P->smooth) {
+            subface_on_smooth *r = realloc(P->g, sizeof(subface_on_smooth) * (size_t)c);
+            if (!r)
+                return -1;
+            P->g = r;
+        }
         P->cap = c;
     }
+    if (P->smooth)
+        P->g[P->n] = *sg;
     P->f[P->n++] = *sf;
     return 0;
 }
@@ -194,10 +209,10 @@ static int covers_subface(void *ctx, int64_t i)
 }
 
 /* Is the whole subface covered by one ball (balls are convex)? */
-static int subface_covered(const sampler *S, const subface *sf, int nv, int kind,
-                           int64_t *last_cover)
+static int subface_covered(const sampler *S, const subface *sf, const subface_on_smooth *sg,
+                           int nv, int kind, int64_t *last_cover)
 {
-    const double *v = S->smooth && nv == 3 ? sf->p : sf->v;
+    const double *v = sg ? sg->p : sf->v;
     double c[3] = {0, 0, 0};
     for (int m = 0; m < nv; m++)
         for (int d = 0; d < 3; d++)
@@ -208,7 +223,7 @@ static int subface_covered(const sampler *S, const subface *sf, int nv, int kind
     /* corners placed between projected ones lie off S' by about the sag:
      * they count as covered that much further out, or the darts (on S')
      * and the subfaces would disagree at the edges of the coverage */
-    const double margin = S->smooth && nv == 3 && sf->interpolated ? sf->sag : 0;
+    const double margin = sg && sg->interpolated ? sg->sag : 0;
     subface_cover_ctx cc = {&S->bs.b, v, nv, kind, 1 - S->alpha, margin, -1};
     /* Subfaces come in runs of neighbours (a face's children, triangles in
      * mesh order): the ball that covered the last one often covers this
@@ -246,20 +261,21 @@ static void curved_midpoint(const double a[3], const double na[3], const double 
 }
 
 /* Projects the corners of a triangle subface not yet on S'. */
-static void project_corners(const sampler *S, subface *sf)
+static void project_corners(const sampler *S, const subface *sf, subface_on_smooth *sg)
 {
+    if (!sg->todo)
+        return;
     double sag = 0;
     for (int m = 0; m < 3; m++) {
-        if (!(sf->todo >> m & 1))
+        if (!(sg->todo >> m & 1))
             continue;
-        double start[3] = {sf->p[3 * m], sf->p[3 * m + 1], sf->p[3 * m + 2]}, rho;
-        vc_smooth_surface_project(&S->ss, sf->elem, sf->v + 3 * m, start, sf->p + 3 * m,
-                                  sf->pn + 3 * m, &rho);
-        sag = fmax(sag, dist(start, sf->p + 3 * m));
+        double start[3] = {sg->p[3 * m], sg->p[3 * m + 1], sg->p[3 * m + 2]}, rho;
+        vc_smooth_surface_project(&S->ss, sf->elem, sf->v + 3 * m, start, sg->p + 3 * m,
+                                  sg->pn + 3 * m, &rho);
+        sag = fmax(sag, dist(start, sg->p + 3 * m));
     }
-    if (sf->todo)
-        sf->sag = sag;
-    sf->todo = 0;
+    sg->sag = sag;
+    sg->todo = 0;
 }
 
 /* Keeps the subfaces of P from index `from` on that no single ball
@@ -272,6 +288,7 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
     if (n <= 0)
         return 0;
     subface *f = P->f + from;
+    subface_on_smooth *g = P->smooth ? P->g + from : NULL;
     unsigned char *keep = malloc((size_t)n);
     if (!keep)
         return -1;
@@ -282,15 +299,18 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
         int64_t last = -1;
         const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
         for (int64_t i = c * chunk; i < end; i++) {
-            if (S->smooth && nv == 3)
-                project_corners(S, &f[i]);
-            keep[i] = !subface_covered(S, &f[i], nv, kind, &last);
+            if (g)
+                project_corners(S, &f[i], &g[i]);
+            keep[i] = !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
         }
     }
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++)
-        if (keep[i])
+        if (keep[i]) {
+            if (g)
+                g[m] = g[i];
             f[m++] = f[i];
+        }
     P->n = from + m;
     free(keep);
     return 0;
@@ -408,7 +428,8 @@ static double measure(const subface *sf, int nv)
 
 /* x on the subface; on a triangle, also z at the same place of its corners
  * on S' (z may be NULL) */
-static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3], double *z)
+static void random_point(vc_rng *rng, const subface *sf, const subface_on_smooth *sg, int nv,
+                         double x[3], double *z)
 {
     if (nv == 2) {
         double t = vc_rng_uniform(rng);
@@ -423,9 +444,41 @@ static void random_point(vc_rng *rng, const subface *sf, int nv, double x[3], do
     }
     for (int d = 0; d < 3; d++)
         x[d] = sf->v[d] + u * (sf->v[3 + d] - sf->v[d]) + v * (sf->v[6 + d] - sf->v[d]);
-    if (z)
+    if (sg)
         for (int d = 0; d < 3; d++)
-            z[d] = sf->p[d] + u * (sf->p[3 + d] - sf->p[d]) + v * (sf->p[6 + d] - sf->p[d]);
+            z[d] = sg->p[d] + u * (sg->p[3 + d] - sg->p[d]) + v * (sg->p[6 + d] - sg->p[d]);
+}
+
+/* The four children of a triangle subface on S' (in the order of mps's
+ * split): the parent's corners, and guesses for the midpoints (the cubic
+ * through the corners with their normals), to be projected by drop_covered
+ * until the corrections that makes are negligible; then S' is flat enough
+ * across a subface (the chord sag falls fourfold per subdivision) that the
+ * guesses stand. */
+static void split_on_smooth(const sampler *S, const subface_on_smooth *sg,
+                            subface_on_smooth ch[4])
+{
+    double pm[3][3], nm[3][3];
+    for (int e = 0; e < 3; e++)
+        curved_midpoint(sg->p + 3 * e, sg->pn + 3 * e, sg->p + 3 * ((e + 1) % 3),
+                        sg->pn + 3 * ((e + 1) % 3), pm[e], nm[e]);
+    const double *pa = sg->p, *pb = sg->p + 3, *pc = sg->p + 6;
+    const double *ptri[4][3] = {{pa, pm[0], pm[2]}, {pm[0], pb, pm[1]}, {pm[2], pm[1], pc},
+                                {pm[0], pm[1], pm[2]}};
+    const double *na = sg->pn, *nb = sg->pn + 3, *nc = sg->pn + 6;
+    const double *ntri[4][3] = {{na, nm[0], nm[2]}, {nm[0], nb, nm[1]}, {nm[2], nm[1], nc},
+                                {nm[0], nm[1], nm[2]}};
+    const int exact = !(sg->sag <= SAG_TOLERANCE * S->ss.width);
+    static const unsigned char midpoints[4] = {6, 5, 3, 7}; /* the corners that are midpoints */
+    for (int q = 0; q < 4; q++) {
+        for (int e = 0; e < 3; e++) {
+            memcpy(ch[q].p + 3 * e, ptri[q][e], sizeof(double) * 3);
+            memcpy(ch[q].pn + 3 * e, ntri[q][e], sizeof(double) * 3);
+        }
+        ch[q].todo = exact ? midpoints[q] : 0;
+        ch[q].sag = 0.25 * sg->sag;
+        ch[q].interpolated = sg->interpolated || !exact;
+    }
 }
 
 static int mps(sampler *S, pool *P, int nv)
@@ -433,7 +486,7 @@ static int mps(sampler *S, pool *P, int nv)
     int kind = nv == 2 ? VC_ELEM_EDGE : VC_ELEM_TRIANGLE;
     double *cum = NULL;
     int64_t cum_cap = 0;
-    pool next = {NULL, 0, 0};
+    pool next = {NULL, NULL, 0, 0, P->smooth};
     int rc = 0;
     /* drop what is already covered */
     if (drop_covered(S, P, 0, nv, kind))
@@ -484,11 +537,12 @@ static int mps(sampler *S, pool *P, int nv)
                     hi = mid;
             }
             const subface *sf = &P->f[lo];
+            const subface_on_smooth *sg = P->smooth ? &P->g[lo] : NULL;
             double x[3], c[3], cn[3], rho = INFINITY;
-            const int on_smooth = S->smooth && nv == 3;
+            const int on_smooth = sg != NULL;
             /* on S': the dart between the subface's corners there is tested
              * first (most darts land on covered ground), then its projection */
-            random_point(&S->rng, sf, nv, x, on_smooth ? c : NULL);
+            random_point(&S->rng, sf, sg, nv, x, c);
             if (!on_smooth)
                 memcpy(c, x, sizeof c);
             if (point_covered(S, c, kind)) {
@@ -503,7 +557,7 @@ static int mps(sampler *S, pool *P, int nv)
                  * noise sliver elimination tolerates, the dart itself is the
                  * centre: a projection lands a little aside, and a gap on
                  * the subface would never get its ball */
-                if (sf->interpolated && sf->sag <= ACCURATE_SAG * S->ss.width)
+                if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
                     memcpy(c, z, sizeof z);
                 if (point_covered(S, c, kind)) {
                     darts_covered++;
@@ -533,7 +587,6 @@ static int mps(sampler *S, pool *P, int nv)
         for (int64_t i = 0; i < P->n && !rc; i++) {
             const subface *sf = &P->f[i];
             subface ch[4];
-            memset(ch, 0, sizeof ch);
             int nch;
             if (nv == 2) {
                 double m[3];
@@ -552,45 +605,23 @@ static int mps(sampler *S, pool *P, int nv)
                 const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
                 const double *tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
                                            {m[0], m[1], m[2]}};
-                /* the same on S': the parent's corners, and the midpoints
-                 * of its corners there as the start of their projection
-                 * (by drop_covered) */
-                double pm[3][3], nm[3][3];
-                if (S->smooth)
+                for (int q = 0; q < 4; q++)
                     for (int e = 0; e < 3; e++)
-                        curved_midpoint(sf->p + 3 * e, sf->pn + 3 * e, sf->p + 3 * ((e + 1) % 3),
-                                        sf->pn + 3 * ((e + 1) % 3), pm[e], nm[e]);
-                const double *pa = sf->p, *pb = sf->p + 3, *pc = sf->p + 6;
-                const double *ptri[4][3] = {{pa, pm[0], pm[2]}, {pm[0], pb, pm[1]},
-                                            {pm[2], pm[1], pc}, {pm[0], pm[1], pm[2]}};
-                const double *na = sf->pn, *nb = sf->pn + 3, *nc = sf->pn + 6;
-                const double *ntri[4][3] = {{na, nm[0], nm[2]}, {nm[0], nb, nm[1]},
-                                            {nm[2], nm[1], nc}, {nm[0], nm[1], nm[2]}};
-                /* the midpoints are projected until the corrections that
-                 * makes are negligible: then S' is flat enough across the
-                 * subface (the chord sag falls fourfold per subdivision) */
-                const int exact = S->smooth && !(sf->sag <= SAG_TOLERANCE * S->ss.width);
-                static const unsigned char todo_of[4] = {6, 5, 3, 7};
-                const unsigned char todo[4] = {exact ? todo_of[0] : 0, exact ? todo_of[1] : 0,
-                                               exact ? todo_of[2] : 0, exact ? todo_of[3] : 0};
-                for (int q = 0; q < 4; q++) {
-                    for (int e = 0; e < 3; e++) {
                         memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
-                        if (S->smooth) {
-                            memcpy(ch[q].p + 3 * e, ptri[q][e], sizeof(double) * 3);
-                            memcpy(ch[q].pn + 3 * e, ntri[q][e], sizeof(double) * 3);
-                        }
-                    }
-                    ch[q].todo = todo[q];
-                    ch[q].sag = 0.25 * sf->sag;
-                    ch[q].interpolated = sf->interpolated || !exact;
-                }
                 nch = 4;
             }
-            for (int q = 0; q < nch; q++) {
+            for (int q = 0; q < nch; q++)
                 ch[q].elem = sf->elem;
-                if (pool_push(&next, &ch[q]))
-                    rc = -1;
+            if (P->smooth) {
+                subface_on_smooth chg[4];
+                split_on_smooth(S, &P->g[i], chg);
+                for (int q = 0; q < nch; q++)
+                    if (pool_push(&next, &ch[q], &chg[q]))
+                        rc = -1;
+            } else {
+                for (int q = 0; q < nch; q++)
+                    if (pool_push(&next, &ch[q], NULL))
+                        rc = -1;
             }
             if (!rc && (i + 1) % PARENT_BATCH == 0) {
                 if (drop_covered(S, &next, batch_from, nv, kind))
@@ -607,6 +638,7 @@ static int mps(sampler *S, pool *P, int nv)
     }
     free(cum);
     free(next.f);
+    free(next.g);
     if (S->oom)
         rc = -1;
     return rc;
@@ -619,24 +651,24 @@ static void edge_subface(const sampler *S, int64_t e, subface *sf)
 {
     const double *a = S->s->xyz + 3 * S->f->edge_vertex[2 * e];
     const double *b = S->s->xyz + 3 * S->f->edge_vertex[2 * e + 1];
-    memset(sf, 0, sizeof *sf);
     memcpy(sf->v, a, sizeof(double) * 3);
     memcpy(sf->v + 3, b, sizeof(double) * 3);
     sf->elem = e;
 }
 
-static void tri_subface(const sampler *S, int64_t t, subface *sf)
+/* Triangle t; on S' too when sampled there (sg). */
+static void tri_subface(const sampler *S, int64_t t, subface *sf, subface_on_smooth *sg)
 {
     for (int k = 0; k < 3; k++)
         memcpy(sf->v + 3 * k, S->s->xyz + 3 * S->s->tri[3 * t + k], sizeof(double) * 3);
-    if (S->smooth) {
-        memcpy(sf->p, S->tri_on_smooth + 18 * t, sizeof sf->p);
-        memcpy(sf->pn, S->tri_on_smooth + 18 * t + 9, sizeof sf->pn);
-    }
-    sf->todo = 0;
-    sf->interpolated = 0;
-    sf->sag = INFINITY; /* unknown: the midpoints are projected */
     sf->elem = t;
+    if (S->smooth) {
+        memcpy(sg->p, S->tri_on_smooth + 18 * t, sizeof sg->p);
+        memcpy(sg->pn, S->tri_on_smooth + 18 * t + 9, sizeof sg->pn);
+        sg->todo = 0;
+        sg->interpolated = 0;
+        sg->sag = INFINITY; /* unknown: the midpoints are projected */
+    }
 }
 
 typedef struct near_ctx {
@@ -656,7 +688,7 @@ static void mark_near(void *ctx, int kind, int64_t id)
  * (all when marks are NULL). */
 static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsigned char *mark_tri)
 {
-    pool P = {NULL, 0, 0};
+    pool E = {NULL, NULL, 0, 0, 0};
     int rc = 0;
     double t0 = now();
     for (int64_t e = 0; e < S->f->n_edges && !rc; e++) {
@@ -664,24 +696,27 @@ static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsig
             continue;
         subface sf;
         edge_subface(S, e, &sf);
-        rc = pool_push(&P, &sf);
+        rc = pool_push(&E, &sf, NULL);
     }
     if (!rc)
-        rc = mps(S, &P, 2);
+        rc = mps(S, &E, 2);
+    free(E.f);
     double t1 = now();
     S->st->t_edges += t1 - t0;
-    P.n = 0;
+    pool T = {NULL, NULL, 0, 0, S->smooth};
     for (int64_t t = 0; t < S->s->n_triangles && !rc; t++) {
         if (mark_tri && !mark_tri[t])
             continue;
         subface sf;
-        tri_subface(S, t, &sf);
-        rc = pool_push(&P, &sf);
+        subface_on_smooth sg;
+        tri_subface(S, t, &sf, &sg);
+        rc = pool_push(&T, &sf, &sg);
     }
     if (!rc)
-        rc = mps(S, &P, 3);
+        rc = mps(S, &T, 3);
     S->st->t_surface += now() - t1;
-    free(P.f);
+    free(T.f);
+    free(T.g);
     return rc;
 }
 

@@ -134,15 +134,17 @@ int vc_smooth_surface_init(vc_smooth_surface *m, const vc_sizing *z, double widt
     const int64_t nc = m->dim[0] * m->dim[1] * m->dim[2];
     m->cell_start = calloc((size_t)nc + 1, sizeof(int64_t));
     int64_t *cell_of = malloc(sizeof(int64_t) * (size_t)(n ? n : 1));
+    int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nc ? nc : 1));
     m->pos = malloc(sizeof(double) * 3 * (size_t)(n ? n : 1));
     m->nrm = malloc(sizeof(double) * 3 * (size_t)(n ? n : 1));
     m->weight = malloc(sizeof(double) * (size_t)(n ? n : 1));
     m->patch = malloc(sizeof(int64_t) * (size_t)(n ? n : 1));
-    if (!m->cell_start || !cell_of || !m->pos || !m->nrm || !m->weight || !m->patch) {
+    if (!m->cell_start || !cell_of || !fill || !m->pos || !m->nrm || !m->weight || !m->patch) {
         free(first);
         free(pos);
         free(owner);
         free(cell_of);
+        free(fill);
         vc_smooth_surface_free(m);
         return -1;
     }
@@ -154,15 +156,6 @@ int vc_smooth_surface_init(vc_smooth_surface *m, const vc_sizing *z, double widt
     }
     for (int64_t c = 0; c < nc; c++)
         m->cell_start[c + 1] += m->cell_start[c];
-    int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nc ? nc : 1));
-    if (!fill) {
-        free(first);
-        free(pos);
-        free(owner);
-        free(cell_of);
-        vc_smooth_surface_free(m);
-        return -1;
-    }
     memcpy(fill, m->cell_start, sizeof(int64_t) * (size_t)nc);
     for (int64_t q = 0; q < n; q++) {
         const int64_t t = owner[q];
