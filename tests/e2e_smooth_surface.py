@@ -7,7 +7,7 @@ the surface by 3% of the diagonal and 13% of the volume). With the ball
 centres on the smooth surface it converges without the fallback, and the
 reconstructed surface is a closed 2-manifold of the input's Euler
 characteristic within 0.5% of the diagonal and of the volume of the INPUT.
-Release only (about 45 s on two threads)."""
+In the extended suite (about 45 s on two threads, alone)."""
 
 import math
 import os
