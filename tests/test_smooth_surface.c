@@ -37,6 +37,87 @@ static void make_sphere(builder *b, int nu, int nv)
 #undef V
 }
 
+static double dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The other triangle of edge (p, q) of triangle t, or -1. */
+static int64_t neighbour_across(const vc_surface *s, int64_t t, int64_t p, int64_t q)
+{
+    for (int64_t u = 0; u < s->n_triangles; u++) {
+        if (u == t)
+            continue;
+        int has = 0;
+        for (int k = 0; k < 3; k++)
+            has += s->tri[3 * u + k] == p || s->tri[3 * u + k] == q;
+        if (has == 2)
+            return u;
+    }
+    return -1;
+}
+
+/* A closed cylinder of radius 1 and height 8 around the z axis, nu
+ * facets around, nz rows, outward. */
+static void make_cylinder(builder *b, int nu, int nz)
+{
+    int64_t first = b->s.n_vertices;
+    for (int j = 0; j <= nz; j++)
+        for (int i = 0; i < nu; i++)
+            add_v(b, cos(2 * M_PI * i / nu), sin(2 * M_PI * i / nu), 8.0 * j / nz - 4);
+    int64_t bottom = add_v(b, 0, 0, -4), top = add_v(b, 0, 0, 4);
+#define V(i, j) (first + (int64_t)(j) * nu + ((i) % nu))
+    for (int i = 0; i < nu; i++) {
+        for (int j = 0; j < nz; j++)
+            add_q(b, V(i, j), V(i + 1, j), V(i + 1, j + 1), V(i, j + 1));
+        add_t(b, bottom, V(i + 1, 0), V(i, 0));
+        add_t(b, top, V(i, nz), V(i + 1, nz));
+    }
+#undef V
+}
+
+/* On a cylinder the fitted sphere's radius is a mean curvature's (about
+ * 2); the largest principal curvature is 1. Balls bounded by the former
+ * reach twice as far around the cylinder as sliver elimination allows. */
+static void check_cylinder(void)
+{
+    builder b = {0};
+    make_cylinder(&b, 48, 24);
+    vc_features f;
+    vc_error err;
+    CHECK(vc_features_detect(&b.s, 60, &f, &err) == 0);
+    vc_sizing z;
+    CHECK(vc_sizing_init(&z, &b.s, &f, 60, 0.004) == 0);
+    vc_smooth_surface m;
+    CHECK(vc_smooth_surface_init(&m, &z, 0.4) == 0);
+    double worst_k = 0, mean_R = 0;
+    int n = 0;
+    for (int64_t t = 0; t < b.s.n_triangles; t++) {
+        const int64_t *v = b.s.tri + 3 * t;
+        double x[3];
+        for (int d = 0; d < 3; d++)
+            x[d] = (b.s.xyz[3 * v[0] + d] + b.s.xyz[3 * v[1] + d] + b.s.xyz[3 * v[2] + d]) / 3;
+        if (fabs(x[2]) > 2) /* away from the caps and their blend */
+            continue;
+        double y[3], nn[3], R;
+        CHECK(vc_smooth_surface_project(&m, t, x, x, y, nn, &R) == 0);
+        worst_k = fmax(worst_k, fabs(vc_smooth_surface_max_curvature(&m, t, y, nn) - 1));
+        mean_R += R;
+        n++;
+    }
+    mean_R /= n;
+    printf("cylinder: %d points, max curvature within %.3f of 1, fitted sphere radius %.2f\n", n,
+           worst_k, mean_R);
+    CHECK(n > 100);
+    CHECK(worst_k < 0.1);
+    CHECK(mean_R > 1.5);
+    vc_smooth_surface_free(&m);
+    vc_sizing_free(&z);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
+}
+
 /* A cube [0, 1]^3, outward. */
 static void make_cube(builder *b)
 {
@@ -67,7 +148,9 @@ static void check_cube(void)
     const double pts[2][3] = {{0.5, 0.4, 0}, {0.03, 0.5, 0}};
     for (int k = 0; k < 2; k++) {
         double y[3], n[3], R;
-        CHECK(vc_smooth_surface_project(&m, 0, pts[k], pts[k], y, n, &R) == 0);
+        /* 0 in the middle; 1 within a kernel width of the edge, in the
+         * blend into the input */
+        CHECK(vc_smooth_surface_project(&m, 0, pts[k], pts[k], y, n, &R) == k);
         CHECK(y[0] == pts[k][0] && y[1] == pts[k][1] && y[2] == pts[k][2]);
         CHECK(fabs(n[2] + 1) < 1e-12);
     }
@@ -89,6 +172,8 @@ static void check_sphere(void)
     vc_smooth_surface m;
     CHECK(vc_smooth_surface_init(&m, &z, 0.4) == 0);
     double worst_facet = 0, worst = 0, worst_n = 0, worst_r = 0;
+    double worst_start = 0, worst_seam = 0, worst_settle = 0, worst_k = 0;
+    int n_seam = 0;
     for (int64_t t = 0; t < b.s.n_triangles; t += 7) {
         const int64_t *v = b.s.tri + 3 * t;
         double x[3];
@@ -102,12 +187,39 @@ static void check_sphere(void)
         worst = fmax(worst, fabs(1 - ly));
         worst_n = fmax(worst_n, 1 - (n[0] * y[0] + n[1] * y[1] + n[2] * y[2]) / ly);
         worst_r = fmax(worst_r, fabs(R - 1));
-        /* the same point from another start */
+        /* the same point from another start: the orthogonal projection
+         * does not depend on where the search starts */
         double y2[3], n2[3], R2, s[3] = {1.01 * x[0], 1.01 * x[1], 1.01 * x[2]};
         CHECK(vc_smooth_surface_project(&m, t, x, s, y2, n2, &R2) == 0);
-        const double l2 = sqrt(y2[0] * y2[0] + y2[1] * y2[1] + y2[2] * y2[2]);
-        CHECK(fabs(l2 - ly) < 1e-3);
+        worst_start = fmax(worst_start, dist3(y, y2));
+        /* a point of one of its edges, seen from the triangle across that
+         * edge: the same point of S' (no seam between the triangles'
+         * images) */
+        const int64_t across = neighbour_across(&b.s, t, v[0], v[1]);
+        if (across >= 0) {
+            double e[3], ya[3], yb[3], na[3], nb[3], Ra, Rb;
+            for (int d = 0; d < 3; d++)
+                e[d] = 0.7 * b.s.xyz[3 * v[0] + d] + 0.3 * b.s.xyz[3 * v[1] + d];
+            CHECK(vc_smooth_surface_project(&m, t, e, e, ya, na, &Ra) == 0);
+            CHECK(vc_smooth_surface_project(&m, across, e, e, yb, nb, &Rb) == 0);
+            worst_seam = fmax(worst_seam, dist3(ya, yb));
+            n_seam++;
+        }
+        /* settling a point just off S' along its normal lands back on it */
+        double z[3], ys[3], ns[3], Rs;
+        for (int d = 0; d < 3; d++)
+            z[d] = y[d] + 1e-3 * n[d];
+        CHECK(vc_smooth_surface_settle(&m, t, x, z, n, ys, ns, &Rs) == 0);
+        worst_settle = fmax(worst_settle, dist3(ys, y));
+        /* the largest principal curvature of a sphere is 1 / radius */
+        worst_k = fmax(worst_k, fabs(vc_smooth_surface_max_curvature(&m, t, y, n) - 1));
     }
+    printf("sphere: other start %.1e, across %d edges %.1e, settled %.1e, max curvature within "
+           "%.3f of 1\n", worst_start, n_seam, worst_seam, worst_settle, worst_k);
+    CHECK(worst_start < 1e-6);
+    CHECK(n_seam > 20 && worst_seam < 1e-6);
+    CHECK(worst_settle < 1e-5);
+    CHECK(worst_k < 0.1);
     printf("sphere: facet centroids %.4f inside, S' within %.4f of the sphere, normals within "
            "%.2e, radius of curvature within %.3f\n", worst_facet, worst, worst_n, worst_r);
     CHECK(worst < worst_facet); /* S' is near the facets, not the sphere they approximate */
@@ -142,6 +254,7 @@ static void check_sphere(void)
 int main(void)
 {
     check_cube();
+    check_cylinder();
     check_sphere();
     if (failures)
         fprintf(stderr, "%d checks failed\n", failures);

@@ -21,7 +21,6 @@
 #include "vorocrust/sampling.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -56,6 +55,11 @@
 #define SAG_TOLERANCE 1e-2
 /* ... and darts on them are centres without projection below this */
 #define ACCURATE_SAG 1e-6
+/* a subface below SEAM_SIZE kernel widths whose image on S' is SEAM_STRETCH
+ * times larger straddles a seam of the projection */
+#define SEAM_SIZE 1e-2
+#define SEAM_STRETCH 10.0
+#define MIN_SUBFACE 1e-4
 
 typedef struct subface {
     double v[9];   /* a segment (v[0..5]) or a triangle, on the input */
@@ -71,6 +75,9 @@ typedef struct subface_on_smooth {
                       projections' corrections, a quarter per subdivision since) */
     unsigned char todo; /* bit m: corner m is a first guess, not yet projected */
     unsigned char interpolated; /* some corner is a midpoint never projected */
+    unsigned char blended; /* some corner is where S' blends into the input: never
+                              interpolated (the darts are projections of points of
+                              the input, and so must the corners be) */
 } subface_on_smooth;
 
 /* Subfaces; g (the same indices) only for triangles on S'. */
@@ -101,7 +108,8 @@ typedef struct sampler {
     const char *phase;  /* for the progress lines */
     vc_smooth_surface ss; /* S', when opt.smooth_width > 0 */
     int smooth;         /* centres of surface balls on S' */
-    double *tri_on_smooth; /* 18 per triangle: its corners on S', then S's normals there */
+    double *tri_on_smooth; /* 19 per triangle: its corners on S', S's normals there, and
+                              1 when some corner is in the blend into the input */
     double t_start, t_logged;
 } sampler;
 
@@ -270,12 +278,34 @@ static void project_corners(const sampler *S, const subface *sf, subface_on_smoo
         if (!(sg->todo >> m & 1))
             continue;
         double start[3] = {sg->p[3 * m], sg->p[3 * m + 1], sg->p[3 * m + 2]}, rho;
-        vc_smooth_surface_project(&S->ss, sf->elem, sf->v + 3 * m, start, sg->p + 3 * m,
-                                  sg->pn + 3 * m, &rho);
+        if (vc_smooth_surface_project(&S->ss, sf->elem, sf->v + 3 * m, start, sg->p + 3 * m,
+                                      sg->pn + 3 * m, &rho) == 1)
+            sg->blended = 1;
         sag = fmax(sag, dist(start, sg->p + 3 * m));
     }
     sg->sag = sag;
     sg->todo = 0;
+}
+
+/* Is this tiny subface's image on S' far larger than the subface itself?
+ * The projection onto S' is continuous wherever the input lies within
+ * S's reach; at a spike of the input (a vertex farther from S' than S' is
+ * curved) the nearest points jump, and the images of the two sides of
+ * that seam do not meet. Splitting such a subface never makes its image
+ * smaller, so it is dropped (the balls of both sides cover the seam). */
+static int on_seam(const sampler *S, const subface *sf, const subface_on_smooth *sg)
+{
+    double in = 0, out = 0;
+    for (int e = 0; e < 3; e++) {
+        in = fmax(in, dist(sf->v + 3 * e, sf->v + 3 * ((e + 1) % 3)));
+        out = fmax(out, dist(sg->p + 3 * e, sg->p + 3 * ((e + 1) % 3)));
+    }
+    /* Below MIN_SUBFACE widths, a subface still uncovered is one whose darts
+     * land on covered ground once on S' (the image of a tiny interpolated
+     * subface sits up to its sag aside): it is left, a gap far below any
+     * ball's deep-coverage margin. */
+    return in < MIN_SUBFACE * S->ss.width ||
+           (in < SEAM_SIZE * S->ss.width && out > SEAM_STRETCH * in);
 }
 
 /* Keeps the subfaces of P from index `from` on that no single ball
@@ -301,7 +331,8 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
         for (int64_t i = c * chunk; i < end; i++) {
             if (g)
                 project_corners(S, &f[i], &g[i]);
-            keep[i] = !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
+            keep[i] = !(g && on_seam(S, &f[i], &g[i])) &&
+                      !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
         }
     }
     int64_t m = 0;
@@ -468,7 +499,7 @@ static void split_on_smooth(const sampler *S, const subface_on_smooth *sg,
     const double *na = sg->pn, *nb = sg->pn + 3, *nc = sg->pn + 6;
     const double *ntri[4][3] = {{na, nm[0], nm[2]}, {nm[0], nb, nm[1]}, {nm[2], nm[1], nc},
                                 {nm[0], nm[1], nm[2]}};
-    const int exact = !(sg->sag <= SAG_TOLERANCE * S->ss.width);
+    const int exact = !(sg->sag <= SAG_TOLERANCE * S->ss.width) || sg->blended;
     static const unsigned char midpoints[4] = {6, 5, 3, 7}; /* the corners that are midpoints */
     for (int q = 0; q < 4; q++) {
         for (int e = 0; e < 3; e++) {
@@ -476,8 +507,13 @@ static void split_on_smooth(const sampler *S, const subface_on_smooth *sg,
             memcpy(ch[q].pn + 3 * e, ntri[q][e], sizeof(double) * 3);
         }
         ch[q].todo = exact ? midpoints[q] : 0;
-        ch[q].sag = 0.25 * sg->sag;
+        /* an interpolated corner keeps the error it was placed with:
+         * the sag does not shrink with the subfaces (the new midpoints'
+         * own errors, third order in the size, add up to a fraction of
+         * the last correction) */
+        ch[q].sag = sg->sag;
         ch[q].interpolated = sg->interpolated || !exact;
+        ch[q].blended = sg->blended;
     }
 }
 
@@ -552,13 +588,32 @@ static int mps(sampler *S, pool *P, int nv)
             }
             if (on_smooth) {
                 double z[3] = {c[0], c[1], c[2]};
-                vc_smooth_surface_project(&S->ss, sf->elem, x, z, c, cn, &rho);
+                /* between interpolated corners, the dart stands for the
+                 * point of S' under it; between projected ones, for the
+                 * projection of x, as the corners do */
+                if (sg->interpolated) {
+                    double nz[3] = {0, 0, 0}, l = 0;
+                    for (int k = 0; k < 9; k++)
+                        nz[k % 3] += sg->pn[k];
+                    for (int d = 0; d < 3; d++)
+                        l += nz[d] * nz[d];
+                    l = sqrt(l);
+                    for (int d = 0; d < 3; d++)
+                        nz[d] = l > 0 ? nz[d] / l : S->z.tri_out_normal[3 * sf->elem + d];
+                    vc_smooth_surface_settle(&S->ss, sf->elem, x, z, nz, c, cn, &rho);
+                } else
+                    vc_smooth_surface_project(&S->ss, sf->elem, x, z, c, cn, &rho);
                 /* on a subface whose corners pin S' down to far below the
                  * noise sliver elimination tolerates, the dart itself is the
                  * centre: a projection lands a little aside, and a gap on
                  * the subface would never get its ball */
                 if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
                     memcpy(c, z, sizeof z);
+                {
+                    double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
+                    if (k > 0)
+                        rho = fmin(rho, 1 / k);
+                }
                 if (point_covered(S, c, kind)) {
                     darts_covered++;
                     misses++;
@@ -663,8 +718,9 @@ static void tri_subface(const sampler *S, int64_t t, subface *sf, subface_on_smo
         memcpy(sf->v + 3 * k, S->s->xyz + 3 * S->s->tri[3 * t + k], sizeof(double) * 3);
     sf->elem = t;
     if (S->smooth) {
-        memcpy(sg->p, S->tri_on_smooth + 18 * t, sizeof sg->p);
-        memcpy(sg->pn, S->tri_on_smooth + 18 * t + 9, sizeof sg->pn);
+        memcpy(sg->p, S->tri_on_smooth + 19 * t, sizeof sg->p);
+        memcpy(sg->pn, S->tri_on_smooth + 19 * t + 9, sizeof sg->pn);
+        sg->blended = S->tri_on_smooth[19 * t + 18] != 0;
         sg->todo = 0;
         sg->interpolated = 0;
         sg->sag = INFINITY; /* unknown: the midpoints are projected */
@@ -1182,7 +1238,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             return vc_error_set(err, VC_ENOMEM, "out of memory for the smooth surface");
         }
         S.smooth = 1;
-        S.tri_on_smooth = malloc(sizeof(double) * 18 * (size_t)(s->n_triangles ? s->n_triangles : 1));
+        S.tri_on_smooth = malloc(sizeof(double) * 19 * (size_t)(s->n_triangles ? s->n_triangles : 1));
         if (!S.tri_on_smooth) {
             vc_smooth_surface_free(&S.ss);
             vc_ball_set_free(&S.bs);
@@ -1190,13 +1246,16 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             return vc_error_set(err, VC_ENOMEM, "out of memory for the smooth surface");
         }
 #pragma omp parallel for schedule(dynamic, 256) num_threads(S.threads)
-        for (int64_t t = 0; t < s->n_triangles; t++)
+        for (int64_t t = 0; t < s->n_triangles; t++) {
+            int blended = 0;
             for (int k = 0; k < 3; k++) {
                 const double *x = s->xyz + 3 * s->tri[3 * t + k];
                 double rho;
-                vc_smooth_surface_project(&S.ss, t, x, x, S.tri_on_smooth + 18 * t + 3 * k,
-                                          S.tri_on_smooth + 18 * t + 9 + 3 * k, &rho);
+                blended |= vc_smooth_surface_project(&S.ss, t, x, x, S.tri_on_smooth + 19 * t + 3 * k,
+                                                     S.tri_on_smooth + 19 * t + 9 + 3 * k, &rho) == 1;
             }
+            S.tri_on_smooth[19 * t + 18] = blended;
+        }
     }
 
     /* The work predicted from the sizing, said before any is done, and

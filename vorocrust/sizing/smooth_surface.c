@@ -23,6 +23,8 @@
 /* the most samples kept: beyond, the spacing grows */
 #define MAX_SAMPLES 20000000.0
 #define MAX_STEPS 24
+/* steps of the fast orthogonal projection before the robust one takes over */
+#define FAST_STEPS 10
 /* normals within acos(-0.3) of the query triangle's count, fully within acos(0.3) */
 #define NORMAL_RAMP 0.3
 
@@ -197,8 +199,10 @@ typedef struct fit {
 
 /* The algebraic sphere at y (coordinates relative to y); returns -1 when no
  * sample counts. */
+/* nref: the normal the samples' normals are weighed against (S's own at
+ * the current estimate); ntri: the query triangle's, for the flatness test. */
 static int fit_at(const vc_smooth_surface *m, const double y[3], const double nref[3],
-                  int64_t patch, fit *F)
+                  const double ntri[3], int64_t patch, fit *F)
 {
     const double W = m->width, W2 = W * W;
     double sw = 0, sp[3] = {0, 0, 0}, sn[3] = {0, 0, 0}, spn = 0, spp = 0;
@@ -239,8 +243,9 @@ static int fit_at(const vc_smooth_surface *m, const double y[3], const double nr
                 }
                 spn += w * qn;
                 spp += w * d2;
-                off_plane = fmax(off_plane, fabs(q[0] * nref[0] + q[1] * nref[1] + q[2] * nref[2]));
-                off_normal = fmax(off_normal, 1 - cn);
+                off_plane = fmax(off_plane, fabs(q[0] * ntri[0] + q[1] * ntri[1] + q[2] * ntri[2]));
+                off_normal = fmax(off_normal,
+                                  1 - (n[0] * ntri[0] + n[1] * ntri[1] + n[2] * ntri[2]));
             }
         }
     if (!(sw > 0))
@@ -261,18 +266,20 @@ static int fit_at(const vc_smooth_surface *m, const double y[3], const double nr
     return 0;
 }
 
-/* The nearest point of the fitted sphere (or plane) to the origin (= y),
- * relative to y; its outward normal; the sphere's radius. */
-static int fit_project(const fit *F, const double W, double step[3], double n[3], double *radius)
+/* The nearest point of the fitted sphere (or plane) to q (coordinates
+ * relative to y, where the fit was made); its outward normal; the
+ * sphere's radius. */
+static int fit_project(const fit *F, const double W, const double q[3], double step[3],
+                       double n[3], double *radius)
 {
     const double lu = sqrt(F->u[0] * F->u[0] + F->u[1] * F->u[1] + F->u[2] * F->u[2]);
     if (!(lu > 0))
         return -1;
     if (2e6 * fabs(F->u4) * W <= lu) { /* a plane: radius beyond 1e6 widths */
-        const double t = -F->u0 / lu;
+        const double t = (F->u[0] * q[0] + F->u[1] * q[1] + F->u[2] * q[2] + F->u0) / lu;
         for (int d = 0; d < 3; d++) {
             n[d] = F->u[d] / lu;
-            step[d] = t * n[d];
+            step[d] = q[d] - t * n[d];
         }
         *radius = INFINITY;
         return 0;
@@ -282,11 +289,13 @@ static int fit_project(const fit *F, const double W, double step[3], double n[3]
         c[d] = -F->u[d] / (2 * F->u4);
     const double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
     const double r2 = cc - F->u0 / F->u4;
-    if (!(r2 > 0) || !(cc > 0))
+    const double qc[3] = {q[0] - c[0], q[1] - c[1], q[2] - c[2]};
+    const double lqc = sqrt(qc[0] * qc[0] + qc[1] * qc[1] + qc[2] * qc[2]);
+    if (!(r2 > 0) || !(lqc > 0))
         return -1;
-    const double R = sqrt(r2), lc = sqrt(cc);
+    const double R = sqrt(r2);
     for (int d = 0; d < 3; d++)
-        step[d] = c[d] * (1 - R / lc);
+        step[d] = c[d] + R * qc[d] / lqc;
     double g[3];
     for (int d = 0; d < 3; d++)
         g[d] = F->u[d] + 2 * F->u4 * step[d];
@@ -299,29 +308,125 @@ static int fit_project(const fit *F, const double W, double step[3], double n[3]
     return 0;
 }
 
-/* The fixed point of the fit and projection steps from start. */
-static int fixed_point(const vc_smooth_surface *m, int64_t tri, const double start[3],
-                       double y[3], double n[3], double *radius)
+/* Onto S' from y: fit at y, move to the sphere's nearest point, until
+ * still. Robust (each step lands on a fitted sphere through nearby
+ * samples), but where it ends depends on where it starts. nw: the normal
+ * the samples are weighed against, updated. Returns -1 when no sample is
+ * within reach of the first fit. */
+static int onto_surface(const vc_smooth_surface *m, int64_t tri, double y[3], double n[3],
+                        double nw[3], double *radius)
 {
     const double *nref = m->z->tri_out_normal + 3 * tri;
     const int64_t patch = m->z->f->tri_patch[tri];
-    memcpy(y, start, sizeof(double) * 3);
-    memcpy(n, nref, sizeof(double) * 3);
-    *radius = INFINITY;
     for (int it = 0; it < MAX_STEPS; it++) {
         fit F;
-        if (fit_at(m, y, nref, patch, &F))
+        if (fit_at(m, y, nw, nref, patch, &F))
             return it == 0 ? -1 : 0;
-        if (F.flat) /* the input is one plane around y: S' is the input */
-            break;
         double step[3], nn[3], R;
-        if (fit_project(&F, m->width, step, nn, &R))
+        const double zero[3] = {0, 0, 0};
+        if (F.flat) { /* one plane around y: S' is the triangle's plane */
+            const double *a = m->z->s->xyz + 3 * m->z->s->tri[3 * tri];
+            const double h = (y[0] - a[0]) * nref[0] + (y[1] - a[1]) * nref[1] + (y[2] - a[2]) * nref[2];
+            for (int d = 0; d < 3; d++) {
+                y[d] -= h * nref[d];
+                n[d] = nref[d];
+            }
+            *radius = INFINITY;
+            return 0;
+        }
+        if (fit_project(&F, m->width, zero, step, nn, &R))
             return it == 0 ? -1 : 0;
         for (int d = 0; d < 3; d++)
             y[d] += step[d];
         memcpy(n, nn, sizeof nn);
+        memcpy(nw, nn, sizeof nn);
         *radius = R;
         if (sqrt(step[0] * step[0] + step[1] * step[1] + step[2] * step[2]) <= 1e-7 * m->width)
+            break;
+    }
+    return 0;
+}
+
+static double dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The orthogonal projection of x onto S', so that x has one image whichever
+ * triangle it is seen from and wherever the search starts: the pools of
+ * neighbouring triangles then cover S' without gaps between their images,
+ * and the corners of a subface stay where they were when projected again.
+ * First the fixed point y of "fit at y, then the nearest point to x of the
+ * fitted sphere" from start (a guess near it), which takes 3 to 4 fits;
+ * where that does not settle (x far from S' next to a tight bend), Gauss-
+ * Newton steps along S' that shorten |x - y| every time. */
+static int fixed_point(const vc_smooth_surface *m, int64_t tri, const double x[3],
+                       const double start[3], double y[3], double n[3], double *radius)
+{
+    const double *nref = m->z->tri_out_normal + 3 * tri;
+    const int64_t patch = m->z->f->tri_patch[tri];
+    const double tol = 1e-7 * m->width;
+    memcpy(y, start, sizeof(double) * 3);
+    memcpy(n, nref, sizeof(double) * 3);
+    *radius = INFINITY;
+    /* The samples are weighed against S's normal at the current estimate,
+     * not the triangle's: the fixed point is then a property of the point
+     * alone, and S' does not jump from one triangle to the next where
+     * samples turn away by about 90 degrees. */
+    double nw[3] = {nref[0], nref[1], nref[2]};
+    for (int it = 0; it < FAST_STEPS; it++) {
+        fit F;
+        if (fit_at(m, y, nw, nref, patch, &F))
+            return it == 0 ? -1 : 0;
+        if (F.flat) { /* the input is one plane around y: S' is the input */
+            memcpy(y, x, sizeof(double) * 3);
+            memcpy(n, nref, sizeof(double) * 3);
+            *radius = INFINITY;
+            return 0;
+        }
+        double target[3], nn[3], R;
+        const double q[3] = {x[0] - y[0], x[1] - y[1], x[2] - y[2]};
+        if (fit_project(&F, m->width, q, target, nn, &R))
+            break;
+        for (int d = 0; d < 3; d++)
+            y[d] += target[d];
+        memcpy(n, nn, sizeof nn);
+        memcpy(nw, nn, sizeof nn);
+        *radius = R;
+        if (sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) <= tol)
+            return 0;
+    }
+    /* not settled: onto S', then slide along it towards x */
+    if (onto_surface(m, tri, y, n, nw, radius))
+        return -1;
+    double best = dist3(x, y);
+    for (int it = 0; it < MAX_STEPS; it++) {
+        double t[3];
+        const double dn = (x[0] - y[0]) * n[0] + (x[1] - y[1]) * n[1] + (x[2] - y[2]) * n[2];
+        for (int d = 0; d < 3; d++)
+            t[d] = x[d] - y[d] - dn * n[d];
+        if (sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) <= tol)
+            break;
+        int moved = 0;
+        for (double lambda = 1; lambda >= 1.0 / 16 && !moved; lambda *= 0.5) {
+            double y2[3], n2[3], nw2[3], R2;
+            for (int d = 0; d < 3; d++) {
+                y2[d] = y[d] + lambda * t[d];
+                nw2[d] = n[d];
+            }
+            if (onto_surface(m, tri, y2, n2, nw2, &R2))
+                continue;
+            const double d2 = dist3(x, y2);
+            if (d2 < best) {
+                best = d2;
+                memcpy(y, y2, sizeof y2);
+                memcpy(n, n2, sizeof n2);
+                *radius = R2;
+                moved = 1;
+            }
+        }
+        if (!moved)
             break;
     }
     return 0;
@@ -331,7 +436,7 @@ int vc_smooth_surface_project(const vc_smooth_surface *m, int64_t tri, const dou
                               const double start[3], double y[3], double n[3], double *radius)
 {
     double ys[3], ns[3];
-    if (fixed_point(m, tri, start, ys, ns, radius)) {
+    if (fixed_point(m, tri, x, start, ys, ns, radius)) {
         memcpy(y, x, sizeof(double) * 3);
         memcpy(n, m->z->tri_out_normal + 3 * tri, sizeof(double) * 3);
         *radius = INFINITY;
@@ -358,5 +463,76 @@ int vc_smooth_surface_project(const vc_smooth_surface *m, int64_t tri, const dou
     l = sqrt(l);
     for (int k = 0; k < 3; k++)
         n[k] /= l;
+    return 1;
+}
+
+/* the normal of the fit at q (the gradient of its sphere there) */
+static void fitted_normal(const vc_smooth_surface *m, const double q[3], const double *nref,
+                          int64_t patch, double n[3])
+{
+    fit F;
+    double l = 0;
+    if (!fit_at(m, q, nref, nref, patch, &F) && !F.flat)
+        l = sqrt(F.u[0] * F.u[0] + F.u[1] * F.u[1] + F.u[2] * F.u[2]);
+    for (int d = 0; d < 3; d++)
+        n[d] = l > 0 ? F.u[d] / l : nref[d];
+}
+
+int vc_smooth_surface_settle(const vc_smooth_surface *m, int64_t tri, const double x[3],
+                             const double z[3], const double nz[3], double y[3], double n[3],
+                             double *radius)
+{
+    const vc_surface_point sp = {VC_ELEM_TRIANGLE, tri};
+    if (vc_sizing_conflict_distance(m->z, &sp, x, m->width) < m->width)
+        return vc_smooth_surface_project(m, tri, x, z, y, n, radius);
+    const double *nref = m->z->tri_out_normal + 3 * tri;
+    /* the first fit weighs the samples against S's normal near z, as every
+     * later one does: against the triangle's, it would lean the first step
+     * aside where samples turn by about 90 degrees (a thin ear), and the
+     * steps would settle elsewhere on S' */
+    double nw[3] = {nz[0], nz[1], nz[2]};
+    memcpy(y, z, sizeof(double) * 3);
+    memcpy(n, nref, sizeof(double) * 3);
+    *radius = INFINITY;
+    if (onto_surface(m, tri, y, n, nw, radius))
+        return vc_smooth_surface_project(m, tri, x, z, y, n, radius);
     return 0;
+}
+
+double vc_smooth_surface_max_curvature(const vc_smooth_surface *m, int64_t tri, const double y[3],
+                                       const double n[3])
+{
+    const int64_t patch = m->z->f->tri_patch[tri];
+    /* a tangent basis t[0], t[1] */
+    double t[2][3];
+    const int k = fabs(n[0]) < fabs(n[1]) ? (fabs(n[0]) < fabs(n[2]) ? 0 : 2)
+                                          : (fabs(n[1]) < fabs(n[2]) ? 1 : 2);
+    double e[3] = {0, 0, 0};
+    e[k] = 1;
+    t[0][0] = n[1] * e[2] - n[2] * e[1];
+    t[0][1] = n[2] * e[0] - n[0] * e[2];
+    t[0][2] = n[0] * e[1] - n[1] * e[0];
+    const double l = sqrt(t[0][0] * t[0][0] + t[0][1] * t[0][1] + t[0][2] * t[0][2]);
+    for (int d = 0; d < 3; d++)
+        t[0][d] /= l;
+    t[1][0] = n[1] * t[0][2] - n[2] * t[0][1];
+    t[1][1] = n[2] * t[0][0] - n[0] * t[0][2];
+    t[1][2] = n[0] * t[0][1] - n[1] * t[0][0];
+    const double h = 0.1 * m->width;
+    double S[2][2];
+    for (int j = 0; j < 2; j++) {
+        double qp[3], qm[3], np[3], nm[3];
+        for (int d = 0; d < 3; d++) {
+            qp[d] = y[d] + h * t[j][d];
+            qm[d] = y[d] - h * t[j][d];
+        }
+        fitted_normal(m, qp, n, patch, np);
+        fitted_normal(m, qm, n, patch, nm);
+        for (int i = 0; i < 2; i++)
+            S[i][j] = ((np[0] - nm[0]) * t[i][0] + (np[1] - nm[1]) * t[i][1] +
+                       (np[2] - nm[2]) * t[i][2]) / (2 * h);
+    }
+    const double mean = 0.5 * (S[0][0] + S[1][1]), b = 0.5 * (S[0][1] + S[1][0]);
+    const double half = 0.5 * (S[0][0] - S[1][1]);
+    return fabs(mean) + sqrt(half * half + b * b);
 }

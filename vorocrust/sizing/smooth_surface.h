@@ -43,9 +43,29 @@ void vc_smooth_surface_free(vc_smooth_surface *m);
  * takes fewer steps), blended back into x within one kernel width of a
  * sharp feature (or of another sheet) by a smoothstep of the distance
  * to it. Also its outward unit normal n and the radius of curvature of
- * the fitted sphere (INFINITY where S' is flat). Returns 0, or -1 when
- * no sample is within reach (y = x, n the triangle's normal). */
+ * the fitted sphere (INFINITY where S' is flat). Returns 0, 1 when the
+ * point is in that blend, or -1 when no sample is within reach (y = x, n
+ * the triangle's normal). */
 int vc_smooth_surface_project(const vc_smooth_surface *m, int64_t tri, const double x[3],
                               const double start[3], double y[3], double n[3], double *radius);
+
+/* The point of S' nearest to z, a point close to S' (within the sag of an
+ * interpolated subface) that stands for the point x of triangle tri: S'
+ * along its normal from z, so that z's neighbourhood and its image agree
+ * (the orthogonal projection of x lands aside, by as much as the
+ * interpolation drifted along S'); nz: S's normal near z. Within one kernel width of a sharp
+ * feature, where S' blends into the input, vc_smooth_surface_project. */
+int vc_smooth_surface_settle(const vc_smooth_surface *m, int64_t tri, const double x[3],
+                             const double z[3], const double nz[3], double y[3], double n[3],
+                             double *radius);
+
+/* The largest absolute principal curvature of S' at its point y (normal n)
+ * near triangle tri: the shape operator from the change of the fitted
+ * normal over a tenth of the width along two tangent directions. The
+ * fitted sphere's own curvature is a mean curvature: it misses saddles and
+ * cylinders, where four co-circular centres are not co-planar. 0 where S'
+ * is flat. */
+double vc_smooth_surface_max_curvature(const vc_smooth_surface *m, int64_t tri, const double y[3],
+                                       const double n[3]);
 
 #endif
