@@ -380,6 +380,8 @@ if PART == "bad_input":
         (["mesh", ICOSPHERE, "--surface-only"], 2, "--surface"),
         (["mesh", ICOSPHERE, "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
           "--smooth-iterations", "13"], 2, "--smooth-iterations"),
+        (["mesh", ICOSPHERE, "--surface-only", "--surface", os.path.join(TMP, "x.obj"),
+          "--curvature-factor", "0.3"], 2, "needs --smooth-width"),
         (["mesh", ICOSPHERE, "-o", os.path.join(TMP, "x.obj"),
           "--interior", "voxel"], 2, "--interior"),
         (["mesh", ICOSPHERE, "-o", os.path.join(TMP, "x.obj"),

@@ -202,7 +202,7 @@ static int run_mesh(int argc, char **argv)
 {
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
-    int surface_only = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
+    int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
     vc_skew_collapse_stats foam_skew;
@@ -312,6 +312,7 @@ static int run_mesh(int argc, char **argv)
             }
             i++;
         } else if (!strcmp(a, "--curvature-factor")) {
+            curvature_given = 1;
             if (vc_cli_parse_double(v, &opt.curvature_factor) ||
                 !(opt.curvature_factor > 0 && opt.curvature_factor <= 10)) {
                 fprintf(stderr, "vorocrust: --curvature-factor needs a number in (0, 10], got '%s'\n", v);
@@ -371,6 +372,11 @@ static int run_mesh(int argc, char **argv)
     }
     if (!in_path) {
         fprintf(stderr, "vorocrust: missing the input surface (see 'vorocrust mesh --help')\n");
+        return 2;
+    }
+    if (curvature_given && !(opt.smooth_width > 0)) {
+        fprintf(stderr, "vorocrust: --curvature-factor needs --smooth-width (it bounds the radii "
+                        "on the smooth surface only)\n");
         return 2;
     }
     if (surface_only && !surf_path && !seeds_path && !balls_path) {
