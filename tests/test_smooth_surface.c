@@ -77,6 +77,16 @@ static void make_cylinder(builder *b, int nu, int nz)
 #undef V
 }
 
+/* The features (at 60 degrees), sizing and S' of kernel width `width` of b's surface. */
+static void smooth_setup(builder *b, double width, vc_features *f, vc_sizing *z,
+                         vc_smooth_surface *m)
+{
+    vc_error err;
+    CHECK(vc_features_detect(&b->s, 60, f, &err) == 0);
+    CHECK(vc_sizing_init(z, &b->s, f, 60, 0.004) == 0);
+    CHECK(vc_smooth_surface_init(m, z, width) == 0);
+}
+
 /* On a cylinder the fitted sphere's radius is a mean curvature's (about
  * 2); the largest principal curvature is 1. Balls bounded by the former
  * reach twice as far around the cylinder as sliver elimination allows. */
@@ -85,12 +95,9 @@ static void check_cylinder(void)
     builder b = {0};
     make_cylinder(&b, 48, 24);
     vc_features f;
-    vc_error err;
-    CHECK(vc_features_detect(&b.s, 60, &f, &err) == 0);
     vc_sizing z;
-    CHECK(vc_sizing_init(&z, &b.s, &f, 60, 0.004) == 0);
     vc_smooth_surface m;
-    CHECK(vc_smooth_surface_init(&m, &z, 0.4) == 0);
+    smooth_setup(&b, 0.4, &f, &z, &m);
     double worst_k = 0, mean_R = 0;
     int n = 0;
     for (int64_t t = 0; t < b.s.n_triangles; t++) {
@@ -137,12 +144,9 @@ static void check_cube(void)
     builder b = {0};
     make_cube(&b);
     vc_features f;
-    vc_error err;
-    CHECK(vc_features_detect(&b.s, 60, &f, &err) == 0);
     vc_sizing z;
-    CHECK(vc_sizing_init(&z, &b.s, &f, 60, 0.004) == 0);
     vc_smooth_surface m;
-    CHECK(vc_smooth_surface_init(&m, &z, 0.1) == 0);
+    smooth_setup(&b, 0.1, &f, &z, &m);
     /* the middle of face z = 0 (triangle 0) and a point near its edge: the
      * input itself, bit for bit */
     const double pts[2][3] = {{0.5, 0.4, 0}, {0.03, 0.5, 0}};
@@ -165,12 +169,9 @@ static void check_sphere(void)
     builder b = {0};
     make_sphere(&b, 24, 12); /* folds of 15 degrees */
     vc_features f;
-    vc_error err;
-    CHECK(vc_features_detect(&b.s, 60, &f, &err) == 0);
     vc_sizing z;
-    CHECK(vc_sizing_init(&z, &b.s, &f, 60, 0.004) == 0);
     vc_smooth_surface m;
-    CHECK(vc_smooth_surface_init(&m, &z, 0.4) == 0);
+    smooth_setup(&b, 0.4, &f, &z, &m);
     double worst_facet = 0, worst = 0, worst_n = 0, worst_r = 0;
     double worst_start = 0, worst_seam = 0, worst_settle = 0, worst_k = 0;
     int n_seam = 0;
@@ -237,6 +238,7 @@ static void check_sphere(void)
     opt.threads = 2;
     vc_balls balls;
     vc_sampling_stats st;
+    vc_error err;
     CHECK_MSG(vc_sample_surface(&b.s, &f, &opt, &balls, &st, &err) == 0, err.msg);
     CHECK(st.n_half_covered == 0 && !st.diverged);
     double off = 0;
