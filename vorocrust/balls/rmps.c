@@ -59,6 +59,7 @@
  * times larger straddles a seam of the projection */
 #define SEAM_SIZE 1e-2
 #define SEAM_STRETCH 10.0
+/* subfaces below MIN_SUBFACE kernel widths are left (on_seam) */
 #define MIN_SUBFACE 1e-4
 
 typedef struct subface {
@@ -72,7 +73,7 @@ typedef struct subface_on_smooth {
     double p[9];   /* the corners on S' */
     double pn[9];  /* S's unit normals there */
     double sag;    /* how far the midpoints of p's edges may lie from S' (the last
-                      projections' corrections, a quarter per subdivision since) */
+                      projections' corrections; interpolated corners keep it) */
     unsigned char todo; /* bit m: corner m is a first guess, not yet projected */
     unsigned char interpolated; /* some corner is a midpoint never projected */
     unsigned char blended; /* some corner is where S' blends into the input: never
@@ -609,7 +610,7 @@ static int mps(sampler *S, pool *P, int nv)
                  * the subface would never get its ball */
                 if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
                     memcpy(c, z, sizeof z);
-                {
+                { /* the radius bound: the largest principal curvature */
                     double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
                     if (k > 0)
                         rho = fmin(rho, 1 / k);
