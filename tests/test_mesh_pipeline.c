@@ -117,6 +117,90 @@ static void cube(vc_surface *s, double *xyz, int64_t *tri, int drop, int flip)
     s->tri = tri;
 }
 
+/* A coarse torus (radii 1 and 0.4), nu x nv quads split in two, outward:
+ * every edge folds by 360 / nu or 360 / nv degrees. */
+static void coarse_torus(vc_surface *s, double *xyz, int64_t *tri, int nu, int nv)
+{
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            const double u = 2 * 3.14159265358979323846 * i / nu,
+                         v = 2 * 3.14159265358979323846 * j / nv;
+            double *p = xyz + 3 * (i * nv + j);
+            p[0] = (1 + 0.4 * cos(v)) * cos(u);
+            p[1] = (1 + 0.4 * cos(v)) * sin(u);
+            p[2] = 0.4 * sin(v);
+        }
+    int64_t k = 0;
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            const int64_t a = i * nv + j, b = ((i + 1) % nu) * nv + j,
+                          c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+            const int64_t t[6] = {a, b, c, a, c, d};
+            memcpy(tri + 6 * k++, t, sizeof t);
+        }
+    s->n_vertices = nu * nv;
+    s->xyz = xyz;
+    s->n_triangles = 2 * nu * nv;
+    s->tri = tri;
+}
+
+/* The volume enclosed by the torus' triangles (divergence theorem). */
+static double enclosed(const vc_surface *s)
+{
+    double v = 0;
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                     *c = s->xyz + 3 * s->tri[3 * t + 2];
+        v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+              a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
+    return v;
+}
+
+/* The resampling ladder on a 10 x 6 coarse torus (folds of 36 and 60
+ * degrees at every edge), whose first sampling at 60 degrees diverges:
+ * by default its folds become creases (theta_sharp 20) and the surface
+ * is its own, volume and all; with creases not allowed, 6 rounds of Loop
+ * smoothing at 120 degrees, which shrink it. */
+static void check_ladder(void)
+{
+    double xyz[3 * 60];
+    int64_t tri[3 * 120];
+    vc_surface torus;
+    coarse_torus(&torus, xyz, tri, 10, 6);
+    const double v_in = enclosed(&torus);
+    vc_mesh_options o;
+    vc_mesh_options_default(&o);
+    o.surface_only = 1;
+    o.max_error = 0.05;
+    o.name = "torus";
+    vc_mesh_result r;
+    vc_error err = {0, ""};
+    if (vc_mesh(&torus, &o, &r, &err) != 0) {
+        CHECKF(0, "coarse torus, creases: %s", err.msg);
+    } else {
+        CHECKF(r.resampled && r.first_sharp_angle == 60 && r.sharp_angle == 20 &&
+                   r.smooth_iterations == 0 && r.surface_closed &&
+                   fabs(r.surface_volume - v_in) <= 1e-9 * v_in,
+               "coarse torus, creases: resampled %d at %g after %g, %d smoothing rounds, "
+               "volume %.12g against %.12g",
+               r.resampled, r.sharp_angle, r.first_sharp_angle, r.smooth_iterations,
+               r.surface_volume, v_in);
+        vc_mesh_result_free(&r);
+    }
+    o.resample = VC_RESAMPLE_SMOOTH;
+    if (vc_mesh(&torus, &o, &r, &err) != 0) {
+        CHECKF(0, "coarse torus, smoothing: %s", err.msg);
+    } else {
+        CHECKF(r.resampled && r.sharp_angle == 120 && r.smooth_iterations == 6 &&
+                   r.surface_closed && r.surface_volume < 0.95 * v_in,
+               "coarse torus, smoothing: resampled %d at %g, %d smoothing rounds, volume %.6g "
+               "against %.6g",
+               r.resampled, r.sharp_angle, r.smooth_iterations, r.surface_volume, v_in);
+        vc_mesh_result_free(&r);
+    }
+}
+
 int main(void)
 {
     CHECKF(!strcmp(vc_version(), VC_VERSION_STRING) && vc_version_number() == VC_VERSION_NUMBER &&
@@ -124,6 +208,8 @@ int main(void)
                                         VC_VERSION_PATCH,
            "version %s / %d against the header's %s", vc_version(), vc_version_number(),
            VC_VERSION_STRING);
+
+    check_ladder();
 
     vc_mesh_options d;
     vc_mesh_options_default(&d);

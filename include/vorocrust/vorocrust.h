@@ -64,10 +64,11 @@ typedef enum vc_interior_kind {
 /* What vc_mesh may do when sliver elimination diverges on the first
  * sampling (flags of vc_mesh_options.resample). */
 enum {
-    /* Few folds (under 2% of the edges) between 20 degrees and theta_sharp:
-     * sample again at theta_sharp 20, where they are creases. */
+    /* Folds between 20 degrees and theta_sharp inside the patches: sample
+     * again at theta_sharp 20, where they are creases (the surface is not
+     * moved). */
     VC_RESAMPLE_CREASES = 1,
-    /* The surface bends too much everywhere: sample again after
+    /* When that diverges too (or is not allowed): sample again after
      * VC_SMOOTH_DEFAULT_ITERATIONS rounds of Loop smoothing of the patches
      * at theta_sharp 120 (this moves the surface off the input). */
     VC_RESAMPLE_SMOOTH = 2,

@@ -23,7 +23,6 @@
 #define FOLD_ANGLE 20.0   /* folds sharper than this inside a patch are kinks */
 #define SMOOTH_ANGLE 120.0/* theta_sharp after Loop smoothing: only edges folded
                              back beyond 120 degrees stay creases */
-#define LOCAL_FOLDS 50    /* "few folds": at most one edge in 50 */
 
 /* The model sizes vc_mesh accepts (see vc_voronoi_build's seed extent). */
 #define VC_MESH_MIN_SIZE 1e-60
@@ -146,44 +145,45 @@ static int named(vc_error *err, const char *name, const char *doing)
  * half-covered pairs never decay (fandisk.off, seeds 2 to 8 at 60 degrees:
  * nearly all of them within two radii of its 22-29 degree fillet folds and
  * its 20-57 degree folds; the safe mode with alpha / 2 diverges there too).
- * The remedy is decided on the input, by its folds between FOLD_ANGLE and
- * theta_sharp (edges that are sharp at FOLD_ANGLE, not at theta_sharp):
- *  - few (at most one edge in LOCAL_FOLDS): isolated kinks, such as the
- *    facets of a narrow fillet (fandisk.off: 177 edges, 0.8%). They become
- *    creases: theta_sharp FOLD_ANGLE, at which the patches meet the
- *    thesis' smoothness assumption and the creases are protected by edge
- *    balls;
- *  - many: the surface is not smooth at the scale of the balls, a coarse
- *    tessellation of a curved shape (fertility.off: 8.2%; most edges bend
- *    by 10 to 60 degrees). The thesis' remedy: Loop smoothing of the
- *    patches (VC_SMOOTH_DEFAULT_ITERATIONS rounds) at theta_sharp
- *    SMOOTH_ANGLE. */
+ * The remedies, in order, after a divergence at theta_sharp:
+ *  1. the folds between FOLD_ANGLE and theta_sharp inside the patches
+ *     (edges that are sharp at FOLD_ANGLE, not at theta_sharp) become
+ *     creases: theta_sharp FOLD_ANGLE, at which the patches nearly meet
+ *     the thesis' smoothness assumption and the creases are protected by
+ *     edge balls. The surface is not moved. Isolated kinks (fandisk.off:
+ *     177 edges, 0.8%) cost little; a scan whose edges fold everywhere
+ *     (bunny.off: 18% of them) costs many small balls (118k), but meshes
+ *     on its own surface;
+ *  2. when that diverges too (folds below FOLD_ANGLE that still defeat
+ *     sliver elimination), the thesis' remedy: Loop smoothing of the
+ *     patches (VC_SMOOTH_DEFAULT_ITERATIONS rounds) at theta_sharp
+ *     SMOOTH_ANGLE, which moves the surface.
+ * `attempt` is the number of samplings that diverged so far. */
 static int resample_plan(const vc_surface *s, const vc_features *f_input, double sharp_angle,
-                         int allowed, double *new_angle, int *new_smooth, int64_t *n_folds,
-                         int64_t *n_edges, vc_error *err)
+                         int allowed, int attempt, double *new_angle, int *new_smooth,
+                         int64_t *n_folds, int64_t *n_edges, vc_error *err)
 {
     *n_folds = *n_edges = 0;
-    if (!allowed || !(sharp_angle > FOLD_ANGLE))
-        return 0;
-    vc_features at_fold, at_sharp;
-    memset(&at_fold, 0, sizeof at_fold);
-    memset(&at_sharp, 0, sizeof at_sharp);
-    const vc_features *sharp = f_input ? f_input : &at_sharp;
-    if (vc_features_detect(s, FOLD_ANGLE, &at_fold, err) ||
-        (!f_input && vc_features_detect(s, sharp_angle, &at_sharp, err))) {
+    if (attempt == 1 && (allowed & VC_RESAMPLE_CREASES) && sharp_angle > FOLD_ANGLE) {
+        vc_features at_fold, at_sharp;
+        memset(&at_fold, 0, sizeof at_fold);
+        memset(&at_sharp, 0, sizeof at_sharp);
+        const vc_features *sharp = f_input ? f_input : &at_sharp;
+        if (vc_features_detect(s, FOLD_ANGLE, &at_fold, err) ||
+            (!f_input && vc_features_detect(s, sharp_angle, &at_sharp, err))) {
+            vc_features_free(&at_fold);
+            return -1;
+        }
+        *n_folds = at_fold.n_sharp_edges - sharp->n_sharp_edges;
+        *n_edges = at_fold.n_edges;
         vc_features_free(&at_fold);
-        return -1;
+        vc_features_free(&at_sharp);
+        if (*n_folds > 0) {
+            *new_angle = FOLD_ANGLE;
+            return 1;
+        }
     }
-    *n_folds = at_fold.n_sharp_edges - sharp->n_sharp_edges;
-    *n_edges = at_fold.n_edges;
-    vc_features_free(&at_fold);
-    vc_features_free(&at_sharp);
-    const int local = *n_folds > 0 && LOCAL_FOLDS * *n_folds <= *n_edges;
-    if (local && (allowed & VC_RESAMPLE_CREASES)) {
-        *new_angle = FOLD_ANGLE;
-        return 1;
-    }
-    if (!local && (allowed & VC_RESAMPLE_SMOOTH)) {
+    if (attempt <= 2 && (allowed & VC_RESAMPLE_SMOOTH) && *new_smooth == 0) {
         *new_angle = SMOOTH_ANGLE;
         *new_smooth = VC_SMOOTH_DEFAULT_ITERATIONS;
         return 2;
@@ -317,10 +317,15 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         /* f holds the input's features at theta_sharp unless the input was
          * smoothed first */
-        int plan = attempt == 0 && out->sampling.diverged
+        /* the creases at FOLD_ANGLE can predict more balls than allowed:
+         * then the smoothing is the remedy left */
+        const int refused_creases = attempt == 1 && smooth == 0 &&
+                                    so.sharp_angle == FOLD_ANGLE &&
+                                    !(out->sampling.n_balls_predicted <= (double)so.max_balls);
+        int plan = (out->sampling.diverged || refused_creases) && (!folds || attempt == 0)
                        ? resample_plan(s, sampled == s ? &f : NULL, so.sharp_angle,
-                                       opt->resample, &new_angle, &new_smooth, &n_folds,
-                                       &n_edges, err)
+                                       opt->resample, attempt + 1, &new_angle, &new_smooth,
+                                       &n_folds, &n_edges, err)
                        : 0;
         if (plan < 0) {
             rc = named(err, name, NULL);
