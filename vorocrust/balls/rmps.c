@@ -610,16 +610,16 @@ static int mps(sampler *S, pool *P, int nv)
                  * the subface would never get its ball */
                 if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
                     memcpy(c, z, sizeof z);
-                { /* the radius bound: the largest principal curvature */
-                    double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
-                    if (k > 0)
-                        rho = fmin(rho, 1 / k);
-                }
                 if (point_covered(S, c, kind)) {
                     darts_covered++;
                     misses++;
                     continue;
                 }
+                /* the radius bound: the largest principal curvature (four
+                 * fits, so only for darts that make a ball) */
+                const double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
+                if (k > 0)
+                    rho = fmin(rho, 1 / k);
             }
             vc_surface_point sp = {kind, sf->elem};
             double r = new_radius(S, &sp, x, c, rho);
