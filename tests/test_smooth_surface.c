@@ -17,26 +17,6 @@
 #include "test_check.h"
 #include "test_surface_util.h"
 
-/* A UV sphere of radius 1, nu x nv, outward. */
-static void make_sphere(builder *b, int nu, int nv)
-{
-    int64_t top = add_v(b, 0, 0, 1), bottom = add_v(b, 0, 0, -1);
-    int64_t first = b->s.n_vertices;
-    for (int j = 1; j < nv; j++)
-        for (int i = 0; i < nu; i++) {
-            double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
-            add_v(b, sin(th) * cos(ph), sin(th) * sin(ph), cos(th));
-        }
-#define V(i, j) (first + (int64_t)((j) - 1) * nu + ((i) % nu))
-    for (int i = 0; i < nu; i++) {
-        add_t(b, top, V(i, 1), V(i + 1, 1));
-        add_t(b, bottom, V(i + 1, nv - 1), V(i, nv - 1));
-        for (int j = 1; j + 1 < nv; j++)
-            add_q(b, V(i, j), V(i, j + 1), V(i + 1, j + 1), V(i + 1, j));
-    }
-#undef V
-}
-
 static double dist3(const double *a, const double *b)
 {
     return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
@@ -123,20 +103,6 @@ static void check_cylinder(void)
     vc_sizing_free(&z);
     vc_features_free(&f);
     vc_surface_free(&b.s);
-}
-
-/* A cube [0, 1]^3, outward. */
-static void make_cube(builder *b)
-{
-    int64_t v[8];
-    for (int k = 0; k < 8; k++)
-        v[k] = add_v(b, k & 1, (k >> 1) & 1, (k >> 2) & 1);
-    add_q(b, v[0], v[2], v[3], v[1]); /* z = 0 */
-    add_q(b, v[4], v[5], v[7], v[6]); /* z = 1 */
-    add_q(b, v[0], v[1], v[5], v[4]); /* y = 0 */
-    add_q(b, v[2], v[6], v[7], v[3]); /* y = 1 */
-    add_q(b, v[0], v[4], v[6], v[2]); /* x = 0 */
-    add_q(b, v[1], v[3], v[7], v[5]); /* x = 1 */
 }
 
 static void check_cube(void)

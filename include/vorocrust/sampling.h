@@ -59,6 +59,10 @@ typedef struct vc_sampling_options {
                              facets, and their radii are bounded by curvature_factor
                              times its radius of curvature; 0: on the facets */
     double curvature_factor; /* see smooth_width */
+    int lift_centres;     /* 1 (default): once sampled, surface ball centres move off the
+                             input by the mean sag of their reconstructed facets, so that
+                             the reconstruction has no volume bias (balls/centre_lift.h);
+                             0: centres stay on the input */
 } vc_sampling_options;
 
 void vc_sampling_options_default(vc_sampling_options *opt);
@@ -93,6 +97,12 @@ typedef struct vc_sampling_stats {
     int64_t n_balls_diverged;
     /* Seconds per phase, as in the thesis' Table 6.1. */
     double t_features, t_sizing, t_corners, t_edges, t_surface, t_lipschitz, t_slivers;
+    /* The centre lift (lift_centres): balls moved, checks run, balls whose
+     * lift a failed check reduced, 1 when every lift was dropped, the mean
+     * and largest move over the radius, seconds. */
+    int64_t n_lifted, n_lift_reduced;
+    int lift_rounds, lift_dropped;
+    double lift_mean_rel, lift_max_rel, t_lift;
 } vc_sampling_stats;
 
 /* Samples the closed surface s with its features f (detected with

@@ -27,6 +27,7 @@
 
 #include "balls/ball_estimate.h"
 #include "balls/ball_set.h"
+#include "balls/centre_lift.h"
 #include "balls/triplets.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"
@@ -1125,6 +1126,7 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->fold_stop_angle = 0;
     opt->smooth_width = 0;
     opt->curvature_factor = 0.2;
+    opt->lift_centres = 1;
 }
 
 void vc_balls_free(vc_balls *b)
@@ -1424,6 +1426,24 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     }
     if (diverged && opt->stuck_tri)
         mark_stuck(&S, shrunk, old_r, opt->stuck_tri);
+    if (!rc && !diverged && opt->lift_centres && st->n_half_covered == 0 && facets.n > 0) {
+        double tl = now();
+        vc_lift_result lr;
+        rc = vc_lift_centres(&S.bs.b, &facets.f[0].v[0], facets.n, &S.z, S.opt.threads, &lr);
+        st->t_lift = now() - tl;
+        st->n_lifted = lr.n_lifted;
+        st->n_lift_reduced = lr.n_reduced;
+        st->lift_rounds = lr.rounds;
+        st->lift_dropped = lr.dropped;
+        st->lift_mean_rel = lr.mean_rel;
+        st->lift_max_rel = lr.max_rel;
+        if (!rc)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: centre lift: %lld balls moved by %.3g of their radius on average "
+                   "(largest %.3g), %lld reduced, %d checks%s, %.2f s",
+                   (long long)lr.n_lifted, lr.mean_rel, lr.max_rel, (long long)lr.n_reduced,
+                   lr.rounds, lr.dropped ? ", every lift dropped" : "", st->t_lift);
+    }
     free(old_r);
     free(shrunk);
     free(facets.f);

@@ -1,0 +1,347 @@
+/* The centre lift: see centre_lift.h. */
+#include "balls/centre_lift.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "balls/ball_set.h"
+#include "balls/triplets.h"
+#include "sizing/closest_point.h"
+#include "util/threads.h"
+
+/* checks before every lift is dropped */
+#define MAX_ROUNDS 8
+/* rounds in which a failing ball's lift is halved before it is removed,
+ * with its neighbours' */
+#define HALVING_ROUNDS 3
+/* no lift beyond this fraction of the radius: the sag of a facet is a few
+ * percent of it; more means the nearest input point is not the facet's */
+#define MAX_LIFT 0.1
+/* only input triangles facing the facet's way (cosine) count: the other
+ * sheet of a thin part is never the facet's own */
+#define SAME_SIDE 0.5
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The nearest point of the input to p among the triangles within reach
+ * whose normal faces n. */
+typedef struct nearest_ctx {
+    const vc_sizing *z;
+    const double *p, *n;
+    double best_d2;
+    double q[3];
+    int found;
+} nearest_ctx;
+
+static void consider(void *ctx, int kind, int64_t id)
+{
+    nearest_ctx *c = ctx;
+    if (kind != VC_ELEM_TRIANGLE)
+        return;
+    const vc_sizing *z = c->z;
+    if (dot3(z->tri_out_normal + 3 * id, c->n) < SAME_SIDE)
+        return;
+    const int64_t *t = z->s->tri + 3 * id;
+    double q[3];
+    double d2 = vc_closest_on_triangle(c->p, z->s->xyz + 3 * t[0], z->s->xyz + 3 * t[1],
+                                       z->s->xyz + 3 * t[2], q);
+    if (d2 < c->best_d2) {
+        c->best_d2 = d2;
+        memcpy(c->q, q, sizeof q);
+        c->found = 1;
+    }
+}
+
+/* The facet's unit normal (outward, by its balls' normals) and area, and
+ * its mean signed distance to the input (positive: the input is outside
+ * the facet), from its three edge midpoints. Returns 0 when some midpoint
+ * has no input triangle near enough. */
+static int facet_sag(const vc_balls *b, const vc_sizing *z, const int64_t v[3], double n[3],
+                     double *area, double *sag)
+{
+    const double *c[3] = {b->center + 3 * v[0], b->center + 3 * v[1], b->center + 3 * v[2]};
+    double u[3], w[3];
+    for (int d = 0; d < 3; d++) {
+        u[d] = c[1][d] - c[0][d];
+        w[d] = c[2][d] - c[0][d];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    double len = sqrt(dot3(n, n));
+    if (!(len > 0))
+        return 0;
+    double out[3] = {0, 0, 0};
+    for (int m = 0; m < 3; m++)
+        for (int d = 0; d < 3; d++)
+            out[d] += b->normal[3 * v[m] + d];
+    double s = dot3(out, n) < 0 ? -1 / len : 1 / len;
+    for (int d = 0; d < 3; d++)
+        n[d] *= s;
+    *area = len / 2;
+    double rmin = fmin(b->radius[v[0]], fmin(b->radius[v[1]], b->radius[v[2]]));
+    double sum = 0;
+    for (int m = 0; m < 3; m++) {
+        const double *a = c[m], *e = c[(m + 1) % 3];
+        double p[3] = {(a[0] + e[0]) / 2, (a[1] + e[1]) / 2, (a[2] + e[2]) / 2};
+        nearest_ctx q = {z, p, n, INFINITY, {0, 0, 0}, 0};
+        vc_sizing_elements_near(z, p, MAX_LIFT * rmin, consider, &q);
+        if (!q.found || q.best_d2 > MAX_LIFT * MAX_LIFT * rmin * rmin)
+            return 0;
+        double dq[3] = {q.q[0] - p[0], q.q[1] - p[1], q.q[2] - p[2]};
+        sum += dot3(dq, n);
+    }
+    *sag = sum / 3;
+    return 1;
+}
+
+/* ---------------------------------------------------------------------
+ * The check: every triplet of the lifted balls. */
+
+typedef struct check_ctx {
+    int64_t *f; /* facets found, 3 each */
+    int64_t n, cap;
+    unsigned char *bad; /* per ball */
+    int oom;
+} check_ctx;
+
+static void on_triplet(void *ctx, const vc_triplet *t)
+{
+    check_ctx *c = ctx;
+    int cu = t->cover_up >= 0, cd = t->cover_down >= 0;
+    if (cu != cd) {
+        c->bad[t->i] = c->bad[t->j] = c->bad[t->k] = 1;
+        c->bad[cu ? t->cover_up : t->cover_down] = 1;
+        return;
+    }
+    if (cu || c->oom)
+        return;
+    if (c->n == c->cap) {
+        int64_t cap = c->cap ? 2 * c->cap : 4096;
+        int64_t *q = realloc(c->f, sizeof(int64_t) * 3 * (size_t)cap);
+        if (!q) {
+            c->oom = 1;
+            return;
+        }
+        c->f = q;
+        c->cap = cap;
+    }
+    int64_t *r = c->f + 3 * c->n++;
+    r[0] = t->i;
+    r[1] = t->j;
+    r[2] = t->k;
+}
+
+static int cmp_facet(const void *p, const void *q)
+{
+    const int64_t *a = p, *b = q;
+    for (int m = 0; m < 3; m++)
+        if (a[m] != b[m])
+            return a[m] < b[m] ? -1 : 1;
+    return 0;
+}
+
+static void sort_facet(int64_t v[3])
+{
+    for (int a = 0; a < 2; a++)
+        for (int m = 0; m < 2 - a; m++)
+            if (v[m] > v[m + 1]) {
+                int64_t t = v[m];
+                v[m] = v[m + 1];
+                v[m + 1] = t;
+            }
+}
+
+/* Marks in bad the balls of the facets in one list only (both sorted). */
+static void mark_difference(const int64_t *a, int64_t na, const int64_t *b, int64_t nb,
+                            unsigned char *bad)
+{
+    int64_t i = 0, j = 0;
+    while (i < na || j < nb) {
+        int c = i == na ? 1 : j == nb ? -1 : cmp_facet(a + 3 * i, b + 3 * j);
+        if (c == 0) {
+            i++;
+            j++;
+            continue;
+        }
+        const int64_t *f = c < 0 ? a + 3 * i++ : b + 3 * j++;
+        bad[f[0]] = bad[f[1]] = bad[f[2]] = 1;
+    }
+}
+
+/* Scans the balls with centres xyz; bad marks the balls of half-covered
+ * pairs and of facets not in ref (sorted). Returns the number of balls
+ * marked, or -1 when out of memory. */
+static int64_t check(const vc_balls *b, const double *xyz, const int64_t *ref, int64_t n_ref,
+                     int threads, unsigned char *bad)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < b->n; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], xyz[3 * i + d] - b->radius[i]);
+            hi[d] = fmax(hi[d], xyz[3 * i + d] + b->radius[i]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    vc_ball_set bs;
+    if (vc_ball_set_init(&bs, lo, diag))
+        return -1;
+    for (int64_t i = 0; i < b->n; i++)
+        if (vc_ball_set_add(&bs, xyz + 3 * i, b->radius[i], b->kind[i], b->element[i],
+                            b->normal + 3 * i) < 0) {
+            vc_ball_set_free(&bs);
+            return -1;
+        }
+    memset(bad, 0, (size_t)b->n);
+    check_ctx c = {NULL, 0, 0, bad, 0};
+    int rc = vc_triplets_scan_all(&bs, threads, on_triplet, &c);
+    vc_ball_set_free(&bs);
+    if (rc || c.oom) {
+        free(c.f);
+        return -1;
+    }
+    qsort(c.f, (size_t)c.n, sizeof(int64_t) * 3, cmp_facet);
+    mark_difference(ref, n_ref, c.f, c.n, bad);
+    free(c.f);
+    int64_t n_bad = 0;
+    for (int64_t i = 0; i < b->n; i++)
+        n_bad += bad[i];
+    return n_bad;
+}
+
+int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
+                    int threads, vc_lift_result *res)
+{
+    memset(res, 0, sizeof *res);
+    const int64_t n = b->n;
+    if (n == 0 || n_facets == 0)
+        return 0;
+    threads = vc_threads_or_default(threads);
+    double *fn = malloc(sizeof(double) * 5 * (size_t)n_facets); /* normal, area, sag */
+    unsigned char *fok = malloc((size_t)n_facets);
+    double *acc = calloc((size_t)n, sizeof(double) * 5); /* area * normal, area, area * sag */
+    double *lift = calloc((size_t)n, sizeof(double) * 3);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)n);
+    unsigned char *bad = malloc((size_t)n);
+    unsigned char *strikes = calloc((size_t)n, 1);
+    int64_t *ref = malloc(sizeof(int64_t) * 3 * (size_t)n_facets);
+    int rc = 0;
+    if (!fn || !fok || !acc || !lift || !xyz || !bad || !strikes || !ref) {
+        rc = -1;
+        goto done;
+    }
+
+    /* every facet's sag, independently (so any thread count gives the same) */
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (int64_t t = 0; t < n_facets; t++)
+        fok[t] = (unsigned char)facet_sag(b, z, facet_v + 3 * t, fn + 5 * t, fn + 5 * t + 3,
+                                          fn + 5 * t + 4);
+
+    /* each surface ball: the area-weighted mean of its facets' sags, along
+     * their area-weighted normal */
+    for (int64_t t = 0; t < n_facets; t++) {
+        if (!fok[t])
+            continue;
+        const double *g = fn + 5 * t;
+        for (int m = 0; m < 3; m++) {
+            double *a = acc + 5 * facet_v[3 * t + m];
+            for (int d = 0; d < 3; d++)
+                a[d] += g[3] * g[d];
+            a[3] += g[3];
+            a[4] += g[3] * g[4];
+        }
+    }
+    for (int64_t i = 0; i < n; i++) {
+        const double *a = acc + 5 * i;
+        double len = sqrt(dot3(a, a));
+        if (b->kind[i] != VC_BALL_SURFACE || !(a[3] > 0) || !(len > 0))
+            continue;
+        double h = a[4] / a[3];
+        h = fmax(-MAX_LIFT * b->radius[i], fmin(MAX_LIFT * b->radius[i], h));
+        for (int d = 0; d < 3; d++)
+            lift[3 * i + d] = h * a[d] / len;
+    }
+
+    for (int64_t t = 0; t < n_facets; t++) {
+        memcpy(ref + 3 * t, facet_v + 3 * t, sizeof(int64_t) * 3);
+        sort_facet(ref + 3 * t);
+    }
+    qsort(ref, (size_t)n_facets, sizeof(int64_t) * 3, cmp_facet);
+
+    for (int round = 1; round <= MAX_ROUNDS; round++) {
+        for (int64_t i = 0; i < 3 * n; i++)
+            xyz[i] = b->center[i] + lift[i];
+        int64_t n_bad = check(b, xyz, ref, n_facets, threads, bad);
+        if (n_bad < 0) {
+            rc = -1;
+            goto done;
+        }
+        res->rounds = round;
+        if (n_bad == 0) {
+            double sum = 0, mx = 0;
+            for (int64_t i = 0; i < n; i++) {
+                double l = sqrt(dot3(lift + 3 * i, lift + 3 * i)) / b->radius[i];
+                if (l > 0) {
+                    res->n_lifted++;
+                    sum += l;
+                    mx = fmax(mx, l);
+                }
+                if (strikes[i])
+                    res->n_reduced++;
+            }
+            res->mean_rel = res->n_lifted ? sum / (double)res->n_lifted : 0;
+            res->max_rel = mx;
+            memcpy(b->center, xyz, sizeof(double) * 3 * (size_t)n);
+            goto done;
+        }
+        /* halve the lift of every ball involved; after HALVING_ROUNDS
+         * strikes, remove it with its facet neighbours' */
+        unsigned char *drop = strikes; /* bit 7: this round's neighbourhood drop */
+        for (int64_t i = 0; i < n; i++) {
+            if (!bad[i])
+                continue;
+            strikes[i] = (unsigned char)((strikes[i] & 0x7f) + 1);
+            if ((strikes[i] & 0x7f) > HALVING_ROUNDS)
+                drop[i] |= 0x80;
+            else
+                for (int d = 0; d < 3; d++)
+                    lift[3 * i + d] /= 2;
+        }
+        for (int64_t t = 0; t < n_facets; t++) {
+            const int64_t *v = facet_v + 3 * t;
+            if ((drop[v[0]] | drop[v[1]] | drop[v[2]]) & 0x80)
+                for (int m = 0; m < 3; m++)
+                    memset(lift + 3 * v[m], 0, sizeof(double) * 3);
+        }
+        for (int64_t i = 0; i < n; i++)
+            drop[i] &= 0x7f;
+        /* a ball without lift whose neighbours move fails because of them */
+        for (int64_t t = 0; t < n_facets; t++) {
+            const int64_t *v = facet_v + 3 * t;
+            for (int m = 0; m < 3; m++) {
+                const double *l = lift + 3 * v[m];
+                if (bad[v[m]] && l[0] == 0 && l[1] == 0 && l[2] == 0)
+                    for (int k = 1; k < 3; k++)
+                        for (int d = 0; d < 3; d++)
+                            lift[3 * v[(m + k) % 3] + d] /= 2;
+            }
+        }
+    }
+    /* never held: the sampling as it was */
+    res->dropped = 1;
+    res->n_lifted = 0;
+done:
+    free(fn);
+    free(fok);
+    free(acc);
+    free(lift);
+    free(xyz);
+    free(bad);
+    free(strikes);
+    free(ref);
+    return rc;
+}
