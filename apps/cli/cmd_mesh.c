@@ -61,6 +61,9 @@ static void usage(FILE *f)
         "                      elimination; slower (default 0: off)\n"
         "  --curvature-factor C  with --smooth-width: radii at most C times the smooth\n"
         "                      surface's radius of curvature (default 0.2)\n"
+        "  --no-lift           keep the surface ball centres on the input (default: move\n"
+        "                      them off it by the mean sag of their reconstructed facets,\n"
+        "                      which removes the chords' volume bias)\n"
         "  --lipschitz L       0 < L < 1 (default %g)\n"
         "  --max-size H        largest ball radius and cap of the octree sizing (default:\n"
         "                      the bounding-box diagonal)\n"
@@ -110,10 +113,22 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
         snprintf(failed_time, sizeof failed_time, ", failed sampling at %g %.3f",
                  r->first_sharp_angle, t->failed_sampling);
     }
+    char lift_note[200];
+    if (opt->no_lift)
+        snprintf(lift_note, sizeof lift_note, "off (--no-lift)");
+    else if (st->lift_dropped)
+        snprintf(lift_note, sizeof lift_note, "dropped (no lift held after %d checks): centres on "
+                 "the input", st->lift_rounds);
+    else
+        snprintf(lift_note, sizeof lift_note, "%lld balls moved by %.3f of their radius on "
+                 "average (largest %.3f), %lld lifts reduced, %d checks, %.3f s",
+                 (long long)st->n_lifted, st->lift_mean_rel, st->lift_max_rel,
+                 (long long)st->n_lift_reduced, st->lift_rounds, st->t_lift);
     fprintf(stderr,
             "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds; sharp angle %g%s)\n"
             "  balls: %lld (corner %lld, edge %lld, surface %lld), %.3g predicted; shrunk for Lipschitz %lld, "
             "for slivers %lld in %d iterations%s, for flat facets %lld; half-covered seed pairs %lld\n"
+            "  centre lift: %s\n"
             "  surface seeds: %lld (%lld inside, %lld outside)\n"
             "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
             "%s, %lld components, %lld T-junction vertices repaired\n"
@@ -128,6 +143,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             st->n_balls_predicted, (long long)st->n_shrunk_lipschitz, (long long)st->n_shrunk_sliver,
             st->sliver_iterations, st->safe_mode ? " (safe mode)" : "",
             (long long)st->n_shrunk_flat, (long long)r->n_half_covered,
+            lift_note,
             (long long)r->n_surface_seeds, (long long)r->n_inside_seeds,
             (long long)(r->n_surface_seeds - r->n_inside_seeds), (long long)topo->n_vertices,
             (long long)topo->n_faces, (long long)topo->n_edges, (long long)topo->euler,
@@ -220,6 +236,8 @@ static int run_mesh(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--surface-only")) {
             surface_only = 1;
+        } else if (!strcmp(a, "--no-lift")) {
+            opt.no_lift = 1;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (!strcmp(a, "--verbose")) {

@@ -87,6 +87,10 @@ typedef struct vc_mesh_options {
                                the error bound), radii at most curvature_factor times its
                                radius of curvature; 0 (default): on the input's facets */
     double curvature_factor; /* default 0.2 */
+    int no_lift;            /* 1: surface ball centres stay on the input; 0 (default): they
+                               move off it by the mean sag of their reconstructed facets,
+                               so that the reconstruction has no volume bias
+                               (vc_sampling_options.lift_centres) */
     double lipschitz;       /* L, default 0.25 */
     double max_size;        /* largest ball radius; <= 0: the bounding-box diagonal */
     uint64_t seed;          /* random seed, default 1 */

@@ -229,6 +229,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     so.max_error = opt->max_error;
     so.smooth_width = opt->smooth_width;
     so.curvature_factor = opt->curvature_factor;
+    so.lift_centres = !opt->no_lift;
     so.lipschitz = opt->lipschitz;
     so.max_size = opt->max_size;
     so.seed = opt->seed;
