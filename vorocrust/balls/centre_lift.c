@@ -21,6 +21,13 @@
 /* only input triangles facing the facet's way (cosine) count: the other
  * sheet of a thin part is never the facet's own */
 #define SAME_SIDE 0.5
+/* A lifted seed may come nearer a fourth sphere (clearance d^2 / r^2 - 1)
+ * than CLEAR_ENOUGH only down to NEAR_SPHERE times where it was: a seed
+ * nearly on a fourth sphere makes a short Voronoi edge and a sliver facet,
+ * and halving a failing lift would otherwise end right at such a
+ * configuration. */
+#define CLEAR_ENOUGH 2e-3
+#define NEAR_SPHERE 0.5
 
 static double dot3(const double a[3], const double b[3])
 {
@@ -102,8 +109,15 @@ static int facet_sag(const vc_balls *b, const vc_sizing *z, const int64_t v[3], 
 /* ---------------------------------------------------------------------
  * The check: every triplet of the lifted balls. */
 
+/* A facet: its balls (i < j < k) and the smaller clearance of its two
+ * seeds from a fourth sphere (vc_triplet). */
+typedef struct facet_clear {
+    int64_t v[3];
+    double clear;
+} facet_clear;
+
 typedef struct check_ctx {
-    int64_t *f; /* facets found, 3 each */
+    facet_clear *f;
     int64_t n, cap;
     unsigned char *bad; /* per ball */
     int oom;
@@ -122,7 +136,7 @@ static void on_triplet(void *ctx, const vc_triplet *t)
         return;
     if (c->n == c->cap) {
         int64_t cap = c->cap ? 2 * c->cap : 4096;
-        int64_t *q = realloc(c->f, sizeof(int64_t) * 3 * (size_t)cap);
+        facet_clear *q = realloc(c->f, sizeof(facet_clear) * (size_t)cap);
         if (!q) {
             c->oom = 1;
             return;
@@ -130,55 +144,55 @@ static void on_triplet(void *ctx, const vc_triplet *t)
         c->f = q;
         c->cap = cap;
     }
-    int64_t *r = c->f + 3 * c->n++;
-    r[0] = t->i;
-    r[1] = t->j;
-    r[2] = t->k;
+    facet_clear *r = &c->f[c->n++];
+    r->v[0] = t->i;
+    r->v[1] = t->j;
+    r->v[2] = t->k;
+    r->clear = fmin(t->clear_up, t->clear_down);
 }
 
 static int cmp_facet(const void *p, const void *q)
 {
-    const int64_t *a = p, *b = q;
+    const facet_clear *a = p, *b = q;
     for (int m = 0; m < 3; m++)
-        if (a[m] != b[m])
-            return a[m] < b[m] ? -1 : 1;
+        if (a->v[m] != b->v[m])
+            return a->v[m] < b->v[m] ? -1 : 1;
     return 0;
 }
 
-static void sort_facet(int64_t v[3])
-{
-    for (int a = 0; a < 2; a++)
-        for (int m = 0; m < 2 - a; m++)
-            if (v[m] > v[m + 1]) {
-                int64_t t = v[m];
-                v[m] = v[m + 1];
-                v[m + 1] = t;
-            }
-}
-
-/* Marks in bad the balls of the facets in one list only (both sorted). */
-static void mark_difference(const int64_t *a, int64_t na, const int64_t *b, int64_t nb,
+/* Marks in bad the balls of the facets in one list only (both sorted), and
+ * of the facets whose seeds came nearer a fourth sphere than NEAR_SPHERE
+ * times their clearance before (or CLEAR_ENOUGH). */
+static void mark_difference(const facet_clear *a, int64_t na, const facet_clear *b, int64_t nb,
                             unsigned char *bad)
 {
     int64_t i = 0, j = 0;
     while (i < na || j < nb) {
-        int c = i == na ? 1 : j == nb ? -1 : cmp_facet(a + 3 * i, b + 3 * j);
+        int c = i == na ? 1 : j == nb ? -1 : cmp_facet(a + i, b + j);
+        const facet_clear *f;
         if (c == 0) {
+            f = b + j;
+            int near = b[j].clear < NEAR_SPHERE * fmin(a[i].clear, CLEAR_ENOUGH);
             i++;
             j++;
-            continue;
+            if (!near)
+                continue;
+        } else {
+            f = c < 0 ? a + i++ : b + j++;
         }
-        const int64_t *f = c < 0 ? a + 3 * i++ : b + 3 * j++;
-        bad[f[0]] = bad[f[1]] = bad[f[2]] = 1;
+        bad[f->v[0]] = bad[f->v[1]] = bad[f->v[2]] = 1;
     }
 }
 
-/* Scans the balls with centres xyz; bad marks the balls of half-covered
- * pairs and of facets not in ref (sorted). Returns the number of balls
- * marked, or -1 when out of memory. */
-static int64_t check(const vc_balls *b, const double *xyz, const int64_t *ref, int64_t n_ref,
-                     int threads, unsigned char *bad)
+/* Scans the balls with centres xyz: their facets, sorted, into *out (the
+ * caller frees it); bad marks the balls of half-covered pairs and, when ref
+ * is not NULL, of the facets that differ from ref's (mark_difference).
+ * Returns the number of balls marked, or -1 when out of memory. */
+static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *ref, int64_t n_ref,
+                     int threads, unsigned char *bad, facet_clear **out, int64_t *n_out)
 {
+    *out = NULL;
+    *n_out = 0;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int64_t i = 0; i < b->n; i++)
         for (int d = 0; d < 3; d++) {
@@ -204,9 +218,11 @@ static int64_t check(const vc_balls *b, const double *xyz, const int64_t *ref, i
         free(c.f);
         return -1;
     }
-    qsort(c.f, (size_t)c.n, sizeof(int64_t) * 3, cmp_facet);
-    mark_difference(ref, n_ref, c.f, c.n, bad);
-    free(c.f);
+    qsort(c.f, (size_t)c.n, sizeof(facet_clear), cmp_facet);
+    if (ref)
+        mark_difference(ref, n_ref, c.f, c.n, bad);
+    *out = c.f;
+    *n_out = c.n;
     int64_t n_bad = 0;
     for (int64_t i = 0; i < b->n; i++)
         n_bad += bad[i];
@@ -228,9 +244,10 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
     double *xyz = malloc(sizeof(double) * 3 * (size_t)n);
     unsigned char *bad = malloc((size_t)n);
     unsigned char *strikes = calloc((size_t)n, 1);
-    int64_t *ref = malloc(sizeof(int64_t) * 3 * (size_t)n_facets);
+    facet_clear *ref = NULL, *got = NULL;
+    int64_t n_ref = 0, n_got = 0;
     int rc = 0;
-    if (!fn || !fok || !acc || !lift || !xyz || !bad || !strikes || !ref) {
+    if (!fn || !fok || !acc || !lift || !xyz || !bad || !strikes) {
         rc = -1;
         goto done;
     }
@@ -266,16 +283,17 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
             lift[3 * i + d] = h * a[d] / len;
     }
 
-    for (int64_t t = 0; t < n_facets; t++) {
-        memcpy(ref + 3 * t, facet_v + 3 * t, sizeof(int64_t) * 3);
-        sort_facet(ref + 3 * t);
+    /* the facets as sampled, with their seeds' clearances */
+    if (check(b, b->center, NULL, 0, threads, bad, &ref, &n_ref) < 0) {
+        rc = -1;
+        goto done;
     }
-    qsort(ref, (size_t)n_facets, sizeof(int64_t) * 3, cmp_facet);
-
     for (int round = 1; round <= MAX_ROUNDS; round++) {
         for (int64_t i = 0; i < 3 * n; i++)
             xyz[i] = b->center[i] + lift[i];
-        int64_t n_bad = check(b, xyz, ref, n_facets, threads, bad);
+        free(got);
+        got = NULL;
+        int64_t n_bad = check(b, xyz, ref, n_ref, threads, bad, &got, &n_got);
         if (n_bad < 0) {
             rc = -1;
             goto done;
@@ -343,5 +361,6 @@ done:
     free(bad);
     free(strikes);
     free(ref);
+    free(got);
     return rc;
 }

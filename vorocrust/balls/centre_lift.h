@@ -17,7 +17,8 @@
  * but sliver elimination ends with margins that can be that small, so the
  * lifted balls are checked as the sampler checks its result: every triplet
  * scanned again, and accepted when no seed pair is half covered and the
- * facets are the same triplets (the same triangulation, moved). Where the
+ * facets are the same triplets (the same triangulation, moved), none with
+ * a seed much nearer a fourth sphere than before (a short edge). Where the
  * check fails, the lift of the balls involved is halved, then removed with
  * that of their neighbours, and after MAX_ROUNDS all lifts are dropped:
  * the result is never worse than the unlifted sampling. */

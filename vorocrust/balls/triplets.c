@@ -107,16 +107,28 @@ static int overlap(const vc_balls *b, int64_t p, int64_t q)
 }
 
 /* The covering ball of p among the neighbours (other than i, j, k) that is
- * closest to its sphere (the least shrinking uncovers p), or -1. */
+ * closest to its sphere (the least shrinking uncovers p), or -1; when there
+ * is none, *clear is p's clearance from the nearest fourth sphere (see
+ * vc_triplet). */
 static int64_t best_cover(const vc_balls *b, const nb_list *L, int64_t j, int64_t k,
-                          const double p[3])
+                          const double p[3], double *clear)
 {
     int64_t best = -1;
     double best_gap = INFINITY;
+    *clear = INFINITY;
     for (int64_t m = 0; m < L->n; m++) {
         int64_t f = L->ids[m];
-        if (f == j || f == k || !vc_ball_strictly_contains(b, f, p))
+        if (f == j || f == k)
             continue;
+        if (!vc_ball_strictly_contains(b, f, p)) {
+            const double *c = b->center + 3 * f;
+            double d2 = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                        (p[2] - c[2]) * (p[2] - c[2]);
+            double q = d2 / (b->radius[f] * b->radius[f]) - 1;
+            if (q < *clear)
+                *clear = q;
+            continue;
+        }
         const double *c = b->center + 3 * f;
         double d = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
                         (p[2] - c[2]) * (p[2] - c[2]));
@@ -164,8 +176,8 @@ static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_bu
                                          b->radius[j], b->center + 3 * k, b->radius[k], t.up,
                                          t.down))
                 continue;
-            t.cover_up = best_cover(b, L, j, k, t.up);
-            t.cover_down = best_cover(b, L, j, k, t.down);
+            t.cover_up = best_cover(b, L, j, k, t.up, &t.clear_up);
+            t.cover_down = best_cover(b, L, j, k, t.down, &t.clear_down);
             if (out->n == out->cap) {
                 int64_t c2 = out->cap ? 2 * out->cap : 1024;
                 vc_triplet *q = realloc(out->t, sizeof(vc_triplet) * (size_t)c2);

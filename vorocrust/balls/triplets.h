@@ -19,11 +19,15 @@ int vc_ball_strictly_contains(const vc_balls *b, int64_t i, const double p[3]);
 
 /* One triplet (i < j < k) with its points and which of them a fourth ball
  * covers; cover_up / cover_down is the covering ball that needs the least
- * shrinking (-1 when uncovered). */
+ * shrinking (-1 when uncovered). clear_up / clear_down: for an uncovered
+ * point, how far it is outside the nearest fourth sphere, as d^2 / r^2 - 1
+ * (about twice the distance over the radius; INFINITY when no fourth ball
+ * is near): a point nearly on a fourth sphere makes a short Voronoi edge. */
 typedef struct vc_triplet {
     int64_t i, j, k;
     double up[3], down[3];
     int64_t cover_up, cover_down;
+    double clear_up, clear_down;
 } vc_triplet;
 
 /* Calls fn(ctx, &t) for every triplet of pairwise overlapping balls whose
