@@ -241,8 +241,10 @@ static int subface_covered(const sampler *S, const subface *sf, const subface_on
      * there a covering ball?) does not depend on which ball is found. */
     if (*last_cover >= 0 && *last_cover < S->bs.b.n && covers_subface(&cc, *last_cover))
         return 1;
-    /* a ball holding every vertex has a radius of at least reach / 2 */
-    int found = vc_ball_set_query(&S->bs, c, reach, 1.0, 0.5 * reach, covers_subface, &cc);
+    /* a ball holding every vertex has a radius of at least reach / 2, and
+     * holds the centroid (their convex combination): its centre is within
+     * its radius (plus the margin) of c */
+    int found = vc_ball_set_query(&S->bs, c, margin, 1.0, 0.5 * reach, covers_subface, &cc);
     if (found)
         *last_cover = cc.found;
     return found;
@@ -405,11 +407,16 @@ static double new_radius(sampler *S, const vc_surface_point *sp, const double x[
                                           : VC_BALL_SURFACE;
     /* the conditions among balls hold at the centre */
     radius_ctx rc = {&S->bs.b, c, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    vc_ball_set_query(&S->bs, c, r / S->opt.lipschitz, 0.0, 0.0, lipschitz_bound, &rc);
+    /* ball i binds only when r_i + L d < r, so d < (r - r_i) / L; a level's
+     * radii are at least half its largest (level 0: at least 0, hence the
+     * unit added), so only centres within (r + unit - rl / 2) / L count */
+    const double L = S->opt.lipschitz;
+    vc_ball_set_query(&S->bs, c, (r + S->bs.unit) / L, -0.5 / L, 0.0, lipschitz_bound, &rc);
     r = rc.r;
-    spacing_ctx sc = {&S->bs.b, c, INFINITY};
-    vc_ball_set_query(&S->bs, c, r, 0.0, 0.0, nearest_centre, &sc);
     double deep = 1 - S->alpha;
+    /* only a centre nearer than deep r changes anything */
+    spacing_ctx sc = {&S->bs.b, c, INFINITY};
+    vc_ball_set_query(&S->bs, c, deep * r, 0.0, 0.0, nearest_centre, &sc);
     if (sc.nearest < deep * r) {
         if (vc_rng_uniform(&S->rng) < 0.1)
             return -1;

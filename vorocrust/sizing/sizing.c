@@ -453,6 +453,19 @@ static double dist_outside_slab(const vc_sizing *z, int64_t t, const double p[3]
     return sqrt(best);
 }
 
+/* Is triangle t within eps of the plane through p with normal n, on both
+ * sides (exactly the test that makes dist_outside_slab return INFINITY)? */
+static int tri_in_slab(const vc_sizing *z, int64_t t, const double p[3], const double n[3])
+{
+    for (int k = 0; k < 3; k++) {
+        const double *x = vtx(z, z->s->tri[3 * t + k]);
+        double h = n[0] * (x[0] - p[0]) + n[1] * (x[1] - p[1]) + n[2] * (x[2] - p[2]);
+        if (h - z->eps > 0 || -h - z->eps > 0)
+            return 0;
+    }
+    return 1;
+}
+
 /* Distance from p to the part of sharp edge e farther than eps from the
  * line through p with direction tp (INFINITY when empty). */
 static double dist_outside_cylinder(const vc_sizing *z, int64_t e, const double p[3],
@@ -519,6 +532,13 @@ double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, co
             for (int64_t i = nd->start; i < nd->start + nd->count; i++) {
                 int kind = z->elem_kind[i];
                 int64_t id = z->elem_id[i];
+                /* a triangle co-smooth with p and within eps of its
+                 * tangent plane cannot lower the bound: the common case on
+                 * a fine, smooth surface, where a large ball reaches
+                 * thousands; skip its distance */
+                if (np && kind == VC_ELEM_TRIANGLE && isfinite(z->eps) &&
+                    tri_in_slab(z, id, p, np) && vc_sizing_cosmooth(z, sp, kind, id))
+                    continue;
                 double d = sqrt(vc_sizing_element_dist2(z, kind, id, p));
                 if (0.49 * d >= best)
                     continue;
