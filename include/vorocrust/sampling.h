@@ -86,6 +86,8 @@ typedef struct vc_sampling_stats {
     int64_t n_shrunk_lipschitz;            /* radius reductions for C3 */
     int64_t n_shrunk_sliver;               /* radius reductions for slivers */
     int64_t n_shrunk_flat;                 /* radius reductions for flat facets */
+    int64_t n_shrunk_pinch;                /* radius reductions at edges of more than two
+                                              facets (pinches) */
     int sliver_iterations;
     int safe_mode;                         /* 1 when alpha / 2 was accepted */
     int64_t n_half_covered;                /* left at the end (0 on success) */

@@ -37,10 +37,14 @@
 
 #define MAX_MISSES 100
 #define PARENT_BATCH 16384 /* subfaces split at a time before their children are tested */
-#define SHRINK_MARGIN 1e-7 /* a shrunk ball leaves the point it uncovers this far outside */
-/* the same on S', whose near-co-planar centres otherwise let a few balls
- * take turns shrinking by tiny steps without end */
-#define SMOOTH_SHRINK_MARGIN 1e-4
+/* A shrunk ball leaves the point it uncovers this far outside (relative to
+ * its distance). Cut only to the point (1e-7 before session 14), the four
+ * spheres of the quartet still nearly meet there: the seeds of its
+ * triplets nearly coincide, the Voronoi vertices between them make edges
+ * of 1e-9 of the radius and facets of quality 0 (fandisk.off), and the
+ * next pass finds the same quartet half covered again (fandisk.off at 60
+ * degrees: 54 passes at 1e-7, 13 at 1e-3, 8 at 1e-2). */
+#define SHRINK_MARGIN 1e-2
 /* Flat facets (see unflatten_facets): the quality below which a facet is
  * worked on (the top of the thesis' 0.37 to 0.40 on smooth models), the
  * largest cut of a radius for it, how far inside the covering ball the
@@ -904,11 +908,20 @@ static void collect_facet(facet_list *l, const vc_triplet *t)
     r->v[2] = t->k;
 }
 
+/* A half-covered pair: its triplet, the covering ball and the radius that
+ * uncovers the point. */
+typedef struct half_rec {
+    int64_t v[3], cover;
+    double r;
+    double s; /* the cut, relative to the cover's radius */
+} half_rec;
+
 typedef struct sliver_ctx {
     const vc_balls *b;
-    double *target;
-    double margin;     /* SHRINK_MARGIN, or more on S' */
-    int64_t n_half;
+    double margin;     /* SHRINK_MARGIN */
+    half_rec *half;    /* n_half of them */
+    int64_t n_half, cap;
+    int oom;
     double where[3]; /* the first half-covered point found */
     facet_list *facets; /* the triplets with both seeds uncovered */
 } sliver_ctx;
@@ -918,15 +931,66 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     sliver_ctx *c = ctx;
     if (t->cover_up < 0 && t->cover_down < 0)
         collect_facet(c->facets, t);
-    if ((t->cover_up < 0) == (t->cover_down < 0))
+    if ((t->cover_up < 0) == (t->cover_down < 0) || c->oom)
         return;
     int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
     const double *g = t->cover_up >= 0 ? t->up : t->down;
-    if (c->n_half++ == 0)
+    if (c->n_half == 0)
         memcpy(c->where, g, sizeof c->where);
-    double r = dist(c->b->center + 3 * f, g) * (1 - c->margin);
-    if (r < c->target[f])
-        c->target[f] = r;
+    if (c->n_half == c->cap) {
+        int64_t cap = c->cap ? 2 * c->cap : 256;
+        half_rec *q = realloc(c->half, sizeof(half_rec) * (size_t)cap);
+        if (!q) {
+            c->oom = 1;
+            return;
+        }
+        c->half = q;
+        c->cap = cap;
+    }
+    half_rec *h = &c->half[c->n_half++];
+    h->v[0] = t->i;
+    h->v[1] = t->j;
+    h->v[2] = t->k;
+    h->cover = f;
+    h->r = dist(c->b->center + 3 * f, g) * (1 - c->margin);
+}
+
+/* The radius each ball is cut to (thesis 6.2.7: per quartet, the ball
+ * that needs the least shrinking). A sliver of four balls, each covering a
+ * seed of the other three's triplet, keeps its shape when all four shrink
+ * a little, which cutting every cover did (fandisk.off at 20 degrees: the
+ * same four balls, each cut by 0.1% to 0.8%, for ten passes; at 60
+ * degrees it diverged). So the cuts are taken smallest first (relative to
+ * the radius; by ball and triplet on a tie), and a cut whose triplet has a
+ * ball already cut this pass waits: that triplet changes with it, and is
+ * looked at again next pass. The smallest cut is always taken, so every
+ * pass cuts something. */
+static int cmp_half(const void *p, const void *q)
+{
+    const half_rec *a = p, *b = q;
+    if (a->s != b->s)
+        return a->s < b->s ? -1 : 1;
+    if (a->cover != b->cover)
+        return a->cover < b->cover ? -1 : 1;
+    for (int m = 0; m < 3; m++)
+        if (a->v[m] != b->v[m])
+            return a->v[m] < b->v[m] ? -1 : 1;
+    return 0;
+}
+
+static void cut_radii(const vc_balls *b, sliver_ctx *c, unsigned char *cut, double *target)
+{
+    for (int64_t k = 0; k < c->n_half; k++)
+        c->half[k].s = 1 - c->half[k].r / b->radius[c->half[k].cover];
+    qsort(c->half, (size_t)c->n_half, sizeof(half_rec), cmp_half);
+    for (int64_t k = 0; k < c->n_half; k++) {
+        const half_rec *h = &c->half[k];
+        if (cut[h->v[0]] || cut[h->v[1]] || cut[h->v[2]])
+            continue;
+        cut[h->cover] = 1;
+        if (h->r < target[h->cover])
+            target[h->cover] = h->r;
+    }
 }
 
 /* Also leaves the facets of the balls as they were before shrinking in
@@ -941,28 +1005,38 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    sliver_ctx c = {b, NULL, S->smooth ? SMOOTH_SHRINK_MARGIN : SHRINK_MARGIN, 0, {0, 0, 0}, facets};
-    c.target = malloc(sizeof(double) * (size_t)(n ? n : 1));
-    if (!c.target)
-        return -1;
-    memcpy(c.target, b->radius, sizeof(double) * (size_t)n);
-    if ((all ? vc_triplets_scan_all(&S->bs, S->opt.threads, on_triplet, &c)
-             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c)) ||
-        facets->oom) {
-        free(c.target);
+    sliver_ctx c = {b, SHRINK_MARGIN, NULL, 0, 0, 0,
+                    {0, 0, 0}, facets};
+    double *target = malloc(sizeof(double) * (size_t)n);
+    unsigned char *cut = calloc((size_t)n, 1);
+    if (!target || !cut) {
+        free(target);
+        free(cut);
         return -1;
     }
+    memcpy(target, b->radius, sizeof(double) * (size_t)n);
+    if ((all ? vc_triplets_scan_all(&S->bs, S->opt.threads, on_triplet, &c)
+             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c)) ||
+        facets->oom || c.oom) {
+        free(target);
+        free(cut);
+        free(c.half);
+        return -1;
+    }
+    cut_radii(b, &c, cut, target);
     int64_t changed = 0;
     for (int64_t i = 0; i < n; i++)
-        if (c.target[i] < b->radius[i]) {
+        if (target[i] < b->radius[i]) {
             shrunk[i] = 1;
             changed++;
-            if (vc_ball_set_resize(&S->bs, i, c.target[i]) || mark_dirty(S, i))
+            if (vc_ball_set_resize(&S->bs, i, target[i]) || mark_dirty(S, i))
                 changed = -1;
         }
     *n_half = c.n_half;
     memcpy(where, c.where, sizeof c.where);
-    free(c.target);
+    free(target);
+    free(cut);
+    free(c.half);
     return changed;
 }
 
@@ -1109,6 +1183,61 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
         if (!shrunk[q])
             changed++;
         shrunk[q] = 1;
+    }
+    free(e);
+    return changed;
+}
+
+/* ---------------------------------------------------------------------
+ * Pinches.
+ *
+ * With no half-covered pair left, the facets still meet four to an edge at
+ * a few places of a faceted input: where it folds by nearly theta_sharp
+ * (bunny.off: three spots with folds of 47 to 58 degrees; fertility.off:
+ * one). There two sheets of facets touch, and the reconstructed surface is
+ * not a 2-manifold. Smaller balls follow the fold: both balls of every
+ * edge that is not in exactly two facets are cut to PINCH_SHRINK of their
+ * radius, and the sampling runs again around them, up to PINCH_PASSES
+ * times; what is left the mesh command reports as an error. */
+#define PINCH_SHRINK 0.7
+#define PINCH_PASSES 8
+
+static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_r,
+                              unsigned char *shrunk)
+{
+    const facet_list fl = *facets;
+    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(3 * fl.n + 1));
+    if (!e)
+        return -1;
+    for (int64_t f = 0; f < fl.n; f++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = fl.f[f].v[k], b = fl.f[f].v[(k + 1) % 3];
+            e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
+        }
+    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
+    vc_balls *B = &S->bs.b;
+    memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
+    int64_t changed = 0;
+    for (int64_t m = 0; m < 3 * fl.n && changed >= 0;) {
+        int64_t m2 = m;
+        while (m2 < 3 * fl.n && e[m2].a == e[m].a && e[m2].b == e[m].b)
+            m2++;
+        if (m2 - m != 2) {
+            const int64_t ends[2] = {e[m].a, e[m].b};
+            for (int k = 0; k < 2; k++) {
+                int64_t q = ends[k];
+                if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
+                    continue;
+                if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * B->radius[q]) ||
+                    mark_dirty(S, q)) {
+                    changed = -1;
+                    break;
+                }
+                shrunk[q] = 1;
+                changed++;
+            }
+        }
+        m = m2;
     }
     free(e);
     return changed;
@@ -1336,7 +1465,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     /* Lipschitz fixes and sliver elimination, sampling again after every
      * shrinking, until nothing changes; then the flat-facet pass and the
      * same again, up to FLAT_PASSES times. */
-    int iter = 0, flat_passes = 0;
+    int iter = 0, flat_passes = 0, pinch_passes = 0;
     facet_list facets = {NULL, 0, 0, 0};
     while (!rc) {
         double ta = now();
@@ -1384,6 +1513,21 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 st->n_shrunk_flat += nf;
                 vc_log(opt->log, VC_LOG_INFO, "mesh: flat facets %d: %lld balls shrunk",
                        flat_passes, (long long)nf);
+                rc = resample_around(&S, old_r, shrunk);
+                continue;
+            }
+        }
+        if (ns == 0 && pinch_passes < PINCH_PASSES) {
+            pinch_passes++;
+            int64_t np = shrink_pinches(&S, &facets, old_r, shrunk);
+            if (np < 0) {
+                rc = -1;
+                break;
+            }
+            if (np > 0) {
+                st->n_shrunk_pinch += np;
+                vc_log(opt->log, VC_LOG_INFO, "mesh: pinches %d: %lld balls shrunk", pinch_passes,
+                       (long long)np);
                 rc = resample_around(&S, old_r, shrunk);
                 continue;
             }
