@@ -42,7 +42,8 @@ typedef struct vc_sampling_options {
     uint64_t seed;        /* random seed, default 1 */
     int threads;          /* <= 0: OpenMP's default */
     const vc_logger *log; /* progress lines (VC_LOG_INFO); NULL: none */
-    int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100 */
+    int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100; after
+                                  twice as many the sampling counts as diverged */
     int64_t max_balls;    /* refuse a sampling predicted to need more balls, and stop one
                              that reaches this many (VC_EPARAM); <= 0: no limit (default) */
     unsigned char *stuck_tri; /* NULL, or n_triangles bytes: when sliver elimination

@@ -87,6 +87,9 @@ typedef struct vc_mesh_options {
                                the error bound), radii at most curvature_factor times its
                                radius of curvature; 0 (default): on the input's facets */
     double curvature_factor; /* default 0.2 */
+    int max_sliver_iterations; /* sliver passes before the safe mode, and half the passes
+                               after which a sampling counts as diverged (then resampled
+                               as resample says); 0: the default, 100 */
     int no_lift;            /* 1: surface ball centres stay on the input; 0 (default): they
                                move off it by the mean sag of their reconstructed facets,
                                so that the reconstruction has no volume bias

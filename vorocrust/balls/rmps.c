@@ -1202,6 +1202,28 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
 #define PINCH_SHRINK 0.7
 #define PINCH_PASSES 8
 
+/* Do the n link edges {b, facet} of one ball (undirected: the facets are
+ * not oriented) form a single cycle? Reorders them along the walk. */
+static int one_cycle(edge_rec *l, int64_t n)
+{
+    if (n < 3)
+        return 0;
+    const int64_t start = l[0].b;
+    int64_t at = l[0].facet;
+    for (int64_t i = 1; i < n; i++) {
+        int64_t k = i;
+        while (k < n && l[k].b != at && l[k].facet != at)
+            k++;
+        if (k == n)
+            return 0;
+        edge_rec t = l[i];
+        l[i] = l[k];
+        l[k] = t;
+        at = l[i].b == at ? l[i].facet : l[i].b;
+    }
+    return at == start;
+}
+
 static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_r,
                               unsigned char *shrunk)
 {
@@ -1226,6 +1248,33 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
             const int64_t ends[2] = {e[m].a, e[m].b};
             for (int k = 0; k < 2; k++) {
                 int64_t q = ends[k];
+                if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
+                    continue;
+                if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * B->radius[q]) ||
+                    mark_dirty(S, q)) {
+                    changed = -1;
+                    break;
+                }
+                shrunk[q] = 1;
+                changed++;
+            }
+        }
+        m = m2;
+    }
+    /* vertices whose facets make more than one fan: the link of every ball
+     * (the edge opposite it in each of its facets) must be one cycle */
+    for (int64_t f = 0; f < fl.n; f++)
+        for (int k = 0; k < 3; k++)
+            e[3 * f + k] = (edge_rec){fl.f[f].v[k], fl.f[f].v[(k + 1) % 3], fl.f[f].v[(k + 2) % 3]};
+    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
+    for (int64_t m = 0; m < 3 * fl.n && changed >= 0;) {
+        int64_t m2 = m;
+        while (m2 < 3 * fl.n && e[m2].a == e[m].a)
+            m2++;
+        if (!one_cycle(e + m, m2 - m)) {
+            for (int64_t k = m; k <= m2 && changed >= 0; k++) {
+                /* the ball and the balls of its link */
+                int64_t q = k == m2 ? e[m].a : e[k].b;
                 if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
                     continue;
                 if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * B->radius[q]) ||
@@ -1591,6 +1640,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             st->safe_mode = 1;
             S.alpha = opt->alpha / 2;
         } else if (iter >= 2 * opt->max_sliver_iterations) {
+            /* the safe mode did not end it either: not converging */
+            diverged = 1;
             break;
         }
         rc = resample_around(&S, old_r, shrunk);

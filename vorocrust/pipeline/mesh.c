@@ -105,6 +105,9 @@ static int check_options(const vc_mesh_options *o, vc_error *err)
     if (o->smooth_iterations < 0 || o->smooth_iterations > VC_SMOOTH_MAX_ITERATIONS)
         return vc_error_set(err, VC_EPARAM, "%d smoothing rounds: 0 to %d are allowed",
                             o->smooth_iterations, VC_SMOOTH_MAX_ITERATIONS);
+    if (o->max_sliver_iterations < 0 || o->max_sliver_iterations > 100000)
+        return vc_error_set(err, VC_EPARAM, "%d sliver passes: 0 (the default) to 100000 are "
+                            "allowed", o->max_sliver_iterations);
     if (o->lloyd_iterations < 0 || o->lloyd_iterations > 1000)
         return vc_error_set(err, VC_EPARAM, "%d Lloyd iterations: 0 to 1000 are allowed",
                             o->lloyd_iterations);
@@ -230,6 +233,8 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     so.smooth_width = opt->smooth_width;
     so.curvature_factor = opt->curvature_factor;
     so.lift_centres = !opt->no_lift;
+    if (opt->max_sliver_iterations > 0)
+        so.max_sliver_iterations = opt->max_sliver_iterations;
     so.lipschitz = opt->lipschitz;
     so.max_size = opt->max_size;
     so.seed = opt->seed;
