@@ -552,8 +552,9 @@ if PART == "synthetic":
 # maximum is one face's: over --seed 1 to 3 it spans 4.79 to 5.52 on torus
 # and 10.6 to 14.9 on bracket, with the centre lift or without; the lift
 # (session 14) gave seed 1 5.28 and 13.36, with as many highly skew faces
-# (bracket 411 against 413, torus 20 against 18).
-SKEW_EXACT = {"torus.obj": 5.3, "bracket.obj": 13.4, "fandisk.off": 15.5,
+# (bracket 411 against 413, torus 20 against 18). fandisk.off 17.17 since
+# it is sampled at 60 degrees (session 14), with half the balls.
+SKEW_EXACT = {"torus.obj": 5.3, "bracket.obj": 13.4, "fandisk.off": 17.2,
               "fertility.off": 5.2}
 FULL_READBACK = ("torus.obj", "bracket.obj", "fandisk.off")  # fertility: too slow in Python
 
