@@ -221,6 +221,54 @@ static int64_t promote_folds(const vc_features *f, const unsigned char *stuck_tr
     return added;
 }
 
+/* The surface seeds of the balls and the reconstructed surface; VC_EINPUT
+ * (with *unresolved set) when that surface is not a closed, consistently
+ * oriented 2-manifold with the input's Euler characteristic. */
+static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
+                       int *unresolved, vc_error *err)
+{
+    *unresolved = 0;
+    vc_seeds_free(&out->seeds);
+    vc_polysurface_free(&out->surface);
+    out->n_inside_seeds = 0;
+    double t = now();
+    if (vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err) != 0)
+        return named(err, name, NULL);
+    out->n_surface_seeds = out->seeds.n;
+    for (int64_t i = 0; i < out->seeds.n; i++)
+        out->n_inside_seeds += out->seeds.label[i] != 0;
+    out->time.seeds = now() - t;
+
+    t = now();
+    if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface,
+                               &out->n_tjunctions_repaired, err) != 0)
+        return named(err, name, "reconstructing the surface");
+    int rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err);
+    if (rc)
+        return rc;
+    out->time.reconstruct = now() - t;
+    const vc_polysurface_topology *topo = &out->surface_topology;
+    out->surface_closed = !topo->n_boundary_edges && !topo->n_nonmanifold_edges &&
+                          !topo->n_misoriented_edges && !topo->n_nonmanifold_vertices &&
+                          topo->euler == out->input.euler;
+    /* a surface known to be wrong is an error, not a mesh with a warning */
+    if (!out->surface_closed) {
+        *unresolved = 1;
+        return vc_error_set(err, VC_EINPUT,
+                            "the reconstructed surface is not a closed consistently oriented "
+                            "2-manifold with the input's Euler characteristic (%lld boundary, %lld "
+                            "non-manifold and %lld misoriented edges, %lld non-manifold vertices; "
+                            "Euler characteristic %lld, input %lld): the sampling did not resolve "
+                            "the surface; try another --seed or a smaller --max-error",
+                            (long long)topo->n_boundary_edges,
+                            (long long)topo->n_nonmanifold_edges,
+                            (long long)topo->n_misoriented_edges,
+                            (long long)topo->n_nonmanifold_vertices, (long long)topo->euler,
+                            (long long)out->input.euler);
+    }
+    return 0;
+}
+
 /* The sampling, with more attempts when it diverges (resample_plan,
  * promote_folds). Fills out's sampling fields and balls. */
 static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *name,
@@ -284,12 +332,16 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         const double t2 = now();
         vc_balls_free(&out->balls);
+        int unresolved = 0;
         if (vc_sample_surface(sampled, &f, &so, &out->balls, &out->sampling, err) == 0) {
             out->sampling.t_features = t2 - t1;
             out->sharp_angle = so.sharp_angle;
             out->smooth_iterations = smooth;
             out->n_sampled_triangles = sampled->n_triangles;
-            break;
+            rc = reconstruct(opt, name, out, &unresolved, err);
+            if (rc == 0 || !unresolved)
+                break;
+            rc = 0;
         }
         double new_angle = so.sharp_angle;
         int new_smooth = smooth;
@@ -328,7 +380,11 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         const int refused_creases = attempt == 1 && smooth == 0 &&
                                     so.sharp_angle == FOLD_ANGLE &&
                                     !(out->sampling.n_balls_predicted <= (double)so.max_balls);
-        int plan = (out->sampling.diverged || refused_creases) && (!folds || attempt == 0)
+        /* a sampling that converged but whose surface is not the input's
+         * topology (a few pinches sliver elimination and the pinch passes
+         * left) is sampled again as a diverged one is */
+        int plan = (out->sampling.diverged || refused_creases || unresolved) &&
+                           (!folds || attempt == 0)
                        ? resample_plan(s, sampled == s ? &f : NULL, so.sharp_angle,
                                        opt->resample, attempt + 1, &new_angle, &new_smooth,
                                        &n_folds, &n_edges, err)
@@ -582,43 +638,6 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     out->time.lipschitz = out->sampling.t_lipschitz;
     out->time.slivers = out->sampling.t_slivers;
 
-    double t = now();
-    if ((rc = vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err)) != 0) {
-        rc = named(err, name, NULL);
-        goto fail;
-    }
-    out->n_surface_seeds = out->seeds.n;
-    for (int64_t i = 0; i < out->seeds.n; i++)
-        out->n_inside_seeds += out->seeds.label[i] != 0;
-    out->time.seeds = now() - t;
-
-    t = now();
-    if ((rc = vc_reconstruct_surface(&out->seeds, opt.threads, &out->surface,
-                                     &out->n_tjunctions_repaired, err)) != 0) {
-        rc = named(err, name, "reconstructing the surface");
-        goto fail;
-    }
-    if ((rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err)) != 0)
-        goto fail;
-    out->time.reconstruct = now() - t;
-    const vc_polysurface_topology *topo = &out->surface_topology;
-    out->surface_closed = !topo->n_boundary_edges && !topo->n_nonmanifold_edges &&
-                          !topo->n_misoriented_edges && !topo->n_nonmanifold_vertices &&
-                          topo->euler == out->input.euler;
-    /* a surface known to be wrong is an error, not a mesh with a warning */
-    if (!out->surface_closed) {
-        rc = vc_error_set(err, VC_EINPUT,
-                          "%s: the reconstructed surface is not a closed consistently oriented "
-                          "2-manifold with the input's Euler characteristic (%lld boundary, %lld "
-                          "non-manifold and %lld misoriented edges, %lld non-manifold vertices; "
-                          "Euler characteristic %lld, input %lld): the sampling did not resolve "
-                          "the surface; try another --seed or a smaller --max-error",
-                          name, (long long)topo->n_boundary_edges,
-                          (long long)topo->n_nonmanifold_edges, (long long)topo->n_misoriented_edges,
-                          (long long)topo->n_nonmanifold_vertices, (long long)topo->euler,
-                          (long long)out->input.euler);
-        goto fail;
-    }
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = vc_polysurface_volume(&out->surface);
 
