@@ -34,18 +34,6 @@ static double poly_volume(const vc_polysurface *p)
     return v;
 }
 
-static double surface_volume(const vc_surface *s)
-{
-    double v = 0;
-    for (int64_t t = 0; t < s->n_triangles; t++) {
-        const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
-                     *c = s->xyz + 3 * s->tri[3 * t + 2];
-        v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return v;
-}
-
 typedef struct sampled {
     vc_balls balls;
     vc_sampling_stats st;
@@ -86,7 +74,7 @@ static void check_sphere(void)
     vc_features f;
     vc_error err;
     CHECK_MSG(vc_features_detect(&b.s, VC_FEATURES_DEFAULT_SHARP_ANGLE, &f, &err) == 0, err.msg);
-    double v_in = surface_volume(&b.s);
+    double v_in = surface_enclosed_volume(&b.s);
     sampled flat, lifted, lifted1;
     sample(&b.s, &f, 0.01, 0, 2, &flat);
     sample(&b.s, &f, 0.01, 1, 2, &lifted);

@@ -30,6 +30,7 @@
 #include "vorocrust/vorocrust.h"
 
 #include "test_check.h"
+#include "test_surface_util.h"
 #include "test_mpi.h"
 
 typedef struct log_count {
@@ -144,19 +145,6 @@ static void coarse_torus(vc_surface *s, double *xyz, int64_t *tri, int nu, int n
     s->tri = tri;
 }
 
-/* The volume enclosed by the torus' triangles (divergence theorem). */
-static double enclosed(const vc_surface *s)
-{
-    double v = 0;
-    for (int64_t t = 0; t < s->n_triangles; t++) {
-        const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
-                     *c = s->xyz + 3 * s->tri[3 * t + 2];
-        v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return v;
-}
-
 /* The resampling ladder on a 10 x 6 coarse torus (folds of 36 and 60
  * degrees at every edge). Its sampling at 60 degrees converges since
  * session 14 (in 6 passes), within the error bound; no input tried still
@@ -172,7 +160,7 @@ static void check_ladder(void)
     int64_t tri[3 * 120];
     vc_surface torus;
     coarse_torus(&torus, xyz, tri, 10, 6);
-    const double v_in = enclosed(&torus);
+    const double v_in = surface_enclosed_volume(&torus);
     vc_mesh_options o;
     vc_mesh_options_default(&o);
     o.surface_only = 1;

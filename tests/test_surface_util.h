@@ -106,4 +106,17 @@ static inline void make_cube(builder *b)
     add_q(b, v[1], v[3], v[7], v[5]); /* x = 1 */
 }
 
+/* The volume the triangles enclose (divergence theorem). */
+static inline double surface_enclosed_volume(const vc_surface *s)
+{
+    double v = 0;
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                     *c = s->xyz + 3 * s->tri[3 * t + 2];
+        v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+              a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
+    return v;
+}
+
 #endif

@@ -1117,6 +1117,22 @@ static double flip_radius(const vc_balls *B, int64_t p, int64_t q, int64_t o, in
     return lo;
 }
 
+/* The edges of the facets (three per facet, a < b), sorted; NULL when out
+ * of memory. */
+static edge_rec *sorted_edges(const facet_list *fl)
+{
+    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(3 * fl->n + 1));
+    if (!e)
+        return NULL;
+    for (int64_t f = 0; f < fl->n; f++)
+        for (int k = 0; k < 3; k++) {
+            int64_t a = fl->f[f].v[k], b = fl->f[f].v[(k + 1) % 3];
+            e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
+        }
+    qsort(e, (size_t)(3 * fl->n), sizeof(edge_rec), cmp_edge_rec);
+    return e;
+}
+
 /* Shrinks, for every facet (of fl, the current balls' facets) below
  * FLAT_Q among balls of one kind (not corners), whichever of q1 and q2
  * needs the smaller cut, recording the old radii and marking the shrunk
@@ -1125,15 +1141,9 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
                                 unsigned char *shrunk)
 {
     const facet_list fl = *facets;
-    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(3 * fl.n + 1));
+    edge_rec *e = sorted_edges(&fl);
     if (!e)
         return -1;
-    for (int64_t f = 0; f < fl.n; f++)
-        for (int k = 0; k < 3; k++) {
-            int64_t a = fl.f[f].v[k], b = fl.f[f].v[(k + 1) % 3];
-            e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
-        }
-    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
     vc_balls *B = &S->bs.b;
     memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
     int64_t changed = 0;
@@ -1202,6 +1212,19 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
 #define PINCH_SHRINK 0.7
 #define PINCH_PASSES 8
 
+/* Cuts ball q to PINCH_SHRINK of its radius unless it was cut already or
+ * is a corner ball; returns changed plus one when cut, -1 when out of
+ * memory. */
+static int64_t pinch_cut(sampler *S, int64_t q, unsigned char *shrunk, int64_t changed)
+{
+    if (shrunk[q] || S->bs.b.kind[q] == VC_BALL_CORNER)
+        return changed;
+    if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * S->bs.b.radius[q]) || mark_dirty(S, q))
+        return -1;
+    shrunk[q] = 1;
+    return changed + 1;
+}
+
 /* Do the n link edges {b, facet} of one ball (undirected: the facets are
  * not oriented) form a single cycle? Reorders them along the walk. */
 static int one_cycle(edge_rec *l, int64_t n)
@@ -1228,15 +1251,9 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
                               unsigned char *shrunk)
 {
     const facet_list fl = *facets;
-    edge_rec *e = malloc(sizeof(edge_rec) * (size_t)(3 * fl.n + 1));
+    edge_rec *e = sorted_edges(&fl);
     if (!e)
         return -1;
-    for (int64_t f = 0; f < fl.n; f++)
-        for (int k = 0; k < 3; k++) {
-            int64_t a = fl.f[f].v[k], b = fl.f[f].v[(k + 1) % 3];
-            e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
-        }
-    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
     vc_balls *B = &S->bs.b;
     memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
     int64_t changed = 0;
@@ -1246,18 +1263,8 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
             m2++;
         if (m2 - m != 2) {
             const int64_t ends[2] = {e[m].a, e[m].b};
-            for (int k = 0; k < 2; k++) {
-                int64_t q = ends[k];
-                if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
-                    continue;
-                if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * B->radius[q]) ||
-                    mark_dirty(S, q)) {
-                    changed = -1;
-                    break;
-                }
-                shrunk[q] = 1;
-                changed++;
-            }
+            for (int k = 0; k < 2 && changed >= 0; k++)
+                changed = pinch_cut(S, ends[k], shrunk, changed);
         }
         m = m2;
     }
@@ -1272,19 +1279,9 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         while (m2 < 3 * fl.n && e[m2].a == e[m].a)
             m2++;
         if (!one_cycle(e + m, m2 - m)) {
-            for (int64_t k = m; k <= m2 && changed >= 0; k++) {
-                /* the ball and the balls of its link */
-                int64_t q = k == m2 ? e[m].a : e[k].b;
-                if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
-                    continue;
-                if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * B->radius[q]) ||
-                    mark_dirty(S, q)) {
-                    changed = -1;
-                    break;
-                }
-                shrunk[q] = 1;
-                changed++;
-            }
+            /* the ball and the balls of its link */
+            for (int64_t k = m; k <= m2 && changed >= 0; k++)
+                changed = pinch_cut(S, k == m2 ? e[m].a : e[k].b, shrunk, changed);
         }
         m = m2;
     }
