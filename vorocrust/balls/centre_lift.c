@@ -218,7 +218,8 @@ static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *re
         free(c.f);
         return -1;
     }
-    qsort(c.f, (size_t)c.n, sizeof(facet_clear), cmp_facet);
+    if (c.n > 0)
+        qsort(c.f, (size_t)c.n, sizeof(facet_clear), cmp_facet);
     if (ref)
         mark_difference(ref, n_ref, c.f, c.n, bad);
     *out = c.f;

@@ -980,6 +980,8 @@ static int cmp_half(const void *p, const void *q)
 
 static void cut_radii(const vc_balls *b, sliver_ctx *c, unsigned char *cut, double *target)
 {
+    if (c->n_half == 0)
+        return;
     for (int64_t k = 0; k < c->n_half; k++)
         c->half[k].s = 1 - c->half[k].r / b->radius[c->half[k].cover];
     qsort(c->half, (size_t)c->n_half, sizeof(half_rec), cmp_half);
