@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "balls/ball_set.h"
 #include "balls/triplets.h"
@@ -230,9 +231,17 @@ static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *re
     return n_bad;
 }
 
-int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
-                    int threads, vc_lift_result *res)
+static double seconds(void)
 {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
+                    int threads, const vc_logger *log, vc_lift_result *res)
+{
+    const double t0 = seconds();
     memset(res, 0, sizeof *res);
     const int64_t n = b->n;
     if (n == 0 || n_facets == 0)
@@ -300,6 +309,9 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
             goto done;
         }
         res->rounds = round;
+        if (seconds() - t0 >= 2.0)
+            vc_log(log, VC_LOG_INFO, "mesh: centre lift, check %d: %lld balls to reduce, %.0f s",
+                   round, (long long)n_bad, seconds() - t0);
         if (n_bad == 0) {
             double sum = 0, mx = 0;
             for (int64_t i = 0; i < n; i++) {

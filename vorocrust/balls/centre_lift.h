@@ -27,6 +27,7 @@
 
 #include <stdint.h>
 #include "sizing/sizing.h"
+#include "vorocrust/log.h"
 #include "vorocrust/sampling.h"
 
 typedef struct vc_lift_result {
@@ -41,9 +42,10 @@ typedef struct vc_lift_result {
 /* Moves the centres of b's surface balls as described above. facet_v holds
  * the facets, 3 ball indices each, as sliver elimination left them (no
  * half-covered pair); z is the sizing of the input (its elements and
- * normals). Same result for any thread count. Returns 0, or -1 when out of
- * memory (b unchanged). */
+ * normals). Same result for any thread count. A progress line per check
+ * on log (VC_LOG_INFO) once the lift has run 2 s. Returns 0, or -1 when
+ * out of memory (b unchanged). */
 int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
-                    int threads, vc_lift_result *res);
+                    int threads, const vc_logger *log, vc_lift_result *res);
 
 #endif

@@ -1650,7 +1650,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (!rc && !diverged && opt->lift_centres && st->n_half_covered == 0 && facets.n > 0) {
         double tl = now();
         vc_lift_result lr;
-        rc = vc_lift_centres(&S.bs.b, &facets.f[0].v[0], facets.n, &S.z, S.opt.threads, &lr);
+        rc = vc_lift_centres(&S.bs.b, &facets.f[0].v[0], facets.n, &S.z, S.opt.threads, opt->log,
+                             &lr);
         st->t_lift = now() - tl;
         st->n_lifted = lr.n_lifted;
         st->n_lift_reduced = lr.n_reduced;

@@ -11,7 +11,7 @@
 
 /* A point placed on a sphere is inside another ball only when it is inside
  * by more than this fraction of the radius: the shrinking in sliver
- * elimination leaves points 1e-7 outside, well clear of it. */
+ * elimination leaves points 1% of their distance outside, well clear of it. */
 #define INSIDE_MARGIN 1e-9
 
 int vc_sphere_triple_points(const double *ca, double ra, const double *cb, double rb,
