@@ -200,6 +200,29 @@ int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, 
     return i;
 }
 
+int vc_ball_set_build(vc_ball_set *bs, const vc_balls *b, const double *xyz)
+{
+    if (!xyz)
+        xyz = b->center;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < b->n; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], xyz[3 * i + d] - b->radius[i]);
+            hi[d] = fmax(hi[d], xyz[3 * i + d] + b->radius[i]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (vc_ball_set_init(bs, lo, diag))
+        return -1;
+    for (int64_t i = 0; i < b->n; i++)
+        if (vc_ball_set_add(bs, xyz + 3 * i, b->radius[i], b->kind[i], b->element[i],
+                            b->normal + 3 * i) < 0) {
+            vc_ball_set_free(bs);
+            return -1;
+        }
+    return 0;
+}
+
 void vc_ball_set_forget_changes(vc_ball_set *bs)
 {
     if (bs->n_changed > 0)

@@ -46,6 +46,11 @@ void vc_ball_set_free(vc_ball_set *bs);
 int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, int64_t element,
                         const double normal[3]);
 
+/* A new set holding copies of the balls of b, with their centres at xyz
+ * (b's own when NULL), over their bounding box. Returns 0, or -1 when out
+ * of memory (nothing to free then). */
+int vc_ball_set_build(vc_ball_set *bs, const vc_balls *b, const double *xyz);
+
 /* Sets the radius of ball i (re-indexing it when its level changes). */
 int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
 

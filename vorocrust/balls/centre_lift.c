@@ -194,23 +194,9 @@ static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *re
 {
     *out = NULL;
     *n_out = 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t i = 0; i < b->n; i++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], xyz[3 * i + d] - b->radius[i]);
-            hi[d] = fmax(hi[d], xyz[3 * i + d] + b->radius[i]);
-        }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
     vc_ball_set bs;
-    if (vc_ball_set_init(&bs, lo, diag))
+    if (vc_ball_set_build(&bs, b, xyz))
         return -1;
-    for (int64_t i = 0; i < b->n; i++)
-        if (vc_ball_set_add(&bs, xyz + 3 * i, b->radius[i], b->kind[i], b->element[i],
-                            b->normal + 3 * i) < 0) {
-            vc_ball_set_free(&bs);
-            return -1;
-        }
     memset(bad, 0, (size_t)b->n);
     check_ctx c = {NULL, 0, 0, bad, 0};
     int rc = vc_triplets_scan_all(&bs, threads, on_triplet, &c);

@@ -1504,9 +1504,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                (long long)S.bs.b.n);
     const int64_t n_first = S.bs.b.n;
     int diverged = 0, rising = 0;
-    int64_t prev_half = INT64_MAX;
-    int64_t last_half = -1;
-    /* the pairs one and two passes ago, the balls then and added then */
+    /* the pairs one and two passes ago (valid from pass 2 and 3), the
+     * balls after the last pass and the balls it added */
     int64_t half_1 = 0, half_2 = 0, balls_1 = n_first, added_1 = 0;
     double where[3] = {0, 0, 0};
 
@@ -1594,8 +1593,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
          * does not converge (folds sharper than the smoothness the sampling
          * needs, but below theta_sharp): stop with an explanation rather
          * than run on. */
-        rising = last_half >= 0 && n_half > last_half ? rising + 1 : 0;
-        last_half = n_half;
+        rising = iter >= 2 && n_half > half_1 ? rising + 1 : 0;
         /* Two rising passes with a fifth of the balls in half-covered
          * pairs: the whole surface bends too much at the scale of the
          * balls (a coarse tessellation of a curved shape), no need to wait
@@ -1614,10 +1612,6 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         const int64_t added = S.bs.b.n - balls_1;
         int stalled = S.bs.b.n > 2 * n_first + 1000 && added >= added_1 && 10 * added >= S.bs.b.n &&
                       ((iter == 2 && n_half > half_1) || (iter >= 3 && 10 * n_half > 7 * half_2));
-        half_2 = half_1;
-        half_1 = n_half;
-        added_1 = added;
-        balls_1 = S.bs.b.n;
         if (stalled || rising >= 4 || (rising >= 2 && 5 * n_half > S.bs.b.n) ||
             S.bs.b.n > 8 * n_first + 1000) {
             diverged = 1;
@@ -1627,14 +1621,17 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
          * halving per pass once the balls have doubled, if they are stuck
          * at a fold the caller can make a crease. */
         if (opt->fold_stop_angle > 0 && opt->stuck_tri && iter >= 2 && n_half > 0 &&
-            2 * n_half > prev_half && S.bs.b.n > 2 * n_first) {
+            2 * n_half > half_1 && S.bs.b.n > 2 * n_first) {
             mark_stuck(&S, shrunk, old_r, opt->stuck_tri);
             if (stuck_at_fold(&S, opt->stuck_tri, cos(opt->fold_stop_angle * 3.14159265358979323846 / 180.0))) {
                 diverged = 1;
                 break;
             }
         }
-        prev_half = n_half;
+        half_2 = half_1;
+        half_1 = n_half;
+        added_1 = added;
+        balls_1 = S.bs.b.n;
         if (iter == opt->max_sliver_iterations && !st->safe_mode) {
             st->safe_mode = 1;
             S.alpha = opt->alpha / 2;

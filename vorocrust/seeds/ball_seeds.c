@@ -94,23 +94,9 @@ int vc_balls_seeds(const vc_balls *b, vc_seeds *out, int64_t *n_half_covered, vc
     memset(out, 0, sizeof *out);
     if (b->n == 0)
         return vc_error_set(err, VC_EINPUT, "no balls");
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t i = 0; i < b->n; i++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], b->center[3 * i + d] - b->radius[i]);
-            hi[d] = fmax(hi[d], b->center[3 * i + d] + b->radius[i]);
-        }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
     vc_ball_set bs;
-    if (vc_ball_set_init(&bs, lo, diag))
+    if (vc_ball_set_build(&bs, b, NULL))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the seeds");
-    for (int64_t i = 0; i < b->n; i++)
-        if (vc_ball_set_add(&bs, b->center + 3 * i, b->radius[i], b->kind[i], b->element[i],
-                            b->normal + 3 * i) < 0) {
-            vc_ball_set_free(&bs);
-            return vc_error_set(err, VC_ENOMEM, "out of memory for the seeds");
-        }
     seed_acc a = {&bs.b, NULL, NULL, NULL, 0, 0, 0, 0};
     int rc = vc_triplets_scan(&bs, on_triplet, &a);
     if (rc || a.oom) {
