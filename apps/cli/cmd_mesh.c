@@ -21,7 +21,7 @@
  * default: checkMesh fails above 4, and a margin keeps versions of OpenFOAM
  * that round differently on the right side. */
 #define FOAM_DEFAULT_MAX_SKEW 3.5
-#define FOAM_COLLAPSE_ROUNDS 20
+#define FOAM_COLLAPSE_ROUNDS 60
 
 static void usage(FILE *f)
 {

@@ -117,6 +117,11 @@ typedef struct sampler {
     double *tri_on_smooth; /* 19 per triangle: its corners on S', S's normals there, and
                               1 when some corner is in the blend into the input */
     double t_start, t_logged;
+    /* While sampling again after balls shrank: those balls at their old
+     * radii. Everything outside them was covered before and still is
+     * (balls only grow in number and shrink), so a subface that misses
+     * all of them needs no test and no darts. NULL in the first coverage. */
+    const vc_ball_set *lost;
 } sampler;
 
 static int mark_dirty(sampler *S, int64_t i)
@@ -316,6 +321,39 @@ static int on_seam(const sampler *S, const subface *sf, const subface_on_smooth 
            (in < SEAM_SIZE * S->ss.width && out > SEAM_STRETCH * in);
 }
 
+typedef struct lost_ctx {
+    const vc_balls *b;
+    const double *c;
+    double reach;
+} lost_ctx;
+
+static int meets_lost(void *ctx, int64_t i)
+{
+    const lost_ctx *l = ctx;
+    return dist(l->b->center + 3 * i, l->c) < l->b->radius[i] + l->reach;
+}
+
+/* Can the subface hold a point only a lost ball covered? A conservative
+ * test: the ball around the corners' centroid through the farthest corner
+ * (plus the margin of interpolated corners) meets a lost ball. */
+static int in_lost_region(const sampler *S, const subface *sf, const subface_on_smooth *sg, int nv)
+{
+    if (!S->lost)
+        return 1;
+    const double *v = sg ? sg->p : sf->v;
+    double c[3] = {0, 0, 0};
+    for (int m = 0; m < nv; m++)
+        for (int d = 0; d < 3; d++)
+            c[d] += v[3 * m + d] / nv;
+    double reach = 0;
+    for (int m = 0; m < nv; m++)
+        reach = fmax(reach, dist(c, v + 3 * m));
+    if (sg && sg->interpolated)
+        reach += sg->sag;
+    lost_ctx l = {&S->lost->b, c, reach};
+    return vc_ball_set_query(S->lost, c, reach, 1.0, 0.0, meets_lost, &l);
+}
+
 /* Keeps the subfaces of P from index `from` on that no single ball
  * covers, in their order. The tests only read the balls, so they run in
  * parallel in chunks of neighbouring subfaces (each chunk with its own
@@ -340,6 +378,7 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
             if (g)
                 project_corners(S, &f[i], &g[i]);
             keep[i] = !(g && on_seam(S, &f[i], &g[i])) &&
+                      in_lost_region(S, &f[i], g ? &g[i] : NULL, nv) &&
                       !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
         }
     }
@@ -800,10 +839,44 @@ static int resample_around(sampler *S, const double *old_r, const unsigned char 
         return -1;
     }
     near_ctx nc = {me, mt};
+    vc_balls was;
+    memset(&was, 0, sizeof was);
     for (int64_t i = 0; i < S->bs.b.n; i++)
-        if (shrunk[i])
+        if (shrunk[i]) {
             vc_sizing_elements_near(&S->z, S->bs.b.center + 3 * i, old_r[i], mark_near, &nc);
-    int rc = sample_strata(S, me, mt);
+            was.n++;
+        }
+    if (was.n == 0) {
+        free(me);
+        free(mt);
+        return 0;
+    }
+    /* the shrunk balls at their old radii (see sampler.lost) */
+    was.center = malloc(sizeof(double) * 3 * (size_t)(was.n + 1));
+    was.normal = malloc(sizeof(double) * 3 * (size_t)(was.n + 1));
+    was.radius = malloc(sizeof(double) * (size_t)(was.n + 1));
+    was.kind = malloc((size_t)(was.n + 1));
+    was.element = malloc(sizeof(int64_t) * (size_t)(was.n + 1));
+    vc_ball_set lost;
+    int rc = -1;
+    if (was.center && was.normal && was.radius && was.kind && was.element) {
+        int64_t m = 0;
+        for (int64_t i = 0; i < S->bs.b.n; i++)
+            if (shrunk[i]) {
+                memcpy(was.center + 3 * m, S->bs.b.center + 3 * i, sizeof(double) * 3);
+                memcpy(was.normal + 3 * m, S->bs.b.normal + 3 * i, sizeof(double) * 3);
+                was.radius[m] = old_r[i];
+                was.kind[m] = S->bs.b.kind[i];
+                was.element[m++] = S->bs.b.element[i];
+            }
+        if (vc_ball_set_build(&lost, &was, NULL) == 0) {
+            S->lost = &lost;
+            rc = sample_strata(S, me, mt);
+            S->lost = NULL;
+            vc_ball_set_free(&lost);
+        }
+    }
+    vc_balls_free(&was);
     free(me);
     free(mt);
     return rc;

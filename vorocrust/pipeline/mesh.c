@@ -13,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "boundary_surface.h"
 #include "mesh_measures.h"
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
@@ -221,15 +222,23 @@ static int64_t promote_folds(const vc_features *f, const unsigned char *stuck_tr
     return added;
 }
 
-/* The surface seeds of the balls and the reconstructed surface; VC_EINPUT
- * (with *unresolved set) when that surface is not a closed, consistently
- * oriented 2-manifold with the input's Euler characteristic. */
+static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
+                       vc_error *err);
+
+/* The surface seeds of the balls, the volume mesh unless opt->surface_only,
+ * and the reconstructed surface: the volume mesh's boundary, or with
+ * surface_only the Voronoi facets between inside and outside surface
+ * seeds. VC_EINPUT (with *unresolved set) when that surface is not a
+ * closed, consistently oriented 2-manifold with the input's Euler
+ * characteristic. */
 static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
                        int *unresolved, vc_error *err)
 {
     *unresolved = 0;
     vc_seeds_free(&out->seeds);
     vc_polysurface_free(&out->surface);
+    vc_polymesh_free(&out->mesh);
+    out->has_mesh = 0;
     out->n_inside_seeds = 0;
     double t = now();
     if (vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err) != 0)
@@ -239,11 +248,24 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_res
         out->n_inside_seeds += out->seeds.label[i] != 0;
     out->time.seeds = now() - t;
 
-    t = now();
-    if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface,
-                               &out->n_tjunctions_repaired, err) != 0)
-        return named(err, name, "reconstructing the surface");
-    int rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err);
+    int rc;
+    if (opt->surface_only) {
+        t = now();
+        if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface,
+                                   &out->n_tjunctions_repaired, err) != 0)
+            return named(err, name, "reconstructing the surface");
+    } else {
+        /* The volume mesh holds the surface as its boundary faces: one
+         * Voronoi computation instead of two, and the surface checked is
+         * the one the cells bound (interior seeds included). */
+        if ((rc = volume_mesh(opt, name, out, err)) != 0)
+            return rc;
+        t = now();
+        out->n_tjunctions_repaired = 0;
+        if (vc_polymesh_boundary_surface(&out->mesh, &out->surface))
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+    }
+    rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err);
     if (rc)
         return rc;
     out->time.reconstruct = now() - t;
@@ -640,9 +662,6 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
 
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = vc_polysurface_volume(&out->surface);
-
-    if (!opt.surface_only && (rc = volume_mesh(&opt, name, out, err)) != 0)
-        goto fail;
     out->time.total = now() - t0;
     vc_surface_free(&oriented);
     return 0;
