@@ -247,6 +247,23 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
     return level_push(bs, l, i);
 }
 
+int vc_ball_set_move(vc_ball_set *bs, int64_t i, const double c[3])
+{
+    double *p = bs->b.center + 3 * i;
+    const double d = sqrt((c[0] - p[0]) * (c[0] - p[0]) + (c[1] - p[1]) * (c[1] - p[1]) +
+                          (c[2] - p[2]) * (c[2] - p[2]));
+    if (!(bs->changed_reach[i] > 0))
+        bs->n_changed++;
+    /* what it reached before lies within its radius plus the move of
+     * where it is now */
+    bs->changed_reach[i] = fmax(bs->changed_reach[i], bs->b.radius[i] + d);
+    unlink_ball(bs, i);
+    memcpy(p, c, sizeof(double) * 3);
+    set_key(bs, i);
+    link_ball(bs, i);
+    return 0;
+}
+
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                       double radius_factor, double min_radius, int (*fn)(void *ctx, int64_t i),
                       void *ctx)

@@ -54,6 +54,10 @@ int vc_ball_set_build(vc_ball_set *bs, const vc_balls *b, const double *xyz);
 /* Sets the radius of ball i (re-indexing it when its level changes). */
 int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r);
 
+/* Moves ball i's centre to c (marked changed, with the reach of where it
+ * was). Returns 0. */
+int vc_ball_set_move(vc_ball_set *bs, int64_t i, const double c[3]);
+
 /* Marks every ball unchanged (see changed_reach). */
 void vc_ball_set_forget_changes(vc_ball_set *bs);
 

@@ -185,22 +185,39 @@ static void mark_difference(const facet_clear *a, int64_t na, const facet_clear 
     }
 }
 
-/* Scans the balls with centres xyz: their facets, sorted, into *out (the
- * caller frees it); bad marks the balls of half-covered pairs and, when ref
+/* The facets of the set bs as it is now, sorted, into *got (replacing
+ * what it held), and in bad the balls of half-covered pairs and, when ref
  * is not NULL, of the facets that differ from ref's (mark_difference).
+ * full: every triplet; otherwise only those around the balls moved since
+ * the last scan, the facets of the other balls kept from *got (scanned:
+ * n bytes of scratch). A half-covered pair is always around a moved ball:
+ * the balls of the last check's pairs all move, and with all four balls
+ * of a pair where they were sampled it is not half covered.
  * Returns the number of balls marked, or -1 when out of memory. */
-static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *ref, int64_t n_ref,
-                     int threads, unsigned char *bad, facet_clear **out, int64_t *n_out)
+static int64_t check(vc_ball_set *bs, int full, const facet_clear *ref, int64_t n_ref,
+                     int threads, unsigned char *bad, unsigned char *scanned, facet_clear **got,
+                     int64_t *n_got)
 {
-    *out = NULL;
-    *n_out = 0;
-    vc_ball_set bs;
-    if (vc_ball_set_build(&bs, b, xyz))
-        return -1;
-    memset(bad, 0, (size_t)b->n);
+    const int64_t n = bs->b.n;
+    memset(bad, 0, (size_t)n);
     check_ctx c = {NULL, 0, 0, bad, 0};
-    int rc = vc_triplets_scan_all(&bs, threads, on_triplet, &c);
-    vc_ball_set_free(&bs);
+    int rc = full ? vc_triplets_scan_all(bs, threads, on_triplet, &c)
+                  : vc_triplets_scan_changed(bs, threads, on_triplet, &c, scanned);
+    if (!rc && !c.oom && !full) {
+        /* a facet is found from its smallest ball */
+        int64_t keep = 0;
+        for (int64_t q = 0; q < *n_got; q++)
+            keep += !scanned[(*got)[q].v[0]];
+        facet_clear *f = realloc(c.f, sizeof(facet_clear) * (size_t)(c.n + keep + 1));
+        if (!f)
+            c.oom = 1;
+        else {
+            c.f = f;
+            for (int64_t q = 0; q < *n_got; q++)
+                if (!scanned[(*got)[q].v[0]])
+                    c.f[c.n++] = (*got)[q];
+        }
+    }
     if (rc || c.oom) {
         free(c.f);
         return -1;
@@ -209,10 +226,11 @@ static int64_t check(const vc_balls *b, const double *xyz, const facet_clear *re
         qsort(c.f, (size_t)c.n, sizeof(facet_clear), cmp_facet);
     if (ref)
         mark_difference(ref, n_ref, c.f, c.n, bad);
-    *out = c.f;
-    *n_out = c.n;
+    free(*got);
+    *got = c.f;
+    *n_got = c.n;
     int64_t n_bad = 0;
-    for (int64_t i = 0; i < b->n; i++)
+    for (int64_t i = 0; i < n; i++)
         n_bad += bad[i];
     return n_bad;
 }
@@ -240,10 +258,13 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
     double *xyz = malloc(sizeof(double) * 3 * (size_t)n);
     unsigned char *bad = malloc((size_t)n);
     unsigned char *strikes = calloc((size_t)n, 1);
+    unsigned char *scanned = malloc((size_t)n);
+    vc_ball_set bs;
+    int have_set = 0;
     facet_clear *ref = NULL, *got = NULL;
     int64_t n_ref = 0, n_got = 0;
     int rc = 0;
-    if (!fn || !fok || !acc || !lift || !xyz || !bad || !strikes) {
+    if (!fn || !fok || !acc || !lift || !xyz || !bad || !strikes || !scanned) {
         rc = -1;
         goto done;
     }
@@ -280,16 +301,24 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
     }
 
     /* the facets as sampled, with their seeds' clearances */
-    if (check(b, b->center, NULL, 0, threads, bad, &ref, &n_ref) < 0) {
+    if (vc_ball_set_build(&bs, b, NULL)) {
+        rc = -1;
+        goto done;
+    }
+    have_set = 1;
+    if (check(&bs, 1, NULL, 0, threads, bad, scanned, &ref, &n_ref) < 0) {
         rc = -1;
         goto done;
     }
     for (int round = 1; round <= MAX_ROUNDS; round++) {
         for (int64_t i = 0; i < 3 * n; i++)
             xyz[i] = b->center[i] + lift[i];
-        free(got);
-        got = NULL;
-        int64_t n_bad = check(b, xyz, ref, n_ref, threads, bad, &got, &n_got);
+        /* every ball moves for the first check; later only those whose
+         * lift changed, and the check looks only around them */
+        for (int64_t i = 0; i < n; i++)
+            if (memcmp(xyz + 3 * i, bs.b.center + 3 * i, sizeof(double) * 3) != 0)
+                vc_ball_set_move(&bs, i, xyz + 3 * i);
+        int64_t n_bad = check(&bs, round == 1, ref, n_ref, threads, bad, scanned, &got, &n_got);
         if (n_bad < 0) {
             rc = -1;
             goto done;
@@ -359,6 +388,9 @@ done:
     free(xyz);
     free(bad);
     free(strikes);
+    free(scanned);
+    if (have_set)
+        vc_ball_set_free(&bs);
     free(ref);
     free(got);
     return rc;

@@ -1091,7 +1091,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     }
     memcpy(target, b->radius, sizeof(double) * (size_t)n);
     if ((all ? vc_triplets_scan_all(&S->bs, S->opt.threads, on_triplet, &c)
-             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c)) ||
+             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c, NULL)) ||
         facets->oom || c.oom) {
         free(target);
         free(cut);

@@ -278,7 +278,8 @@ int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_tripl
 }
 
 int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
-                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx)
+                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx,
+                             unsigned char *scanned)
 {
     const vc_balls *b = &bs->b;
     unsigned char *mark = NULL;
@@ -295,6 +296,12 @@ int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
         }
     }
     vc_ball_set_forget_changes(bs);
+    if (scanned) {
+        if (mark)
+            memcpy(scanned, mark, (size_t)b->n);
+        else
+            memset(scanned, 1, (size_t)b->n);
+    }
     int rc = scan(bs, mark, threads, fn, ctx);
     free(mark);
     return rc;

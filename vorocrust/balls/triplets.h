@@ -37,12 +37,16 @@ int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_tripl
                      void *ctx);
 
 /* The same for the triplets that may have changed since the last call:
- * those of every ball that was added or resized (changed_reach) or that
- * reaches such a ball, computed on threads threads (<= 0: OpenMP's
+ * those of every ball that was added, resized or moved (changed_reach) or
+ * that reaches such a ball, computed on threads threads (<= 0: OpenMP's
  * default) and handed to fn in the same order for any thread count. Marks
- * the set unchanged. With most balls changed, every triplet. */
+ * the set unchanged. With most balls changed, every triplet. A triplet is
+ * handed over when its smallest ball i is scanned; scanned (n bytes, or
+ * NULL) gets 1 for the balls scanned: every triplet of theirs whose
+ * smallest ball they are was handed over, the others are as before. */
 int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
-                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx);
+                             void (*fn)(void *ctx, const vc_triplet *t), void *ctx,
+                             unsigned char *scanned);
 
 /* Every triplet, as vc_triplets_scan, on threads threads; marks the set
  * unchanged. */

@@ -511,7 +511,7 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_res
     }
     /* per-cell fatness goes into the .vtu as well */
     m->cell_fatness = malloc(sizeof(double) * (size_t)(m->n_cells ? m->n_cells : 1));
-    if (!m->cell_fatness || vc_cell_quality_compute(m, &out->cell_quality, m->cell_fatness))
+    if (!m->cell_fatness || vc_cell_quality_compute(m, &out->cell_quality, m->cell_fatness, opt->threads))
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory measuring the cells", name);
     out->time.quality = now() - t;
     return 0;

@@ -13,7 +13,9 @@ void vc_surface_quality_compute(const vc_polysurface *p, vc_surface_quality *q);
 double vc_polysurface_volume(const vc_polysurface *p);
 
 /* Cell quality of m; fatness (n_cells values, NaN where a cell cannot be
- * measured) may be NULL. Returns 0 or VC_ENOMEM. */
-int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fatness);
+ * measured) may be NULL. threads <= 0: OpenMP's default. The same figures
+ * for any thread count. Returns 0 or VC_ENOMEM. */
+int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fatness,
+                            int threads);
 
 #endif
