@@ -1,6 +1,6 @@
 /* Interior seeds on a cubic lattice (see include/vorocrust/interior.h).
  * The nearest surface seed of a lattice point is found through the Voronoi
- * engine's grid of seed bins (nearest_seed.h), the balls holding it through
+ * engine's k-d tree of seeds (nearest_seed.h), the balls holding it through
  * the octree's k-d tree over the balls (ball_tree.h). */
 #include "vorocrust/interior.h"
 
@@ -46,12 +46,12 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
         return vc_error_set(err, VC_EPARAM, "interior spacing %g makes %.3g lattice points", spacing,
                             count);
     vc_ball_tree tree;
-    vc_seed_grid g;
+    vc_seed_kdtree g;
     memset(&tree, 0, sizeof tree);
     memset(&g, 0, sizeof g);
-    if (vc_ball_tree_build(&tree, balls) || vc_nearest_seed_grid_build(&g, ss)) {
+    if (vc_ball_tree_build(&tree, balls) || vc_nearest_seed_index_build(&g, ss)) {
         vc_ball_tree_free(&tree);
-        vc_seed_grid_free(&g);
+        vc_seed_kdtree_free(&g);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the interior seeds");
     }
     int rc = 0;
@@ -85,7 +85,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 np++;
             }
     vc_ball_tree_free(&tree);
-    vc_seed_grid_free(&g);
+    vc_seed_kdtree_free(&g);
     if (!rc && vc_seeds_alloc(out, ss->n + np, err) == 0) {
         memcpy(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n);
         memcpy(out->label, ss->label, sizeof(int32_t) * (size_t)ss->n);

@@ -38,12 +38,12 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
     if (iterations == 0 || n_surface == seeds->n)
         return 0;
     vc_ball_tree tree;
-    vc_seed_grid grid;
+    vc_seed_kdtree grid;
     memset(&grid, 0, sizeof grid);
     vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
     if (vc_ball_tree_build(&tree, balls))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
-    if (vc_nearest_seed_grid_build(&grid, &surface)) {
+    if (vc_nearest_seed_index_build(&grid, &surface)) {
         vc_ball_tree_free(&tree);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the Lloyd relaxation");
     }
@@ -153,7 +153,7 @@ done:
     free(pinned);
     free(cell_of);
     vc_ball_tree_free(&tree);
-    vc_seed_grid_free(&grid);
+    vc_seed_kdtree_free(&grid);
     st.seconds = now() - t0;
     if (stats)
         *stats = st;

@@ -152,11 +152,11 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     g.diagonal_factor = opt->diagonal_factor;
     g.cap = opt->max_size > 0 ? opt->max_size : INFINITY;
     vc_ball_tree tree;
-    vc_seed_grid grid;
+    vc_seed_kdtree grid;
     memset(&grid, 0, sizeof grid);
     if (vc_ball_tree_build(&tree, balls))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the octree interior");
-    if (vc_nearest_seed_grid_build(&grid, ss)) {
+    if (vc_nearest_seed_index_build(&grid, ss)) {
         vc_ball_tree_free(&tree);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the octree interior");
     }
@@ -273,7 +273,7 @@ done:
     free(level);
     free(verdict);
     vc_ball_tree_free(&tree);
-    vc_seed_grid_free(&grid);
+    vc_seed_kdtree_free(&grid);
     st.seconds = now() - t0;
     if (stats)
         *stats = st;

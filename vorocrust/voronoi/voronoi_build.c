@@ -17,6 +17,7 @@
 #include "cell_result.h"
 #include "convex_cell.h"
 #include "seed_grid.h"
+#include "seed_kdtree.h"
 #include "polymesh/repair.h"
 #include "util/threads.h"
 
@@ -58,9 +59,11 @@ enum {
 
 typedef struct cell_job {
     const vc_seed_grid *grid;
+    const vc_seed_kdtree *tree;
     double box_lo[3], box_hi[3];
     double dup_dist2;
     double slack; /* rounding allowance on bin boxes (absolute) */
+    const double *seed_xyz; /* the seeds' coordinates, by seed index */
 } cell_job;
 
 /* Beyond the first shell of bins, a seed t (at p relative to the seed) can
@@ -451,6 +454,68 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     return CELL_OK;
 }
 
+/* Neighbours asked of the tree at first; doubled while the cell can still
+ * reach beyond the last one (about 15 of them cut an ordinary cell), up to
+ * KNN_MAX: a cell that still reaches farther (on the hull of the seeds,
+ * open to the clipping box) is built by the grid's rings instead, which
+ * prune the far bins by the vertices' clearance balls. */
+#define KNN_FIRST 48
+#define KNN_MAX 256
+
+/* Does the cell still reach the clipping box (a wall plane in a vertex)? */
+static int on_box(const vc_convex_cell *cell)
+{
+    for (int i = 0; i < 3 * cell->nt; i++)
+        if (cell->plane_id[cell->tri[i]] < 0)
+            return 1;
+    return 0;
+}
+
+/* Builds the cell of seed s (at xs) into cell; returns CELL_*. Its
+ * neighbours are cut nearest first (from the k-d tree), until the next
+ * one is farther than twice the cell's radius: no seed beyond can cut. */
+static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *hit_buf,
+                            vc_cell_buf *cand_buf, prune *pr, int64_t s, const double *xs,
+                            double tol, int64_t *other)
+{
+    double lo[3], hi[3];
+    const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
+                              VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
+    for (int d = 0; d < 3; d++) {
+        lo[d] = job->box_lo[d] - xs[d];
+        hi[d] = job->box_hi[d] - xs[d];
+    }
+    if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
+        return CELL_NOMEM;
+    const vc_seed_kdtree *t = job->tree;
+    int done = 0;
+    for (int k = KNN_FIRST;; k *= 2) {
+        if (hit_buf->cap < k) {
+            void *q = realloc(hit_buf->data, sizeof(vc_kd_hit) * (size_t)k);
+            if (!q)
+                return CELL_NOMEM;
+            hit_buf->data = q;
+            hit_buf->cap = k;
+        }
+        vc_kd_hit *hit = hit_buf->data;
+        const int got = vc_seed_kdtree_knn(t, xs, k, s, hit);
+        for (int m = done; m < got; m++) {
+            if (!may_cut(cell, hit[m].d2))
+                return CELL_OK; /* the rest are farther still */
+            const double *xt = job->seed_xyz + 3 * hit[m].seed;
+            double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
+            int r = cut_with_seed(job, cell, pr, hit[m].seed, p, hit[m].d2, tol, other);
+            if (r != CELL_OK)
+                return r;
+        }
+        if (got < k || (got > 0 && !may_cut(cell, hit[got - 1].d2)))
+            return CELL_OK;
+        if ((2 * k > KNN_MAX || on_box(cell)))
+            return compute_cell(job, cell, cand_buf, pr, s, xs, tol, other);
+        done = got;
+    }
+}
+
 /* The finished cells of one chunk of the build order are appended to two
  * per-thread scratch buffers (coordinates; planes and face lists), then
  * copied into one exact-size block each: few allocations, in the spatial
@@ -536,6 +601,8 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
 /* About 3 seeds per bin: measured fastest on uniform random seeds (1 and 5
  * are 5 to 15% slower). */
 #define SEEDS_PER_BIN 3.0
+/* bins this many times SEEDS_PER_BIN full where the seeds are: the tree */
+#define CROWDED_BINS 4.0
 
 /* Passes over a mesh whose stitching met a degeneracy (a dropped face or
  * a T-junction), in this order (see polymesh.h):
@@ -692,6 +759,28 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, SEEDS_PER_BIN) != 0)
         return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
     job.grid = &grid;
+    job.seed_xyz = seeds->xyz;
+    /* How crowded the bins are where the seeds are: the mean count of the
+     * bin of a seed (sum of squared counts over the seeds). Near
+     * SEEDS_PER_BIN + 1 for evenly spread seeds; VoroCrust's seeds crowd
+     * the bins along the surface (bunny.off: 70), where every cell would
+     * read the seeds of 27 such bins: then the k-d tree. */
+    double crowd = 0;
+    {
+        const int64_t nb = (int64_t)grid.n[0] * grid.n[1] * grid.n[2];
+        for (int64_t b = 0; b < nb; b++) {
+            const double c = (double)(grid.bin_start[b + 1] - grid.bin_start[b]);
+            crowd += c * c;
+        }
+        crowd /= (double)n;
+    }
+    vc_seed_kdtree tree;
+    memset(&tree, 0, sizeof tree);
+    if (crowd > CROWDED_BINS * SEEDS_PER_BIN && vc_seed_kdtree_build(&tree, seeds->xyz, n) != 0) {
+        vc_seed_grid_free(&grid);
+        return vc_error_set(err, VC_ENOMEM, "out of memory indexing %lld seeds", (long long)n);
+    }
+    job.tree = tree.n > 0 ? &tree : NULL;
 
     int64_t *kept_seed = malloc((size_t)n_kept * sizeof(int64_t));
     /* Every entry is written before it is read (status for every cell,
@@ -723,6 +812,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         free(kept_index);
         free(build_pos);
         vc_seed_grid_free(&grid);
+        vc_seed_kdtree_free(&tree);
         return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
     }
     vc_seed_grid_bin_order(&grid, bin_order);
@@ -755,7 +845,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     {
         vc_convex_cell cell;
         vc_convex_cell_init(&cell);
-        vc_cell_buf cand_buf = {NULL, 0};
+        vc_cell_buf cand_buf = {NULL, 0}, hit_buf = {NULL, 0};
         prune pr;
         memset(&pr, 0, sizeof pr);
         byte_buf coord = {NULL, 0, 0}, topo = {NULL, 0, 0};
@@ -773,7 +863,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                  * with a coarser tolerance before giving up. */
                 for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
                      tol *= 100) {
-                    r = compute_cell(&job, &cell, &cand_buf, &pr, s, xs, tol, &other[k]);
+                    r = job.tree ? compute_cell_knn(&job, &cell, &hit_buf, &cand_buf, &pr, s, xs,
+                                                    tol, &other[k])
+                                 : compute_cell(&job, &cell, &cand_buf, &pr, s, xs, tol, &other[k]);
                     if (r == CELL_OK) {
                         int fr = vc_convex_cell_faces(&cell);
                         r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
@@ -825,11 +917,13 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         }
         vc_convex_cell_free(&cell);
         free(cand_buf.data);
+        free(hit_buf.data);
         free(pr.ball.data);
         free(coord.data);
         free(topo.data);
     }
     vc_seed_grid_free(&grid); /* not needed by the stitching */
+    vc_seed_kdtree_free(&tree);
     free(build_pos);
 
     int rc = 0;
@@ -859,6 +953,9 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     status = NULL;
     other = NULL;
     if (rc == 0) {
+        vc_log(opt.log, VC_LOG_DEBUG, "  cells: %s (%.1f seeds in the bin of a seed)",
+               job.tree ? "neighbours from the k-d tree" : "neighbours from the grid's bins",
+               crowd);
         if (progress && wall_seconds() - t_start > 1.0)
             vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld cells built in %.3f s; stitching",
                    (long long)n_kept, wall_seconds() - t_start);

@@ -1,0 +1,184 @@
+#include "seed_kdtree.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Points per leaf: a few, so that a query reads few beyond the k it keeps. */
+#define LEAF_SIZE 8
+
+static int before(const vc_seed_kdtree *t, int64_t a, int64_t b, int d)
+{
+    const double x = t->xyz[3 * a + d], y = t->xyz[3 * b + d];
+    return x < y || (x == y && t->index[a] < t->index[b]);
+}
+
+static void swap_points(vc_seed_kdtree *t, int64_t a, int64_t b)
+{
+    for (int d = 0; d < 3; d++) {
+        const double v = t->xyz[3 * a + d];
+        t->xyz[3 * a + d] = t->xyz[3 * b + d];
+        t->xyz[3 * b + d] = v;
+    }
+    const int64_t i = t->index[a];
+    t->index[a] = t->index[b];
+    t->index[b] = i;
+}
+
+/* Puts the point of rank m (by coordinate d, then seed index) of
+ * [lo, hi) at m, smaller ones before it (quickselect, middle pivot). */
+static void select_rank(vc_seed_kdtree *t, int64_t lo, int64_t hi, int64_t m, int d)
+{
+    while (hi - lo > 1) {
+        swap_points(t, lo + (hi - lo) / 2, hi - 1); /* pivot to the end */
+        int64_t store = lo;
+        for (int64_t i = lo; i < hi - 1; i++)
+            if (before(t, i, hi - 1, d))
+                swap_points(t, i, store++);
+        swap_points(t, store, hi - 1);
+        if (store == m)
+            return;
+        if (m < store)
+            hi = store;
+        else
+            lo = store + 1;
+    }
+}
+
+static int64_t build_node(vc_seed_kdtree *t, int64_t begin, int64_t end)
+{
+    const int64_t id = t->n_nodes++;
+    vc_kd_node *nd = &t->node[id];
+    for (int d = 0; d < 3; d++) {
+        nd->lo[d] = t->xyz[3 * begin + d];
+        nd->hi[d] = t->xyz[3 * begin + d];
+    }
+    for (int64_t i = begin + 1; i < end; i++)
+        for (int d = 0; d < 3; d++) {
+            const double x = t->xyz[3 * i + d];
+            nd->lo[d] = x < nd->lo[d] ? x : nd->lo[d];
+            nd->hi[d] = x > nd->hi[d] ? x : nd->hi[d];
+        }
+    nd->begin = begin;
+    nd->end = end;
+    nd->left = nd->right = -1;
+    if (end - begin <= LEAF_SIZE)
+        return id;
+    int dim = 0;
+    for (int d = 1; d < 3; d++)
+        if (nd->hi[d] - nd->lo[d] > nd->hi[dim] - nd->lo[dim])
+            dim = d;
+    const int64_t mid = begin + (end - begin) / 2;
+    select_rank(t, begin, end, mid, dim);
+    const int64_t l = build_node(t, begin, mid);
+    const int64_t r = build_node(t, mid, end);
+    t->node[id].left = l; /* nd may have moved? no: node is preallocated */
+    t->node[id].right = r;
+    return id;
+}
+
+int vc_seed_kdtree_build(vc_seed_kdtree *t, const double *xyz, int64_t n)
+{
+    memset(t, 0, sizeof *t);
+    t->n = n;
+    /* at most 2 n / (LEAF_SIZE / 2) + 1 nodes: every leaf holds more than
+     * LEAF_SIZE / 2 points unless the tree is one leaf */
+    const int64_t max_nodes = n > 0 ? 4 * (n / (LEAF_SIZE / 2) + 1) : 1;
+    t->xyz = malloc(sizeof(double) * 3 * (size_t)(n > 0 ? n : 1));
+    t->index = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+    t->node = malloc(sizeof(vc_kd_node) * (size_t)max_nodes);
+    if (!t->xyz || !t->index || !t->node) {
+        vc_seed_kdtree_free(t);
+        return -1;
+    }
+    memcpy(t->xyz, xyz, sizeof(double) * 3 * (size_t)n);
+    for (int64_t i = 0; i < n; i++)
+        t->index[i] = i;
+    if (n > 0)
+        build_node(t, 0, n);
+    return 0;
+}
+
+void vc_seed_kdtree_free(vc_seed_kdtree *t)
+{
+    free(t->xyz);
+    free(t->index);
+    free(t->node);
+    memset(t, 0, sizeof *t);
+}
+
+/* (d2, seed) order */
+static inline int worse(const vc_kd_hit *a, const vc_kd_hit *b)
+{
+    return a->d2 > b->d2 || (a->d2 == b->d2 && a->seed > b->seed);
+}
+
+/* Inserts h into the sorted hit[0 .. n) (room for k), dropping the last
+ * when full; returns the new count. */
+static inline int insert_hit(vc_kd_hit *hit, int n, int k, vc_kd_hit h)
+{
+    int i = n < k ? n : k - 1;
+    while (i > 0 && worse(&hit[i - 1], &h)) {
+        hit[i] = hit[i - 1];
+        i--;
+    }
+    hit[i] = h;
+    return n < k ? n + 1 : k;
+}
+
+static double box_dist2(const vc_kd_node *nd, const double x[3])
+{
+    double s = 0;
+    for (int d = 0; d < 3; d++) {
+        const double e = x[d] < nd->lo[d] ? nd->lo[d] - x[d] : (x[d] > nd->hi[d] ? x[d] - nd->hi[d] : 0);
+        s += e * e;
+    }
+    return s;
+}
+
+int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
+                       vc_kd_hit *hit)
+{
+    if (t->n == 0 || k <= 0)
+        return 0;
+    int n = 0;
+    /* depth-first, nearer child first; a node is skipped when its box is
+     * farther than the k-th hit so far (ties kept: a farther box cannot
+     * hold a point that sorts before it) */
+    int64_t stack[128];
+    double stack_d2[128];
+    int top = 0;
+    stack[top] = 0;
+    stack_d2[top++] = box_dist2(&t->node[0], x);
+    while (top > 0) {
+        --top;
+        const int64_t id = stack[top];
+        if (n == k && stack_d2[top] > hit[k - 1].d2)
+            continue;
+        const vc_kd_node *nd = &t->node[id];
+        if (nd->left < 0) {
+            for (int64_t i = nd->begin; i < nd->end; i++) {
+                const int64_t s = t->index[i];
+                if (s == skip)
+                    continue;
+                const double *p = t->xyz + 3 * i;
+                const double dx = p[0] - x[0], dy = p[1] - x[1], dz = p[2] - x[2];
+                const vc_kd_hit h = {dx * dx + dy * dy + dz * dz, s};
+                if (n < k || worse(&hit[k - 1], &h))
+                    n = insert_hit(hit, n, k, h);
+            }
+            continue;
+        }
+        const double dl = box_dist2(&t->node[nd->left], x);
+        const double dr = box_dist2(&t->node[nd->right], x);
+        /* push the farther first, so the nearer is visited next */
+        const int64_t a = dl <= dr ? nd->left : nd->right, b = dl <= dr ? nd->right : nd->left;
+        const double da = dl <= dr ? dl : dr, db = dl <= dr ? dr : dl;
+        if (!(n == k && db > hit[k - 1].d2)) {
+            stack[top] = b;
+            stack_d2[top++] = db;
+        }
+        stack[top] = a;
+        stack_d2[top++] = da;
+    }
+    return n;
+}

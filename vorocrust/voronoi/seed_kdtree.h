@@ -1,0 +1,44 @@
+/* A k-d tree over the seeds for k-nearest-neighbour queries: the cell of a
+ * seed is cut by its neighbours nearest first, however unevenly the seeds
+ * are spread (VoroCrust puts pairs of seeds a sliver apart on the surface
+ * and graded seeds inside: a uniform grid's bins near the surface held
+ * seventy seeds each, and every cell there read two thousand candidates).
+ * Internal to the Voronoi engine. */
+#ifndef VC_SEED_KDTREE_H
+#define VC_SEED_KDTREE_H
+
+#include <stdint.h>
+
+typedef struct vc_kd_node {
+    double lo[3], hi[3];   /* bounding box of its points */
+    int64_t begin, end;    /* its points: xyz[3 * begin .. 3 * end) */
+    int64_t left, right;   /* children, -1 for a leaf */
+} vc_kd_node;
+
+typedef struct vc_seed_kdtree {
+    int64_t n;
+    double *xyz;    /* the points, in tree order */
+    int64_t *index; /* their seed indices */
+    vc_kd_node *node;
+    int64_t n_nodes;
+} vc_seed_kdtree;
+
+/* Builds the tree over n points (3 * n coordinates). Deterministic.
+ * Returns 0, or -1 when out of memory. */
+int vc_seed_kdtree_build(vc_seed_kdtree *t, const double *xyz, int64_t n);
+void vc_seed_kdtree_free(vc_seed_kdtree *t);
+
+/* A neighbour found: squared distance, seed index. */
+typedef struct vc_kd_hit {
+    double d2;
+    int64_t seed;
+} vc_kd_hit;
+
+/* The k seeds nearest x other than seed `skip`, in increasing (d2, seed)
+ * order, into hit (room for k); returns how many (fewer when the tree has
+ * fewer). The order is total, so the first k of a query for 2k are the
+ * answer for k. */
+int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
+                       vc_kd_hit *hit);
+
+#endif
