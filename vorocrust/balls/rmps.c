@@ -1068,36 +1068,79 @@ static void cut_radii(const vc_balls *b, sliver_ctx *c, unsigned char *cut, doub
     }
 }
 
+static int cmp_facet_rec(const void *p, const void *q)
+{
+    const facet_rec *a = p, *b = q;
+    for (int m = 0; m < 3; m++)
+        if (a->v[m] != b->v[m])
+            return a->v[m] < b->v[m] ? -1 : 1;
+    return 0;
+}
+
 /* Also leaves the facets of the balls as they were before shrinking in
- * *facets. */
+ * *facets, in (i, j, k) order, as a scan of every triplet lists them. With
+ * all = 0 only the triplets around the balls changed since the last scan
+ * are computed again; the facets of the other balls are kept from the
+ * last call (a facet is found from its smallest ball, and every change to
+ * the set marks the balls it can affect: vc_triplets_scan_changed). */
 static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrunk,
                                  int64_t *n_half, double where[3], facet_list *facets, int all)
 {
-    facets->n = 0;
     vc_balls *b = &S->bs.b;
     int64_t n = b->n;
     *n_half = 0;
-    if (n == 0)
+    if (n == 0) {
+        facets->n = 0;
         return 0;
+    }
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
+    facet_list fresh = {NULL, 0, 0, 0};
     sliver_ctx c = {b, SHRINK_MARGIN, NULL, 0, 0, 0,
-                    {0, 0, 0}, facets};
+                    {0, 0, 0}, &fresh};
     double *target = malloc(sizeof(double) * (size_t)n);
     unsigned char *cut = calloc((size_t)n, 1);
-    if (!target || !cut) {
+    unsigned char *scanned = malloc((size_t)n);
+    if (!target || !cut || !scanned) {
         free(target);
         free(cut);
+        free(scanned);
         return -1;
     }
     memcpy(target, b->radius, sizeof(double) * (size_t)n);
     if ((all ? vc_triplets_scan_all(&S->bs, S->opt.threads, on_triplet, &c)
-             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c, NULL)) ||
-        facets->oom || c.oom) {
+             : vc_triplets_scan_changed(&S->bs, S->opt.threads, on_triplet, &c, scanned)) ||
+        fresh.oom || c.oom) {
         free(target);
         free(cut);
+        free(scanned);
         free(c.half);
+        free(fresh.f);
         return -1;
     }
+    if (!all) {
+        /* the facets of the balls not scanned, as they were */
+        for (int64_t q = 0; q < facets->n && !fresh.oom; q++)
+            if (!scanned[facets->f[q].v[0]]) {
+                vc_triplet t;
+                t.i = facets->f[q].v[0];
+                t.j = facets->f[q].v[1];
+                t.k = facets->f[q].v[2];
+                collect_facet(&fresh, &t);
+            }
+        if (fresh.oom) {
+            free(target);
+            free(cut);
+            free(scanned);
+            free(c.half);
+            free(fresh.f);
+            return -1;
+        }
+        if (fresh.n > 1)
+            qsort(fresh.f, (size_t)fresh.n, sizeof(facet_rec), cmp_facet_rec);
+    }
+    free(scanned);
+    free(facets->f);
+    *facets = fresh;
     cut_radii(b, &c, cut, target);
     int64_t changed = 0;
     for (int64_t i = 0; i < n; i++)
@@ -1607,12 +1650,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         double tb = now();
         int64_t n_half = 0;
         /* only the triplets near balls added or resized since the last
-         * scan can have changed; when none is half covered, every triplet
-         * once more: that proves it for all of them, and the flat-facet
-         * pass needs all the facets */
+         * scan can have changed (the facets of the others are kept); once
+         * no pass has anything left to do, every triplet once more: that
+         * proves it for all of them */
         int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 0);
-        if (ns == 0)
-            ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 1);
         st->t_slivers += now() - tb;
         if (ns < 0) {
             rc = -1;
@@ -1652,8 +1693,18 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 continue;
             }
         }
-        if (ns == 0)
-            break;
+        if (ns == 0) {
+            tb = now();
+            ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 1);
+            st->t_slivers += now() - tb;
+            if (ns < 0) {
+                rc = -1;
+                break;
+            }
+            st->n_half_covered = n_half;
+            if (ns == 0)
+                break;
+        }
         st->n_shrunk_sliver += ns;
         iter++;
         st->sliver_iterations = iter;
