@@ -660,7 +660,7 @@ for model, skew_rec in SKEW_EXACT.items():
         # the exact Voronoi case, face by face against the same .vtu
         conn = os.path.join(TMP, name + "_connections.csv")
         p = subprocess.run([BIN, "mesh", path, "-o", vtu, "--foam", exact, "--foam-max-skew", "0",
-                            "--connections", conn, "--quiet"],
+                            "--connections", conn],
                            capture_output=True, text=True, timeout=1800)
         if check(p.returncode == 0, "%s: exact mesh exit %d: %s"
                  % (model, p.returncode, p.stderr[-2000:])):
@@ -670,6 +670,22 @@ for model, skew_rec in SKEW_EXACT.items():
             skew = float(m.group(1)) if m else float("inf")
             check(skew <= 1.05 * skew_rec, "%s: exact case: checkMesh skewness max %g above the "
                   "recorded %g" % (model, skew, skew_rec))
+            # the summary's solver measures are checkMesh's own (issue 20)
+            ms = re.search(r"non-orthogonality max ([\d.]+) average ([\d.]+) degrees; skewness max "
+                           r"([\d.]+) \((\d+) faces above 4\)", p.stderr)
+            mo = re.search(r"Mesh non-orthogonality Max: ([\d.e+-]+) average: ([\d.e+-]+)", out)
+            mh = re.search(r"(\d+) highly skew faces", out)
+            if check(ms and mo, "%s: no solver measures in the summary, or no non-orthogonality "
+                     "from checkMesh" % model):
+                check(abs(float(ms.group(1)) - float(mo.group(1))) <= 0.06 and
+                      abs(float(ms.group(2)) - float(mo.group(2))) <= 0.06,
+                      "%s: non-orthogonality max/average %s/%s in the summary, checkMesh %s/%s"
+                      % (model, ms.group(1), ms.group(2), mo.group(1), mo.group(2)))
+                check(abs(float(ms.group(3)) - skew) <= 0.006 + 1e-3 * skew,
+                      "%s: skewness max %s in the summary, checkMesh %g" % (model, ms.group(3), skew))
+                check(mh is None or int(mh.group(1)) == int(ms.group(4)),
+                      "%s: %s faces above 4 in the summary, checkMesh %s" % (model, ms.group(4),
+                                                                             mh.group(1) if mh else "?"))
             exact_mesh = check_case(name + "_exact", exact, vtu, None, ["surface"])
             # --connections: one row per interior face of the exact mesh
             with open(conn) as f:

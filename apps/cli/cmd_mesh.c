@@ -199,6 +199,15 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             q->volume_min, q->volume_max, q->fatness_max, q->fatness_mean,
             q->interior_fatness_max, q->interior_fatness_mean, q->shortest_edge_rel_min,
             q->n_unmeasured ? " (some cells could not be measured)" : "");
+    fprintf(stderr,
+            "  solver measures: shortest edge / enclosing radius p1 %.3g, %.1f%% of the cells "
+            "below 1e-2; smallest face / radius^2 min %.3g p1 %.3g; seed distance / cell radius "
+            "min %.3g p1 %.3g; non-orthogonality max %.1f average %.1f degrees; skewness max %.2f "
+            "(%lld faces above 4)\n",
+            q->shortest_edge_rel_p1, 100.0 * q->short_edge_share, q->small_face_rel_min,
+            q->small_face_rel_p1, q->connection_rel_min, q->connection_rel_p1,
+            q->non_orthogonality_max, q->non_orthogonality_mean, q->skewness_max,
+            (long long)q->n_skew_faces);
     if (foam_collapsed)
         fprintf(stderr,
                 "  OpenFOAM case: %lld faces collapsed in %d rounds (skewness above %g, "

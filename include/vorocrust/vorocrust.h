@@ -144,6 +144,19 @@ typedef struct vc_cell_quality {
     double fatness_max, fatness_mean;
     double interior_fatness_max, interior_fatness_mean;
     double shortest_edge_rel_min; /* shortest edge / enclosing radius */
+    /* What finite-volume solvers trip over (issue 20), over the measured
+     * cells and the interior faces: */
+    double shortest_edge_rel_p1;  /* 1st percentile of shortest edge / enclosing radius */
+    double short_edge_share;      /* share of cells whose shortest edge is below 1e-2 of it */
+    double small_face_rel_min;    /* smallest face area / enclosing radius^2 */
+    double small_face_rel_p1;
+    double connection_rel_min;    /* seed distance / mean enclosing radius of the two cells */
+    double connection_rel_p1;
+    double non_orthogonality_max; /* degrees between a face's normal and the line between
+                                     its cells' centroids (checkMesh's) */
+    double non_orthogonality_mean;/* checkMesh's average: the angle of the mean cosine */
+    double skewness_max;          /* checkMesh's (vc_polymesh_face_skewness) */
+    int64_t n_skew_faces;         /* interior faces above 4, checkMesh's limit */
 } vc_cell_quality;
 
 /* Seconds per phase. */

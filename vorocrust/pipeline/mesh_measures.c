@@ -122,14 +122,77 @@ static int measure_cell(const vc_polymesh *m, int64_t c, int64_t **foff, int64_t
     return vc_cell_measure(&cell, cm) != 0 || !isfinite(cm->fatness);
 }
 
+/* A cell's shortest edge below this fraction of its enclosing radius
+ * counts as short (issue 20's share). */
+#define SHORT_EDGE 1e-2
+
+/* The percentiles of the measured cells' columns and the interior faces'
+ * measures; per holds 5 values per cell (see vc_cell_quality_compute). */
+static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_quality *q)
+{
+    const int64_t n = m->n_cells, nf = m->n_interior_faces;
+    double *col = malloc(sizeof(double) * (size_t)((n > nf ? n : nf) + 1));
+    if (!col)
+        return VC_ENOMEM;
+    vc_stats st;
+    int rc = 0;
+    for (int64_t c = 0; c < n; c++)
+        col[c] = isnan(per[5 * c + 1]) ? NAN : per[5 * c + 2];
+    rc |= vc_stats_compute(col, n, &st);
+    q->shortest_edge_rel_p1 = st.p1;
+    for (int64_t c = 0; c < n; c++)
+        col[c] = per[5 * c + 3];
+    rc |= vc_stats_compute(col, n, &st);
+    q->small_face_rel_min = st.min;
+    q->small_face_rel_p1 = st.p1;
+    /* interior faces: the seeds' distance against the cells' size, and
+     * checkMesh's angle between the face normal and the centroids' line */
+    double no_sum = 0;
+    int64_t no_n = 0;
+    q->non_orthogonality_max = 0;
+    q->skewness_max = 0;
+    q->n_skew_faces = 0;
+    for (int64_t f = 0; f < nf; f++) {
+        const int64_t o = m->face_owner[f], b = m->face_neighbour[f];
+        const double ro = per[5 * o + 4], rb = per[5 * b + 4];
+        col[f] = isnan(ro) || isnan(rb) || m->n_seeds == 0
+                     ? NAN
+                     : vc_polymesh_face_seed_distance(m, f) / (0.5 * (ro + rb));
+        const double *co = m->cell_centroid + 3 * o, *cb = m->cell_centroid + 3 * b;
+        const double *fn = m->face_normal + 3 * f;
+        const double d[3] = {cb[0] - co[0], cb[1] - co[1], cb[2] - co[2]};
+        const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (len > 0) {
+            const double cosang = (d[0] * fn[0] + d[1] * fn[1] + d[2] * fn[2]) / len;
+            const double ang = acos(fmax(-1.0, fmin(1.0, cosang))) * (180.0 / 3.14159265358979323846);
+            q->non_orthogonality_max = fmax(q->non_orthogonality_max, ang);
+            no_sum += fmin(1.0, cosang);
+            no_n++;
+        }
+        const double sk = vc_polymesh_face_skewness(m, f);
+        q->skewness_max = fmax(q->skewness_max, sk);
+        q->n_skew_faces += sk > 4;
+    }
+    /* checkMesh's "average": the angle of the mean cosine */
+    q->non_orthogonality_mean =
+        no_n ? acos(fmax(-1.0, fmin(1.0, no_sum / (double)no_n))) * (180.0 / 3.14159265358979323846)
+             : 0;
+    rc |= vc_stats_compute(col, nf, &st);
+    q->connection_rel_min = st.min;
+    q->connection_rel_p1 = st.p1;
+    free(col);
+    return rc ? VC_ENOMEM : 0;
+}
+
 int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fatness,
                             int threads)
 {
     memset(q, 0, sizeof *q);
     q->volume_min = q->shortest_edge_rel_min = INFINITY;
     const int64_t n = m->n_cells;
-    /* per cell: volume, fatness (NaN: not measured), shortest edge; boundary */
-    double *per = malloc(sizeof(double) * 3 * (size_t)(n + 1));
+    /* per cell: volume, fatness (NaN: not measured), shortest edge, smallest
+     * face over the enclosing radius squared, enclosing radius; boundary */
+    double *per = malloc(sizeof(double) * 5 * (size_t)(n + 1));
     unsigned char *on_boundary = malloc((size_t)n + 1);
     int oom = !per || !on_boundary;
     /* each cell is measured on its own, in parallel; the sums below run in
@@ -148,9 +211,15 @@ int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fa
 #pragma omp atomic write
                 oom = 1;
             }
-            per[3 * c] = cm.volume;
-            per[3 * c + 1] = r == 0 ? cm.fatness : NAN;
-            per[3 * c + 2] = cm.shortest_edge_rel;
+            double small = INFINITY;
+            for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++)
+                small = fmin(small, m->face_area[m->cell_faces[k]]);
+            const double rr = cm.enclosing.radius;
+            per[5 * c] = cm.volume;
+            per[5 * c + 1] = r == 0 ? cm.fatness : NAN;
+            per[5 * c + 2] = cm.shortest_edge_rel;
+            per[5 * c + 3] = r == 0 && rr > 0 ? small / (rr * rr) : NAN;
+            per[5 * c + 4] = r == 0 ? rr : NAN;
             on_boundary[c] = (unsigned char)boundary;
         }
         free(foff);
@@ -163,8 +232,9 @@ int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fa
         return VC_ENOMEM;
     }
     double fat_sum = 0, fat_int_sum = 0;
+    int64_t n_short = 0;
     for (int64_t c = 0; c < n; c++) {
-        const double fat = per[3 * c + 1];
+        const double fat = per[5 * c + 1];
         if (fatness)
             fatness[c] = fat;
         if (isnan(fat)) {
@@ -172,11 +242,12 @@ int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fa
             continue;
         }
         q->n_measured++;
-        q->volume_min = fmin(q->volume_min, per[3 * c]);
-        q->volume_max = fmax(q->volume_max, per[3 * c]);
+        q->volume_min = fmin(q->volume_min, per[5 * c]);
+        q->volume_max = fmax(q->volume_max, per[5 * c]);
         q->fatness_max = fmax(q->fatness_max, fat);
         fat_sum += fat;
-        q->shortest_edge_rel_min = fmin(q->shortest_edge_rel_min, per[3 * c + 2]);
+        q->shortest_edge_rel_min = fmin(q->shortest_edge_rel_min, per[5 * c + 2]);
+        n_short += per[5 * c + 2] < SHORT_EDGE;
         if (!on_boundary[c]) {
             q->n_interior++;
             q->interior_fatness_max = fmax(q->interior_fatness_max, fat);
@@ -185,7 +256,9 @@ int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fa
     }
     q->fatness_mean = q->n_measured ? fat_sum / (double)q->n_measured : 0;
     q->interior_fatness_mean = q->n_interior ? fat_int_sum / (double)q->n_interior : 0;
+    q->short_edge_share = q->n_measured ? (double)n_short / (double)q->n_measured : 0;
+    int rc = solver_measures(m, per, q);
     free(per);
     free(on_boundary);
-    return 0;
+    return rc;
 }
