@@ -683,6 +683,20 @@ for model, skew_rec in SKEW_EXACT.items():
                       % (model, ms.group(1), ms.group(2), mo.group(1), mo.group(2)))
                 check(abs(float(ms.group(3)) - skew) <= 0.006 + 1e-3 * skew,
                       "%s: skewness max %s in the summary, checkMesh %g" % (model, ms.group(3), skew))
+                # and the cells' figures are those `vorocrust quality` reads back from the .vtu
+                q = subprocess.run([BIN, "quality", vtu], capture_output=True, text=True, timeout=600)
+                mq = re.search(r"below 1e-2: ([\d.]+)%", q.stdout)
+                mf = re.search(r"smallest face / enclosing radius\^2: min (\S+),", q.stdout)
+                mm = re.search(r"([\d.]+)% of the cells below 1e-2; smallest face / radius\^2 min (\S+) ",
+                               p.stderr)
+                if check(mq and mf and mm, "%s: short-edge share or smallest face missing from the "
+                         "summary or from vorocrust quality" % model):
+                    check(abs(float(mq.group(1)) - float(mm.group(1))) <= 0.051,
+                          "%s: short-edge share %s%% in the summary, %s%% from the .vtu"
+                          % (model, mm.group(1), mq.group(1)))
+                    check(abs(float(mf.group(1)) - float(mm.group(2))) <= 6e-3 * float(mf.group(1)),  # %.3g
+                          "%s: smallest face / r^2 %s in the summary, %s from the .vtu"
+                          % (model, mm.group(2), mf.group(1)))
                 check(mh is None or int(mh.group(1)) == int(ms.group(4)),
                       "%s: %s faces above 4 in the summary, checkMesh %s" % (model, ms.group(4),
                                                                              mh.group(1) if mh else "?"))

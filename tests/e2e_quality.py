@@ -5,7 +5,8 @@
       volume and the volume statistics against VTK's vtkCellSizeFilter, the
       boundary (faces of one cell) against a count made here;
   (b) a cubic lattice: every figure known exactly (fatness sqrt 3, shortest
-      edge / enclosing radius 2 / sqrt 3, square faces fanned into
+      edge / enclosing radius 2 / sqrt 3, smallest face / enclosing radius^2
+      4 / 3, no cell with a short edge, square faces fanned into
       right isosceles triangles), and the Hausdorff distance to a cube
       surface (0 for the same cube; for a cube 10% larger, the corner
       distance 0.05 sqrt 3, normalised by the larger cube's diagonal);
@@ -14,7 +15,8 @@
       binary, appended raw and base64, zlib or not, UInt32 or UInt64
       headers, Int32 or Int64 ids): every file gives the same report, and
       volumes, dihedral angles, fatness (inradius 3V / area, minimum
-      enclosing ball by brute force), boundary triangle quality and angle
+      enclosing ball by brute force), smallest face over the enclosing
+      radius squared, the share of short edges, boundary triangle quality and angle
       percentages agree with an independent computation in Python;
   (d) mixed cells (a polyhedron, a tetrahedron and a skipped hexahedron),
       inward cells (counted, measured the same), open or inconsistently
@@ -297,9 +299,13 @@ mesh = voronoi("lattice", lattice, "--box", "0", "0", "0", "1", "1", "1")
 rep = quality("lattice", mesh, "--input", cube_obj("cube_same.obj", 0.0, 1.0))
 if rep:
     h = 1.0 / n
-    exact = {"fatness": math.sqrt(3), "shortest relative edge": 2 / math.sqrt(3), "volume": h ** 3}
+    # smallest face h^2 over the enclosing radius squared 3 h^2 / 4
+    exact = {"fatness": math.sqrt(3), "shortest relative edge": 2 / math.sqrt(3), "volume": h ** 3,
+             "smallest face / enclosing radius^2": 4.0 / 3.0}
     for key, val in exact.items():
         check_stats("lattice", key, rep.get(key), {k: val for k in STAT_KEYS}, 1e-5)
+    check(rep.get("cells with a shortest relative edge below 1e-2") == "0.00%",
+          "lattice: short-edge share %r" % rep.get("cells with a shortest relative edge below 1e-2"))
     check(rep["cells"] == "64 (64 polyhedra, 0 tetrahedra)", "lattice: cells %r" % rep["cells"])
     check(rep["vertices"] == "125", "lattice: vertices %r" % rep["vertices"])
     check(rep["faces"] == "240 (96 boundary)", "lattice: faces %r" % rep["faces"])
@@ -416,6 +422,12 @@ def tet_shortest_rel(t):
     return min(norm(vsub(a, b)) for a, b in itertools.combinations(pts, 2)) / min_ball_radius(pts)
 
 
+def tet_small_face_rel(t):
+    pts = [P[i] for i in t]
+    area = min(0.5 * norm(cross(vsub(b, a), vsub(c, a))) for a, b, c in itertools.combinations(pts, 3))
+    return area / min_ball_radius(pts) ** 2
+
+
 vols = [tet_volume(t) for t in T]
 dih = [tet_dihedrals(t) for t in T]
 expected = {
@@ -424,7 +436,9 @@ expected = {
     "dihedral angle max": stats([max(d) for d in dih]),
     "fatness": stats([tet_fatness(t) for t in T]),
     "shortest relative edge": stats([tet_shortest_rel(t) for t in T]),
+    "smallest face / enclosing radius^2": stats([tet_small_face_rel(t) for t in T]),
 }
+short_share = 100.0 * sum(tet_shortest_rel(t) < 1e-2 for t in T) / len(T)
 reports = []
 for fname in variants:
     name = os.path.basename(fname)
@@ -444,6 +458,9 @@ if reports:
     check(close(float(rep["total volume"]), sum(cell_size_volumes(tets)), 1e-12), "tets: total volume vs vtkCellSizeFilter")
     for key, exp in expected.items():
         check_stats("tets", key, rep.get(key), exp, 2e-5)
+    got_share = rep.get("cells with a shortest relative edge below 1e-2", "?%").rstrip("%")
+    check(abs(float(got_share) - short_share) < 0.006 if got_share != "?" else False,
+          "tets: short-edge share %r%%, expected %.4f%%" % (got_share, short_share))
     check_boundary("tets", rep, tets)
 
 # ---- (d) mixed cells ------------------------------------------------------------------

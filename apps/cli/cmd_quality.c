@@ -145,6 +145,8 @@ int vc_cmd_quality(int argc, char **argv)
     print_stats("volume", &r.volume);
     print_stats("fatness", &r.fatness);
     print_stats("shortest relative edge", &r.shortest_edge_rel);
+    printf("cells with a shortest relative edge below 1e-2: %.2f%%\n", 100.0 * r.short_edge_share);
+    print_stats("smallest face / enclosing radius^2", &r.small_face_rel);
     if (r.n_tetrahedra) {
         print_stats("dihedral angle min", &r.dihedral_min);
         print_stats("dihedral angle max", &r.dihedral_max);

@@ -36,6 +36,9 @@ typedef struct vc_mesh_report {
     /* Cell measures (statistics over the measured cells). */
     double total_volume;
     vc_stats volume, fatness, shortest_edge_rel;
+    double short_edge_share;      /* share of the measured cells whose shortest edge is
+                                     below 1e-2 of their enclosing radius */
+    vc_stats small_face_rel;      /* per cell: smallest face area / enclosing radius^2 */
     vc_stats dihedral_min, dihedral_max; /* tetrahedra only (n = 0 without any) */
 
     /* The boundary faces as triangles (polygons fanned from their vertex

@@ -86,8 +86,23 @@ void vc_mesh_report_free(vc_mesh_report *r)
 /* Measures every cell: fills fat (r->cell_fatness), rel, vol, dmin, dmax
  * (NaN when not a tetrahedron) and the cell counts of r. Returns 0 or -1
  * (out of memory). */
+/* Area of face f of m (half the norm of its Newell normal). */
+static double face_area(const vc_vtu_mesh *m, int64_t f)
+{
+    double n[3] = {0, 0, 0};
+    const int64_t b = m->face_offsets[f], e = m->face_offsets[f + 1];
+    for (int64_t k = b; k < e; k++) {
+        const double *p = m->points + 3 * m->face_vertices[k];
+        const double *q = m->points + 3 * m->face_vertices[k + 1 < e ? k + 1 : b];
+        n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+        n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+        n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+    }
+    return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
 static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, double *rel,
-                         double *dmin, double *dmax)
+                         double *small, double *dmin, double *dmax)
 {
     const int64_t nc = m->n_cells;
     double *fat = r->cell_fatness;
@@ -127,9 +142,14 @@ static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, d
             signed_volume = cm.signed_volume;
             fat[c] = cm.fatness;
             rel[c] = cm.shortest_edge_rel;
+            double a = INFINITY;
+            for (int64_t f = m->cell_faces[c]; f < m->cell_faces[c + 1]; f++)
+                a = fmin(a, face_area(m, f));
+            const double rr = cm.enclosing.radius;
+            small[c] = rr > 0 ? a / (rr * rr) : NAN;
         } else {
             signed_volume = vc_cell_volume(&cell, NULL);
-            fat[c] = rel[c] = NAN; /* left out of the statistics, counted */
+            fat[c] = rel[c] = small[c] = NAN; /* left out of the statistics, counted */
             n_failed++;
         }
         n_inverted += signed_volume < 0;
@@ -210,17 +230,25 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     vc_surface boundary = {0, NULL, 0, NULL};
     double *vol = malloc(sizeof *vol * cn), *rel = malloc(sizeof *rel * cn);
     double *dmin = malloc(sizeof *dmin * cn), *dmax = malloc(sizeof *dmax * cn);
+    double *small = malloc(sizeof *small * cn);
     int64_t *uses = malloc(sizeof *uses * (size_t)(m->n_faces ? m->n_faces : 1));
     out->cell_fatness = malloc(sizeof *out->cell_fatness * cn);
-    int rc = VC_ENOMEM, oom = !vol || !rel || !dmin || !dmax || !uses || !out->cell_fatness;
+    int rc = VC_ENOMEM,
+        oom = !vol || !rel || !dmin || !dmax || !small || !uses || !out->cell_fatness;
     double t0 = now();
-    oom = oom || measure_cells(m, out, vol, rel, dmin, dmax) != 0;
+    oom = oom || measure_cells(m, out, vol, rel, small, dmin, dmax) != 0;
     oom = oom || vc_stats_compute(vol, nc, &out->volume) || vc_stats_compute(out->cell_fatness,
           nc, &out->fatness) || vc_stats_compute(rel, nc, &out->shortest_edge_rel) ||
+          vc_stats_compute(small, nc, &out->small_face_rel) ||
           vc_stats_compute(dmin, nc, &out->dihedral_min) ||
           vc_stats_compute(dmax, nc, &out->dihedral_max);
     double t1 = now();
     if (!oom) {
+        int64_t n_short = 0;
+        for (int64_t c = 0; c < nc; c++)
+            n_short += rel[c] < 1e-2; /* NaN (unmeasured) counts as not short */
+        out->short_edge_share =
+            out->shortest_edge_rel.n ? (double)n_short / (double)out->shortest_edge_rel.n : NAN;
         out->n_points = m->n_points;
         out->n_faces = vc_mesh_face_uses(m, uses);
         oom = out->n_faces < 0 || vc_mesh_boundary_surface(m, uses, &boundary) != 0;
@@ -255,6 +283,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     free(rel);
     free(dmin);
     free(dmax);
+    free(small);
     free(uses);
     vc_surface_free(&boundary);
     if (rc)
