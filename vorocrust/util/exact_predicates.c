@@ -1,0 +1,348 @@
+/* Exact orientation and insphere signs (see exact_predicates.h).
+ *
+ * Expansions: arrays of doubles, non-overlapping, in increasing magnitude,
+ * zeros removed, whose exact sum is the value; the sign of the value is the
+ * sign of the last (largest) component. The operations below keep those
+ * properties (Shewchuk 1997, section 2): two_sum and two_product return a
+ * rounded result and its exact error, grow adds a double to an expansion,
+ * sum adds two, scale multiplies by a double, mul multiplies two. The exact
+ * path is simple rather than fast (sums by repeated growth): it runs only
+ * when the filter cannot decide. */
+#include "util/exact_predicates.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* The filters' relative error bounds: (3 + 16 eps) eps for orient3d's
+ * permanent and (16 + 224 eps) eps for insphere's, eps = 2^-53 (Shewchuk
+ * 1997, errboundA of each predicate). */
+#define O3D_BOUND 7.7715611723761027e-16
+#define ISP_BOUND (2 * 1.7763568394002532e-15) /* twice the bound: a margin costs only fallbacks */
+
+static long long n_fallbacks;
+
+long long vc_exact_predicate_fallbacks(void)
+{
+    return __atomic_load_n(&n_fallbacks, __ATOMIC_RELAXED);
+}
+
+/* x + y = a + b exactly, x the rounded sum. */
+static inline void two_sum(double a, double b, double *x, double *y)
+{
+    const double s = a + b, bv = s - a, av = s - bv;
+    *x = s;
+    *y = (a - av) + (b - bv);
+}
+
+/* x + y = a * b exactly, x the rounded product (fma is exact for the
+ * error: it rounds a * b - x once, and that is representable). */
+static inline void two_product(double a, double b, double *x, double *y)
+{
+    *x = a * b;
+    *y = fma(a, b, -*x);
+}
+
+/* h = e + b; returns its length (at most ne + 1). */
+static int grow(const double *e, int ne, double b, double *h)
+{
+    double q = b;
+    int n = 0;
+    for (int i = 0; i < ne; i++) {
+        double s, err;
+        two_sum(q, e[i], &s, &err);
+        q = s;
+        if (err != 0)
+            h[n++] = err;
+    }
+    if (q != 0 || n == 0)
+        h[n++] = q;
+    return n;
+}
+
+/* h = e + f (h may not alias e or f; scratch holds ne + nf + 1). */
+static int sum(const double *e, int ne, const double *f, int nf, double *h, double *scratch)
+{
+    int n = 0;
+    for (int i = 0; i < ne; i++)
+        h[n++] = e[i];
+    for (int j = 0; j < nf; j++) {
+        n = grow(h, n, f[j], scratch);
+        for (int i = 0; i < n; i++)
+            h[i] = scratch[i];
+    }
+    if (n == 1 && h[0] == 0)
+        return 1;
+    return n;
+}
+
+/* h = e * b; returns its length (at most 2 ne). */
+static int scale(const double *e, int ne, double b, double *h)
+{
+    int n = 0;
+    double q, err;
+    two_product(e[0], b, &q, &err);
+    if (err != 0)
+        h[n++] = err;
+    for (int i = 1; i < ne; i++) {
+        double p, perr, s, serr;
+        two_product(e[i], b, &p, &perr);
+        two_sum(q, perr, &s, &serr);
+        if (serr != 0)
+            h[n++] = serr;
+        two_sum(p, s, &q, &err);
+        if (err != 0)
+            h[n++] = err;
+    }
+    if (q != 0 || n == 0)
+        h[n++] = q;
+    return n;
+}
+
+/* An expansion in a heap buffer. */
+typedef struct expn {
+    double *v;
+    int n;
+} expn;
+
+static expn from_double(double x)
+{
+    expn r = {malloc(sizeof(double)), 1};
+    if (r.v)
+        r.v[0] = x;
+    return r;
+}
+
+/* a - b exactly, as an expansion of at most two components. */
+static expn diff(double a, double b)
+{
+    expn r = {malloc(2 * sizeof(double)), 0};
+    if (!r.v)
+        return r;
+    const double s = a - b, bv = a - s, av = s + bv;
+    const double err = (a - av) + (bv - b);
+    if (err != 0)
+        r.v[r.n++] = err;
+    r.v[r.n++] = s;
+    return r;
+}
+
+static expn add(expn a, expn b)
+{
+    expn r = {malloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
+    double *scratch = malloc(sizeof(double) * (size_t)(a.n + b.n + 2));
+    if (r.v && scratch && a.v && b.v)
+        r.n = sum(a.v, a.n, b.v, b.n, r.v, scratch);
+    else {
+        free(r.v);
+        r.v = NULL;
+    }
+    free(scratch);
+    return r;
+}
+
+static expn neg(expn a)
+{
+    for (int i = 0; a.v && i < a.n; i++)
+        a.v[i] = -a.v[i];
+    return a;
+}
+
+static expn mul(expn a, expn b)
+{
+    expn acc = from_double(0);
+    double *part = malloc(sizeof(double) * (size_t)(2 * a.n + 1));
+    if (!part || !a.v || !b.v || !acc.v) {
+        free(part);
+        free(acc.v);
+        return (expn){NULL, 0};
+    }
+    for (int j = 0; j < b.n; j++) {
+        expn p = {part, scale(a.v, a.n, b.v[j], part)};
+        expn s = add(acc, p);
+        free(acc.v);
+        acc = s;
+        if (!acc.v)
+            break;
+    }
+    free(part);
+    return acc;
+}
+
+/* Frees x and y, returns x op y. */
+static expn add_free(expn x, expn y)
+{
+    expn r = add(x, y);
+    free(x.v);
+    free(y.v);
+    return r;
+}
+
+static expn mul_free(expn x, expn y)
+{
+    expn r = mul(x, y);
+    free(x.v);
+    free(y.v);
+    return r;
+}
+
+static expn copy(expn a)
+{
+    expn r = {malloc(sizeof(double) * (size_t)(a.n > 0 ? a.n : 1)), a.n};
+    for (int i = 0; r.v && a.v && i < a.n; i++)
+        r.v[i] = a.v[i];
+    if (!a.v) {
+        free(r.v);
+        r.v = NULL;
+    }
+    return r;
+}
+
+/* The sign, or 2 when out of memory. */
+static int sign_free(expn x)
+{
+    if (!x.v)
+        return 2;
+    const double top = x.v[x.n - 1];
+    free(x.v);
+    return (top > 0) - (top < 0);
+}
+
+/* x0 * y1 - x1 * y0 (frees nothing) */
+static expn cross2(expn x0, expn y0, expn x1, expn y1)
+{
+    return add_free(mul(x0, y1), neg(mul(x1, y0)));
+}
+
+/* ---- orient3d ----------------------------------------------------------- */
+
+static int orient3d_expansion(const double *a, const double *b, const double *c, const double *d)
+{
+    expn ad[3], bd[3], cd[3];
+    for (int k = 0; k < 3; k++) {
+        ad[k] = diff(a[k], d[k]);
+        bd[k] = diff(b[k], d[k]);
+        cd[k] = diff(c[k], d[k]);
+    }
+    /* adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady) */
+    expn t1 = mul_free(copy(ad[2]), cross2(bd[0], bd[1], cd[0], cd[1]));
+    expn t2 = mul_free(copy(bd[2]), cross2(cd[0], cd[1], ad[0], ad[1]));
+    expn t3 = mul_free(copy(cd[2]), cross2(ad[0], ad[1], bd[0], bd[1]));
+    const int s = sign_free(add_free(add_free(t1, t2), t3));
+    for (int k = 0; k < 3; k++) {
+        free(ad[k].v);
+        free(bd[k].v);
+        free(cd[k].v);
+    }
+    if (s == 2)
+        abort(); /* out of memory for a few kilobytes: nothing sensible is left */
+    return s;
+}
+
+int vc_orient3d_exact(const double a[3], const double b[3], const double c[3], const double d[3])
+{
+    const double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
+    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    const double cdxady = cdx * ady, adxcdy = adx * cdy;
+    const double adxbdy = adx * bdy, bdxady = bdx * ady;
+    const double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    const double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * fabs(adz) +
+                        (fabs(cdxady) + fabs(adxcdy)) * fabs(bdz) +
+                        (fabs(adxbdy) + fabs(bdxady)) * fabs(cdz);
+    const double bound = O3D_BOUND * perm;
+    if (det > bound)
+        return 1;
+    if (det < -bound)
+        return -1;
+    __atomic_add_fetch(&n_fallbacks, 1, __ATOMIC_RELAXED);
+    return orient3d_expansion(a, b, c, d);
+}
+
+/* ---- insphere ----------------------------------------------------------- */
+
+/* The determinant below, with every difference to e exact. */
+static int insphere_expansion(const double *a, const double *b, const double *c, const double *d,
+                              const double *e)
+{
+    const double *p[4] = {a, b, c, d};
+    expn x[4], y[4], z[4], lift[4];
+    for (int i = 0; i < 4; i++) {
+        x[i] = diff(p[i][0], e[0]);
+        y[i] = diff(p[i][1], e[1]);
+        z[i] = diff(p[i][2], e[2]);
+        lift[i] = add_free(add_free(mul(x[i], x[i]), mul(y[i], y[i])), mul(z[i], z[i]));
+    }
+    /* the 2x2 minors of the x, y columns */
+    expn ab = cross2(x[0], y[0], x[1], y[1]), bc = cross2(x[1], y[1], x[2], y[2]);
+    expn cd = cross2(x[2], y[2], x[3], y[3]), da = cross2(x[3], y[3], x[0], y[0]);
+    expn ac = cross2(x[0], y[0], x[2], y[2]), bd = cross2(x[1], y[1], x[3], y[3]);
+    /* the 3x3 minors */
+    expn abc = add_free(add_free(mul(z[0], bc), neg(mul(z[1], ac))), mul(z[2], ab));
+    expn bcd = add_free(add_free(mul(z[1], cd), neg(mul(z[2], bd))), mul(z[3], bc));
+    expn cda = add_free(add_free(mul(z[2], da), mul(z[3], ac)), mul(z[0], cd));
+    expn dab = add_free(add_free(mul(z[3], ab), mul(z[0], bd)), mul(z[1], da));
+    /* (dlift abc - clift dab) + (blift cda - alift bcd) */
+    expn det = add_free(add_free(mul(lift[3], abc), neg(mul(lift[2], dab))),
+                        add_free(mul(lift[1], cda), neg(mul(lift[0], bcd))));
+    const int s = sign_free(det);
+    for (int i = 0; i < 4; i++) {
+        free(x[i].v);
+        free(y[i].v);
+        free(z[i].v);
+        free(lift[i].v);
+    }
+    free(ab.v);
+    free(bc.v);
+    free(cd.v);
+    free(da.v);
+    free(ac.v);
+    free(bd.v);
+    free(abc.v);
+    free(bcd.v);
+    free(cda.v);
+    free(dab.v);
+    if (s == 2)
+        abort();
+    return s;
+}
+
+int vc_insphere_exact(const double a[3], const double b[3], const double c[3], const double d[3],
+                      const double e[3])
+{
+    const double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+    const double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+    const double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+    const double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+    const double aexbey = aex * bey, bexaey = bex * aey, ab = aexbey - bexaey;
+    const double bexcey = bex * cey, cexbey = cex * bey, bc = bexcey - cexbey;
+    const double cexdey = cex * dey, dexcey = dex * cey, cd = cexdey - dexcey;
+    const double dexaey = dex * aey, aexdey = aex * dey, da = dexaey - aexdey;
+    const double aexcey = aex * cey, cexaey = cex * aey, ac = aexcey - cexaey;
+    const double bexdey = bex * dey, dexbey = dex * bey, bd = bexdey - dexbey;
+    const double abc = aez * bc - bez * ac + cez * ab;
+    const double bcd = bez * cd - cez * bd + dez * bc;
+    const double cda = cez * da + dez * ac + aez * cd;
+    const double dab = dez * ab + aez * bd + bez * da;
+    const double alift = aex * aex + aey * aey + aez * aez;
+    const double blift = bex * bex + bey * bey + bez * bez;
+    const double clift = cex * cex + cey * cey + cez * cez;
+    const double dlift = dex * dex + dey * dey + dez * dez;
+    const double det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    const double aez_ = fabs(aez), bez_ = fabs(bez), cez_ = fabs(cez), dez_ = fabs(dez);
+    const double aexbey_ = fabs(aexbey) + fabs(bexaey), bexcey_ = fabs(bexcey) + fabs(cexbey);
+    const double cexdey_ = fabs(cexdey) + fabs(dexcey), dexaey_ = fabs(dexaey) + fabs(aexdey);
+    const double aexcey_ = fabs(aexcey) + fabs(cexaey), bexdey_ = fabs(bexdey) + fabs(dexbey);
+    const double perm =
+        ((cexdey_ * bez_ + bexdey_ * cez_ + bexcey_ * dez_) * alift +
+         (dexaey_ * cez_ + aexcey_ * dez_ + cexdey_ * aez_) * blift) +
+        ((aexbey_ * dez_ + bexdey_ * aez_ + dexaey_ * bez_) * clift +
+         (bexcey_ * aez_ + aexcey_ * bez_ + aexbey_ * cez_) * dlift);
+    const double bound = ISP_BOUND * perm;
+    if (det > bound)
+        return 1;
+    if (det < -bound)
+        return -1;
+    __atomic_add_fetch(&n_fallbacks, 1, __ATOMIC_RELAXED);
+    return insphere_expansion(a, b, c, d, e);
+}
