@@ -227,18 +227,29 @@ static int covers_subface(void *ctx, int64_t i)
     return 1;
 }
 
+/* The corners the coverage tests use (on S' when sampled there), their
+ * centroid c and the largest distance from c to a corner; returns the
+ * corners. */
+static const double *subface_bound(const subface *sf, const subface_on_smooth *sg, int nv,
+                                   double c[3], double *reach)
+{
+    const double *v = sg ? sg->p : sf->v;
+    c[0] = c[1] = c[2] = 0;
+    for (int m = 0; m < nv; m++)
+        for (int d = 0; d < 3; d++)
+            c[d] += v[3 * m + d] / nv;
+    *reach = 0;
+    for (int m = 0; m < nv; m++)
+        *reach = fmax(*reach, dist(c, v + 3 * m));
+    return v;
+}
+
 /* Is the whole subface covered by one ball (balls are convex)? */
 static int subface_covered(const sampler *S, const subface *sf, const subface_on_smooth *sg,
                            int nv, int kind, int64_t *last_cover)
 {
-    const double *v = sg ? sg->p : sf->v;
-    double c[3] = {0, 0, 0};
-    for (int m = 0; m < nv; m++)
-        for (int d = 0; d < 3; d++)
-            c[d] += v[3 * m + d] / nv;
-    double reach = 0;
-    for (int m = 0; m < nv; m++)
-        reach = fmax(reach, dist(c, v + 3 * m));
+    double c[3], reach;
+    const double *v = subface_bound(sf, sg, nv, c, &reach);
     /* corners placed between projected ones lie off S' by about the sag:
      * they count as covered that much further out, or the darts (on S')
      * and the subfaces would disagree at the edges of the coverage */
@@ -340,14 +351,8 @@ static int in_lost_region(const sampler *S, const subface *sf, const subface_on_
 {
     if (!S->lost)
         return 1;
-    const double *v = sg ? sg->p : sf->v;
-    double c[3] = {0, 0, 0};
-    for (int m = 0; m < nv; m++)
-        for (int d = 0; d < 3; d++)
-            c[d] += v[3 * m + d] / nv;
-    double reach = 0;
-    for (int m = 0; m < nv; m++)
-        reach = fmax(reach, dist(c, v + 3 * m));
+    double c[3], reach;
+    subface_bound(sf, sg, nv, c, &reach);
     if (sg && sg->interpolated)
         reach += sg->sag;
     lost_ctx l = {&S->lost->b, c, reach};

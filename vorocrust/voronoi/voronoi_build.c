@@ -316,13 +316,10 @@ static void offset_gaps(const vc_seed_grid *g, const double *x, const int b[3],
         }
 }
 
-/* Builds the cell of seed s (at xs) into cell; returns CELL_*. The seeds of the
- * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
- * the farther seeds are mostly rejected by the radius test alone. */
-static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
-                        prune *pr, int64_t s, const double *xs, double tol, int64_t *other)
+/* Resets the cell of the seed at xs to the clipping box, in coordinates
+ * relative to the seed. */
+static int reset_to_box(const cell_job *job, vc_convex_cell *cell, const double *xs)
 {
-    const vc_seed_grid *g = job->grid;
     double lo[3], hi[3];
     const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
                               VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
@@ -330,7 +327,17 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         lo[d] = job->box_lo[d] - xs[d];
         hi[d] = job->box_hi[d] - xs[d];
     }
-    if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
+    return vc_convex_cell_reset_box(cell, lo, hi, walls);
+}
+
+/* Builds the cell of seed s (at xs) into cell; returns CELL_*. The seeds of the
+ * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
+ * the farther seeds are mostly rejected by the radius test alone. */
+static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
+                        prune *pr, int64_t s, const double *xs, double tol, int64_t *other)
+{
+    const vc_seed_grid *g = job->grid;
+    if (reset_to_box(job, cell, xs) != 0)
         return CELL_NOMEM;
     int b[3];
     vc_seed_grid_locate(g, xs, b);
@@ -478,14 +485,7 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
                             vc_cell_buf *cand_buf, prune *pr, int64_t s, const double *xs,
                             double tol, int64_t *other)
 {
-    double lo[3], hi[3];
-    const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
-                              VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
-    for (int d = 0; d < 3; d++) {
-        lo[d] = job->box_lo[d] - xs[d];
-        hi[d] = job->box_hi[d] - xs[d];
-    }
-    if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
+    if (reset_to_box(job, cell, xs) != 0)
         return CELL_NOMEM;
     const vc_seed_kdtree *t = job->tree;
     int done = 0;
