@@ -197,11 +197,11 @@ static expn copy(expn a)
     return r;
 }
 
-/* The sign, or 2 when out of memory. */
+/* The sign, or VC_PREDICATE_NOMEM when out of memory. */
 static int sign_free(expn x)
 {
     if (!x.v)
-        return 2;
+        return VC_PREDICATE_NOMEM;
     const double top = x.v[x.n - 1];
     free(x.v);
     return (top > 0) - (top < 0);
@@ -233,9 +233,7 @@ static int orient3d_expansion(const double *a, const double *b, const double *c,
         free(bd[k].v);
         free(cd[k].v);
     }
-    if (s == 2)
-        abort(); /* out of memory for a few kilobytes: nothing sensible is left */
-    return s;
+    return s; /* VC_PREDICATE_NOMEM (2) when out of memory */
 }
 
 int vc_orient3d_exact(const double a[3], const double b[3], const double c[3], const double d[3])
@@ -302,8 +300,6 @@ static int insphere_expansion(const double *a, const double *b, const double *c,
     free(bcd.v);
     free(cda.v);
     free(dab.v);
-    if (s == 2)
-        abort();
     return s;
 }
 

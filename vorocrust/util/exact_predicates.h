@@ -11,7 +11,11 @@
  * Inputs must be finite and their products must not overflow or
  * underflow (coordinates within about 1e-60 to 1e60 of each other's scale
  * keep every product normal); a determinant that is exactly zero returns
- * 0, there is no symbolic perturbation here. */
+ * 0, there is no symbolic perturbation here. The exact path allocates its
+ * expansions: out of memory, a predicate returns VC_PREDICATE_NOMEM, which
+ * the caller must treat as an error (the library never aborts). */
+
+#define VC_PREDICATE_NOMEM 2
 #ifndef VC_UTIL_EXACT_PREDICATES_H
 #define VC_UTIL_EXACT_PREDICATES_H
 
