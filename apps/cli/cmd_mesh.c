@@ -199,6 +199,8 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             q->volume_min, q->volume_max, q->fatness_max, q->fatness_mean,
             q->interior_fatness_max, q->interior_fatness_mean, q->shortest_edge_rel_min,
             q->n_unmeasured ? " (some cells could not be measured)" : "");
+    fprintf(stderr, "  cell order: reverse Cuthill-McKee, matrix bandwidth %lld (%lld in seed "
+            "order)\n", (long long)r->cell_bandwidth, (long long)r->cell_bandwidth_engine);
     fprintf(stderr,
             "  solver measures: shortest edge / enclosing radius p1 %.3g, %.1f%% of the cells "
             "below 1e-2; smallest face / radius^2 min %.3g p1 %.3g; seed distance / cell radius "

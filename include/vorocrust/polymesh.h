@@ -119,6 +119,25 @@ typedef struct vc_skew_collapse_stats {
 int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rounds,
                                     vc_skew_collapse_stats *st);
 
+/* A cell order for solvers: reverse Cuthill-McKee over the graph of cells
+ * joined by interior faces (each connected part from a pseudo-peripheral
+ * cell, neighbours by increasing degree, then index), into new_of_old
+ * (n_cells). Deterministic. Returns 0, or -1 when out of memory. */
+int vc_polymesh_rcm_order(const vc_polymesh *m, int64_t *new_of_old);
+
+/* Renumbers the cells of m (cell c becomes new_of_old[c], a permutation),
+ * keeping every invariant: interior faces sorted by (owner, neighbour) with
+ * the owner the lower cell (a face whose cells swap roles is reversed, its
+ * normal too), boundary faces by owner, each cell's faces in increasing
+ * order, points numbered by first use in the faces. The geometry is
+ * carried over unchanged. Returns 0, or -1 when out of memory (m is then
+ * unchanged). */
+int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old);
+
+/* Largest |owner - neighbour| over the interior faces: the bandwidth of a
+ * solver's matrix in this cell order. */
+int64_t vc_polymesh_bandwidth(const vc_polymesh *m);
+
 /* Distance between the seeds of the two cells of interior face f (the
  * two-point-flux connection length). */
 double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);

@@ -193,6 +193,10 @@ typedef struct vc_mesh_result {
     /* The reconstructed surface. */
     vc_polysurface surface;
     vc_polysurface_topology surface_topology;
+    /* The volume mesh's cells are in reverse Cuthill-McKee order: the
+     * largest |owner - neighbour| of an interior face, in it and in the
+     * engine's order by seed. */
+    int64_t cell_bandwidth, cell_bandwidth_engine;
     int64_t n_tjunctions_repaired;
     int surface_closed;         /* closed, consistently oriented 2-manifold with the
                                    input's Euler characteristic (always 1 on success:

@@ -493,6 +493,20 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_res
     if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))
         return named(err, name, NULL);
     out->has_mesh = 1;
+    /* the cells in a solver's order (reverse Cuthill-McKee), for every
+     * output alike: the engine numbers them by seed, and the surface seeds
+     * come before the interior ones */
+    {
+        out->cell_bandwidth_engine = vc_polymesh_bandwidth(&out->mesh);
+        int64_t *order = malloc(sizeof(int64_t) * (size_t)(out->mesh.n_cells + 1));
+        if (!order || vc_polymesh_rcm_order(&out->mesh, order) ||
+            vc_polymesh_renumber_cells(&out->mesh, order)) {
+            free(order);
+            return vc_error_set(err, VC_ENOMEM, "%s: out of memory ordering the cells", name);
+        }
+        free(order);
+        out->cell_bandwidth = vc_polymesh_bandwidth(&out->mesh);
+    }
     out->time.voronoi = now() - t;
 
     t = now();
