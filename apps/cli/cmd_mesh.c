@@ -22,6 +22,8 @@
  * that round differently on the right side. */
 #define FOAM_DEFAULT_MAX_SKEW 3.5
 #define FOAM_COLLAPSE_ROUNDS 60
+/* checkMesh fails a mesh with a face more skew than this */
+#define CHECKMESH_MAX_SKEW 4
 
 static void usage(FILE *f)
 {
@@ -507,6 +509,21 @@ static int run_mesh(int argc, char **argv)
             vc_polymesh_collapse_skew_faces(&r.mesh, foam_max_skew, FOAM_COLLAPSE_ROUNDS,
                                             &foam_skew)) {
             vc_error_set(&err, VC_ENOMEM, "out of memory collapsing the skew faces");
+            goto write_failed;
+        }
+        /* a case meant to pass checkMesh that is known to fail it is an error,
+         * not an output */
+        if (foam_path && foam_max_skew > 0 && foam_max_skew <= CHECKMESH_MAX_SKEW &&
+            foam_skew.max_skew_after > CHECKMESH_MAX_SKEW) {
+            int64_t n_over = 0;
+            for (int64_t f = 0; f < r.mesh.n_interior_faces; f++)
+                n_over += vc_polymesh_face_skewness(&r.mesh, f) > CHECKMESH_MAX_SKEW;
+            vc_error_set(&err, VC_EINPUT,
+                         "%s: the OpenFOAM case would fail checkMesh: after collapsing %lld skew "
+                         "faces, %lld keep a skewness above %g (at most %.3g); --foam-max-skew 0 "
+                         "writes the exact Voronoi cells, which fail checkMesh's skewness check only",
+                         in_path, (long long)foam_skew.n_collapsed, (long long)n_over,
+                         (double)CHECKMESH_MAX_SKEW, foam_skew.max_skew_after);
             goto write_failed;
         }
         if (foam_path && vc_write_openfoam(&r.mesh, foam_path, &err))
