@@ -436,6 +436,111 @@ static void test_vorocrust_seeds(void)
     vc_seeds_free(&s);
 }
 
+/* The cells' neighbours from the grid's bins and from the k-d tree give
+ * the same mesh (the cut order differs, the cells do not), with 1 and 2
+ * threads: on random seeds, on seeds crowded in pairs along a sphere with
+ * sparse seeds inside (VoroCrust's layout, where the tree is chosen), and
+ * on the torus surface seeds. */
+static void build_with(const vc_seeds *s, const double *box, int neighbours, int threads,
+                       vc_polymesh *m, const char *name)
+{
+    vc_voronoi_options opt;
+    vc_voronoi_options_default(&opt);
+    if (box) {
+        opt.has_box = 1;
+        memcpy(opt.box, box, sizeof opt.box);
+    }
+    opt.threads = threads;
+    opt.neighbours = neighbours;
+    vc_error err = {0, ""};
+    memset(m, 0, sizeof *m);
+    CHECKF(vc_voronoi_build(s, &opt, m, &err) == 0, "%s: %s", name, err.msg);
+    char report[1024];
+    CHECKF(vc_polymesh_validate(m, 0, report, sizeof report) == 0, "%s: %s", name, report);
+}
+
+static void compare_sources(const char *name, const vc_seeds *s, const double *box)
+{
+    vc_polymesh grid, tree1, tree2;
+    build_with(s, box, VC_NEIGHBOURS_GRID, 1, &grid, name);
+    build_with(s, box, VC_NEIGHBOURS_TREE, 1, &tree1, name);
+    build_with(s, box, VC_NEIGHBOURS_TREE, 2, &tree2, name);
+    /* the same faces between the same cells, each the same cycle of points
+     * (numbered and rounded independently: the points are compared, within
+     * 1e-12 of the box, the cycles up to where they start) */
+    int same = grid.n_cells == tree1.n_cells && grid.n_faces == tree1.n_faces &&
+               grid.n_points == tree1.n_points &&
+               !memcmp(grid.face_offsets, tree1.face_offsets,
+                       sizeof(int64_t) * (size_t)(grid.n_faces + 1)) &&
+               !memcmp(grid.face_owner, tree1.face_owner, sizeof(int64_t) * (size_t)grid.n_faces) &&
+               !memcmp(grid.face_neighbour, tree1.face_neighbour,
+                       sizeof(int64_t) * (size_t)grid.n_faces);
+    int64_t bad_faces = 0;
+    for (int64_t f = 0; same && f < grid.n_faces; f++) {
+        const int64_t a = grid.face_offsets[f], len = grid.face_offsets[f + 1] - a;
+        const double *g0 = grid.points + 3 * grid.face_vertices[a];
+        int64_t shift = -1;
+        for (int64_t k = 0; k < len && shift < 0; k++) {
+            const double *t = tree1.points + 3 * tree1.face_vertices[a + k];
+            if (fabs(t[0] - g0[0]) <= 1e-12 && fabs(t[1] - g0[1]) <= 1e-12 && fabs(t[2] - g0[2]) <= 1e-12)
+                shift = k;
+        }
+        int ok = shift >= 0;
+        for (int64_t k = 0; ok && k < len; k++) {
+            const double *g = grid.points + 3 * grid.face_vertices[a + k];
+            const double *t = tree1.points + 3 * tree1.face_vertices[a + (k + shift) % len];
+            ok = fabs(t[0] - g[0]) <= 1e-12 && fabs(t[1] - g[1]) <= 1e-12 && fabs(t[2] - g[2]) <= 1e-12;
+        }
+        bad_faces += !ok;
+    }
+    CHECKF(same && bad_faces == 0, "%s: the grid's and the tree's meshes differ (%lld/%lld cells, "
+           "%lld/%lld faces, %lld/%lld points, %lld faces with other points)", name,
+           (long long)grid.n_cells, (long long)tree1.n_cells, (long long)grid.n_faces,
+           (long long)tree1.n_faces, (long long)grid.n_points, (long long)tree1.n_points,
+           (long long)bad_faces);
+    CHECKF(same_mesh(&tree1, &tree2), "%s: the tree's meshes differ with 1 and 2 threads", name);
+    vc_polymesh_free(&grid);
+    vc_polymesh_free(&tree1);
+    vc_polymesh_free(&tree2);
+}
+
+static void test_neighbour_sources(void)
+{
+    vc_rng rng;
+    vc_rng_init(&rng, 11, 0);
+    const int64_t n = 6000;
+    vc_seeds s;
+    vc_seeds_alloc(&s, n, NULL);
+    for (int64_t i = 0; i < 3 * n; i++)
+        s.xyz[i] = vc_rng_uniform(&rng);
+    const double box[6] = {0, 0, 0, 1, 1, 1};
+    compare_sources("random seeds", &s, box);
+    for (int64_t i = 0; i < n; i += 2) {
+        double p[3], r2 = 0;
+        for (int d = 0; d < 3; d++) {
+            p[d] = vc_rng_uniform(&rng) * 2 - 1;
+            r2 += p[d] * p[d];
+        }
+        const double r = sqrt(r2);
+        const int inner = i >= 5 * n / 6;
+        for (int d = 0; d < 3; d++) {
+            const double u = r > 0 ? p[d] / r : 0;
+            /* a pair a sliver apart across the sphere, or sparse inside */
+            s.xyz[3 * i + d] = 1 + (inner ? 0.6 * vc_rng_uniform(&rng) * u : 0.8 * u);
+            s.xyz[3 * (i + 1) + d] = 1 + (inner ? 0.6 * vc_rng_uniform(&rng) * u : 0.8015 * u);
+        }
+        s.label[i] = 1;
+        s.label[i + 1] = !inner ? 0 : 1;
+    }
+    compare_sources("seeds crowded along a sphere", &s, NULL);
+    vc_seeds_free(&s);
+    vc_error err = {0, ""};
+    if (vc_seeds_read_csv(VC_TEST_DATA "/torus-seed3-tjunction-281.csv", &s, &err) == 0) {
+        compare_sources("torus seeds", &s, NULL);
+        vc_seeds_free(&s);
+    }
+}
+
 int main(void)
 {
     test_single_and_duplicates();
@@ -447,6 +552,7 @@ int main(void)
     test_cospherical();
     test_vorocrust_seeds();
     test_no_box();
+    test_neighbour_sources();
     for (int shifted = 0; shifted < 2; shifted++)
         for (int e = 0; e < 7; e++)
             for (uint64_t seed = 1; seed <= 2; seed++)

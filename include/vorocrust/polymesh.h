@@ -130,8 +130,9 @@ int vc_polymesh_rcm_order(const vc_polymesh *m, int64_t *new_of_old);
  * the owner the lower cell (a face whose cells swap roles is reversed, its
  * normal too), boundary faces by owner, each cell's faces in increasing
  * order, points numbered by first use in the faces. The geometry is
- * carried over unchanged. Returns 0, or -1 when out of memory (m is then
- * unchanged). */
+ * carried over unchanged. One array is rebuilt at a time (the peak is the
+ * mesh and its largest array). Returns 0, or -1 when out of memory (m is
+ * then inconsistent: free it). */
 int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old);
 
 /* Largest |owner - neighbour| over the interior faces: the bandwidth of a

@@ -33,7 +33,14 @@ typedef struct vc_voronoi_options {
     /* Progress (VC_LOG_INFO: every tenth of the cells) and phase timings
      * (VC_LOG_DEBUG) go here; NULL: nowhere. */
     const vc_logger *log;
+    /* Where each cell's neighbours come from: VC_NEIGHBOURS_AUTO (0, the
+     * default: the grid's bins, or a k-d tree's nearest neighbours when the
+     * seeds crowd the bins), VC_NEIGHBOURS_GRID or VC_NEIGHBOURS_TREE. The
+     * cells are the same either way; only the time differs. */
+    int neighbours;
 } vc_voronoi_options;
+
+enum { VC_NEIGHBOURS_AUTO = 0, VC_NEIGHBOURS_GRID = 1, VC_NEIGHBOURS_TREE = 2 };
 
 void vc_voronoi_options_default(vc_voronoi_options *opt);
 

@@ -147,48 +147,40 @@ static int cmp_i64(const void *p, const void *q)
     return (x > y) - (x < y);
 }
 
+/* Replaces *arr (n records of size bytes) by its records taken in the
+ * order src[0 .. n): one array at a time, so the peak memory is the mesh
+ * and one array. */
+static int gather(void *arr, size_t size, int64_t n, const int64_t *src)
+{
+    char **p = arr;
+    if (!*p)
+        return 0;
+    char *q = malloc(size * (size_t)(n > 0 ? n : 1));
+    if (!q)
+        return -1;
+    for (int64_t i = 0; i < n; i++)
+        memcpy(q + size * (size_t)i, *p + size * (size_t)src[i], size);
+    free(*p);
+    *p = q;
+    return 0;
+}
+
 int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old)
 {
     const int64_t nc = m->n_cells, nf = m->n_faces, np = m->n_points;
     const int64_t nfv = m->face_offsets[nf], ncf = m->cell_offsets[nc];
     face_sort *fs = malloc(sizeof(face_sort) * (size_t)(nf + 1));
-    int64_t *new_face = malloc(sizeof(int64_t) * (size_t)(nf + 1));
+    int64_t *old_face = malloc(sizeof(int64_t) * (size_t)(nf + 1));
     int64_t *new_point = malloc(sizeof(int64_t) * (size_t)(np + 1));
+    int64_t *old_point = malloc(sizeof(int64_t) * (size_t)(np + 1));
     int64_t *old_of_new = malloc(sizeof(int64_t) * (size_t)(nc + 1));
-    vc_polymesh r;
-    memset(&r, 0, sizeof r);
-    r.face_offsets = malloc(sizeof(int64_t) * (size_t)(nf + 1));
-    r.face_vertices = malloc(sizeof(int64_t) * (size_t)(nfv + 1));
-    r.face_owner = malloc(sizeof(int64_t) * (size_t)(nf + 1));
-    r.face_neighbour = malloc(sizeof(int64_t) * (size_t)(nf + 1));
-    r.face_other_seed = m->face_other_seed ? malloc(sizeof(int64_t) * (size_t)(nf + 1)) : NULL;
-    r.face_area = malloc(sizeof(double) * (size_t)(nf + 1));
-    r.face_centroid = malloc(sizeof(double) * 3 * (size_t)(nf + 1));
-    r.face_normal = malloc(sizeof(double) * 3 * (size_t)(nf + 1));
-    r.points = malloc(sizeof(double) * 3 * (size_t)(np + 1));
-    r.cell_offsets = malloc(sizeof(int64_t) * (size_t)(nc + 1));
-    r.cell_faces = malloc(sizeof(int64_t) * (size_t)(ncf + 1));
-    r.cell_seed = malloc(sizeof(int64_t) * (size_t)(nc + 1));
-    r.cell_region = malloc(sizeof(int32_t) * (size_t)(nc + 1));
-    r.cell_volume = malloc(sizeof(double) * (size_t)(nc + 1));
-    r.cell_centroid = malloc(sizeof(double) * 3 * (size_t)(nc + 1));
-    r.cell_fatness = m->cell_fatness ? malloc(sizeof(double) * (size_t)(nc + 1)) : NULL;
-    if (!fs || !new_face || !new_point || !old_of_new || !r.face_offsets || !r.face_vertices ||
-        !r.face_owner || !r.face_neighbour || (m->face_other_seed && !r.face_other_seed) ||
-        !r.face_area || !r.face_centroid || !r.face_normal || !r.points || !r.cell_offsets ||
-        !r.cell_faces || !r.cell_seed || !r.cell_region || !r.cell_volume || !r.cell_centroid ||
-        (m->cell_fatness && !r.cell_fatness)) {
-        free(fs);
-        free(new_face);
-        free(new_point);
-        free(old_of_new);
-        r.seed_xyz = NULL;
-        vc_polymesh_free(&r);
-        return -1;
-    }
+    unsigned char *flip = malloc((size_t)nf + 1);
+    int rc = -1;
+    if (!fs || !old_face || !new_point || !old_point || !old_of_new || !flip)
+        goto done;
     for (int64_t c = 0; c < nc; c++)
         old_of_new[new_of_old[c]] = c;
-    /* faces: interior by (owner, neighbour) with owner the lower cell,
+    /* faces: interior by (owner, neighbour) with the owner the lower cell,
      * then the boundary by owner */
     for (int64_t f = 0; f < nf; f++) {
         int64_t o = new_of_old[m->face_owner[f]];
@@ -201,68 +193,104 @@ int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old)
         fs[f] = (face_sort){o, b, f};
     }
     qsort(fs, (size_t)nf, sizeof *fs, cmp_face);
+    for (int64_t g = 0; g < nf; g++) {
+        old_face[g] = fs[g].old;
+        /* turned when the lower cell was the neighbour */
+        flip[g] = fs[g].neighbour >= 0 && fs[g].owner != new_of_old[m->face_owner[fs[g].old]];
+    }
+    /* the face vertex lists in the new order (reversed where turned,
+     * keeping the first vertex first), points numbered by first use */
+    int64_t *fo = malloc(sizeof(int64_t) * (size_t)(nf + 1));
+    int64_t *fv = malloc(sizeof(int64_t) * (size_t)(nfv + 1));
+    if (!fo || !fv) {
+        free(fo);
+        free(fv);
+        goto done;
+    }
     for (int64_t p = 0; p < np; p++)
         new_point[p] = -1;
     int64_t k = 0, npn = 0;
-    r.face_offsets[0] = 0;
+    fo[0] = 0;
     for (int64_t g = 0; g < nf; g++) {
-        const int64_t f = fs[g].old;
-        new_face[f] = g;
-        /* turned when the lower cell was the neighbour */
-        const int flip = fs[g].neighbour >= 0 && fs[g].owner != new_of_old[m->face_owner[f]];
-        const int64_t a = m->face_offsets[f], len = m->face_offsets[f + 1] - a;
+        const int64_t f = old_face[g], a = m->face_offsets[f], len = m->face_offsets[f + 1] - a;
         for (int64_t j = 0; j < len; j++) {
-            /* reversed, keeping the first vertex first */
-            const int64_t v = m->face_vertices[a + (flip ? (len - j) % len : j)];
+            const int64_t v = m->face_vertices[a + (flip[g] ? (len - j) % len : j)];
             if (new_point[v] < 0) {
-                new_point[v] = npn;
-                memcpy(r.points + 3 * npn, m->points + 3 * v, sizeof(double) * 3);
-                npn++;
+                old_point[npn] = v;
+                new_point[v] = npn++;
             }
-            r.face_vertices[k++] = new_point[v];
+            fv[k++] = new_point[v];
         }
-        r.face_offsets[g + 1] = k;
-        r.face_owner[g] = fs[g].owner;
-        r.face_neighbour[g] = fs[g].neighbour;
-        if (r.face_other_seed)
-            r.face_other_seed[g] = flip ? m->cell_seed[m->face_owner[f]] : m->face_other_seed[f];
-        r.face_area[g] = m->face_area[f];
-        for (int d = 0; d < 3; d++) {
-            r.face_centroid[3 * g + d] = m->face_centroid[3 * f + d];
-            r.face_normal[3 * g + d] = flip ? -m->face_normal[3 * f + d] : m->face_normal[3 * f + d];
-        }
+        fo[g + 1] = k;
     }
-    /* cells: their faces in increasing new index */
+    free(m->face_offsets);
+    free(m->face_vertices);
+    m->face_offsets = fo;
+    m->face_vertices = fv;
+    /* the other face arrays */
+    if (gather(&m->face_other_seed, sizeof(int64_t), nf, old_face) ||
+        gather(&m->face_area, sizeof(double), nf, old_face) ||
+        gather(&m->face_centroid, 3 * sizeof(double), nf, old_face) ||
+        gather(&m->face_normal, 3 * sizeof(double), nf, old_face))
+        goto done;
+    for (int64_t g = 0; g < nf; g++) {
+        m->face_owner[g] = fs[g].owner;
+        m->face_neighbour[g] = fs[g].neighbour;
+        if (flip[g])
+            for (int d = 0; d < 3; d++)
+                m->face_normal[3 * g + d] = -m->face_normal[3 * g + d];
+    }
+    /* an interior face's other seed is its neighbour's (cell_seed is still
+     * in the old order here), which a turned face swaps */
+    if (m->face_other_seed)
+        for (int64_t g = 0; g < nf; g++)
+            if (fs[g].neighbour >= 0)
+                m->face_other_seed[g] = m->cell_seed[old_of_new[fs[g].neighbour]];
+    /* points */
+    if (gather(&m->points, 3 * sizeof(double), npn, old_point))
+        goto done;
+    m->n_points = npn;
+    /* cells: their faces by new index, in increasing order */
+    int64_t *nfi = malloc(sizeof(int64_t) * (size_t)(nf + 1));
+    int64_t *co = malloc(sizeof(int64_t) * (size_t)(nc + 1));
+    int64_t *cf = malloc(sizeof(int64_t) * (size_t)(ncf + 1));
+    if (!nfi || !co || !cf) {
+        free(nfi);
+        free(co);
+        free(cf);
+        goto done;
+    }
+    for (int64_t g = 0; g < nf; g++)
+        nfi[old_face[g]] = g;
     int64_t q = 0;
-    r.cell_offsets[0] = 0;
+    co[0] = 0;
     for (int64_t c = 0; c < nc; c++) {
-        const int64_t old = old_of_new[c];
-        const int64_t from = q;
+        const int64_t old = old_of_new[c], from = q;
         for (int64_t j = m->cell_offsets[old]; j < m->cell_offsets[old + 1]; j++)
-            r.cell_faces[q++] = new_face[m->cell_faces[j]];
-        qsort(r.cell_faces + from, (size_t)(q - from), sizeof(int64_t), cmp_i64);
-        r.cell_offsets[c + 1] = q;
-        r.cell_seed[c] = m->cell_seed[old];
-        r.cell_region[c] = m->cell_region[old];
-        r.cell_volume[c] = m->cell_volume[old];
-        memcpy(r.cell_centroid + 3 * c, m->cell_centroid + 3 * old, sizeof(double) * 3);
-        if (r.cell_fatness)
-            r.cell_fatness[c] = m->cell_fatness[old];
+            cf[q++] = nfi[m->cell_faces[j]];
+        qsort(cf + from, (size_t)(q - from), sizeof(int64_t), cmp_i64);
+        co[c + 1] = q;
     }
-    r.n_points = npn;
-    r.n_faces = nf;
-    r.n_interior_faces = m->n_interior_faces;
-    r.n_cells = nc;
-    r.n_seeds = m->n_seeds;
-    r.seed_xyz = m->seed_xyz;
-    m->seed_xyz = NULL;
-    vc_polymesh_free(m);
-    *m = r;
+    free(nfi);
+    free(m->cell_offsets);
+    free(m->cell_faces);
+    m->cell_offsets = co;
+    m->cell_faces = cf;
+    if (gather(&m->cell_seed, sizeof(int64_t), nc, old_of_new) ||
+        gather(&m->cell_region, sizeof(int32_t), nc, old_of_new) ||
+        gather(&m->cell_volume, sizeof(double), nc, old_of_new) ||
+        gather(&m->cell_centroid, 3 * sizeof(double), nc, old_of_new) ||
+        gather(&m->cell_fatness, sizeof(double), nc, old_of_new))
+        goto done;
+    rc = 0;
+done:
     free(fs);
-    free(new_face);
+    free(old_face);
     free(new_point);
+    free(old_point);
     free(old_of_new);
-    return 0;
+    free(flip);
+    return rc;
 }
 
 int64_t vc_polymesh_bandwidth(const vc_polymesh *m)
