@@ -23,9 +23,10 @@ static double total_volume(const vc_polymesh *m)
     return v;
 }
 
-/* Builds, validates, and checks the volume sum against expected (if > 0). */
-static int build_checked(const char *name, const vc_seeds *s, const double *box, int threads,
-                         double expected_volume, vc_polymesh *m)
+/* Builds with the given neighbour source and validates; returns the
+ * build's code. */
+static int build_with(const vc_seeds *s, const double *box, int neighbours, int threads,
+                      vc_polymesh *m, const char *name)
 {
     vc_voronoi_options opt;
     vc_voronoi_options_default(&opt);
@@ -34,7 +35,9 @@ static int build_checked(const char *name, const vc_seeds *s, const double *box,
         memcpy(opt.box, box, sizeof opt.box);
     }
     opt.threads = threads;
+    opt.neighbours = neighbours;
     vc_error err = {0, ""};
+    memset(m, 0, sizeof *m);
     int rc = vc_voronoi_build(s, &opt, m, &err);
     CHECKF(rc == 0, "%s: build failed: %s", name, err.msg);
     if (rc)
@@ -42,6 +45,16 @@ static int build_checked(const char *name, const vc_seeds *s, const double *box,
     char report[4096];
     int64_t problems = vc_polymesh_validate(m, 0, report, sizeof report);
     CHECKF(problems == 0, "%s: %lld validation problems:\n%s", name, (long long)problems, report);
+    return 0;
+}
+
+/* Builds, validates, and checks the volume sum against expected (if > 0). */
+static int build_checked(const char *name, const vc_seeds *s, const double *box, int threads,
+                         double expected_volume, vc_polymesh *m)
+{
+    int rc = build_with(s, box, VC_NEIGHBOURS_AUTO, threads, m, name);
+    if (rc)
+        return rc;
     if (expected_volume > 0) {
         double v = total_volume(m);
         CHECKF(fabs(v - expected_volume) <= 1e-9 * expected_volume,
@@ -441,24 +454,6 @@ static void test_vorocrust_seeds(void)
  * threads: on random seeds, on seeds crowded in pairs along a sphere with
  * sparse seeds inside (VoroCrust's layout, where the tree is chosen), and
  * on the torus surface seeds. */
-static void build_with(const vc_seeds *s, const double *box, int neighbours, int threads,
-                       vc_polymesh *m, const char *name)
-{
-    vc_voronoi_options opt;
-    vc_voronoi_options_default(&opt);
-    if (box) {
-        opt.has_box = 1;
-        memcpy(opt.box, box, sizeof opt.box);
-    }
-    opt.threads = threads;
-    opt.neighbours = neighbours;
-    vc_error err = {0, ""};
-    memset(m, 0, sizeof *m);
-    CHECKF(vc_voronoi_build(s, &opt, m, &err) == 0, "%s: %s", name, err.msg);
-    char report[1024];
-    CHECKF(vc_polymesh_validate(m, 0, report, sizeof report) == 0, "%s: %s", name, report);
-}
-
 static void compare_sources(const char *name, const vc_seeds *s, const double *box)
 {
     vc_polymesh grid, tree1, tree2;

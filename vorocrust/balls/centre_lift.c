@@ -9,6 +9,7 @@
 #include "balls/ball_set.h"
 #include "balls/triplets.h"
 #include "sizing/closest_point.h"
+#include "util/reserve.h"
 #include "util/threads.h"
 
 /* checks before every lift is dropped */
@@ -135,15 +136,9 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     }
     if (cu || c->oom)
         return;
-    if (c->n == c->cap) {
-        int64_t cap = c->cap ? 2 * c->cap : 4096;
-        facet_clear *q = realloc(c->f, sizeof(facet_clear) * (size_t)cap);
-        if (!q) {
-            c->oom = 1;
-            return;
-        }
-        c->f = q;
-        c->cap = cap;
+    if (vc_reserve(&c->f, &c->cap, c->n + 1, sizeof(facet_clear))) {
+        c->oom = 1;
+        return;
     }
     facet_clear *r = &c->f[c->n++];
     r->v[0] = t->i;

@@ -29,6 +29,7 @@
 #include "balls/ball_set.h"
 #include "balls/centre_lift.h"
 #include "balls/triplets.h"
+#include "util/reserve.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"
 #include "vorocrust/random.h"
@@ -844,44 +845,35 @@ static int resample_around(sampler *S, const double *old_r, const unsigned char 
         return -1;
     }
     near_ctx nc = {me, mt};
-    vc_balls was;
-    memset(&was, 0, sizeof was);
-    for (int64_t i = 0; i < S->bs.b.n; i++)
+    /* the shrunk balls at their old radii (see sampler.lost), over their
+     * bounding box */
+    const vc_balls *b = &S->bs.b;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int64_t n_lost = 0;
+    for (int64_t i = 0; i < b->n; i++)
         if (shrunk[i]) {
-            vc_sizing_elements_near(&S->z, S->bs.b.center + 3 * i, old_r[i], mark_near, &nc);
-            was.n++;
-        }
-    if (was.n == 0) {
-        free(me);
-        free(mt);
-        return 0;
-    }
-    /* the shrunk balls at their old radii (see sampler.lost) */
-    was.center = malloc(sizeof(double) * 3 * (size_t)(was.n + 1));
-    was.normal = malloc(sizeof(double) * 3 * (size_t)(was.n + 1));
-    was.radius = malloc(sizeof(double) * (size_t)(was.n + 1));
-    was.kind = malloc((size_t)(was.n + 1));
-    was.element = malloc(sizeof(int64_t) * (size_t)(was.n + 1));
-    vc_ball_set lost;
-    int rc = -1;
-    if (was.center && was.normal && was.radius && was.kind && was.element) {
-        int64_t m = 0;
-        for (int64_t i = 0; i < S->bs.b.n; i++)
-            if (shrunk[i]) {
-                memcpy(was.center + 3 * m, S->bs.b.center + 3 * i, sizeof(double) * 3);
-                memcpy(was.normal + 3 * m, S->bs.b.normal + 3 * i, sizeof(double) * 3);
-                was.radius[m] = old_r[i];
-                was.kind[m] = S->bs.b.kind[i];
-                was.element[m++] = S->bs.b.element[i];
+            vc_sizing_elements_near(&S->z, b->center + 3 * i, old_r[i], mark_near, &nc);
+            for (int d = 0; d < 3; d++) {
+                lo[d] = fmin(lo[d], b->center[3 * i + d] - old_r[i]);
+                hi[d] = fmax(hi[d], b->center[3 * i + d] + old_r[i]);
             }
-        if (vc_ball_set_build(&lost, &was, NULL) == 0) {
+            n_lost++;
+        }
+    int rc = n_lost == 0 ? 0 : -1;
+    vc_ball_set lost;
+    if (n_lost > 0 && vc_ball_set_init(&lost, lo, dist(lo, hi)) == 0) {
+        int ok = 1;
+        for (int64_t i = 0; i < b->n && ok; i++)
+            if (shrunk[i])
+                ok = vc_ball_set_add(&lost, b->center + 3 * i, old_r[i], b->kind[i], b->element[i],
+                                     b->normal + 3 * i) >= 0;
+        if (ok) {
             S->lost = &lost;
             rc = sample_strata(S, me, mt);
             S->lost = NULL;
-            vc_ball_set_free(&lost);
         }
+        vc_ball_set_free(&lost);
     }
-    vc_balls_free(&was);
     free(me);
     free(mt);
     return rc;
@@ -965,25 +957,19 @@ typedef struct facet_list {
     int oom;
 } facet_list;
 
+static void push_facet(facet_list *l, facet_rec r)
+{
+    if (l->oom || vc_reserve(&l->f, &l->cap, l->n + 1, sizeof(facet_rec))) {
+        l->oom = 1;
+        return;
+    }
+    l->f[l->n++] = r;
+}
+
 /* a triplet whose two seeds both stay is a facet of the surface */
 static void collect_facet(facet_list *l, const vc_triplet *t)
 {
-    if (l->oom)
-        return;
-    if (l->n == l->cap) {
-        int64_t c = l->cap ? 2 * l->cap : 4096;
-        facet_rec *q = realloc(l->f, sizeof(facet_rec) * (size_t)c);
-        if (!q) {
-            l->oom = 1;
-            return;
-        }
-        l->f = q;
-        l->cap = c;
-    }
-    facet_rec *r = &l->f[l->n++];
-    r->v[0] = t->i;
-    r->v[1] = t->j;
-    r->v[2] = t->k;
+    push_facet(l, (facet_rec){{t->i, t->j, t->k}});
 }
 
 /* A half-covered pair: its triplet, the covering ball and the radius that
@@ -1015,15 +1001,9 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     const double *g = t->cover_up >= 0 ? t->up : t->down;
     if (c->n_half == 0)
         memcpy(c->where, g, sizeof c->where);
-    if (c->n_half == c->cap) {
-        int64_t cap = c->cap ? 2 * c->cap : 256;
-        half_rec *q = realloc(c->half, sizeof(half_rec) * (size_t)cap);
-        if (!q) {
-            c->oom = 1;
-            return;
-        }
-        c->half = q;
-        c->cap = cap;
+    if (vc_reserve(&c->half, &c->cap, c->n_half + 1, sizeof(half_rec))) {
+        c->oom = 1;
+        return;
     }
     half_rec *h = &c->half[c->n_half++];
     h->v[0] = t->i;
@@ -1125,13 +1105,8 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     if (!all) {
         /* the facets of the balls not scanned, as they were */
         for (int64_t q = 0; q < facets->n && !fresh.oom; q++)
-            if (!scanned[facets->f[q].v[0]]) {
-                vc_triplet t;
-                t.i = facets->f[q].v[0];
-                t.j = facets->f[q].v[1];
-                t.k = facets->f[q].v[2];
-                collect_facet(&fresh, &t);
-            }
+            if (!scanned[facets->f[q].v[0]])
+                push_facet(&fresh, facets->f[q]);
         if (fresh.oom) {
             free(target);
             free(cut);

@@ -1,4 +1,5 @@
 #include "balls/triplets.h"
+#include "util/reserve.h"
 #include "util/threads.h"
 
 #ifdef _OPENMP
@@ -178,15 +179,9 @@ static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_bu
                 continue;
             t.cover_up = best_cover(b, L, j, k, t.up, &t.clear_up);
             t.cover_down = best_cover(b, L, j, k, t.down, &t.clear_down);
-            if (out->n == out->cap) {
-                int64_t c2 = out->cap ? 2 * out->cap : 1024;
-                vc_triplet *q = realloc(out->t, sizeof(vc_triplet) * (size_t)c2);
-                if (!q) {
-                    out->oom = 1;
-                    return;
-                }
-                out->t = q;
-                out->cap = c2;
+            if (vc_reserve(&out->t, &out->cap, out->n + 1, sizeof(vc_triplet))) {
+                out->oom = 1;
+                return;
             }
             out->t[out->n++] = t;
         }

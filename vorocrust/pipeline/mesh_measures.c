@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/reserve.h"
 #include "vorocrust/quality.h"
 
 void vc_surface_quality_compute(const vc_polysurface *ps, vc_surface_quality *out)
@@ -67,20 +68,6 @@ double vc_polysurface_volume(const vc_polysurface *ps)
     return sv;
 }
 
-/* Makes room for n elements of elem bytes in *p (capacity *cap). */
-static int grow(void *pp, int64_t *cap, int64_t n, size_t elem)
-{
-    if (n <= *cap)
-        return 0;
-    int64_t c = 2 * n;
-    void *q = realloc(*(void **)pp, elem * (size_t)c);
-    if (!q)
-        return -1;
-    *(void **)pp = q;
-    *cap = c;
-    return 0;
-}
-
 /* The measures of cell c (an outward face list and the distinct vertices
  * gathered into the scratch arrays); 0, 1 when it cannot be measured, -1
  * when out of memory. */
@@ -95,8 +82,8 @@ static int measure_cell(const vc_polymesh *m, int64_t c, int64_t **foff, int64_t
         nfv += m->face_offsets[f + 1] - m->face_offsets[f];
         *boundary |= m->face_neighbour[f] < 0;
     }
-    if (grow(foff, cap_f, nf + 1, sizeof **foff) || grow(fv, cap_v, nfv, sizeof **fv) ||
-        grow(vs, cap_s, nfv, sizeof **vs))
+    if (vc_reserve(foff, cap_f, nf + 1, sizeof **foff) || vc_reserve(fv, cap_v, nfv, sizeof **fv) ||
+        vc_reserve(vs, cap_s, nfv, sizeof **vs))
         return -1;
     /* the cell's faces, oriented outward */
     int64_t n = 0;

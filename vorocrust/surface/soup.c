@@ -1,34 +1,15 @@
 /* The polygon soup the readers fill, and the text scanner they share. */
 #include "surface/surface_internal.h"
 #include "util/number_span.h"
+#include "util/reserve.h"
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
-static int grow(void **p, int64_t *cap, int64_t need, size_t elem)
-{
-    if (need <= *cap)
-        return 0;
-    int64_t c = *cap ? *cap : 1024;
-    while (c < need) {
-        if (c > INT64_MAX / 2)
-            return -1;
-        c *= 2;
-    }
-    if ((uint64_t)c > SIZE_MAX / elem)
-        return -1;
-    void *q = realloc(*p, (size_t)c * elem);
-    if (!q)
-        return -1;
-    *p = q;
-    *cap = c;
-    return 0;
-}
-
 int vc_soup_add_vertex(vc_soup *s, double x, double y, double z)
 {
-    if (grow((void **)&s->xyz, &s->cap_v, s->nv + 1, 3 * sizeof(double)))
+    if (vc_reserve(&s->xyz, &s->cap_v, s->nv + 1, 3 * sizeof(double)))
         return VC_ENOMEM;
     double *v = s->xyz + 3 * s->nv++;
     v[0] = x;
@@ -41,8 +22,8 @@ int vc_soup_add_face(vc_soup *s, const int64_t *v, int64_t n)
 {
     if (n < 0 || n > INT64_MAX - s->ni)
         return VC_ENOMEM;
-    if (grow((void **)&s->off, &s->cap_f, s->nf + 2, sizeof(int64_t)) ||
-        grow((void **)&s->idx, &s->cap_i, s->ni + n, sizeof(int64_t)))
+    if (vc_reserve(&s->off, &s->cap_f, s->nf + 2, sizeof(int64_t)) ||
+        vc_reserve(&s->idx, &s->cap_i, s->ni + n, sizeof(int64_t)))
         return VC_ENOMEM;
     if (s->nf == 0)
         s->off[0] = 0;
