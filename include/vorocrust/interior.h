@@ -34,7 +34,8 @@ extern "C" {
  * by max_size when positive. */
 double vc_interior_default_spacing(const vc_balls *balls, double max_size);
 
-/* Appends the interior seeds (label 1) on a lattice of the given spacing to
+/* Appends the interior seeds (each labelled as its nearest surface seed:
+ * its region) on a lattice of the given spacing to
  * a copy of the surface seeds: out = surface seeds, then interior seeds
  * in lattice order. *n_interior receives their number. Fails with
  * VC_EPARAM for a spacing that is not positive or would make more than
@@ -85,7 +86,7 @@ typedef struct vc_octree_leaves {
 
 void vc_octree_leaves_free(vc_octree_leaves *l);
 
-/* Appends the interior seeds (label 1) of the octree to a copy of the
+/* Appends the interior seeds (labelled as their nearest surface seeds) of the octree to a copy of the
  * surface seeds: out = surface seeds, then interior seeds in leaf (Morton)
  * order; *n_interior receives their number. stats and leaves may be NULL.
  * The program must have initialised MPI (MPI_Init or MPI_Init_thread;

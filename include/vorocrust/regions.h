@@ -87,6 +87,21 @@ int vc_regions_single_solid(const vc_regions *r);
  * an interface between regions, where the rule does not apply). */
 int64_t vc_regions_even_odd_flips(const vc_regions *r, unsigned char *flip);
 
+/* Locating points in the regions of a surface: vc_region_locate returns
+ * the region (0-based) that holds p, -1 for the unbounded region, -2 when
+ * p lies on the surface or every segment tried from it grazes an edge.
+ * side_region holds the regions of the two sides of every triangle of s,
+ * as vc_regions.side_region does. The locator keeps pointers to s and
+ * side_region (they must outlive it); s must hold each triangle once (a
+ * triangle given twice, reversed, is one interface: drop the second copy,
+ * its sides are the first's). Queries are read-only and may run in
+ * parallel. */
+typedef struct vc_region_locator vc_region_locator;
+int vc_region_locator_build(const vc_surface *s, const int64_t *side_region,
+                            vc_region_locator **out, vc_error *err);
+int64_t vc_region_locate(const vc_region_locator *L, const double p[3]);
+void vc_region_locator_free(vc_region_locator *L);
+
 /* Frees the arrays of r and zeroes it. Safe on a zeroed vc_regions. */
 void vc_regions_free(vc_regions *r);
 

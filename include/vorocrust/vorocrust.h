@@ -40,6 +40,7 @@
 #include "vorocrust/io.h"
 #include "vorocrust/log.h"
 #include "vorocrust/polymesh.h"
+#include "vorocrust/regions.h"
 #include "vorocrust/sampling.h"
 #include "vorocrust/seeds.h"
 #include "vorocrust/surface.h"
@@ -159,6 +160,22 @@ typedef struct vc_cell_quality {
     int64_t n_skew_faces;         /* interior faces above 4, checkMesh's limit */
 } vc_cell_quality;
 
+/* One region of a multi-material domain in the volume mesh. */
+typedef struct vc_region_mesh {
+    int32_t label;          /* its cells' region value (region index + 1); 0: a void
+                               (a cavity by orientation), which gets no cells */
+    vc_region_kind kind;
+    double input_volume;    /* enclosed by its boundary in the input */
+    double mesh_volume;     /* sum of its cells' volumes */
+    int64_t n_cells;
+    int64_t n_boundary_faces;  /* faces between its cells and the outside */
+    int64_t n_interface_faces; /* faces between its cells and another region's */
+    int64_t euler_input;    /* Euler characteristic of its boundary in the input */
+    vc_polysurface_topology topology; /* of the faces around its cells */
+    int closed;             /* those faces make a closed, consistently oriented
+                               2-manifold with the input's Euler characteristic */
+} vc_region_mesh;
+
 /* Seconds per phase. */
 typedef struct vc_mesh_times {
     double features;        /* detection and smoothing of the kept attempt */
@@ -173,6 +190,11 @@ typedef struct vc_mesh_result {
      * enclosed volume). */
     vc_surface_report input;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
+    /* 1 when they are not one solid (vc_regions_single_solid): several
+     * materials, interfaces, inclusions; then every seed and cell carries
+     * its region's label and region_mesh[k] describes region k. */
+    int multi_material;
+    vc_region_mesh *region_mesh; /* n_regions entries when multi_material */
 
     /* The sampling that was kept. */
     double first_sharp_angle;   /* the angle of the first attempt */

@@ -1345,13 +1345,43 @@ static int one_cycle(edge_rec *l, int64_t n)
     return at == start;
 }
 
+/* Balls on a non-manifold edge of the input, or at a corner of one: their
+ * facets meet as the input's sheets do (three or more to an edge between
+ * two such balls, a link of several cycles), which is no pinch. Fills nm
+ * (one byte per ball); returns whether any is set. */
+static int mark_nonmanifold_balls(const sampler *S, unsigned char *nm_vertex, unsigned char *nm)
+{
+    const vc_features *f = S->f;
+    const vc_balls *B = &S->bs.b;
+    int any = 0;
+    memset(nm_vertex, 0, (size_t)f->n_vertices + 1);
+    for (int64_t e = 0; e < f->n_edges; e++)
+        if (f->edge_sharp[e] & VC_SHARP_NONMANIFOLD) {
+            nm_vertex[f->edge_vertex[2 * e]] = nm_vertex[f->edge_vertex[2 * e + 1]] = 1;
+            any = 1;
+        }
+    for (int64_t q = 0; q < B->n; q++)
+        nm[q] = any && ((B->kind[q] == VC_BALL_EDGE &&
+                         (f->edge_sharp[B->element[q]] & VC_SHARP_NONMANIFOLD)) ||
+                        (B->kind[q] == VC_BALL_CORNER && nm_vertex[B->element[q]]));
+    return any;
+}
+
 static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_r,
                               unsigned char *shrunk)
 {
     const facet_list fl = *facets;
     edge_rec *e = sorted_edges(&fl);
-    if (!e)
+    unsigned char *nm = malloc((size_t)S->bs.b.n + 1);
+    unsigned char *nm_vertex = malloc((size_t)S->f->n_vertices + 1);
+    if (!e || !nm || !nm_vertex) {
+        free(e);
+        free(nm);
+        free(nm_vertex);
         return -1;
+    }
+    mark_nonmanifold_balls(S, nm_vertex, nm);
+    free(nm_vertex);
     vc_balls *B = &S->bs.b;
     memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
     int64_t changed = 0;
@@ -1359,7 +1389,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         int64_t m2 = m;
         while (m2 < 3 * fl.n && e[m2].a == e[m].a && e[m2].b == e[m].b)
             m2++;
-        if (m2 - m != 2) {
+        if (m2 - m != 2 && !(nm[e[m].a] && nm[e[m].b])) {
             const int64_t ends[2] = {e[m].a, e[m].b};
             for (int k = 0; k < 2 && changed >= 0; k++)
                 changed = pinch_cut(S, ends[k], shrunk, changed);
@@ -1376,7 +1406,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         int64_t m2 = m;
         while (m2 < 3 * fl.n && e[m2].a == e[m].a)
             m2++;
-        if (!one_cycle(e + m, m2 - m)) {
+        if (!nm[e[m].a] && !one_cycle(e + m, m2 - m)) {
             /* the ball and the balls of its link */
             for (int64_t k = m; k <= m2 && changed >= 0; k++)
                 changed = pinch_cut(S, k == m2 ? e[m].a : e[k].b, shrunk, changed);
@@ -1384,6 +1414,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         m = m2;
     }
     free(e);
+    free(nm);
     return changed;
 }
 

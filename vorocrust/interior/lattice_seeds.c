@@ -56,6 +56,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
     }
     int rc = 0;
     double *pts = NULL;
+    int32_t *lab = NULL; /* the nearest surface seed's label: the region */
     int64_t np = 0, cap = 0;
     /* centre the lattice in the box */
     double off[3];
@@ -75,13 +76,18 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
                 if (np == cap) {
                     cap = cap ? 2 * cap : 4096;
                     double *t = realloc(pts, sizeof(double) * 3 * (size_t)cap);
-                    if (!t) {
+                    if (t)
+                        pts = t;
+                    int32_t *l = realloc(lab, sizeof(int32_t) * (size_t)cap);
+                    if (l)
+                        lab = l;
+                    if (!t || !l) {
                         rc = -1;
                         break;
                     }
-                    pts = t;
                 }
                 memcpy(pts + 3 * np, x, sizeof x);
+                lab[np] = ss->label[q];
                 np++;
             }
     vc_ball_tree_free(&tree);
@@ -91,12 +97,14 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
         memcpy(out->label, ss->label, sizeof(int32_t) * (size_t)ss->n);
         memcpy(out->xyz + 3 * ss->n, pts, sizeof(double) * 3 * (size_t)np);
         for (int64_t i = 0; i < np; i++)
-            out->label[ss->n + i] = 1;
+            out->label[ss->n + i] = lab[i];
         *n_interior = np;
         free(pts);
+        free(lab);
         return 0;
     }
     free(pts);
+    free(lab);
     return rc ? vc_error_set(err, VC_ENOMEM, "out of memory for the interior seeds")
               : (err ? err->code : VC_ENOMEM);
 }

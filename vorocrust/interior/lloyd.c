@@ -124,7 +124,9 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
             const double *g = m.cell_centroid + 3 * c;
             double dn;
             int64_t q = vc_nearest_seed(&grid, g, &dn);
-            if (q < 0 || seeds->label[q] == 0 || vc_ball_tree_covers(&tree, g))
+            /* nor may it leave its region */
+            if (q < 0 || seeds->label[q] != seeds->label[n_surface + i] ||
+                vc_ball_tree_covers(&tree, g))
                 continue;
             moved[i] = 1;
             memcpy(y, g, sizeof(double) * 3);

@@ -179,7 +179,9 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     double *side = malloc(sizeof(double) * (size_t)(nl > 0 ? nl : 1));
     int *level = malloc(sizeof(int) * (size_t)(nl > 0 ? nl : 1));
     signed char *verdict = malloc((size_t)(nl > 0 ? nl : 1));
-    if (center && side && level && verdict) {
+    /* the label of a seed's nearest surface seed: its region */
+    int32_t *leaf_label = malloc(sizeof(int32_t) * (size_t)(nl > 0 ? nl : 1));
+    if (center && side && level && verdict && leaf_label) {
         st.min_level = P8EST_QMAXLEVEL;
         int64_t k = 0;
         for (p4est_topidx_t t = forest->first_local_tree; t <= forest->last_local_tree; t++) {
@@ -195,7 +197,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     }
     p8est_destroy(forest);
     p8est_connectivity_destroy(conn);
-    if (!center || !side || !level || !verdict) {
+    if (!center || !side || !level || !verdict || !leaf_label) {
         rc = vc_error_set(err, VC_ENOMEM, "out of memory for %lld octree leaves", (long long)nl);
         goto done;
     }
@@ -216,6 +218,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
         }
         double dn;
         int64_t q = vc_nearest_seed(&grid, c, &dn);
+        leaf_label[k] = q < 0 ? 0 : ss->label[q];
         if (q < 0 || ss->label[q] == 0)
             verdict[k] = 2;
         else if (dn < 0.5 * side[k])
@@ -249,7 +252,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
         if (seed_leaf)
             seed_leaf[m - ss->n] = k;
         memcpy(out->xyz + 3 * m, center + 3 * k, sizeof(double) * 3);
-        out->label[m++] = 1;
+        out->label[m++] = leaf_label[k];
     }
     *n_interior = ns;
     st.n_seeds = ns;
@@ -272,6 +275,7 @@ done:
     free(side);
     free(level);
     free(verdict);
+    free(leaf_label);
     vc_ball_tree_free(&tree);
     vc_seed_kdtree_free(&grid);
     st.seconds = now() - t0;

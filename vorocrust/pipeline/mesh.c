@@ -17,6 +17,7 @@
 #include "mesh_measures.h"
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
+#include "materials.h"
 #include "vorocrust/smoothing.h"
 #include "vorocrust/voronoi.h"
 
@@ -81,6 +82,7 @@ void vc_mesh_result_free(vc_mesh_result *r)
     vc_seeds_free(&r->seeds);
     vc_polysurface_free(&r->surface);
     vc_polymesh_free(&r->mesh);
+    free(r->region_mesh);
     memset(r, 0, sizeof *r);
 }
 
@@ -225,14 +227,71 @@ static int64_t promote_folds(const vc_features *f, const unsigned char *stuck_tr
 static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
                        vc_error *err);
 
+/* The regions of a multi-material mesh against the input's: each region's
+ * cells bounded by a closed oriented 2-manifold of the input region's
+ * Euler characteristic (else VC_EINPUT with *unresolved set, as for one
+ * solid), and of the input region's volume within REGION_VOLUME_TOL. */
+#define REGION_VOLUME_TOL 0.01
+static int check_regions(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
+                         vc_mesh_result *out, int *unresolved, double t, vc_error *err)
+{
+    free(out->region_mesh);
+    out->region_mesh = calloc((size_t)mm->n_regions + 1, sizeof(vc_region_mesh));
+    if (!out->region_mesh)
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+    int rc = vc_materials_measure(mm, &out->mesh, out->region_mesh, &out->surface, err);
+    if (rc)
+        return named(err, name, NULL);
+    if ((rc = vc_polysurface_topology_compute(&out->surface, &out->surface_topology, err)) != 0)
+        return rc;
+    out->time.reconstruct = now() - t;
+    out->surface_closed = 1;
+    for (int64_t k = 0; k < mm->n_regions; k++) {
+        const vc_region_mesh *r = &out->region_mesh[k];
+        if (r->label == 0 || r->closed)
+            continue;
+        out->surface_closed = 0;
+        *unresolved = 1;
+        const vc_polysurface_topology *tp = &r->topology;
+        return vc_error_set(err, VC_EINPUT,
+                            "the cells of region %lld are not bounded by a closed consistently "
+                            "oriented 2-manifold with the input region's Euler characteristic "
+                            "(%lld boundary, %lld non-manifold and %lld misoriented edges, %lld "
+                            "non-manifold vertices; Euler characteristic %lld, input %lld): the "
+                            "sampling did not resolve the surface; try another --seed or a "
+                            "smaller --max-error",
+                            (long long)k + 1, (long long)tp->n_boundary_edges,
+                            (long long)tp->n_nonmanifold_edges, (long long)tp->n_misoriented_edges,
+                            (long long)tp->n_nonmanifold_vertices, (long long)tp->euler,
+                            (long long)r->euler_input);
+    }
+    for (int64_t k = 0; k < mm->n_regions; k++) {
+        const vc_region_mesh *r = &out->region_mesh[k];
+        if (r->label == 0)
+            continue;
+        const double rel = (r->mesh_volume - r->input_volume) / r->input_volume;
+        if (!(fabs(rel) <= REGION_VOLUME_TOL))
+            return vc_error_set(err, VC_EINPUT,
+                                "%s: the cells of region %lld hold %g, the input region %g "
+                                "(%+.2f%%, more than %g%% off): the mesh is wrong there",
+                                name, (long long)k + 1, r->mesh_volume, r->input_volume,
+                                100 * rel, 100 * REGION_VOLUME_TOL);
+    }
+    if (opt->surface_only) {
+        vc_polymesh_free(&out->mesh);
+        out->has_mesh = 0;
+    }
+    return 0;
+}
+
 /* The surface seeds of the balls, the volume mesh unless opt->surface_only,
  * and the reconstructed surface: the volume mesh's boundary, or with
  * surface_only the Voronoi facets between inside and outside surface
  * seeds. VC_EINPUT (with *unresolved set) when that surface is not a
  * closed, consistently oriented 2-manifold with the input's Euler
  * characteristic. */
-static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
-                       int *unresolved, vc_error *err)
+static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
+                       vc_mesh_result *out, int *unresolved, vc_error *err)
 {
     *unresolved = 0;
     vc_seeds_free(&out->seeds);
@@ -244,11 +303,31 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_res
     if (vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err) != 0)
         return named(err, name, NULL);
     out->n_surface_seeds = out->seeds.n;
+    if (mm) {
+        /* every seed takes the label of the region it lies in: across an
+         * interface both seeds of a pair are kept, in their own regions;
+         * at a non-manifold edge each seed falls in one wedge */
+        const int64_t lost = vc_materials_label_seeds(mm, &out->seeds, out->seeds.n, opt->threads);
+        if (lost > 0)
+            vc_log(opt->log, VC_LOG_WARNING,
+                   "%s: %lld surface seeds lie on the input surface: no region, not kept", name,
+                   (long long)lost);
+    }
     for (int64_t i = 0; i < out->seeds.n; i++)
         out->n_inside_seeds += out->seeds.label[i] != 0;
     out->time.seeds = now() - t;
 
     int rc;
+    if (mm) {
+        /* the regions are read off the volume mesh's cells (surface_only
+         * too: the facets between regions are not those of one inside
+         * and one outside seed) */
+        if ((rc = volume_mesh(opt, name, out, err)) != 0)
+            return rc;
+        t = now();
+        out->n_tjunctions_repaired = 0;
+        return check_regions(opt, name, mm, out, unresolved, t, err);
+    }
     if (opt->surface_only) {
         t = now();
         if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface,
@@ -294,7 +373,7 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, vc_mesh_res
 /* The sampling, with more attempts when it diverges (resample_plan,
  * promote_folds). Fills out's sampling fields and balls. */
 static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *name,
-                  vc_mesh_result *out, vc_error *err)
+                  const vc_materials *mm, vc_mesh_result *out, vc_error *err)
 {
     vc_sampling_options so;
     vc_sampling_options_default(&so);
@@ -360,7 +439,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
             out->sharp_angle = so.sharp_angle;
             out->smooth_iterations = smooth;
             out->n_sampled_triangles = sampled->n_triangles;
-            rc = reconstruct(opt, name, out, &unresolved, err);
+            rc = reconstruct(opt, name, mm, out, &unresolved, err);
             if (rc == 0 || !unresolved)
                 break;
             rc = 0;
@@ -408,7 +487,10 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         int plan = (out->sampling.diverged || refused_creases || unresolved) &&
                            (!folds || attempt == 0)
                        ? resample_plan(s, sampled == s ? &f : NULL, so.sharp_angle,
-                                       opt->resample, attempt + 1, &new_angle, &new_smooth,
+                                       /* smoothing would move the interfaces off the
+                                          regions the seeds are located in */
+                                       mm ? opt->resample & ~VC_RESAMPLE_SMOOTH : opt->resample,
+                                       attempt + 1, &new_angle, &new_smooth,
                                        &n_folds, &n_edges, err)
                        : 0;
         if (plan < 0) {
@@ -559,6 +641,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
 {
     vc_surface oriented; /* the input reoriented by --cavities */
     memset(&oriented, 0, sizeof oriented);
+    vc_materials mm;     /* with several regions */
+    memset(&mm, 0, sizeof mm);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -636,15 +720,26 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         const int one = vc_regions_single_solid(&regions);
         out->n_regions = regions.n_regions;
         if (!one) {
-            rc = vc_error_set(err, VC_EINPUT,
-                              "%s: the surface bounds %lld regions that are not one solid (%lld "
-                              "triangles between two regions): several materials, or nested "
-                              "shells of the same orientation (--cavities makes nested shells "
-                              "cavities); vorocrust meshes one material so far ('vorocrust "
-                              "info' lists the regions)",
-                              name, (long long)regions.n_regions, (long long)regions.n_interface);
-            vc_regions_free(&regions);
-            goto fail;
+            /* several materials, interfaces, inclusions: every seed is
+             * labelled with its region */
+            if (opt.smooth_iterations > 0) {
+                rc = vc_error_set(err, VC_EPARAM,
+                                  "%s: --smooth-iterations would move the interfaces between "
+                                  "this surface's %lld regions: not with several materials",
+                                  name, (long long)regions.n_regions);
+                vc_regions_free(&regions);
+                goto fail;
+            }
+            if ((rc = vc_materials_init(s, &regions, &mm, err)) != 0) {
+                rc = named(err, name, NULL);
+                vc_regions_free(&regions);
+                goto fail;
+            }
+            out->multi_material = 1;
+            vc_log(opt.log, VC_LOG_INFO,
+                   "mesh: %lld regions (%lld triangles between two of them): every seed "
+                   "labelled with its region", (long long)regions.n_regions,
+                   (long long)regions.n_interface);
         }
         vc_regions_free(&regions);
     }
@@ -664,7 +759,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         }
     }
 
-    if ((rc = sample(s, &opt, name, out, err)) != 0)
+    if ((rc = sample(out->multi_material ? &mm.surface : s, &opt, name,
+                     out->multi_material ? &mm : NULL, out, err)) != 0)
         goto fail;
     out->time.features = out->sampling.t_features;
     out->time.sizing = out->sampling.t_sizing;
@@ -678,9 +774,11 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     out->surface_volume = vc_polysurface_volume(&out->surface);
     out->time.total = now() - t0;
     vc_surface_free(&oriented);
+    vc_materials_free(&mm);
     return 0;
 fail:
     vc_surface_free(&oriented);
+    vc_materials_free(&mm);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }
