@@ -27,6 +27,9 @@ static int print_regions(const vc_surface *s)
            (long long)n_kind[VC_REGION_MIXED], (long long)r.n_interface);
     if (r.n_twice)
         printf(", %lld given twice", (long long)r.n_twice);
+    if (r.n_walls)
+        printf("; %lld walls of zero thickness (the same region on both sides, first: triangle "
+               "%lld)", (long long)r.n_walls, (long long)r.first_wall + 1);
     printf("\n");
     static const char *kind[4] = {"", "solid", "void", "mixed"};
     for (int64_t i = 0; i < r.n_regions; i++) {
@@ -172,7 +175,6 @@ int vc_cmd_info(int argc, char **argv)
     const char *why = solid.coordinate_ratio > VC_SOLID_MAX_COORDINATE_RATIO ? "coordinates too large for the model's size"
                       : solid.n_zero_area ? "zero-area triangles"
                       : solid.n_repeated_same ? "repeated triangles"
-                      : solid.n_repeated_opposite ? "zero-thickness walls"
                       : solid.n_self_intersections ? "self-intersections"
                       : !closed ? "open"
                       : rep.n_inconsistent_edges ? "inconsistently oriented"

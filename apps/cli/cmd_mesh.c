@@ -150,7 +150,12 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             (long long)(r->n_surface_seeds - r->n_inside_seeds), (long long)topo->n_vertices,
             (long long)topo->n_faces, (long long)topo->n_edges, (long long)topo->euler,
             (long long)r->input.euler,
-            topo->n_boundary_edges == 0 && topo->n_nonmanifold_edges == 0 &&
+            r->multi_material
+                ? (r->surface_closed ? "the regions' boundaries closed 2-manifolds, consistently "
+                                       "oriented (the interfaces are non-manifold)"
+                                     : "NOT every region's boundary a closed consistently "
+                                       "oriented 2-manifold")
+            : topo->n_boundary_edges == 0 && topo->n_nonmanifold_edges == 0 &&
                     topo->n_misoriented_edges == 0 && topo->n_nonmanifold_vertices == 0
                 ? "closed 2-manifold, consistently oriented"
                 : "NOT a closed consistently oriented 2-manifold",
@@ -193,6 +198,21 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             r->surface_volume, r->input.volume, t->voronoi + t->quality + t_write_mesh,
             (long long)m->n_faces, (long long)m->n_interior_faces,
             (long long)(m->n_faces - m->n_interior_faces), (long long)m->n_points);
+    for (int64_t k = 0; r->multi_material && k < r->n_regions; k++) {
+        const vc_region_mesh *g = &r->region_mesh[k];
+        if (g->label == 0) {
+            fprintf(stderr, "  region %lld: a void (its boundary faces inward), no cells, "
+                    "volume %.12g\n", (long long)k + 1, g->input_volume);
+            continue;
+        }
+        fprintf(stderr,
+                "  region %lld: %lld cells, volume %.12g (input %.12g, %+.3f%%), %lld boundary "
+                "faces, %lld interface faces, euler %lld (input %lld)\n",
+                (long long)k + 1, (long long)g->n_cells, g->mesh_volume, g->input_volume,
+                100.0 * (g->mesh_volume - g->input_volume) / g->input_volume,
+                (long long)g->n_boundary_faces, (long long)g->n_interface_faces,
+                (long long)g->topology.euler, (long long)g->euler_input);
+    }
     const vc_cell_quality *q = &r->cell_quality;
     fprintf(stderr,
             "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "

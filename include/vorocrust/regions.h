@@ -60,6 +60,9 @@ typedef struct vc_regions {
     int64_t n_twice;        /* triangles given a second time, reversed (counted once) */
     int unbounded_sides;    /* which sides the unbounded region touches: 1 front, 2 back, 3 both */
     int64_t n_interface;    /* triangles with a bounded region on both sides */
+    int64_t n_walls;        /* triangles with the same region on both sides: walls of
+                               zero thickness (a fin inside a region, a flat sheet) */
+    int64_t first_wall;     /* the lowest such triangle */
     int closed_shells;      /* every edge has exactly two distinct triangles: the
                                components are closed 2-manifold shells */
 } vc_regions;

@@ -128,7 +128,9 @@ typedef struct vc_solid_report {
     int64_t first_zero_area;
     int64_t n_repeated_same;       /* triangles repeating the vertices of an earlier one in the same orientation */
     int64_t first_repeated_same[2];
-    int64_t n_repeated_opposite;   /* triangles repeating an earlier one reversed (a zero-thickness wall) */
+    int64_t n_repeated_opposite;   /* triangles repeating an earlier one reversed (not refused:
+                                      an interface given once per side, or a wall of zero
+                                      thickness, which vc_surface_regions tells apart) */
     int64_t first_repeated_opposite[2];
     int64_t n_self_intersections;  /* pairs of triangles that cut or touch each other improperly */
     int64_t first_self_intersection[2];
@@ -148,8 +150,10 @@ typedef struct vc_solid_report {
  *   2. zero-area triangles, |cross(b - a, c - a)| <= 1e-12 (longest edge)^2
  *      as in vc_surface_check: refused, not repaired;
  *   3. triangles repeated with the same orientation (the same three
- *      vertices), then repeated with opposite orientations: a doubled wall
- *      of zero thickness (interfaces between materials are not supported);
+ *      vertices); repeated with the opposite orientation they are counted,
+ *      not refused: two closed surfaces sharing an interface give it once
+ *      each (vc_surface_regions counts it once, and tells a wall of zero
+ *      thickness, with one region on both sides, apart);
  *   4. self-intersections: two triangles sharing no vertex that meet, one
  *      vertex and meet elsewhere, or an edge and fold onto each other
  *      coplanar; contact within rounding counts (filtered orientation

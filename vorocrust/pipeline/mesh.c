@@ -320,9 +320,12 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
     int rc;
     if (mm) {
         /* the regions are read off the volume mesh's cells (surface_only
-         * too: the facets between regions are not those of one inside
-         * and one outside seed) */
-        if ((rc = volume_mesh(opt, name, out, err)) != 0)
+         * too, of the surface seeds alone: the facets between regions
+         * are not those of one inside and one outside seed) */
+        vc_mesh_options vo = *opt;
+        if (opt->surface_only)
+            vo.interior = VC_INTERIOR_NONE;
+        if ((rc = volume_mesh(&vo, name, out, err)) != 0)
             return rc;
         t = now();
         out->n_tjunctions_repaired = 0;
@@ -613,6 +616,28 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, vc_mesh_res
     return 0;
 }
 
+/* The volume the outer boundary of a multi-material mesh encloses: its
+ * faces between a kept cell and the outside (with surface_only, where the
+ * mesh is gone, the whole surface's, interfaces included). */
+static double outer_volume(const vc_polymesh *m, const vc_polysurface *surface)
+{
+    if (!m->n_cells)
+        return vc_polysurface_volume(surface);
+    double v = 0;
+    for (int64_t f = m->n_interior_faces; f < m->n_faces; f++) {
+        const double *c = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
+        v += m->face_area[f] * (c[0] * n[0] + c[1] * n[1] + c[2] * n[2]) / 3;
+    }
+    for (int64_t f = 0; f < m->n_interior_faces; f++) {
+        const int32_t a = m->cell_region[m->face_owner[f]], b = m->cell_region[m->face_neighbour[f]];
+        if ((a == 0) == (b == 0))
+            continue;
+        const double *c = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
+        v += (a ? 1 : -1) * m->face_area[f] * (c[0] * n[0] + c[1] * n[1] + c[2] * n[2]) / 3;
+    }
+    return v;
+}
+
 /* s with the triangles flip[t] != 0 reversed, into *out. */
 static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
                            vc_error *err)
@@ -719,7 +744,19 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         }
         const int one = vc_regions_single_solid(&regions);
         out->n_regions = regions.n_regions;
-        if (!one) {
+        if (regions.n_walls > 0) {
+            const int64_t t = regions.first_wall, r = regions.side_region[2 * t];
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: %lld triangles have %s on both sides (first: triangle %lld): "
+                              "a wall of zero thickness bounds no volume; remove it or give it "
+                              "a thickness", name, (long long)regions.n_walls,
+                              r < 0 ? "the outside" : "the same region", (long long)t + 1);
+            vc_regions_free(&regions);
+            goto fail;
+        }
+        /* a triangle given twice (reversed) is sampled once: the regions
+         * label the seeds */
+        if (!one || regions.n_twice > 0) {
             /* several materials, interfaces, inclusions: every seed is
              * labelled with its region */
             if (opt.smooth_iterations > 0) {
@@ -771,7 +808,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     out->time.slivers = out->sampling.t_slivers;
 
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
-    out->surface_volume = vc_polysurface_volume(&out->surface);
+    out->surface_volume = out->multi_material ? outer_volume(&out->mesh, &out->surface)
+                                              : vc_polysurface_volume(&out->surface);
     out->time.total = now() - t0;
     vc_surface_free(&oriented);
     vc_materials_free(&mm);

@@ -507,6 +507,10 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
         }
         if (a == t && out->side_region[2 * t] >= 0 && out->side_region[2 * t + 1] >= 0)
             out->n_interface++;
+        if (a == t && out->side_region[2 * t] == out->side_region[2 * t + 1]) {
+            if (out->n_walls++ == 0)
+                out->first_wall = t;
+        }
     }
     for (int64_t r = 0; r < n_regions; r++)
         out->region[r].kind = seen_front[r + 1] && seen_back[r + 1] ? VC_REGION_MIXED

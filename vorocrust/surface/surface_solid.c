@@ -234,16 +234,6 @@ int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc
                             name, (long long)o->n_repeated_same, (long long)f[0] + 1, (long long)f[1] + 1,
                             TRI_VERTS(s, f[0]));
     }
-    if (o->n_repeated_opposite) {
-        const int64_t *f = o->first_repeated_opposite;
-        return vc_error_set(err, VC_EINPUT,
-                            "%s: %lld triangles repeat an earlier one with the opposite orientation (first: "
-                            "triangles %lld and %lld, vertices %lld %lld %lld): a wall of zero thickness "
-                            "bounds no volume (interfaces between materials are not supported yet); remove "
-                            "both sides or give the wall a thickness",
-                            name, (long long)o->n_repeated_opposite, (long long)f[0] + 1, (long long)f[1] + 1,
-                            TRI_VERTS(s, f[0]));
-    }
     if (o->n_self_intersections) {
         const int64_t *f = o->first_self_intersection;
         return vc_error_set(err, VC_EINPUT,
