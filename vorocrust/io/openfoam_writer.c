@@ -274,8 +274,21 @@ typedef struct foam_plan {
     int64_t *order;      /* written face -> mesh face */
     unsigned char *flip; /* written interior face is reversed (owner/neighbour swapped) */
     int n_patches;
-    const char *patch_name[FOAM_N_KEYS];
-    int64_t patch_size[FOAM_N_KEYS], patch_start[FOAM_N_KEYS];
+    char (*patch_name)[64];
+    int64_t *patch_size, *patch_start;
+    /* Regions: the distinct cell labels, ascending. With more than one,
+     * every patch is split by the region of its cells ("region2_surface"),
+     * cell zone k holds the cells of label_value[k] (cells zone_cell[
+     * zone_cell_start[k] ..]), and face zone j the interior faces between
+     * two regions (written indices zone_face[zone_face_start[j] ..], flipped
+     * where they point from the higher region to the lower). */
+    int n_labels;
+    int32_t *label_value;
+    int64_t *zone_cell, *zone_cell_start;
+    int n_face_zones;
+    int32_t *face_zone_pair;  /* 2 per face zone: the lower and the higher label */
+    int64_t *zone_face, *zone_face_start;
+    unsigned char *zone_flip;
 } foam_plan;
 
 static void foam_plan_free(foam_plan *pl)
@@ -284,6 +297,16 @@ static void foam_plan_free(foam_plan *pl)
     free(pl->point_of);
     free(pl->order);
     free(pl->flip);
+    free(pl->patch_name);
+    free(pl->patch_size);
+    free(pl->patch_start);
+    free(pl->label_value);
+    free(pl->zone_cell);
+    free(pl->zone_cell_start);
+    free(pl->face_zone_pair);
+    free(pl->zone_face);
+    free(pl->zone_face_start);
+    free(pl->zone_flip);
     memset(pl, 0, sizeof *pl);
 }
 
@@ -314,6 +337,134 @@ static int foam_cmp_interior(const void *pa, const void *pb)
     if (na != nb)
         return na < nb ? -1 : 1;
     return fa < fb ? -1 : fa > fb;
+}
+
+static int foam_cmp_i32(const void *a, const void *b)
+{
+    const int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The distinct cell labels, ascending. */
+static int foam_plan_regions(const vc_polymesh *m, foam_plan *pl)
+{
+    pl->n_labels = 1;
+    if (!m->cell_region)
+        return 0;
+    int32_t *v = malloc(sizeof(int32_t) * (size_t)(m->n_cells + 1));
+    if (!v)
+        return -1;
+    memcpy(v, m->cell_region, sizeof(int32_t) * (size_t)m->n_cells);
+    qsort(v, (size_t)m->n_cells, sizeof(int32_t), foam_cmp_i32);
+    int64_t n = 0;
+    for (int64_t c = 0; c < m->n_cells; c++)
+        if (c == 0 || v[c] != v[n - 1])
+            v[n++] = v[c];
+    pl->n_labels = (int)n;
+    pl->label_value = v;
+    return 0;
+}
+
+static int foam_label_rank(const foam_plan *pl, int32_t label)
+{
+    const int32_t *hit = bsearch(&label, pl->label_value, (size_t)pl->n_labels, sizeof(int32_t),
+                                 foam_cmp_i32);
+    return hit ? (int)(hit - pl->label_value) : 0;
+}
+
+typedef struct foam_zone_face {
+    int32_t lo, hi;  /* label ranks */
+    int64_t written; /* written face index */
+    unsigned char flip;
+} foam_zone_face;
+
+static int foam_cmp_zone_face(const void *a, const void *b)
+{
+    const foam_zone_face *x = a, *y = b;
+    if (x->lo != y->lo)
+        return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi)
+        return x->hi < y->hi ? -1 : 1;
+    return (x->written > y->written) - (x->written < y->written);
+}
+
+/* The cell zones (one per region) and face zones (one per pair of regions
+ * that share faces), from the written face order. */
+static int foam_plan_zones(const vc_polymesh *m, foam_plan *pl)
+{
+    const int nl = pl->n_labels;
+    pl->zone_cell = malloc(sizeof(int64_t) * (size_t)(m->n_cells + 1));
+    pl->zone_cell_start = calloc((size_t)nl + 1, sizeof(int64_t));
+    int64_t nz = 0;
+    for (int64_t w = 0; w < pl->n_internal; w++) {
+        const int64_t f = pl->order[w];
+        nz += m->cell_region[m->face_owner[f]] != m->cell_region[m->face_neighbour[f]];
+    }
+    foam_zone_face *zf = malloc(sizeof(foam_zone_face) * (size_t)(nz + 1));
+    if (!pl->zone_cell || !pl->zone_cell_start || !zf) {
+        free(zf);
+        return -1;
+    }
+    int *rank = malloc(sizeof(int) * (size_t)(m->n_cells + 1));
+    if (!rank) {
+        free(zf);
+        return -1;
+    }
+    for (int64_t c = 0; c < m->n_cells; c++) {
+        rank[c] = foam_label_rank(pl, m->cell_region[c]);
+        pl->zone_cell_start[rank[c] + 1]++;
+    }
+    for (int k = 0; k < nl; k++)
+        pl->zone_cell_start[k + 1] += pl->zone_cell_start[k];
+    int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nl + 1));
+    if (!fill) {
+        free(zf);
+        free(rank);
+        return -1;
+    }
+    memcpy(fill, pl->zone_cell_start, sizeof(int64_t) * (size_t)nl);
+    for (int64_t c = 0; c < m->n_cells; c++)
+        pl->zone_cell[fill[rank[c]]++] = c;
+    free(fill);
+    nz = 0;
+    for (int64_t w = 0; w < pl->n_internal; w++) {
+        const int64_t f = pl->order[w];
+        int64_t own, nei;
+        foam_face_cells(m, pl->flip, f, &own, &nei);
+        const int ro = rank[own], rn = rank[nei];
+        if (ro == rn)
+            continue;
+        /* the zone points from the lower region to the higher */
+        zf[nz++] = (foam_zone_face){ro < rn ? ro : rn, ro < rn ? rn : ro, w, (unsigned char)(ro > rn)};
+    }
+    free(rank);
+    qsort(zf, (size_t)nz, sizeof(foam_zone_face), foam_cmp_zone_face);
+    int64_t npairs = 0;
+    for (int64_t i = 0; i < nz; i++)
+        npairs += i == 0 || zf[i].lo != zf[i - 1].lo || zf[i].hi != zf[i - 1].hi;
+    pl->face_zone_pair = malloc(sizeof(int32_t) * 2 * (size_t)(npairs + 1));
+    pl->zone_face_start = malloc(sizeof(int64_t) * (size_t)(npairs + 1));
+    pl->zone_face = malloc(sizeof(int64_t) * (size_t)(nz + 1));
+    pl->zone_flip = malloc((size_t)nz + 1);
+    if (!pl->face_zone_pair || !pl->zone_face_start || !pl->zone_face || !pl->zone_flip) {
+        free(zf);
+        return -1;
+    }
+    int j = -1;
+    for (int64_t i = 0; i < nz; i++) {
+        if (i == 0 || zf[i].lo != zf[i - 1].lo || zf[i].hi != zf[i - 1].hi) {
+            j++;
+            pl->face_zone_pair[2 * j] = pl->label_value[zf[i].lo];
+            pl->face_zone_pair[2 * j + 1] = pl->label_value[zf[i].hi];
+            pl->zone_face_start[j] = i;
+        }
+        pl->zone_face[i] = zf[i].written;
+        pl->zone_flip[i] = zf[i].flip;
+    }
+    pl->n_face_zones = j + 1;
+    pl->zone_face_start[j + 1] = nz;
+    free(zf);
+    return 0;
 }
 
 static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl, vc_error *err)
@@ -434,23 +585,47 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
         }
     }
 
-    /* Boundary faces: grouped by patch key, mesh order within a patch. */
-    int64_t count[FOAM_N_KEYS] = {0}, next[FOAM_N_KEYS];
-    for (int64_t f = ni; f < nf; f++)
-        count[key[f - ni]]++;
-    int64_t start = ni;
-    for (int k = 0; k < FOAM_N_KEYS; k++) {
-        next[k] = start;
-        if (count[k] > 0) {
-            pl->patch_name[pl->n_patches] = foam_key_names[k];
-            pl->patch_size[pl->n_patches] = count[k];
-            pl->patch_start[pl->n_patches] = start;
-            pl->n_patches++;
+    /* Regions: the distinct cell labels. */
+    if (rc == VC_OK && foam_plan_regions(m, pl) != 0)
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    /* Boundary faces: grouped by patch key (per region when there are
+     * several), mesh order within a patch. */
+    const int nk = pl->n_labels > 1 ? pl->n_labels * FOAM_N_KEYS : FOAM_N_KEYS;
+    int64_t *count = calloc((size_t)nk, sizeof(int64_t)), *next = malloc(sizeof(int64_t) * (size_t)nk);
+    pl->patch_name = malloc(sizeof *pl->patch_name * (size_t)nk);
+    pl->patch_size = malloc(sizeof(int64_t) * (size_t)nk);
+    pl->patch_start = malloc(sizeof(int64_t) * (size_t)nk);
+    if (rc == VC_OK && (!count || !next || !pl->patch_name || !pl->patch_size || !pl->patch_start))
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    if (rc == VC_OK) {
+        if (pl->n_labels > 1)
+            for (int64_t f = ni; f < nf; f++)
+                key[f - ni] += FOAM_N_KEYS * foam_label_rank(pl, m->cell_region[m->face_owner[f]]);
+        for (int64_t f = ni; f < nf; f++)
+            count[key[f - ni]]++;
+        int64_t start = ni;
+        for (int k = 0; k < nk; k++) {
+            next[k] = start;
+            if (count[k] > 0) {
+                const char *base = foam_key_names[k % FOAM_N_KEYS];
+                if (pl->n_labels > 1)
+                    snprintf(pl->patch_name[pl->n_patches], sizeof pl->patch_name[0], "region%d_%s",
+                             (int)pl->label_value[k / FOAM_N_KEYS], base);
+                else
+                    snprintf(pl->patch_name[pl->n_patches], sizeof pl->patch_name[0], "%s", base);
+                pl->patch_size[pl->n_patches] = count[k];
+                pl->patch_start[pl->n_patches] = start;
+                pl->n_patches++;
+            }
+            start += count[k];
         }
-        start += count[k];
+        for (int64_t f = ni; f < nf; f++)
+            pl->order[next[key[f - ni]]++] = f;
     }
-    for (int64_t f = ni; f < nf; f++)
-        pl->order[next[key[f - ni]]++] = f;
+    free(count);
+    free(next);
+    if (rc == VC_OK && pl->n_labels > 1 && foam_plan_zones(m, pl) != 0)
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     free(key);
     if (rc != VC_OK)
         foam_plan_free(pl);
@@ -613,6 +788,65 @@ static void foam_write_boundary(foam_out *o, const foam_plan *pl)
     foam_puts(o, ")\n");
 }
 
+/* A labelList (or with flips, a boolList) in OpenFOAM's List<> syntax. */
+static void foam_put_list(foam_out *o, const char *name, const char *type, const int64_t *v,
+                          const unsigned char *flags, int64_t n)
+{
+    char line[96];
+    snprintf(line, sizeof line, "        %s List<%s> %" PRId64 "\n(\n", name, type, n);
+    foam_puts(o, line);
+    for (int64_t i = 0; i < n && !o->err_no; i++) {
+        if (foam_reserve(o, FOAM_NUM_MAX + 2)) {
+            o->err_no = ENOMEM;
+            break;
+        }
+        char *e = v ? foam_fmt_i64(o->buf + o->len, v[i]) : o->buf + o->len;
+        if (!v)
+            *e++ = flags[i] ? '1' : '0';
+        *e++ = '\n';
+        o->len = (size_t)(e - o->buf);
+    }
+    foam_puts(o, ")\n        ;\n");
+}
+
+/* cellZones: "regionN" for the cells of label N. */
+static void foam_write_cell_zones(foam_out *o, const foam_plan *pl)
+{
+    foam_header(o, "regIOobject", "constant/polyMesh", "cellZones", NULL);
+    char line[128];
+    snprintf(line, sizeof line, "%d\n(\n", pl->n_labels);
+    foam_puts(o, line);
+    for (int k = 0; k < pl->n_labels; k++) {
+        snprintf(line, sizeof line, "    region%d\n    {\n        type cellZone;\n",
+                 (int)pl->label_value[k]);
+        foam_puts(o, line);
+        foam_put_list(o, "cellLabels", "label", pl->zone_cell + pl->zone_cell_start[k], NULL,
+                      pl->zone_cell_start[k + 1] - pl->zone_cell_start[k]);
+        foam_puts(o, "    }\n");
+    }
+    foam_puts(o, ")\n");
+}
+
+/* faceZones: "regionA_to_regionB" for the faces between labels A < B,
+ * oriented from A to B (flipMap 1 where the face points the other way). */
+static void foam_write_face_zones(foam_out *o, const foam_plan *pl)
+{
+    foam_header(o, "regIOobject", "constant/polyMesh", "faceZones", NULL);
+    char line[160];
+    snprintf(line, sizeof line, "%d\n(\n", pl->n_face_zones);
+    foam_puts(o, line);
+    for (int j = 0; j < pl->n_face_zones; j++) {
+        snprintf(line, sizeof line, "    region%d_to_region%d\n    {\n        type faceZone;\n",
+                 (int)pl->face_zone_pair[2 * j], (int)pl->face_zone_pair[2 * j + 1]);
+        foam_puts(o, line);
+        const int64_t b = pl->zone_face_start[j], n = pl->zone_face_start[j + 1] - b;
+        foam_put_list(o, "faceLabels", "label", pl->zone_face + b, NULL, n);
+        foam_put_list(o, "flipMap", "bool", NULL, pl->zone_flip + b, n);
+        foam_puts(o, "    }\n");
+    }
+    foam_puts(o, ")\n");
+}
+
 /* The system/ files OpenFOAM's mesh tools need (checkMesh reads all
  * three): minimal, for the user to complete for a solver run. */
 enum { FOAM_N_SYSTEM = 3 };
@@ -657,7 +891,7 @@ static void foam_write_system(foam_out *o, int which)
 /* ---- files and directories ------------------------------------------------ */
 
 typedef enum { FOAM_POINTS, FOAM_FACES, FOAM_OWNER, FOAM_NEIGHBOUR, FOAM_BOUNDARY,
-               FOAM_SYSTEM0 } foam_file; /* FOAM_SYSTEM0 + i: foam_system_files[i] */
+               FOAM_CELLZONES, FOAM_FACEZONES, FOAM_SYSTEM0 } foam_file; /* FOAM_SYSTEM0 + i: foam_system_files[i] */
 
 /* Writes one file at path (a fresh name in a staging directory, or a
  * vc_tmpfile when tmp is set). report names the file in messages. */
@@ -689,6 +923,8 @@ static int foam_write_file(const char *path, const char *report, foam_file what,
     case FOAM_OWNER: foam_write_cells(&o, m, pl, 1); break;
     case FOAM_NEIGHBOUR: foam_write_cells(&o, m, pl, 0); break;
     case FOAM_BOUNDARY: foam_write_boundary(&o, pl); break;
+    case FOAM_CELLZONES: foam_write_cell_zones(&o, pl); break;
+    case FOAM_FACEZONES: foam_write_face_zones(&o, pl); break;
     default: foam_write_system(&o, (int)what - FOAM_SYSTEM0); break;
     }
     foam_flush(&o);
@@ -713,14 +949,15 @@ static int foam_write_file(const char *path, const char *report, foam_file what,
     return VC_OK;
 }
 
-static const char *const foam_mesh_files[5] = {"points", "faces", "owner", "neighbour",
-                                               "boundary"};
+static const char *const foam_mesh_files[7] = {"points", "faces", "owner", "neighbour",
+                                               "boundary", "cellZones", "faceZones"};
 
 /* Writes the five polyMesh files into the existing directory dir. */
 static int foam_write_polymesh(const char *dir, const char *case_dir, const vc_polymesh *m,
                                const foam_plan *pl, vc_error *err)
 {
-    for (int i = 0; i < 5; i++) {
+    /* the zones with several regions only */
+    for (int i = 0; i < (pl->n_labels > 1 ? 7 : 5); i++) {
         char *path = vc_path_join(dir, foam_mesh_files[i]);
         char report[4200];
         snprintf(report, sizeof report, "%s/constant/polyMesh/%s", case_dir,
