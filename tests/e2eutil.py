@@ -84,3 +84,69 @@ def coarse_torus(path, nu=12, nv=8, big=1.0, small=0.4):
                 a, b = i * nv + j, ((i + 1) % nu) * nv + j
                 c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
                 f.write("f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1))
+
+
+def voxel_surface(path, dims, label, twice=False, flip=False):
+    """Writes the OBJ of the faces between differently labelled cells of a
+    dims grid; label(i, j, k) gives each cell's label (outside the grid: 0)."""
+    nx, ny, nz = dims
+
+    def lab(i, j, k):
+        if 0 <= i < nx and 0 <= j < ny and 0 <= k < nz:
+            return label(i, j, k)
+        return 0
+
+    verts = {}
+
+    def vid(p):
+        if p not in verts:
+            verts[p] = len(verts) + 1
+        return verts[p]
+
+    tris = []
+
+    def quad(corners, towards_plus):
+        # corners in counter-clockwise order seen from +axis
+        a, b, c, d = (vid(q) for q in corners)
+        if towards_plus:
+            tris.append((a, b, c))
+            tris.append((a, c, d))
+        else:
+            tris.append((a, c, b))
+            tris.append((a, d, c))
+
+    for i in range(-1, nx):
+        for j in range(-1, ny):
+            for k in range(-1, nz):
+                here = lab(i, j, k)
+                for axis in range(3):
+                    o = [i, j, k]
+                    o[axis] += 1
+                    there = lab(*o)
+                    if here == there:
+                        continue
+                    # the face between cell (i, j, k) and its +axis
+                    # neighbour, corners counter-clockwise seen from +axis
+                    u, v = (axis + 1) % 3, (axis + 2) % 3
+                    base = [i, j, k]
+                    base[axis] += 1
+                    corners = []
+                    for du, dv in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        q = list(base)
+                        q[u] += du
+                        q[v] += dv
+                        corners.append(tuple(q))
+                    if twice:
+                        # each labelled side its own copy, facing out of it
+                        sides = ([True] if here else []) + ([False] if there else [])
+                    else:
+                        # towards the lower label (0: empty space)
+                        sides = [there < here]
+                    for towards_plus in sides:
+                        quad(corners, towards_plus != flip)
+    with open(path, "w") as f:
+        pts = sorted(verts.items(), key=lambda kv: kv[1])
+        for p, _ in pts:
+            f.write("v %d %d %d\n" % p)
+        for t in tris:
+            f.write("f %d %d %d\n" % t)

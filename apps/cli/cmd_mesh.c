@@ -24,14 +24,18 @@
 #define FOAM_COLLAPSE_ROUNDS 60
 /* checkMesh fails a mesh with a face more skew than this */
 #define CHECKMESH_MAX_SKEW 4
+/* input surfaces of one run (closed surfaces that share interfaces) */
+#define MAX_INPUTS 64
 
 static void usage(FILE *f)
 {
     vc_sampling_options d;
     vc_sampling_options_default(&d);
     fprintf(f,
-        "usage: vorocrust mesh INPUT (--surface-only --surface OUT.obj | -o OUT.vtu) [options]\n"
-        "  INPUT               closed triangle surface: .obj, .off, .stl, .ply\n"
+        "usage: vorocrust mesh INPUT... (--surface-only --surface OUT.obj | -o OUT.vtu) [options]\n"
+        "  INPUT...            closed triangle surface: .obj, .off, .stl, .ply; several files\n"
+        "                      are one surface (closed surfaces sharing interfaces: each\n"
+        "                      region, in file order, gets its own cells, label N)\n"
         "  --surface-only      stop after the surface: sampling, seeds, reconstructed surface\n"
         "  --surface OUT       the reconstructed surface: OBJ polygons, or VTK_POLYGON cells\n"
         "                      when OUT ends in .vtu\n"
@@ -163,6 +167,21 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             sq->q_mean, sq->pct_below_30, sq->pct_above_90, (long long)sq->n_triangles, t_read,
             t->features, t->sizing, t->corners, t->edges, t->surface, t->lipschitz, t->slivers,
             t->seeds, t->reconstruct, t_write_surface, failed_time);
+    for (int64_t k = 0; r->multi_material && k < r->n_regions; k++) {
+        const vc_region_mesh *g = &r->region_mesh[k];
+        if (g->label == 0) {
+            fprintf(stderr, "  region %lld: a void (its boundary faces inward), no cells, "
+                    "volume %.12g\n", (long long)k + 1, g->input_volume);
+            continue;
+        }
+        fprintf(stderr,
+                "  region %lld: %lld cells, volume %.12g (input %.12g, %+.3f%%), %lld boundary "
+                "faces, %lld interface faces, euler %lld (input %lld)\n",
+                (long long)k + 1, (long long)g->n_cells, g->mesh_volume, g->input_volume,
+                100.0 * (g->mesh_volume - g->input_volume) / g->input_volume,
+                (long long)g->n_boundary_faces, (long long)g->n_interface_faces,
+                (long long)g->topology.euler, (long long)g->euler_input);
+    }
     if (opt->surface_only)
         return;
     const vc_octree_stats *ost = &r->octree;
@@ -198,21 +217,6 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             r->surface_volume, r->input.volume, t->voronoi + t->quality + t_write_mesh,
             (long long)m->n_faces, (long long)m->n_interior_faces,
             (long long)(m->n_faces - m->n_interior_faces), (long long)m->n_points);
-    for (int64_t k = 0; r->multi_material && k < r->n_regions; k++) {
-        const vc_region_mesh *g = &r->region_mesh[k];
-        if (g->label == 0) {
-            fprintf(stderr, "  region %lld: a void (its boundary faces inward), no cells, "
-                    "volume %.12g\n", (long long)k + 1, g->input_volume);
-            continue;
-        }
-        fprintf(stderr,
-                "  region %lld: %lld cells, volume %.12g (input %.12g, %+.3f%%), %lld boundary "
-                "faces, %lld interface faces, euler %lld (input %lld)\n",
-                (long long)k + 1, (long long)g->n_cells, g->mesh_volume, g->input_volume,
-                100.0 * (g->mesh_volume - g->input_volume) / g->input_volume,
-                (long long)g->n_boundary_faces, (long long)g->n_interface_faces,
-                (long long)g->topology.euler, (long long)g->euler_input);
-    }
     const vc_cell_quality *q = &r->cell_quality;
     fprintf(stderr,
             "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "
@@ -247,8 +251,28 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             (double)ru.ru_maxrss / 1024.0);
 }
 
+/* The input surfaces as one: each read (and named in its errors), then
+ * joined with their common vertices merged (vc_surface_concat). */
+static int read_inputs(const char *const *paths, int n, vc_surface *out, vc_error *err)
+{
+    if (n == 1)
+        return vc_surface_read(paths[0], out, NULL, err);
+    vc_surface parts[MAX_INPUTS];
+    memset(parts, 0, sizeof parts);
+    int rc = 0;
+    for (int i = 0; i < n && !rc; i++)
+        rc = vc_surface_read(paths[i], &parts[i], NULL, err);
+    if (!rc)
+        rc = vc_surface_concat(parts, n, out, err);
+    for (int i = 0; i < n; i++)
+        vc_surface_free(&parts[i]);
+    return rc;
+}
+
 static int run_mesh(int argc, char **argv)
 {
+    const char *inputs[MAX_INPUTS];
+    int n_inputs = 0;
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
     int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
@@ -414,10 +438,12 @@ static int run_mesh(int argc, char **argv)
         } else if (a[0] == '-' && a[1]) {
             fprintf(stderr, "vorocrust: unknown option '%s' (see 'vorocrust mesh --help')\n", a);
             return 2;
-        } else if (!in_path) {
-            in_path = a;
+        } else if (n_inputs < MAX_INPUTS) {
+            inputs[n_inputs++] = a;
+            if (!in_path)
+                in_path = a;
         } else {
-            fprintf(stderr, "vorocrust: unexpected argument '%s'\n", a);
+            fprintf(stderr, "vorocrust: more than %d input surfaces\n", MAX_INPUTS);
             return 2;
         }
     }
@@ -476,6 +502,14 @@ static int run_mesh(int argc, char **argv)
     vc_logger log;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
     opt.log = &log;
+    /* several inputs: their names joined, for every message */
+    char joined[1024];
+    if (n_inputs > 1) {
+        size_t k = 0;
+        for (int i = 0; i < n_inputs && k < sizeof joined; i++)
+            k += (size_t)snprintf(joined + k, sizeof joined - k, "%s%s", i ? " + " : "", inputs[i]);
+        in_path = joined;
+    }
     opt.name = in_path;
     opt.surface_only = surface_only;
     if (!surface_only && opt.interior == VC_INTERIOR_OCTREE && vc_cli_mpi_start())
@@ -485,7 +519,7 @@ static int run_mesh(int argc, char **argv)
     vc_cli_outputs_begin(); /* a signal removes the temporary files and the outputs */
     const double t0 = vc_cli_now();
     vc_surface s;
-    if (vc_surface_read(in_path, &s, NULL, &err)) {
+    if (read_inputs(inputs, n_inputs, &s, &err)) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         return 1;
     }

@@ -27,8 +27,9 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
                  vc_error *err);
 
 /* Writes the connections (one row per interior face) as CSV with the header
- * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz
- * where the normal points from cell_i to cell_j. cell_i is the face's owner,
+ * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,region_i,region_j
+ * where the normal points from cell_i to cell_j and region_i, region_j are
+ * the cells' labels (1 without cell_region). cell_i is the face's owner,
  * distance is between the two cells' seeds (needs m->seed_xyz), values are
  * printed with %.17g. */
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
@@ -43,7 +44,12 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path,
  * then neighbour), oriented owner -> neighbour; boundary faces follow,
  * grouped by patch: "surface" (faces against non-kept seeds), then one
  * patch per used wall of the clipping box ("xmin", "xmax", "ymin", "ymax",
- * "zmin", "zmax"), all of type patch. Coordinates have 17 significant
+ * "zmin", "zmax"), all of type patch. Cells of several labels (regions)
+ * split every patch by the region of its cells ("region2_surface", ...)
+ * and add constant/polyMesh/cellZones (one zone "regionN" per label N)
+ * and faceZones (one zone "regionA_to_regionB" per pair of labels A < B
+ * that share faces, oriented from A to B), as splitMeshRegions -cellZones
+ * reads them. Coordinates have 17 significant
  * digits (they read back as the same doubles); unused points are dropped.
  * CASE_DIR may be missing (the case is assembled in CASE_DIR.tmp.XXXXXX
  * and renamed) or an existing directory (its constant/polyMesh is replaced

@@ -109,6 +109,13 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged,
                               int64_t *n_unused, int64_t *n_collapsed,
                               vc_error *err);
 
+/* One surface of n_parts surfaces: their vertices and triangles in order
+ * (part 0's triangles first), vertices with exactly equal positions merged
+ * (so that parts meeting along an interface share its vertices, edges and
+ * triangles: a triangle given by two parts, reversed, is then one
+ * interface). Returns 0 or VC_ENOMEM. */
+int vc_surface_concat(const vc_surface *parts, int n_parts, vc_surface *out, vc_error *err);
+
 /* Returns 0 when the checked surface has no open boundary edge, else
  * VC_EINPUT with "FILE: N open boundary edges (surface is not closed)". */
 int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err);

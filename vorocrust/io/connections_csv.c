@@ -1,6 +1,6 @@
 /* Connections CSV: one row per interior face, the data a two-point-flux
  * finite-volume solver needs (cells, seeds, area, seed distance, face
- * centroid and unit normal from cell_i to cell_j).
+ * centroid and unit normal from cell_i to cell_j, the two cells' regions).
  *
  * Rows are formatted in parallel, in chunks, and written in order. */
 #include "vorocrust/io.h"
@@ -14,7 +14,7 @@
 #include <string.h>
 
 #define CONN_ROWS_PER_CHUNK 256
-#define CONN_ROW_MAX 320 /* 4 * 20 digits + 8 * 24 chars + separators < 320 */
+#define CONN_ROW_MAX 352 /* 4 * 20 + 2 * 11 digits + 8 * 24 chars + separators < 352 */
 
 /* Distance between the seeds of the two cells of interior face f. Computed
  * here (not via vc_polymesh_face_seed_distance) so the writer does not
@@ -42,9 +42,10 @@ static int conn_format_row(const vc_polymesh *m, int64_t f, char *out, size_t ro
             n[k] /= len;
     return snprintf(out, room,
                     "%" PRId64 ",%" PRId64 ",%" PRId64 ",%" PRId64
-                    ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                    ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%" PRId32 ",%" PRId32 "\n",
                     ci, cj, m->cell_seed[ci], m->cell_seed[cj], m->face_area[f],
-                    conn_seed_distance(m, f), c[0], c[1], c[2], n[0], n[1], n[2]);
+                    conn_seed_distance(m, f), c[0], c[1], c[2], n[0], n[1], n[2],
+                    m->cell_region ? m->cell_region[ci] : 1, m->cell_region ? m->cell_region[cj] : 1);
 }
 
 static int conn_check(const vc_polymesh *m, const char *path, vc_error *err)
@@ -90,7 +91,7 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path, vc_error *e
     int rc = conn_check(m, path, err);
     if (rc)
         return rc;
-    return vc_csv_write_rows(path, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz\n",
+    return vc_csv_write_rows(path, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,region_i,region_j\n",
                              m->n_interior_faces, CONN_ROW_MAX, CONN_ROWS_PER_CHUNK, conn_row, m,
                              err);
 }

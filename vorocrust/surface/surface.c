@@ -347,3 +347,32 @@ int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err)
                             rep->name, (long long)rep->n_boundary_edges);
     return 0;
 }
+
+int vc_surface_concat(const vc_surface *parts, int n_parts, vc_surface *out, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int64_t nv = 0, nt = 0;
+    for (int i = 0; i < n_parts; i++) {
+        nv += parts[i].n_vertices;
+        nt += parts[i].n_triangles;
+    }
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(nv + 1));
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt + 1));
+    if (!out->xyz || !out->tri) {
+        vc_surface_free(out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory joining the input surfaces");
+    }
+    for (int i = 0; i < n_parts; i++) {
+        const vc_surface *p = &parts[i];
+        memcpy(out->xyz + 3 * out->n_vertices, p->xyz, sizeof(double) * 3 * (size_t)p->n_vertices);
+        for (int64_t k = 0; k < 3 * p->n_triangles; k++)
+            out->tri[3 * out->n_triangles + k] = p->tri[k] + out->n_vertices;
+        out->n_vertices += p->n_vertices;
+        out->n_triangles += p->n_triangles;
+    }
+    /* the parts share the vertices of their common interfaces */
+    int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
+    if (rc)
+        vc_surface_free(out);
+    return rc;
+}
