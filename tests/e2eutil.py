@@ -11,8 +11,10 @@ failures is the one list every check of the test appends to; the test
 exits non-zero when it is not empty.
 """
 
+import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -150,3 +152,39 @@ def voxel_surface(path, dims, label, twice=False, flip=False):
             f.write("v %d %d %d\n" % p)
         for t in tris:
             f.write("f %d %d %d\n" % t)
+
+
+def find_checkmesh():
+    """(path of checkMesh, environment to run it in), or exits with a clear
+    message."""
+    env = dict(os.environ)
+    scripts = []
+    for pattern in ("/usr/lib/openfoam/openfoam*/etc/bashrc", "/usr/share/openfoam/etc/bashrc",
+                    "/usr/lib/openfoam*/etc/bashrc", "/opt/openfoam*/etc/bashrc",
+                    "/opt/OpenFOAM/OpenFOAM-*/etc/bashrc", "/usr/local/OpenFOAM/*/etc/bashrc"):
+        scripts += sorted(glob.glob(pattern), reverse=True)  # newest version first
+    tried = []
+    for script in scripts:
+        p = subprocess.run(["bash", "-c", 'source "$0" >/dev/null 2>&1; env -0', script],
+                           capture_output=True, timeout=60)
+        tried.append(script)
+        if p.returncode != 0:
+            continue
+        senv = dict(kv.split("=", 1) for kv in p.stdout.decode().split("\0") if "=" in kv)
+        if "WM_PROJECT_DIR" in senv:
+            env = senv
+            break
+    exe = os.environ.get("VC_CHECKMESH") or shutil.which("checkMesh", path=env.get("PATH"))
+    if not exe or not os.access(exe, os.X_OK):
+        print("FAIL: OpenFOAM's checkMesh not found (set VC_CHECKMESH, or install the Debian "
+              "package openfoam: bash .ci/install-deps); environment scripts tried: %s"
+              % (", ".join(tried) or "none found"), file=sys.stderr)
+        sys.exit(1)
+    if "WM_PROJECT_DIR" not in env:
+        print("FAIL: %s: no OpenFOAM environment script (etc/bashrc) found, checkMesh cannot "
+              "find its etc/ files" % exe, file=sys.stderr)
+        sys.exit(1)
+    # The sanitizer settings of the ASan build are not meant for OpenFOAM.
+    for k in ("ASAN_OPTIONS", "UBSAN_OPTIONS", "LD_PRELOAD"):
+        env.pop(k, None)
+    return exe, env
