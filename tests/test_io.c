@@ -354,7 +354,7 @@ static void test_vtu_write(void)
     char *txt = read_file_text(csv);
     CHECK(txt && strcmp(txt, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,"
                              "region_i,region_j\n"
-                             "0,1,5,6,1,1,1,0.5,0.5,1,0,0,1,1\n") == 0);
+                             "0,1,5,6,1,1,1,0.5,0.5,1,0,0,1,2\n") == 0);
     if (txt && failures)
         fprintf(stderr, "connections csv:\n%s", txt);
     free(txt);
