@@ -403,8 +403,9 @@ if PART == "synthetic":
         check("ok (closed singly connected)" in r[1], "ball: the surface patch is not closed")
 
     # =========================================================================
-    # (d) Labelled seeds: label 0 for x > 0.6, labels 1 and 2 elsewhere: the
-    #     "surface" patch against the dropped seeds, walls elsewhere
+    # (d) Labelled seeds: label 0 for x > 0.6, labels 1 and 2 elsewhere: per
+    #     region, a "surface" patch against the dropped seeds and walls
+    #     (e2e_materials checks the cell and face zones)
     # =========================================================================
     rng = random.Random(5)
     lab = []
@@ -413,7 +414,8 @@ if PART == "synthetic":
         lab.append((x, y, z, 0 if x > 0.6 else rng.choice((1, 2))))
     p_lab = write_seeds("labels.csv", lab)
     kept = sum(1 for s in lab if s[3])
-    r = mesh_case("labels", p_lab, kept, box, ["surface", "xmin", "ymin", "ymax", "zmin", "zmax"])
+    r = mesh_case("labels", p_lab, kept, box, ["region%d_%s" % (k, p) for k in (1, 2) for p in
+                                               ("surface", "xmin", "ymin", "ymax", "zmin", "zmax")])
 
     # =========================================================================
     # (e) Into an existing case: polyMesh replaced as a whole, the user's

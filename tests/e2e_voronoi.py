@@ -71,7 +71,7 @@ for old in os.listdir(TMP):
 failures = []
 
 CONN_HEADER = ["cell_i", "cell_j", "seed_i", "seed_j", "area", "distance",
-               "cx", "cy", "cz", "nx", "ny", "nz"]
+               "cx", "cy", "cz", "nx", "ny", "nz", "region_i", "region_j"]
 
 
 def check(cond, what):
@@ -108,8 +108,9 @@ def read_connections(name, path):
     with open(path) as f:
         r = list(csv.reader(f))
     check(r and r[0] == CONN_HEADER, "%s: connections header %r" % (name, r[:1]))
-    check(all(len(row) == 12 for row in r[1:]), "%s: a connections row has not 12 columns" % name)
-    return [[int(x) for x in row[:4]] + [float(x) for x in row[4:]] for row in r[1:]]
+    check(all(len(row) == 14 for row in r[1:]), "%s: a connections row has not 14 columns" % name)
+    return [[int(x) for x in row[:4]] + [float(x) for x in row[4:12]] + [int(x) for x in row[12:]]
+            for row in r[1:]]
 
 
 def mesh(name, seeds_path, *opts, cells=None, volume=None, connections=False):
@@ -221,11 +222,16 @@ def check_connections(name, seeds, grid, rows, fig, faces):
     worst = {"distance": 0.0, "normal length": 0.0, "normal vs seeds": 0.0,
              "normal vs face": 0.0, "area vs face": 0.0, "centroid vs face": 0.0,
              "centroid off bisector": 0.0}
-    for ci, cj, si, sj, area, dist, cx, cy, cz, nx, ny, nz in rows:
+    region = vtkcheck.cell_array(grid, "region")
+    for ci, cj, si, sj, area, dist, cx, cy, cz, nx, ny, nz, ri, rj in rows:
         if not check(0 <= ci < cj < len(seed_ids) and (ci, cj) not in seen and area > 0,
                      "%s: row %d,%d area %r (order, range, repeat or area)" % (name, ci, cj, area)):
             return
         seen.add((ci, cj))
+        if not check(ri == region[ci] and rj == region[cj],
+                     "%s: row %d,%d has regions %d,%d, the .vtu says %d,%d"
+                     % (name, ci, cj, ri, rj, region[ci], region[cj])):
+            return
         if not check(si == seed_ids[ci] and sj == seed_ids[cj],
                      "%s: row %d,%d has seeds %d,%d, the .vtu says %d,%d"
                      % (name, ci, cj, si, sj, seed_ids[ci], seed_ids[cj])):

@@ -103,7 +103,9 @@ typedef struct vc_skew_collapse_stats {
  * survive as one segment (the points between them merge into its ends), or
  * as a last resort the whole face merges into one point, whichever safe way
  * moves points least. A merged run of points goes to its one boundary point
- * (a run with two or more cannot move: the boundary never moves), else to
+ * (a point of a boundary face, or of a face between cells of two regions;
+ * a run with two or more cannot move: the boundary and the interfaces
+ * never move), else to
  * its average. A face in the way of a collapse (it would turn over or lose
  * its pyramid) and smaller than the skew face is collapsed first, next
  * round. A collapse is refused when a face around it would

@@ -701,10 +701,28 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * self-intersection, a volume (before sampling, which would not end). */
     if ((rc = vc_surface_check_solid(s, &out->input, NULL, err)) != 0)
         goto fail;
-    /* And one solid, as its orientation defines it: the regions of its
-     * arrangement each inside or outside, every triangle between the two.
-     * Several materials (an interface with a region on both sides, nested
-     * shells of the same orientation) would come out wrong. With
+    /* A size the sampling and the engine handle in double precision: their
+     * squared distances and volumes (a size cubed) must stay normal
+     * numbers, as vc_voronoi_build requires of the seeds' extent. */
+    {
+        const double *b = out->input.bbox;
+        const double dx = b[3] - b[0], dy = b[4] - b[1], dz = b[5] - b[2];
+        const double size = fmax(dx, fmax(dy, dz));
+        if (!(size >= VC_MESH_MIN_SIZE && size <= VC_MESH_MAX_SIZE)) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the model's size (%g) is outside what the mesher handles in "
+                              "double precision (%g to %g): scale it (the mesh scales with it)",
+                              name, size, VC_MESH_MIN_SIZE, VC_MESH_MAX_SIZE);
+            goto fail;
+        }
+    }
+
+    /* The regions of its arrangement: one solid as its orientation defines
+     * it (each region inside or outside, every triangle between the two)
+     * takes the single-material path, where the ball normals tell inside
+     * from outside; several materials (an interface with a region on both
+     * sides, nested shells of the same orientation, triangles given twice)
+     * label every seed with its region (pipeline/materials.c). With
      * opt.cavities, nested shells are reoriented by the even-odd rule. */
     {
         vc_regions regions;
@@ -780,22 +798,6 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         }
         vc_regions_free(&regions);
     }
-    /* A size the sampling and the engine handle in double precision: their
-     * squared distances and volumes (a size cubed) must stay normal
-     * numbers, as vc_voronoi_build requires of the seeds' extent. */
-    {
-        const double *b = out->input.bbox;
-        const double dx = b[3] - b[0], dy = b[4] - b[1], dz = b[5] - b[2];
-        const double size = fmax(dx, fmax(dy, dz));
-        if (!(size >= VC_MESH_MIN_SIZE && size <= VC_MESH_MAX_SIZE)) {
-            rc = vc_error_set(err, VC_EINPUT,
-                              "%s: the model's size (%g) is outside what the mesher handles in "
-                              "double precision (%g to %g): scale it (the mesh scales with it)",
-                              name, size, VC_MESH_MIN_SIZE, VC_MESH_MAX_SIZE);
-            goto fail;
-        }
-    }
-
     if ((rc = sample(out->multi_material ? &mm.surface : s, &opt, name,
                      out->multi_material ? &mm : NULL, out, err)) != 0)
         goto fail;

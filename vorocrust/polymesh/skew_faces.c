@@ -447,9 +447,15 @@ int vc_polymesh_collapse_skew_faces(vc_polymesh *m, double max_skew, int max_rou
         !s.point_moved || !s.forced || !s.blockers ||
         !s.scratch || !to_best || !to_try || !bad)
         goto out;
-    for (int64_t f = m->n_interior_faces; f < m->n_faces; f++)
+    /* the boundary, and the interfaces between regions, stay where they are */
+    for (int64_t f = 0; f < m->n_faces; f++) {
+        if (f < m->n_interior_faces &&
+            (!m->cell_region ||
+             m->cell_region[m->face_owner[f]] == m->cell_region[m->face_neighbour[f]]))
+            continue;
         for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; i++)
             s.fixed[m->face_vertices[i]] = 1;
+    }
 
     for (int round = 0;; round++) {
         int64_t n_bad = 0, n_skew = 0;
