@@ -5,8 +5,9 @@
  * region on the side the segment comes from: nothing lies between them.
  * So the answer needs one first hit that is not degenerate (through a
  * triangle's interior, at an angle, not tied with another triangle).
- * Segments aim at interior points of the triangle nearest the point, then
- * of the triangles around it; a bounding-volume hierarchy over the
+ * Segments aim at the nearest point of the nearest triangle (pulled a
+ * little inside it), then at interior points of that triangle and of the
+ * triangles around it; a bounding-volume hierarchy over the
  * triangles answers both the nearest-triangle and the first-hit queries. */
 #include "vorocrust/regions.h"
 
@@ -15,15 +16,19 @@
 #include <string.h>
 
 #include "sizing/closest_point.h"
+#include "util/exact_predicates.h"
 
 #define LEAF_SIZE 4
-/* a hit this close (in barycentric terms) to a triangle's edge, or a
- * segment this close to a triangle's plane, may have gone through a
- * neighbour instead: aim elsewhere */
-#define EDGE_MARGIN 1e-7
-#define GRAZE_COS 1e-6
+/* how far the first aim moves from the nearest point towards the
+ * triangle's centroid (a share of the way) */
+#define PULL 1e-4
 /* two hits this close along the segment (relative) are a tie */
 #define TIE_REL 1e-9
+
+typedef struct keyed {
+    double key;
+    int64_t t;
+} keyed;
 
 typedef struct bvh_node {
     double lo[3], hi[3];
@@ -38,6 +43,7 @@ struct vc_region_locator {
     bvh_node *node;
     int64_t n_nodes;
     double *centroid;
+    keyed *scratch; /* while building */
 };
 
 static const double *vtx(const vc_region_locator *L, int64_t t, int k)
@@ -45,20 +51,12 @@ static const double *vtx(const vc_region_locator *L, int64_t t, int k)
     return L->s->xyz + 3 * L->s->tri[3 * t + k];
 }
 
-typedef struct sort_ctx {
-    const double *centroid;
-    int axis;
-} sort_ctx;
-
-static sort_ctx g_sort; /* build is single-threaded */
-
-static int cmp_centroid(const void *a, const void *b)
+static int cmp_keyed(const void *a, const void *b)
 {
-    const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    const double u = g_sort.centroid[3 * x + g_sort.axis], v = g_sort.centroid[3 * y + g_sort.axis];
-    if (u != v)
-        return u < v ? -1 : 1;
-    return (x > y) - (x < y);
+    const keyed *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return (x->t > y->t) - (x->t < y->t);
 }
 
 static int64_t build(vc_region_locator *L, int64_t first, int64_t count)
@@ -93,9 +91,13 @@ static int64_t build(vc_region_locator *L, int64_t first, int64_t count)
     for (int d = 1; d < 3; d++)
         if (chi[d] - clo[d] > chi[axis] - clo[axis])
             axis = d;
-    g_sort.centroid = L->centroid;
-    g_sort.axis = axis;
-    qsort(L->order + first, (size_t)count, sizeof(int64_t), cmp_centroid);
+    /* median split along the widest spread of the centroids */
+    keyed *k = L->scratch + first;
+    for (int64_t i = 0; i < count; i++)
+        k[i] = (keyed){L->centroid[3 * L->order[first + i] + axis], L->order[first + i]};
+    qsort(k, (size_t)count, sizeof(keyed), cmp_keyed);
+    for (int64_t i = 0; i < count; i++)
+        L->order[first + i] = k[i].t;
     const int64_t half = count / 2;
     const int64_t left = build(L, first, half);
     const int64_t right = build(L, first + half, count - half);
@@ -128,8 +130,15 @@ int vc_region_locator_build(const vc_surface *s, const int64_t *side_region,
         for (int d = 0; d < 3; d++)
             L->centroid[3 * t + d] = (vtx(L, t, 0)[d] + vtx(L, t, 1)[d] + vtx(L, t, 2)[d]) / 3.0;
     }
+    L->scratch = malloc(sizeof(keyed) * (size_t)(n + 1));
+    if (!L->scratch) {
+        vc_region_locator_free(L);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the region locator");
+    }
     if (n > 0)
         build(L, 0, n);
+    free(L->scratch);
+    L->scratch = NULL;
     *out = L;
     return 0;
 }
@@ -141,6 +150,7 @@ void vc_region_locator_free(vc_region_locator *L)
     free(L->order);
     free(L->node);
     free(L->centroid);
+    free(L->scratch);
     free(L);
 }
 
@@ -247,21 +257,51 @@ static int segment_meets_box(const bvh_node *nd, const double p[3], const double
     return 1;
 }
 
+/* Does the segment from p to e cross triangle abc through its interior?
+ * 1 yes, 0 no, -1 degenerate (an end on its plane, or the line through an
+ * edge or a vertex). Exact (orientation predicates), so a segment that
+ * passes 1e-12 beside an edge is a clean miss or a clean hit. *front:
+ * the segment enters through the front (the side the normal of a, b, c
+ * points to). -2 when out of memory. */
+static int crosses(const double p[3], const double e[3], const double *a, const double *b,
+                   const double *c, int *front)
+{
+    const int sp = vc_orient3d_exact(a, b, c, p), se = vc_orient3d_exact(a, b, c, e);
+    if (sp == VC_PREDICATE_NOMEM || se == VC_PREDICATE_NOMEM)
+        return -2;
+    if (sp == se)
+        return sp == 0 ? -1 : 0;
+    if (sp == 0 || se == 0)
+        return -1;
+    const int s1 = vc_orient3d_exact(p, e, a, b), s2 = vc_orient3d_exact(p, e, b, c),
+              s3 = vc_orient3d_exact(p, e, c, a);
+    if (s1 == VC_PREDICATE_NOMEM || s2 == VC_PREDICATE_NOMEM || s3 == VC_PREDICATE_NOMEM)
+        return -2;
+    if ((s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0)) {
+        /* orient3d(a, b, c, p) < 0: p above the plane, on the front */
+        *front = sp < 0;
+        return 1;
+    }
+    if ((s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0))
+        return -1; /* through an edge or a vertex */
+    return 0;
+}
+
 /* The region on p's side of the first triangle the segment p + s d
- * (0 < s <= 1) crosses; -2 when that first crossing is degenerate or
- * there is none. */
+ * (0 < s <= 1) crosses; -2 when that first crossing is degenerate (through
+ * an edge, or tied with another), or there is none. */
 static int64_t first_hit_region(const vc_region_locator *L, const double p[3], const double d[3])
 {
     int64_t stack[128];
     int top = 0;
-    double best_s = 1.0 + 1e-9, second_s = INFINITY;
+    const double e[3] = {p[0] + d[0], p[1] + d[1], p[2] + d[2]};
+    double best_s = INFINITY, second_s = INFINITY;
     int64_t best_t = -1;
-    int best_side = 0, best_clean = 0;
-    const double dn = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    int best_front = 0, best_clean = 0;
     stack[top++] = 0;
     while (top > 0) {
         const bvh_node *nd = &L->node[stack[--top]];
-        if (!segment_meets_box(nd, p, d, best_s * (1 + TIE_REL) + 1e-12))
+        if (!segment_meets_box(nd, p, d, fmin(1.0, best_s * (1 + TIE_REL)) + 1e-12))
             continue;
         if (nd->count == 0) {
             if (top + 2 <= 128) {
@@ -273,46 +313,34 @@ static int64_t first_hit_region(const vc_region_locator *L, const double p[3], c
         for (int64_t i = nd->first; i < nd->first + nd->count; i++) {
             const int64_t t = L->order[i];
             const double *a = vtx(L, t, 0), *b = vtx(L, t, 1), *c = vtx(L, t, 2);
-            /* Moller-Trumbore */
-            const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-            const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-            const double h[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                                 d[0] * e2[1] - d[1] * e2[0]};
-            const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-            const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
-                         nz = e1[0] * e2[1] - e1[1] * e2[0];
-            const double nn = sqrt(nx * nx + ny * ny + nz * nz);
-            const double sv[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-            if (det == 0 || nn == 0) {
-                /* parallel to the plane: a crossing only if p lies in it */
+            int front = 0;
+            const int x = crosses(p, e, a, b, c, &front);
+            if (x == 0)
                 continue;
-            }
-            const double inv = 1.0 / det;
-            const double u = (sv[0] * h[0] + sv[1] * h[1] + sv[2] * h[2]) * inv;
-            const double q[3] = {sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2],
-                                 sv[0] * e1[1] - sv[1] * e1[0]};
-            const double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
-            const double s = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
-            const double m = EDGE_MARGIN;
-            if (u < -m || v < -m || u + v > 1 + m || s <= 0 || s > 1 + 1e-9)
-                continue;
-            const int clean = u > m && v > m && u + v < 1 - m &&
-                              fabs(det) > GRAZE_COS * nn * dn;
+            if (x == -2)
+                return -2;
+            /* where along the segment: by the plane's distances (only the
+             * order of the hits needs it; near-ties are refused below) */
+            const double n[3] = {(b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                                 (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                                 (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])};
+            const double dp = n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]) + n[2] * (p[2] - a[2]);
+            const double dd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+            const double s = dd != 0 ? -dp / dd : 0;
             if (s < best_s) {
                 second_s = best_s;
                 best_s = s;
                 best_t = t;
-                best_clean = clean;
-                /* d against the normal: the segment enters through the front */
-                best_side = (nx * d[0] + ny * d[1] + nz * d[2]) < 0 ? 0 : 1;
+                best_front = front;
+                best_clean = x == 1;
             } else if (s < second_s) {
                 second_s = s;
             }
         }
     }
-    if (best_t < 0 || !best_clean || second_s - best_s <= TIE_REL * (best_s + 1e-300))
+    if (best_t < 0 || !best_clean || second_s - best_s <= TIE_REL * fabs(best_s))
         return -2;
-    return L->side_region[2 * best_t + best_side];
+    return L->side_region[2 * best_t + (best_front ? 0 : 1)];
 }
 
 /* Interior points of a triangle to aim at, in barycentric coordinates. */
@@ -337,6 +365,23 @@ static int64_t aim_at(const vc_region_locator *L, const double p[3], int64_t t)
     return -2;
 }
 
+/* Aims at the point of triangle t nearest p, pulled a little into the
+ * triangle (so that a nearest point on an edge is not shared with the
+ * neighbour): from a point very close to the surface, the one direction
+ * that crosses it at an angle. */
+static int64_t aim_nearest(const vc_region_locator *L, const double p[3], int64_t t)
+{
+    const double *a = vtx(L, t, 0), *b = vtx(L, t, 1), *c = vtx(L, t, 2);
+    double q[3];
+    vc_closest_on_triangle(p, a, b, c, q);
+    double d[3];
+    for (int j = 0; j < 3; j++) {
+        const double centre = (a[j] + b[j] + c[j]) / 3.0;
+        d[j] = (q[j] + PULL * (centre - q[j]) - p[j]) * (1 + 1e-6);
+    }
+    return first_hit_region(L, p, d);
+}
+
 int64_t vc_region_locate(const vc_region_locator *L, const double p[3])
 {
     double d2;
@@ -345,7 +390,10 @@ int64_t vc_region_locate(const vc_region_locator *L, const double p[3])
         return -1;
     if (d2 == 0)
         return -2;
-    int64_t r = aim_at(L, p, t);
+    int64_t r = aim_nearest(L, p, t);
+    if (r != -2)
+        return r;
+    r = aim_at(L, p, t);
     if (r != -2)
         return r;
     /* every aim at the nearest triangle grazed something: the triangles a
