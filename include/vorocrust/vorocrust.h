@@ -231,7 +231,8 @@ typedef struct vc_mesh_result {
     int has_mesh;
     vc_polymesh mesh;
     double mesh_volume;         /* sum of the cell volumes */
-    int64_t mesh_problems;      /* found by vc_polymesh_validate (0 expected) */
+    int64_t mesh_problems;      /* found by vc_polymesh_validate (always 0 on success:
+                                   vc_mesh fails with VC_EINTERNAL otherwise) */
     char mesh_problem[VC_ERROR_LEN]; /* the first one, when any */
     vc_cell_quality cell_quality;
     vc_octree_stats octree;     /* with the octree interior */
@@ -248,8 +249,10 @@ typedef struct vc_mesh_result {
  * that are not one solid: see vc_regions_single_solid), a sampling that
  * diverged even after the resampling allowed, or a reconstructed surface
  * that is not a closed oriented 2-manifold of the input's Euler
- * characteristic; VC_EPARAM for a bad option or, with the
- * octree interior, MPI not initialised; VC_ENOMEM; VC_EINTERNAL. */
+ * characteristic (for several materials: a region's cells not bounded so,
+ * or off the input region's volume by more than 1%); VC_EPARAM for a bad
+ * option or, with the octree interior, MPI not initialised; VC_ENOMEM;
+ * VC_EINTERNAL, also for a volume mesh that fails vc_polymesh_validate. */
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt, vc_mesh_result *out,
             vc_error *err);
 

@@ -620,11 +620,14 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     char report[1024];
     out->mesh_problems = vc_polymesh_validate(m, 0, report, sizeof report);
     if (out->mesh_problems) {
+        /* a mesh known to be broken is an error, not a result */
         snprintf(out->mesh_problem, sizeof out->mesh_problem, "%.*s",
                  (int)strcspn(report, "\n"), report);
-        vc_log(opt->log, VC_LOG_WARNING,
-               "%s: the volume mesh fails validation (%lld problems), first: %s", name,
-               (long long)out->mesh_problems, out->mesh_problem);
+        return vc_error_set(err, VC_EINTERNAL,
+                            "%s: the volume mesh fails validation (%lld problems, first: %s): "
+                            "the Voronoi engine's tolerances did not resolve nearly degenerate "
+                            "seeds there; try another --seed", name,
+                            (long long)out->mesh_problems, out->mesh_problem);
     }
     /* per-cell fatness goes into the .vtu as well */
     m->cell_fatness = malloc(sizeof(double) * (size_t)(m->n_cells ? m->n_cells : 1));
