@@ -162,6 +162,29 @@ double vc_polymesh_face_seed_distance(const vc_polymesh *m, int64_t f);
 int64_t vc_polymesh_validate(const vc_polymesh *m, double rel_tol,
                              char *report, size_t report_len);
 
+/* The boundary patches of a mesh, as every writer names them: a boundary
+ * face against a non-kept seed belongs to "surface", one on a wall of the
+ * clipping box to "xmin" ... "zmax"; with cells of several labels
+ * (regions) every patch is split by its cells' label ("region2_surface").
+ * Patches are numbered in that order (by label, then surface, xmin, ...,
+ * zmax), only those that have faces. */
+typedef struct vc_boundary_patches {
+    int n_patches;
+    char (*name)[64];
+    int64_t *size;         /* faces per patch */
+    int *face_patch;       /* per boundary face f: face_patch[f - n_interior_faces] */
+    int n_labels;          /* the distinct cell labels (1 without cell_region) */
+    int32_t *label_value;  /* ascending; NULL without cell_region */
+} vc_boundary_patches;
+
+/* Fills out. Returns 0, -1 when out of memory, -2 for a boundary face with
+ * an unknown wall code (its index in *bad_face when not NULL). */
+int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,
+                                 int64_t *bad_face);
+/* The rank of a label among p's labels (0 with one label). */
+int vc_boundary_patches_label_rank(const vc_boundary_patches *p, int32_t label);
+void vc_boundary_patches_free(vc_boundary_patches *p);
+
 /* Summary statistics used by the CLI. */
 typedef struct vc_polymesh_stats {
     double volume_total, volume_min, volume_max;

@@ -10,11 +10,11 @@
  * vc_polymesh already stores its interior faces that way; the writer checks
  * it and only sorts or flips faces when a mesh does not.
  *
- * Patches come from one function, foam_patch_key(): a boundary face against
- * a non-kept seed belongs to "surface", a face on the clipping box to the
- * wall's patch ("xmin" ... "zmax"). Only the patches that have faces are
- * written, in the order surface, xmin, xmax, ymin, ymax, zmin, zmax, all of
- * type "patch". Within a patch, faces keep the mesh's order (by owner).
+ * Patches come from vc_polymesh_boundary_patches (every writer's): a
+ * boundary face against a non-kept seed belongs to "surface", a face on the
+ * clipping box to the wall's patch ("xmin" ... "zmax"), split by region
+ * when the cells have several labels; all of type "patch". Within a patch,
+ * faces keep the mesh's order (by owner).
  *
  * Atomicity: a new case is assembled in a sibling directory
  * "CASE_DIR.tmp.XXXXXX" and renamed to CASE_DIR at the end. Into an
@@ -245,25 +245,6 @@ static void foam_header(foam_out *o, const char *cls, const char *location, cons
     foam_puts(o, h);
 }
 
-/* ---- patches -------------------------------------------------------------- */
-
-enum { FOAM_KEY_SURFACE = 0, FOAM_KEY_WALL0 = 1, FOAM_N_KEYS = 7 };
-static const char *const foam_key_names[FOAM_N_KEYS] = {"surface", "xmin", "xmax", "ymin",
-                                                        "ymax",    "zmin", "zmax"};
-
-/* The one place that decides a boundary face's patch: its key in
- * foam_key_names, or -1 for an unknown wall code. */
-static int foam_patch_key(const vc_polymesh *m, int64_t f)
-{
-    int64_t o = m->face_other_seed ? m->face_other_seed[f] : 0;
-    if (o >= 0)
-        return FOAM_KEY_SURFACE;
-    int64_t k = VC_WALL_XMIN - o;
-    if (k >= 0 && k < 6)
-        return FOAM_KEY_WALL0 + (int)k;
-    return -1;
-}
-
 /* ---- the mesh as OpenFOAM sees it ---------------------------------------- */
 
 typedef struct foam_plan {
@@ -273,17 +254,14 @@ typedef struct foam_plan {
     int64_t n_faces, n_internal;
     int64_t *order;      /* written face -> mesh face */
     unsigned char *flip; /* written interior face is reversed (owner/neighbour swapped) */
-    int n_patches;
-    char (*patch_name)[64];
-    int64_t *patch_size, *patch_start;
-    /* Regions: the distinct cell labels, ascending. With more than one,
-     * every patch is split by the region of its cells ("region2_surface"),
-     * cell zone k holds the cells of label_value[k] (cells zone_cell[
+    /* The patches (vc_polymesh_boundary_patches), and where each starts. */
+    vc_boundary_patches patches;
+    int64_t *patch_start;
+    /* With several regions (patches.n_labels > 1): cell zone k holds the
+     * cells of label patches.label_value[k] (cells zone_cell[
      * zone_cell_start[k] ..]), and face zone j the interior faces between
      * two regions (written indices zone_face[zone_face_start[j] ..], flipped
      * where they point from the higher region to the lower). */
-    int n_labels;
-    int32_t *label_value;
     int64_t *zone_cell, *zone_cell_start;
     int n_face_zones;
     int32_t *face_zone_pair;  /* 2 per face zone: the lower and the higher label */
@@ -297,10 +275,8 @@ static void foam_plan_free(foam_plan *pl)
     free(pl->point_of);
     free(pl->order);
     free(pl->flip);
-    free(pl->patch_name);
-    free(pl->patch_size);
+    vc_boundary_patches_free(&pl->patches);
     free(pl->patch_start);
-    free(pl->label_value);
     free(pl->zone_cell);
     free(pl->zone_cell_start);
     free(pl->face_zone_pair);
@@ -339,39 +315,6 @@ static int foam_cmp_interior(const void *pa, const void *pb)
     return fa < fb ? -1 : fa > fb;
 }
 
-static int foam_cmp_i32(const void *a, const void *b)
-{
-    const int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* The distinct cell labels, ascending. */
-static int foam_plan_regions(const vc_polymesh *m, foam_plan *pl)
-{
-    pl->n_labels = 1;
-    if (!m->cell_region)
-        return 0;
-    int32_t *v = malloc(sizeof(int32_t) * (size_t)(m->n_cells + 1));
-    if (!v)
-        return -1;
-    memcpy(v, m->cell_region, sizeof(int32_t) * (size_t)m->n_cells);
-    qsort(v, (size_t)m->n_cells, sizeof(int32_t), foam_cmp_i32);
-    int64_t n = 0;
-    for (int64_t c = 0; c < m->n_cells; c++)
-        if (c == 0 || v[c] != v[n - 1])
-            v[n++] = v[c];
-    pl->n_labels = (int)n;
-    pl->label_value = v;
-    return 0;
-}
-
-static int foam_label_rank(const foam_plan *pl, int32_t label)
-{
-    const int32_t *hit = bsearch(&label, pl->label_value, (size_t)pl->n_labels, sizeof(int32_t),
-                                 foam_cmp_i32);
-    return hit ? (int)(hit - pl->label_value) : 0;
-}
-
 typedef struct foam_zone_face {
     int32_t lo, hi;  /* label ranks */
     int64_t written; /* written face index */
@@ -392,7 +335,7 @@ static int foam_cmp_zone_face(const void *a, const void *b)
  * that share faces), from the written face order. */
 static int foam_plan_zones(const vc_polymesh *m, foam_plan *pl)
 {
-    const int nl = pl->n_labels;
+    const int nl = pl->patches.n_labels;
     pl->zone_cell = malloc(sizeof(int64_t) * (size_t)(m->n_cells + 1));
     pl->zone_cell_start = calloc((size_t)nl + 1, sizeof(int64_t));
     int64_t nz = 0;
@@ -411,7 +354,7 @@ static int foam_plan_zones(const vc_polymesh *m, foam_plan *pl)
         return -1;
     }
     for (int64_t c = 0; c < m->n_cells; c++) {
-        rank[c] = foam_label_rank(pl, m->cell_region[c]);
+        rank[c] = vc_boundary_patches_label_rank(&pl->patches, m->cell_region[c]);
         pl->zone_cell_start[rank[c] + 1]++;
     }
     for (int k = 0; k < nl; k++)
@@ -454,8 +397,8 @@ static int foam_plan_zones(const vc_polymesh *m, foam_plan *pl)
     for (int64_t i = 0; i < nz; i++) {
         if (i == 0 || zf[i].lo != zf[i - 1].lo || zf[i].hi != zf[i - 1].hi) {
             j++;
-            pl->face_zone_pair[2 * j] = pl->label_value[zf[i].lo];
-            pl->face_zone_pair[2 * j + 1] = pl->label_value[zf[i].hi];
+            pl->face_zone_pair[2 * j] = pl->patches.label_value[zf[i].lo];
+            pl->face_zone_pair[2 * j + 1] = pl->patches.label_value[zf[i].hi];
             pl->zone_face_start[j] = i;
         }
         pl->zone_face[i] = zf[i].written;
@@ -484,10 +427,8 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
     pl->order = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *pl->order);
     pl->flip = calloc((size_t)(nf > 0 ? nf : 1), 1);
     unsigned char *used = calloc((size_t)(m->n_points > 0 ? m->n_points : 1), 1);
-    int *key = malloc((size_t)(nf - ni > 0 ? nf - ni : 1) * sizeof *key);
-    if (!pl->order || !pl->flip || !used || !key) {
+    if (!pl->order || !pl->flip || !used) {
         free(used);
-        free(key);
         foam_plan_free(pl);
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     }
@@ -514,13 +455,16 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
             else
                 used[v] = 1;
         }
-        if (rc == VC_OK && f >= ni) {
-            key[f - ni] = foam_patch_key(m, f);
-            if (key[f - ni] < 0)
-                rc = vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64
-                                  " has an unknown wall code %" PRId64, path, f,
-                                  m->face_other_seed[f]);
-        }
+    }
+    if (rc == VC_OK) {
+        int64_t bad = -1;
+        const int prc = vc_polymesh_boundary_patches(m, &pl->patches, &bad);
+        if (prc == -1)
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+        else if (prc == -2)
+            rc = vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64
+                              " has an unknown wall code %" PRId64, path, bad,
+                              m->face_other_seed[bad]);
     }
     for (int64_t i = 0; i < m->n_points && rc == VC_OK; i++)
         if (!isfinite(m->points[3 * i]) || !isfinite(m->points[3 * i + 1]) ||
@@ -528,7 +472,6 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
             rc = vc_error_set(err, VC_EINPUT, "%s: point %" PRId64 " is not finite", path, i);
     if (rc != VC_OK) {
         free(used);
-        free(key);
         foam_plan_free(pl);
         return rc;
     }
@@ -543,7 +486,6 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
         pl->point_of = malloc((size_t)(n_used > 0 ? n_used : 1) * sizeof *pl->point_of);
         if (!pl->point_map || !pl->point_of) {
             free(used);
-            free(key);
             foam_plan_free(pl);
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
         }
@@ -585,48 +527,24 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
         }
     }
 
-    /* Regions: the distinct cell labels. */
-    if (rc == VC_OK && foam_plan_regions(m, pl) != 0)
-        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    /* Boundary faces: grouped by patch key (per region when there are
-     * several), mesh order within a patch. */
-    const int nk = pl->n_labels > 1 ? pl->n_labels * FOAM_N_KEYS : FOAM_N_KEYS;
-    int64_t *count = calloc((size_t)nk, sizeof(int64_t)), *next = malloc(sizeof(int64_t) * (size_t)nk);
-    pl->patch_name = malloc(sizeof *pl->patch_name * (size_t)nk);
-    pl->patch_size = malloc(sizeof(int64_t) * (size_t)nk);
-    pl->patch_start = malloc(sizeof(int64_t) * (size_t)nk);
-    if (rc == VC_OK && (!count || !next || !pl->patch_name || !pl->patch_size || !pl->patch_start))
+    /* Boundary faces: grouped by patch, mesh order within a patch. */
+    const vc_boundary_patches *bp = &pl->patches;
+    int64_t *next = malloc(sizeof(int64_t) * (size_t)(bp->n_patches + 1));
+    pl->patch_start = malloc(sizeof(int64_t) * (size_t)(bp->n_patches + 1));
+    if (rc == VC_OK && (!next || !pl->patch_start))
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     if (rc == VC_OK) {
-        if (pl->n_labels > 1)
-            for (int64_t f = ni; f < nf; f++)
-                key[f - ni] += FOAM_N_KEYS * foam_label_rank(pl, m->cell_region[m->face_owner[f]]);
-        for (int64_t f = ni; f < nf; f++)
-            count[key[f - ni]]++;
         int64_t start = ni;
-        for (int k = 0; k < nk; k++) {
-            next[k] = start;
-            if (count[k] > 0) {
-                const char *base = foam_key_names[k % FOAM_N_KEYS];
-                if (pl->n_labels > 1)
-                    snprintf(pl->patch_name[pl->n_patches], sizeof pl->patch_name[0], "region%d_%s",
-                             (int)pl->label_value[k / FOAM_N_KEYS], base);
-                else
-                    snprintf(pl->patch_name[pl->n_patches], sizeof pl->patch_name[0], "%s", base);
-                pl->patch_size[pl->n_patches] = count[k];
-                pl->patch_start[pl->n_patches] = start;
-                pl->n_patches++;
-            }
-            start += count[k];
+        for (int k = 0; k < bp->n_patches; k++) {
+            next[k] = pl->patch_start[k] = start;
+            start += bp->size[k];
         }
         for (int64_t f = ni; f < nf; f++)
-            pl->order[next[key[f - ni]]++] = f;
+            pl->order[next[bp->face_patch[f - ni]]++] = f;
     }
-    free(count);
     free(next);
-    if (rc == VC_OK && pl->n_labels > 1 && foam_plan_zones(m, pl) != 0)
+    if (rc == VC_OK && bp->n_labels > 1 && foam_plan_zones(m, pl) != 0)
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    free(key);
     if (rc != VC_OK)
         foam_plan_free(pl);
     return rc;
@@ -775,14 +693,14 @@ static void foam_write_boundary(foam_out *o, const foam_plan *pl)
 {
     foam_header(o, "polyBoundaryMesh", "constant/polyMesh", "boundary", NULL);
     char line[256];
-    snprintf(line, sizeof line, "%d\n(\n", pl->n_patches);
+    snprintf(line, sizeof line, "%d\n(\n", pl->patches.n_patches);
     foam_puts(o, line);
-    for (int k = 0; k < pl->n_patches; k++) {
+    for (int k = 0; k < pl->patches.n_patches; k++) {
         snprintf(line, sizeof line,
                  "    %s\n    {\n        type            patch;\n"
                  "        nFaces          %" PRId64 ";\n        startFace       %" PRId64
                  ";\n    }\n",
-                 pl->patch_name[k], pl->patch_size[k], pl->patch_start[k]);
+                 pl->patches.name[k], pl->patches.size[k], pl->patch_start[k]);
         foam_puts(o, line);
     }
     foam_puts(o, ")\n");
@@ -814,11 +732,11 @@ static void foam_write_cell_zones(foam_out *o, const foam_plan *pl)
 {
     foam_header(o, "regIOobject", "constant/polyMesh", "cellZones", NULL);
     char line[128];
-    snprintf(line, sizeof line, "%d\n(\n", pl->n_labels);
+    snprintf(line, sizeof line, "%d\n(\n", pl->patches.n_labels);
     foam_puts(o, line);
-    for (int k = 0; k < pl->n_labels; k++) {
+    for (int k = 0; k < pl->patches.n_labels; k++) {
         snprintf(line, sizeof line, "    region%d\n    {\n        type cellZone;\n",
-                 (int)pl->label_value[k]);
+                 (int)pl->patches.label_value[k]);
         foam_puts(o, line);
         foam_put_list(o, "cellLabels", "label", pl->zone_cell + pl->zone_cell_start[k], NULL,
                       pl->zone_cell_start[k + 1] - pl->zone_cell_start[k]);
@@ -957,7 +875,7 @@ static int foam_write_polymesh(const char *dir, const char *case_dir, const vc_p
                                const foam_plan *pl, vc_error *err)
 {
     /* the zones with several regions only */
-    for (int i = 0; i < (pl->n_labels > 1 ? 7 : 5); i++) {
+    for (int i = 0; i < (pl->patches.n_labels > 1 ? 7 : 5); i++) {
         char *path = vc_path_join(dir, foam_mesh_files[i]);
         char report[4200];
         snprintf(report, sizeof report, "%s/constant/polyMesh/%s", case_dir,
