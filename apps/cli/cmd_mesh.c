@@ -44,6 +44,8 @@ static void usage(FILE *f)
         "  --foam CASE_DIR     also write the volume mesh as OpenFOAM CASE_DIR/constant/polyMesh\n"
         "  --connections OUT.csv  with -o: the interior faces of the volume mesh (cells, seeds,\n"
         "                      area, seed distance, centroid, normal), as 'vorocrust voronoi'\n"
+        "  --uge OUT.uge       with -o: a PFLOTRAN explicit unstructured grid, and one\n"
+        "                      OUT_PATCH.ex boundary-connection file per patch\n"
         "  --foam-max-skew S   before writing the OpenFOAM case, collapse the faces whose\n"
         "                      checkMesh skewness exceeds S (default %g; 0: write the exact\n"
         "                      Voronoi cells; checkMesh fails a mesh above 4)\n"
@@ -95,7 +97,7 @@ static int takes_value(const char *a)
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
-                                             "--foam-max-skew", "--connections", "--max-balls"};
+                                             "--foam-max-skew", "--connections", "--max-balls", "--uge"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -274,7 +276,7 @@ static int run_mesh(int argc, char **argv)
     const char *inputs[MAX_INPUTS];
     int n_inputs = 0;
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
-               *balls_path = NULL, *foam_path = NULL, *conn_path = NULL;
+               *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL;
     int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
@@ -312,6 +314,8 @@ static int run_mesh(int argc, char **argv)
             foam_path = argv[++i];
         } else if (!strcmp(a, "--connections")) {
             conn_path = argv[++i];
+        } else if (!strcmp(a, "--uge")) {
+            uge_path = argv[++i];
         } else if (!strcmp(a, "--foam-max-skew")) {
             if (vc_cli_parse_double(v, &foam_max_skew) ||
                 !(foam_max_skew == 0 || (foam_max_skew >= 1 && foam_max_skew <= 1000))) {
@@ -472,8 +476,9 @@ static int run_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: --foam and --surface-only exclude each other\n");
         return 2;
     }
-    if (conn_path && surface_only) {
-        fprintf(stderr, "vorocrust: --connections and --surface-only exclude each other\n");
+    if ((conn_path || uge_path) && surface_only) {
+        fprintf(stderr, "vorocrust: --%s and --surface-only exclude each other\n",
+                conn_path ? "connections" : "uge");
         return 2;
     }
     if (foam_path) {
@@ -481,8 +486,9 @@ static int run_mesh(int argc, char **argv)
         if (frc)
             return frc;
     }
-    const char *outputs[6] = {out_path, surf_path, seeds_path, balls_path, conn_path, foam_path};
-    for (int i = 0; i < 6; i++) {
+    const char *outputs[7] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
+                              foam_path};
+    for (int i = 0; i < 7; i++) {
         if (!outputs[i])
             continue;
         for (int j = 0; j < i; j++)
@@ -490,7 +496,7 @@ static int run_mesh(int argc, char **argv)
                 fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
                 return 2;
             }
-        if (i < 5 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
+        if (i < 6 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
             return 1;
     }
     if (fold_creases)
@@ -557,6 +563,11 @@ static int run_mesh(int argc, char **argv)
             goto write_failed;
         if (conn_path) {
             if (vc_write_connections_csv(&r.mesh, conn_path, &err))
+                goto write_failed;
+        }
+        /* before the OpenFOAM case's collapse changes the mesh */
+        if (uge_path) {
+            if (vc_write_pflotran(&r.mesh, uge_path, &err))
                 goto write_failed;
         }
         if (foam_path && foam_max_skew > 0 &&

@@ -35,6 +35,21 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
                              vc_error *err);
 
+/* Writes a PFLOTRAN explicit unstructured grid (GRID TYPE
+ * UNSTRUCTURED_EXPLICIT) to path: "CELLS n", then one line "id x y z
+ * volume" per cell (ids from 1, in mesh order; the point is the cell's
+ * seed); "CONNECTIONS m", then one line "id_up id_dn x y z area" per
+ * interior face (the point is where the segment between the two seeds
+ * crosses the face: their midpoint). For each boundary patch
+ * (vc_polymesh_boundary_patches), path without its extension plus
+ * "_PATCH.ex": "CONNECTIONS k", then "id x y z area" per boundary face
+ * of the patch (the point is the midpoint of the cell's seed and the
+ * seed across the face; a face on the clipping box: its centroid), for a
+ * REGION ... FILE card. Numbers with 17 significant digits; each file
+ * through a temporary file. Errors: VC_EIO naming the path, VC_EINPUT,
+ * VC_ENOMEM. */
+int vc_write_pflotran(const vc_polymesh *m, const char *path, vc_error *err);
+
 /* Writes the mesh as an OpenFOAM case: CASE_DIR/constant/polyMesh/{points,
  * faces, owner, neighbour, boundary} in OpenFOAM's ASCII format (classes
  * vectorField, faceList, labelList with the nPoints/nCells/nFaces/
