@@ -119,4 +119,44 @@ static inline double surface_enclosed_volume(const vc_surface *s)
     return v;
 }
 
+/* A row of n unit boxes along x, [k, k+1] x [0,1] x [0,1], as one surface:
+ * each box's faces once (the face between box k and k+1 belongs to box k,
+ * facing +x), with a grid of g x g squares per unit face so that edges and
+ * vertices abound. */
+static inline void box_row(builder *b, int n, int g)
+{
+    /* vertices on the lattice (i/g, j/g, k/g), i in 0..n g */
+    const int nx = n * g + 1, ny = g + 1, nz = g + 1;
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++)
+                add_v(b, (double)i / g, (double)j / g, (double)k / g);
+#define V(i, j, k) ((int64_t)(k) * ny * nx + (int64_t)(j) * nx + (i))
+    /* a square (a, b, c, d counter-clockwise seen from where it faces) */
+#define SQUARE(a, bb, c, d) do { add_t(b, a, bb, c); add_t(b, a, c, d); } while (0)
+    for (int i = 0; i < nx - 1; i++)
+        for (int j = 0; j < ny - 1; j++) {
+            SQUARE(V(i, j, 0), V(i, j + 1, 0), V(i + 1, j + 1, 0), V(i + 1, j, 0));         /* -z */
+            SQUARE(V(i, j, nz - 1), V(i + 1, j, nz - 1), V(i + 1, j + 1, nz - 1), V(i, j + 1, nz - 1));
+        }
+    for (int i = 0; i < nx - 1; i++)
+        for (int k = 0; k < nz - 1; k++) {
+            SQUARE(V(i, 0, k), V(i + 1, 0, k), V(i + 1, 0, k + 1), V(i, 0, k + 1));         /* -y */
+            SQUARE(V(i, ny - 1, k), V(i, ny - 1, k + 1), V(i + 1, ny - 1, k + 1), V(i + 1, ny - 1, k));
+        }
+    /* x = const walls: the outer two, and one between every two boxes */
+    for (int w = 0; w <= n; w++) {
+        const int i = w * g;
+        for (int j = 0; j < ny - 1; j++)
+            for (int k = 0; k < nz - 1; k++) {
+                if (w == 0) /* -x */
+                    SQUARE(V(i, j, k), V(i, j, k + 1), V(i, j + 1, k + 1), V(i, j + 1, k));
+                else        /* +x */
+                    SQUARE(V(i, j, k), V(i, j + 1, k), V(i, j + 1, k + 1), V(i, j, k + 1));
+            }
+    }
+#undef SQUARE
+#undef V
+}
+
 #endif
