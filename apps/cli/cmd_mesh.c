@@ -46,6 +46,8 @@ static void usage(FILE *f)
         "                      area, seed distance, centroid, normal), as 'vorocrust voronoi'\n"
         "  --uge OUT.uge       with -o: a PFLOTRAN explicit unstructured grid, and one\n"
         "                      OUT_PATCH.ex boundary-connection file per patch\n"
+        "  --tough MESH        with -o: a TOUGH2/TOUGH3 MESH file (ELEME, CONNE; boundary\n"
+        "                      elements of volume 1e50 per patch)\n"
         "  --foam-max-skew S   before writing the OpenFOAM case, collapse the faces whose\n"
         "                      checkMesh skewness exceeds S (default %g; 0: write the exact\n"
         "                      Voronoi cells; checkMesh fails a mesh above 4)\n"
@@ -97,7 +99,7 @@ static int takes_value(const char *a)
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
-                                             "--foam-max-skew", "--connections", "--max-balls", "--uge"};
+                                             "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -276,7 +278,8 @@ static int run_mesh(int argc, char **argv)
     const char *inputs[MAX_INPUTS];
     int n_inputs = 0;
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
-               *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL;
+               *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL,
+               *tough_path = NULL;
     int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
@@ -316,6 +319,8 @@ static int run_mesh(int argc, char **argv)
             conn_path = argv[++i];
         } else if (!strcmp(a, "--uge")) {
             uge_path = argv[++i];
+        } else if (!strcmp(a, "--tough")) {
+            tough_path = argv[++i];
         } else if (!strcmp(a, "--foam-max-skew")) {
             if (vc_cli_parse_double(v, &foam_max_skew) ||
                 !(foam_max_skew == 0 || (foam_max_skew >= 1 && foam_max_skew <= 1000))) {
@@ -476,9 +481,9 @@ static int run_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: --foam and --surface-only exclude each other\n");
         return 2;
     }
-    if ((conn_path || uge_path) && surface_only) {
+    if ((conn_path || uge_path || tough_path) && surface_only) {
         fprintf(stderr, "vorocrust: --%s and --surface-only exclude each other\n",
-                conn_path ? "connections" : "uge");
+                conn_path ? "connections" : uge_path ? "uge" : "tough");
         return 2;
     }
     if (foam_path) {
@@ -486,9 +491,9 @@ static int run_mesh(int argc, char **argv)
         if (frc)
             return frc;
     }
-    const char *outputs[7] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
-                              foam_path};
-    for (int i = 0; i < 7; i++) {
+    const char *outputs[8] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
+                              tough_path, foam_path};
+    for (int i = 0; i < 8; i++) {
         if (!outputs[i])
             continue;
         for (int j = 0; j < i; j++)
@@ -496,7 +501,7 @@ static int run_mesh(int argc, char **argv)
                 fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
                 return 2;
             }
-        if (i < 6 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
+        if (i < 7 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
             return 1;
     }
     if (fold_creases)
@@ -568,6 +573,10 @@ static int run_mesh(int argc, char **argv)
         /* before the OpenFOAM case's collapse changes the mesh */
         if (uge_path) {
             if (vc_write_pflotran(&r.mesh, uge_path, &err))
+                goto write_failed;
+        }
+        if (tough_path) {
+            if (vc_write_tough(&r.mesh, tough_path, &err))
                 goto write_failed;
         }
         if (foam_path && foam_max_skew > 0 &&

@@ -50,6 +50,25 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path,
  * VC_ENOMEM. */
 int vc_write_pflotran(const vc_polymesh *m, const char *path, vc_error *err);
 
+/* Writes a TOUGH2 / TOUGH3 MESH file to path, in the fixed 80-column format
+ * of the TOUGH2 user's guide. "ELEME" records (columns 1-5 name, 16-20
+ * material, 21-30 volume, 51-80 x y z): one element per cell, named
+ * A0000, A0001, ... (a letter, two base-36 characters, two digits), of
+ * material "R0001" for label 1 (region N: "R%04d"), centred on its seed;
+ * then one boundary element per boundary face, patch after patch
+ * (vc_polymesh_boundary_patches), of volume 1e50 (its state never changes)
+ * and its cell's material, centred on the face at the seeds' midpoint.
+ * "CONNE" records (1-10 the two names, 26-30 ISOT, 31-40 D1, 41-50 D2,
+ * 51-60 area, 61-70 BETAX): every interior face, D1 = D2 = half the seed
+ * distance; every boundary face to its boundary element, D2 = 0. ISOT is
+ * the axis the connection runs closest to; BETAX the cosine of the angle
+ * between gravity (-z) and the line from element 1 to element 2. Each
+ * number is written in its ten columns with as many digits as fit (fixed
+ * or exponent notation). Fails with VC_EINPUT beyond 3,369,600 elements
+ * or for a number outside 1e-99 to 1e99; VC_EIO naming the path;
+ * VC_ENOMEM. Through a temporary file. */
+int vc_write_tough(const vc_polymesh *m, const char *path, vc_error *err);
+
 /* Writes the mesh as an OpenFOAM case: CASE_DIR/constant/polyMesh/{points,
  * faces, owner, neighbour, boundary} in OpenFOAM's ASCII format (classes
  * vectorField, faceList, labelList with the nPoints/nCells/nFaces/
