@@ -124,7 +124,7 @@ static void test_hausdorff_to_own_boundary(void)
             tri[3 * n + k] = s.face_vertices[s.face_offsets[f] + k];
         n++;
     }
-    vc_surface input = {5, &points[0][0], 6, tri};
+    vc_surface input = {5, &points[0][0], 6, tri, NULL, 0, NULL};
     vc_mesh_report r;
     vc_error err = {0, ""};
     CHECK(n == 6);

@@ -629,7 +629,7 @@ static void test_hausdorff(void)
     CHECK(h1.distance >= 0.125 - 1e-12);
     CHECK(h1.distance <= 0.125 + 0.03); /* coarser b (edge ~0.3): plus its chord sagitta */
 
-    vc_surface empty = {0, NULL, 0, NULL};
+    vc_surface empty = {0, NULL, 0, NULL, NULL, 0, NULL};
     CHECK(vc_hausdorff(&a, &empty, 0, &h, &err) == VC_EINPUT);
     vc_surface_free(&a);
     vc_surface_free(&b);

@@ -610,7 +610,7 @@ static void test_bad_inputs(void)
     {
         double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
         int64_t tri[3] = {0, 1, 3};
-        vc_surface m = {3, xyz, 1, tri};
+        vc_surface m = {3, xyz, 1, tri, NULL, 0, NULL};
         vc_surface_report rr;
         memset(&rr, 0, sizeof rr);
         CHECKF(vc_surface_check(&m, &rr, &err) == VC_EINPUT && strstr(err.msg, "refers to vertex 4"),

@@ -213,7 +213,7 @@ int vc_cmd_compare(int argc, char **argv)
     /* The input is checked here, so that a bad one is one line, not two
      * failed meshers. */
     vc_error err = {0, ""};
-    vc_surface input = {0, NULL, 0, NULL};
+    vc_surface input = {0, NULL, 0, NULL, NULL, 0, NULL};
     vc_surface_report rep;
     if (vc_surface_read(input_path, &input, &rep, &err) != 0 ||
         vc_surface_require_closed(&rep, &err) != 0) {

@@ -26,6 +26,7 @@
 #define CHECKMESH_MAX_SKEW 4
 /* input surfaces of one run (closed surfaces that share interfaces) */
 #define MAX_INPUTS 64
+#define MAX_PATCH_TYPES 64
 
 static void usage(FILE *f)
 {
@@ -48,6 +49,12 @@ static void usage(FILE *f)
         "                      OUT_PATCH.ex boundary-connection file per patch\n"
         "  --tough MESH        with -o: a TOUGH2/TOUGH3 MESH file (ELEME, CONNE; boundary\n"
         "                      elements of volume 1e50 per patch)\n"
+        "  --patches groups|features|none  boundary patches from the input's groups (OBJ g/o/\n"
+        "                      usemtl, STL solids, one per input file; default), from its\n"
+        "                      sharp-feature patches (patch1, patch2, ...), or one: surface\n"
+        "  --patch-type NAME=TYPE  the OpenFOAM type of patch (or group) NAME: patch, wall,\n"
+        "                      symmetryPlane, symmetry, empty (repeatable; default: patch, and\n"
+        "                      wall for the one patch of a surface without groups)\n"
         "  --foam-max-skew S   before writing the OpenFOAM case, collapse the faces whose\n"
         "                      checkMesh skewness exceeds S (default %g; 0: write the exact\n"
         "                      Voronoi cells; checkMesh fails a mesh above 4)\n"
@@ -99,7 +106,8 @@ static int takes_value(const char *a)
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
                                              "--interior-spacing", "--foam", "--lloyd",
-                                             "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough"};
+                                             "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough",
+                                             "--patch-type", "--patches"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
         if (!strcmp(a, with_value[i]))
             return 1;
@@ -263,11 +271,22 @@ static int read_inputs(const char *const *paths, int n, vc_surface *out, vc_erro
         return vc_surface_read(paths[0], out, NULL, err);
     vc_surface parts[MAX_INPUTS];
     memset(parts, 0, sizeof parts);
+    /* a file without groups of its own is one group: its name's stem */
+    char stem[MAX_INPUTS][64];
+    const char *names[MAX_INPUTS];
+    for (int i = 0; i < n; i++) {
+        const char *b = strrchr(paths[i], '/');
+        b = b ? b + 1 : paths[i];
+        const char *dot = strrchr(b, '.');
+        const int len = dot && dot > b ? (int)(dot - b) : (int)strlen(b);
+        snprintf(stem[i], sizeof stem[i], "%.*s", len < 63 ? len : 63, b);
+        names[i] = stem[i];
+    }
     int rc = 0;
     for (int i = 0; i < n && !rc; i++)
         rc = vc_surface_read(paths[i], &parts[i], NULL, err);
     if (!rc)
-        rc = vc_surface_concat(parts, n, out, err);
+        rc = vc_surface_concat(parts, n, names, out, err);
     for (int i = 0; i < n; i++)
         vc_surface_free(&parts[i]);
     return rc;
@@ -277,6 +296,9 @@ static int run_mesh(int argc, char **argv)
 {
     const char *inputs[MAX_INPUTS];
     int n_inputs = 0;
+    vc_foam_patch_type patch_type[MAX_PATCH_TYPES];
+    char patch_type_text[MAX_PATCH_TYPES][128];
+    int n_patch_types = 0;
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL,
                *tough_path = NULL;
@@ -291,7 +313,7 @@ static int run_mesh(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (vc_cli_repeated(&seen, "vorocrust", "vorocrust mesh", a))
+        if (strcmp(a, "--patch-type") && vc_cli_repeated(&seen, "vorocrust", "vorocrust mesh", a))
             return 2;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
@@ -321,6 +343,40 @@ static int run_mesh(int argc, char **argv)
             uge_path = argv[++i];
         } else if (!strcmp(a, "--tough")) {
             tough_path = argv[++i];
+        } else if (!strcmp(a, "--patches")) {
+            if (!strcmp(v, "groups"))
+                opt.patches = VC_PATCHES_GROUPS;
+            else if (!strcmp(v, "features"))
+                opt.patches = VC_PATCHES_FEATURES;
+            else if (!strcmp(v, "none"))
+                opt.patches = VC_PATCHES_NONE;
+            else {
+                fprintf(stderr, "vorocrust: --patches: '%s' is not groups, features or none\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--patch-type")) {
+            static const char *const ok[] = {"patch", "wall", "symmetryPlane", "symmetry", "empty"};
+            const char *eq = strchr(v, '=');
+            int known = 0;
+            for (size_t j = 0; eq && j < sizeof ok / sizeof *ok; j++)
+                known |= !strcmp(eq + 1, ok[j]);
+            if (!eq || eq == v || !known || strlen(v) >= sizeof patch_type_text[0]) {
+                fprintf(stderr, "vorocrust: --patch-type: '%s' is not NAME=TYPE with TYPE patch, wall, "
+                        "symmetryPlane, symmetry or empty\n", v);
+                return 2;
+            }
+            if (n_patch_types == MAX_PATCH_TYPES) {
+                fprintf(stderr, "vorocrust: more than %d --patch-type options\n", MAX_PATCH_TYPES);
+                return 2;
+            }
+            snprintf(patch_type_text[n_patch_types], sizeof patch_type_text[0], "%s", v);
+            char *t = patch_type_text[n_patch_types];
+            t[eq - v] = 0;
+            patch_type[n_patch_types].name = t;
+            patch_type[n_patch_types].type = t + (eq - v) + 1;
+            n_patch_types++;
+            i++;
         } else if (!strcmp(a, "--foam-max-skew")) {
             if (vc_cli_parse_double(v, &foam_max_skew) ||
                 !(foam_max_skew == 0 || (foam_max_skew >= 1 && foam_max_skew <= 1000))) {
@@ -534,6 +590,25 @@ static int run_mesh(int argc, char **argv)
         fprintf(stderr, "vorocrust: %s\n", err.msg);
         return 1;
     }
+    /* every --patch-type names a patch the input has */
+    for (int k = 0; k < n_patch_types; k++) {
+        int found = !strcmp(patch_type[k].name, "surface") && (!s.tri_group || opt.patches == VC_PATCHES_NONE);
+        for (int32_t g = 0; opt.patches == VC_PATCHES_GROUPS && g < s.n_groups; g++)
+            found |= !strcmp(patch_type[k].name, s.group_name[g]);
+        if (opt.patches == VC_PATCHES_FEATURES && !strncmp(patch_type[k].name, "patch", 5))
+            found = 1; /* patchN: known once the features are */
+        if (!found) {
+            char list[512] = "";
+            size_t n = 0;
+            for (int32_t g = 0; g < s.n_groups && n + 70 < sizeof list; g++)
+                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", g ? ", " : "", s.group_name[g]);
+            fprintf(stderr, "vorocrust: --patch-type %s=%s: the input has no patch '%s' (its patches: %s)\n",
+                    patch_type[k].name, patch_type[k].type, patch_type[k].name,
+                    s.tri_group && opt.patches == VC_PATCHES_GROUPS ? list : "surface");
+            vc_surface_free(&s);
+            return 2;
+        }
+    }
     const double t_read = vc_cli_now() - t0;
     vc_mesh_result r;
     int rc = vc_mesh(&s, &opt, &r, &err);
@@ -600,7 +675,8 @@ static int run_mesh(int argc, char **argv)
                          (double)CHECKMESH_MAX_SKEW, foam_skew.max_skew_after);
             goto write_failed;
         }
-        if (foam_path && vc_write_openfoam(&r.mesh, foam_path, &err))
+        if (foam_path &&
+            vc_write_openfoam_typed(&r.mesh, foam_path, patch_type, n_patch_types, &err))
             goto write_failed;
         t_write_mesh = vc_cli_now() - tm;
     }

@@ -91,7 +91,7 @@ int vc_cmd_quality(int argc, char **argv)
 
     vc_error err = {0, ""};
     vc_vtu_mesh m;
-    vc_surface input = {0, NULL, 0, NULL};
+    vc_surface input = {0, NULL, 0, NULL, NULL, 0, NULL};
     vc_surface_report rep;
     vc_mesh_report r;
     int rc = 1;

@@ -198,7 +198,7 @@ int main(int argc, char **argv)
 
     double t0 = vc_cli_now();
     vc_error err = {0, ""};
-    vc_surface s = {0, NULL, 0, NULL};
+    vc_surface s = {0, NULL, 0, NULL, NULL, 0, NULL};
     vc_surface_report rep;
     vc_tetgen_mesh mesh = {0, NULL, 0, NULL};
     int rc = 1;

@@ -92,6 +92,21 @@ int vc_write_tough(const vc_polymesh *m, const char *path, vc_error *err);
  * VC_ENOMEM. */
 int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err);
 
+/* The same with patch types: the patch named name (or every patch of the
+ * input group name, "region2_inlet" being of group "inlet") gets type
+ * (patch, wall, symmetryPlane, symmetry or empty; the last entry that
+ * names it wins). Without an entry, the one patch of a surface without
+ * named groups ("surface") is a wall, every other a patch. With several
+ * regions each patch lists its input group in inGroups, so that a
+ * solver's boundary conditions can name "inlet" once for every region.
+ * VC_EPARAM for an unknown type. */
+typedef struct vc_foam_patch_type {
+    const char *name;
+    const char *type;
+} vc_foam_patch_type;
+int vc_write_openfoam_typed(const vc_polymesh *m, const char *case_dir,
+                            const vc_foam_patch_type *types, int n_types, vc_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -40,6 +40,13 @@ typedef struct vc_polymesh {
      * neighbour's seed, a non-kept seed (boundary face), or a wall code
      * (VC_WALL_XMIN - k) for a face on the clipping box. */
     int64_t *face_other_seed;
+    /* Optional (NULL): per face, the input group of a boundary face (an
+     * index into group_name, n_groups of them), -1 for other faces; set
+     * by vorocrust mesh from the input's triangle groups, it names the
+     * boundary patches (vc_polymesh_boundary_patches). */
+    int32_t *face_group;
+    int32_t n_groups;
+    char (*group_name)[64];
     double *face_area;        /* n_faces */
     double *face_centroid;    /* 3 * n_faces */
     double *face_normal;      /* 3 * n_faces, unit, owner -> neighbour */
@@ -163,15 +170,18 @@ int64_t vc_polymesh_validate(const vc_polymesh *m, double rel_tol,
                              char *report, size_t report_len);
 
 /* The boundary patches of a mesh, as every writer names them: a boundary
- * face against a non-kept seed belongs to "surface", one on a wall of the
- * clipping box to "xmin" ... "zmax"; with cells of several labels
- * (regions) every patch is split by its cells' label ("region2_surface").
- * Patches are numbered in that order (by label, then surface, xmin, ...,
- * zmax), only those that have faces. */
+ * face against a non-kept seed belongs to its input group's patch (named
+ * as the group, face_group) or, without one, to "surface"; one on a wall
+ * of the clipping box to "xmin" ... "zmax"; with cells of several labels
+ * (regions) every patch is split by its cells' label ("region2_surface",
+ * "region2_inlet"). Patches are numbered in that order (by label, then
+ * surface, xmin, ..., zmax, then the groups), only those that have
+ * faces. */
 typedef struct vc_boundary_patches {
     int n_patches;
     char (*name)[64];
     int64_t *size;         /* faces per patch */
+    int *group;            /* per patch: its input group, or -1 (surface, walls) */
     int *face_patch;       /* per boundary face f: face_patch[f - n_interior_faces] */
     int n_labels;          /* the distinct cell labels (1 without cell_region) */
     int32_t *label_value;  /* ascending; NULL without cell_region */

@@ -103,6 +103,10 @@ typedef struct vc_region_locator vc_region_locator;
 int vc_region_locator_build(const vc_surface *s, const int64_t *side_region,
                             vc_region_locator **out, vc_error *err);
 int64_t vc_region_locate(const vc_region_locator *L, const double p[3]);
+/* The triangle nearest p (the lowest index among equals), -1 for an empty
+ * surface. A locator built with side_region NULL answers only this
+ * (vc_region_locate then returns -2). */
+int64_t vc_region_locator_nearest(const vc_region_locator *L, const double p[3]);
 void vc_region_locator_free(vc_region_locator *L);
 
 /* Frees the arrays of r and zeroes it. Safe on a zeroed vc_regions. */

@@ -30,6 +30,12 @@ typedef struct vc_surface {
     double *xyz;         /* 3 * n_vertices */
     int64_t n_triangles;
     int64_t *tri;        /* 3 * n_triangles */
+    /* Optional: the named groups of the triangles (OBJ g / o / usemtl, the
+     * solids of an ASCII STL, several input files), which become the mesh's
+     * boundary patches. NULL and 0 when the input names none. */
+    int32_t *tri_group;  /* n_triangles: an index into group_name */
+    int32_t n_groups;
+    char (*group_name)[64];
 } vc_surface;
 
 #define VC_SURFACE_MAX_WARNINGS 12
@@ -113,8 +119,12 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged,
  * (part 0's triangles first), vertices with exactly equal positions merged
  * (so that parts meeting along an interface share its vertices, edges and
  * triangles: a triangle given by two parts, reversed, is then one
- * interface). Returns 0 or VC_ENOMEM. */
-int vc_surface_concat(const vc_surface *parts, int n_parts, vc_surface *out, vc_error *err);
+ * interface). The triangles' groups: a part's own (tri_group), or the part
+ * as one group named part_names[i] (NULL: "part1", "part2", ...); groups
+ * of the same name are one. At most 1024 groups per part. Returns 0 or
+ * VC_ENOMEM. */
+int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *part_names,
+                      vc_surface *out, vc_error *err);
 
 /* Returns 0 when the checked surface has no open boundary edge, else
  * VC_EINPUT with "FILE: N open boundary edges (surface is not closed)". */

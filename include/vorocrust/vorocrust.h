@@ -79,6 +79,14 @@ enum {
     VC_RESAMPLE_FOLDS = 4
 };
 
+/* Where the boundary patches come from (vc_mesh_options.patches). */
+typedef enum vc_patch_source {
+    VC_PATCHES_GROUPS = 0,   /* the input's triangle groups (vc_surface.tri_group), if any */
+    VC_PATCHES_FEATURES = 1, /* the input's sharp-feature patches at theta_sharp (thesis
+                                6.2.2): "patch1", "patch2", ... */
+    VC_PATCHES_NONE = 2      /* one patch, "surface" */
+} vc_patch_source;
+
 typedef struct vc_mesh_options {
     /* The sampling (see vc_sampling_options for the meaning of each). */
     double sharp_angle;     /* theta_sharp, degrees, default 60 */
@@ -107,6 +115,7 @@ typedef struct vc_mesh_options {
      * reoriented before sampling. Without it the orientation decides, and
      * nested shells of the same orientation (an inclusion) are refused. */
     int cavities;
+    vc_patch_source patches; /* default VC_PATCHES_GROUPS */
     vc_interior_kind interior;
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */

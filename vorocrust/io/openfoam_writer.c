@@ -254,9 +254,12 @@ typedef struct foam_plan {
     int64_t n_faces, n_internal;
     int64_t *order;      /* written face -> mesh face */
     unsigned char *flip; /* written interior face is reversed (owner/neighbour swapped) */
-    /* The patches (vc_polymesh_boundary_patches), and where each starts. */
+    /* The patches (vc_polymesh_boundary_patches), where each starts, its
+     * type and whether it names its input group (inGroups). */
     vc_boundary_patches patches;
     int64_t *patch_start;
+    const char **patch_type;
+    char (*group_names)[64]; /* the mesh's input groups */
     /* With several regions (patches.n_labels > 1): cell zone k holds the
      * cells of label patches.label_value[k] (cells zone_cell[
      * zone_cell_start[k] ..]), and face zone j the interior faces between
@@ -277,6 +280,7 @@ static void foam_plan_free(foam_plan *pl)
     free(pl->flip);
     vc_boundary_patches_free(&pl->patches);
     free(pl->patch_start);
+    free(pl->patch_type);
     free(pl->zone_cell);
     free(pl->zone_cell_start);
     free(pl->face_zone_pair);
@@ -410,7 +414,19 @@ static int foam_plan_zones(const vc_polymesh *m, foam_plan *pl)
     return 0;
 }
 
-static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl, vc_error *err)
+/* The base name of patch k: its input group, or the patch name without
+ * its "regionN_" prefix. */
+static const char *foam_patch_base(const vc_polymesh *m, const vc_boundary_patches *bp, int k)
+{
+    if (bp->group[k] >= 0)
+        return m->group_name[bp->group[k]];
+    if (bp->n_labels > 1 && strchr(bp->name[k], '_'))
+        return strchr(bp->name[k], '_') + 1;
+    return bp->name[k];
+}
+
+static int foam_plan_build(const vc_polymesh *m, const char *path, const vc_foam_patch_type *types,
+                           int n_types, foam_plan *pl, vc_error *err)
 {
     memset(pl, 0, sizeof *pl);
     if (m->n_points < 0 || m->n_faces < 0 || m->n_cells <= 0 || m->n_interior_faces < 0 ||
@@ -545,6 +561,19 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, foam_plan *pl
     free(next);
     if (rc == VC_OK && bp->n_labels > 1 && foam_plan_zones(m, pl) != 0)
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    /* Patch types: the caller's, by patch name or input group; else a
+     * surface without named groups is a wall, anything else a patch. */
+    pl->group_names = m->group_name;
+    pl->patch_type = malloc(sizeof(char *) * (size_t)(bp->n_patches + 1));
+    if (rc == VC_OK && !pl->patch_type)
+        rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+    for (int k = 0; rc == VC_OK && k < bp->n_patches; k++) {
+        const char *base = foam_patch_base(m, bp, k);
+        pl->patch_type[k] = !m->face_group && !strcmp(base, "surface") ? "wall" : "patch";
+        for (int i = 0; i < n_types; i++)
+            if (!strcmp(types[i].name, bp->name[k]) || !strcmp(types[i].name, base))
+                pl->patch_type[k] = types[i].type;
+    }
     if (rc != VC_OK)
         foam_plan_free(pl);
     return rc;
@@ -691,16 +720,25 @@ static void foam_write_cells(foam_out *o, const vc_polymesh *m, const foam_plan 
 
 static void foam_write_boundary(foam_out *o, const foam_plan *pl)
 {
+    const vc_boundary_patches *bp = &pl->patches;
     foam_header(o, "polyBoundaryMesh", "constant/polyMesh", "boundary", NULL);
-    char line[256];
+    char line[512];
     snprintf(line, sizeof line, "%d\n(\n", pl->patches.n_patches);
     foam_puts(o, line);
-    for (int k = 0; k < pl->patches.n_patches; k++) {
+    for (int k = 0; k < bp->n_patches; k++) {
+        /* with several regions, a patch split off an input group names it */
+        char groups[128] = "";
+        if (bp->n_labels > 1) {
+            const char *g = bp->group[k] >= 0 ? pl->group_names[bp->group[k]]
+                            : strchr(bp->name[k], '_') ? strchr(bp->name[k], '_') + 1
+                                                         : bp->name[k];
+            snprintf(groups, sizeof groups, "        inGroups        List<word> 1(%.63s);\n", g);
+        }
         snprintf(line, sizeof line,
-                 "    %s\n    {\n        type            patch;\n"
+                 "    %s\n    {\n        type            %s;\n%s"
                  "        nFaces          %" PRId64 ";\n        startFace       %" PRId64
                  ";\n    }\n",
-                 pl->patches.name[k], pl->patches.size[k], pl->patch_start[k]);
+                 bp->name[k], pl->patch_type[k], groups, bp->size[k], pl->patch_start[k]);
         foam_puts(o, line);
     }
     foam_puts(o, ")\n");
@@ -1054,6 +1092,22 @@ static int foam_write_into_case(const char *case_dir, const vc_polymesh *m, cons
 
 int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err)
 {
+    return vc_write_openfoam_typed(m, case_dir, NULL, 0, err);
+}
+
+int vc_write_openfoam_typed(const vc_polymesh *m, const char *case_dir,
+                            const vc_foam_patch_type *types, int n_types, vc_error *err)
+{
+    for (int i = 0; i < n_types; i++) {
+        static const char *const ok[] = {"patch", "wall", "symmetryPlane", "symmetry", "empty"};
+        int known = 0;
+        for (size_t j = 0; j < sizeof ok / sizeof *ok; j++)
+            known |= types[i].type && !strcmp(types[i].type, ok[j]);
+        if (!types[i].name || !known)
+            return vc_error_set(err, VC_EPARAM, "%s: patch type '%s' for '%s': expected patch, "
+                                "wall, symmetryPlane, symmetry or empty", case_dir,
+                                types[i].type ? types[i].type : "", types[i].name ? types[i].name : "");
+    }
     if (!m || !case_dir || !*case_dir)
         return vc_error_set(err, VC_EPARAM, "OpenFOAM case directory is empty");
     /* "case/" names the same directory as "case"; the staging name needs the
@@ -1068,7 +1122,7 @@ int vc_write_openfoam(const vc_polymesh *m, const char *case_dir, vc_error *err)
     dir[n] = 0;
     case_dir = dir;
     foam_plan pl;
-    int rc = foam_plan_build(m, case_dir, &pl, err);
+    int rc = foam_plan_build(m, case_dir, types, n_types, &pl, err);
     if (rc != VC_OK) {
         free(dir);
         return rc;

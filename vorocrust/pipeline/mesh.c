@@ -17,7 +17,9 @@
 #include "mesh_measures.h"
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
+#include "boundary_groups.h"
 #include "materials.h"
+#include "vorocrust/features.h"
 #include "vorocrust/smoothing.h"
 #include "vorocrust/voronoi.h"
 
@@ -88,6 +90,8 @@ void vc_mesh_result_free(vc_mesh_result *r)
 
 static int check_options(const vc_mesh_options *o, vc_error *err)
 {
+    if (o->patches < VC_PATCHES_GROUPS || o->patches > VC_PATCHES_NONE)
+        return vc_error_set(err, VC_EPARAM, "patches: %d is not a vc_patch_source", (int)o->patches);
     if (!(o->sharp_angle > 0 && o->sharp_angle < 180))
         return vc_error_set(err, VC_EPARAM, "sharp angle %g: needs degrees in (0, 180)",
                             o->sharp_angle);
@@ -682,9 +686,46 @@ static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_su
     return 0;
 }
 
+/* The groups that name the boundary patches (opt->patches): the input's
+ * triangle groups, or its sharp-feature patches. */
+static int boundary_patches(const vc_surface *s, const vc_mesh_options *opt, const char *name,
+                            vc_mesh_result *out, vc_error *err)
+{
+    if (opt->patches == VC_PATCHES_GROUPS) {
+        if (!s->tri_group || s->n_groups < 1)
+            return 0;
+        return vc_mesh_boundary_groups(&out->mesh, s, s->tri_group, s->n_groups,
+                                       (const char(*)[64])s->group_name, opt->threads, err);
+    }
+    vc_features f;
+    memset(&f, 0, sizeof f);
+    int rc = vc_features_detect(s, opt->sharp_angle, &f, err);
+    if (rc)
+        return named(err, name, NULL);
+    int32_t *group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));
+    char(*names)[64] = malloc(sizeof *names * (size_t)(f.n_patches + 1));
+    if (!group || !names) {
+        free(group);
+        free(names);
+        vc_features_free(&f);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+    }
+    for (int64_t t = 0; t < s->n_triangles; t++)
+        group[t] = (int32_t)f.tri_patch[t];
+    for (int64_t k = 0; k < f.n_patches; k++)
+        snprintf(names[k], 64, "patch%lld", (long long)k + 1);
+    rc = vc_mesh_boundary_groups(&out->mesh, s, group, (int32_t)f.n_patches,
+                                 (const char(*)[64])names, opt->threads, err);
+    free(group);
+    free(names);
+    vc_features_free(&f);
+    return rc;
+}
+
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *out,
             vc_error *err)
 {
+    const vc_surface *s_input = s; /* with its triangle groups */
     vc_surface oriented; /* the input reoriented by --cavities */
     memset(&oriented, 0, sizeof oriented);
     vc_materials mm;     /* with several regions */
@@ -821,6 +862,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     }
     if ((rc = sample(out->multi_material ? &mm.surface : s, &opt, name,
                      out->multi_material ? &mm : NULL, out, err)) != 0)
+        goto fail;
+    /* the boundary patches: each boundary face takes its input group */
+    if (out->has_mesh && opt.patches != VC_PATCHES_NONE &&
+        (rc = boundary_patches(s_input, &opt, name, out, err)) != 0)
         goto fail;
     out->time.features = out->sampling.t_features;
     out->time.sizing = out->sampling.t_sizing;

@@ -40,6 +40,7 @@ void vc_boundary_patches_free(vc_boundary_patches *p)
 {
     free(p->name);
     free(p->size);
+    free(p->group);
     free(p->face_patch);
     free(p->label_value);
     memset(p, 0, sizeof *p);
@@ -65,13 +66,17 @@ int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,
         out->label_value = v;
     }
     const int multi = out->n_labels > 1;
-    const int nk = multi ? out->n_labels * N_KEYS : N_KEYS;
+    /* per label: surface, the six walls, then the input's groups */
+    const int ng = m->face_group ? m->n_groups : 0;
+    const int per = N_KEYS + ng;
+    const int nk = multi ? out->n_labels * per : per;
     int64_t *count = calloc((size_t)nk, sizeof(int64_t));
     int *id = malloc(sizeof(int) * (size_t)nk);
     out->face_patch = malloc(sizeof(int) * (size_t)(nb + 1));
     out->name = malloc(sizeof *out->name * (size_t)nk);
     out->size = malloc(sizeof(int64_t) * (size_t)nk);
-    if (!count || !id || !out->face_patch || !out->name || !out->size) {
+    out->group = malloc(sizeof(int) * (size_t)nk);
+    if (!count || !id || !out->face_patch || !out->name || !out->size || !out->group) {
         free(count);
         free(id);
         vc_boundary_patches_free(out);
@@ -79,6 +84,8 @@ int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,
     }
     for (int64_t f = ni; f < m->n_faces; f++) {
         int k = face_key(m, f);
+        if (k == KEY_SURFACE && ng > 0 && m->face_group[f] >= 0 && m->face_group[f] < ng)
+            k = N_KEYS + m->face_group[f];
         if (k < 0) {
             if (bad_face)
                 *bad_face = f;
@@ -88,7 +95,7 @@ int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,
             return -2;
         }
         if (multi)
-            k += N_KEYS * vc_boundary_patches_label_rank(out, m->cell_region[m->face_owner[f]]);
+            k += per * vc_boundary_patches_label_rank(out, m->cell_region[m->face_owner[f]]);
         out->face_patch[f - ni] = k;
         count[k]++;
     }
@@ -98,11 +105,14 @@ int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,
         if (!count[k])
             continue;
         id[k] = out->n_patches;
+        const int kk = k % per;
+        const char *base = kk < N_KEYS ? key_name[kk] : m->group_name[kk - N_KEYS];
+        out->group[out->n_patches] = kk < N_KEYS ? -1 : kk - N_KEYS;
         if (multi)
-            snprintf(out->name[out->n_patches], sizeof out->name[0], "region%d_%s",
-                     (int)out->label_value[k / N_KEYS], key_name[k % N_KEYS]);
+            snprintf(out->name[out->n_patches], sizeof out->name[0], "region%d_%.50s",
+                     (int)out->label_value[k / per], base);
         else
-            snprintf(out->name[out->n_patches], sizeof out->name[0], "%s", key_name[k]);
+            snprintf(out->name[out->n_patches], sizeof out->name[0], "%s", base);
         out->size[out->n_patches] = count[k];
         out->n_patches++;
     }

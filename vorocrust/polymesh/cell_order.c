@@ -229,6 +229,7 @@ int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old)
     m->face_vertices = fv;
     /* the other face arrays */
     if (gather(&m->face_other_seed, sizeof(int64_t), nf, old_face) ||
+        (m->face_group && gather(&m->face_group, sizeof(int32_t), nf, old_face)) ||
         gather(&m->face_area, sizeof(double), nf, old_face) ||
         gather(&m->face_centroid, 3 * sizeof(double), nf, old_face) ||
         gather(&m->face_normal, 3 * sizeof(double), nf, old_face))

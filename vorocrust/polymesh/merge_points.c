@@ -63,6 +63,8 @@ void vc_polymesh_merge_points(vc_polymesh *m, int64_t *parent, const unsigned ch
         m->face_owner[wf] = m->face_owner[f];
         m->face_neighbour[wf] = m->face_neighbour[f];
         m->face_other_seed[wf] = m->face_other_seed[f];
+        if (m->face_group)
+            m->face_group[wf] = m->face_group[f];
         memmove(m->face_centroid + 3 * wf, m->face_centroid + 3 * f, sizeof(double) * 3);
         memmove(m->face_normal + 3 * wf, m->face_normal + 3 * f, sizeof(double) * 3);
         m->face_area[wf] = m->face_area[f];

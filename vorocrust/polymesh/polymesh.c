@@ -17,6 +17,8 @@ void vc_polymesh_free(vc_polymesh *m)
     free(m->face_owner);
     free(m->face_neighbour);
     free(m->face_other_seed);
+    free(m->face_group);
+    free(m->group_name);
     free(m->face_area);
     free(m->face_centroid);
     free(m->face_normal);

@@ -227,7 +227,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     memset(out, 0, sizeof *out);
     const int64_t nc = m->n_cells;
     const size_t cn = nc ? (size_t)nc : 1;
-    vc_surface boundary = {0, NULL, 0, NULL};
+    vc_surface boundary = {0, NULL, 0, NULL, NULL, 0, NULL};
     double *vol = malloc(sizeof *vol * cn), *rel = malloc(sizeof *rel * cn);
     double *dmin = malloc(sizeof *dmin * cn), *dmax = malloc(sizeof *dmax * cn);
     double *small = malloc(sizeof *small * cn);

@@ -529,7 +529,7 @@ done:
  * or -1 when out of memory. */
 static int64_t guard(const lmesh *o, const int64_t *origin, int64_t nv, double theta, unsigned char *bad)
 {
-    vc_surface s = {o->nv, o->xyz, o->nt, o->tri};
+    vc_surface s = {o->nv, o->xyz, o->nt, o->tri, NULL, 0, NULL};
     vc_features g;
     vc_error err;
     int rc = vc_features_detect(&s, theta, &g, &err);

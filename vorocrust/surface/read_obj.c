@@ -1,13 +1,15 @@
 /* Wavefront OBJ reader: "v x y z [w]" and "f a b c ..." lines, where an
  * index may be written a, a/t, a//n or a/t/n (a, t and n integers) and may
  * be negative (counted back from the last vertex read; one reaching before
- * the first vertex is refused with its value). Every other line type is
- * ignored. */
+ * the first vertex is refused with its value). "g", "o" or "usemtl" lines
+ * name the groups of the faces that follow (see group_keyword). Every
+ * other line type is ignored. */
 #include "surface/surface_internal.h"
 
 #include "util/number_span.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 /* Parses an optional integer at *p (for the t and n of a/t/n); returns 0
  * when the text there is neither empty nor an integer. */
@@ -48,9 +50,32 @@ static int obj_face_index(vc_scan *sc, int64_t *k)
     return 1;
 }
 
+/* Which statement names the groups: "g" if the file has one, else "o",
+ * else "usemtl" (0 when none): files that give several (an object made
+ * of materials) group by the most specific the exporter meant as parts. */
+static const char *group_keyword(const char *buf, size_t len)
+{
+    static const char *const kw[3] = {"g", "o", "usemtl"};
+    for (int k = 0; k < 3; k++) {
+        const size_t n = strlen(kw[k]);
+        for (const char *p = buf; p && p + n < buf + len;) {
+            while (p < buf + len && (*p == ' ' || *p == '\t'))
+                p++;
+            if (p + n < buf + len && !memcmp(p, kw[k], n) && (p[n] == ' ' || p[n] == '\t'))
+                return kw[k];
+            p = memchr(p, '\n', (size_t)(buf + len - p));
+            if (p)
+                p++;
+        }
+    }
+    return NULL;
+}
+
 int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err)
 {
     vc_scan sc = {buf, buf + len, 1};
+    const char *group_kw = group_keyword(buf, len);
+    const size_t group_kw_len = group_kw ? strlen(group_kw) : 0;
     int64_t *face = NULL, cap = 0;
     int rc = 0;
     s->expected_faces = -1;
@@ -67,6 +92,11 @@ int vc_read_obj(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
                 break;
             }
             if ((rc = vc_soup_add_vertex(s, x, y, z)))
+                break;
+        } else if (group_kw && p + group_kw_len < sc.end && !memcmp(p, group_kw, group_kw_len) &&
+                   vc_scan_is_blank(p[group_kw_len])) {
+            sc.p += group_kw_len;
+            if ((rc = vc_soup_set_group_rest(s, &sc)))
                 break;
         } else if (p + 1 < sc.end && p[0] == 'f' && vc_scan_is_blank(p[1])) {
             sc.p += 1;

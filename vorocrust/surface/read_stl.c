@@ -63,7 +63,12 @@ static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s,
             if (vc_soup_add_face(s, face, 3))
                 return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
             n = -1;
-        } else if (!strcmp(w, "solid") || !strcmp(w, "endsolid")) {
+        } else if (!strcmp(w, "solid")) {
+            /* each solid NAME block is a group of triangles (a patch) */
+            if (vc_soup_set_group_rest(s, &sc))
+                return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            vc_scan_next_line(&sc);
+        } else if (!strcmp(w, "endsolid")) {
             vc_scan_next_line(&sc); /* the solid's name */
         } else if (!strcmp(w, "outer") || !strcmp(w, "loop") || !strcmp(w, "endloop")) {
             /* structure only */

@@ -382,8 +382,16 @@ static int64_t aim_nearest(const vc_region_locator *L, const double p[3], int64_
     return first_hit_region(L, p, d);
 }
 
+int64_t vc_region_locator_nearest(const vc_region_locator *L, const double p[3])
+{
+    double d2;
+    return nearest_triangle(L, p, &d2);
+}
+
 int64_t vc_region_locate(const vc_region_locator *L, const double p[3])
 {
+    if (!L->side_region)
+        return -2;
     double d2;
     const int64_t t = nearest_triangle(L, p, &d2);
     if (t < 0)

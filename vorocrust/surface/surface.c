@@ -23,6 +23,8 @@ void vc_surface_free(vc_surface *s)
         return;
     free(s->xyz);
     free(s->tri);
+    free(s->tri_group);
+    free(s->group_name);
     memset(s, 0, sizeof *s);
 }
 
@@ -133,7 +135,17 @@ static int soup_to_surface(const char *name, const vc_soup *sp, vc_surface *out,
         return vc_error_set(err, VC_EINPUT, "%s: no triangles (%lld vertices, 0 faces)", name, (long long)sp->nv);
     out->xyz = malloc((size_t)(sp->nv ? sp->nv : 1) * 3 * sizeof(double));
     out->tri = malloc((size_t)nt * 3 * sizeof(int64_t));
-    if (!out->xyz || !out->tri) {
+    /* one group is no grouping: the patch stays "surface" */
+    const int grouped = sp->n_groups > 1;
+    if (grouped) {
+        out->tri_group = malloc((size_t)nt * sizeof(int32_t));
+        out->group_name = malloc(sizeof *out->group_name * (size_t)sp->n_groups);
+        if (out->tri_group && out->group_name) {
+            memcpy(out->group_name, sp->group_name, sizeof *out->group_name * (size_t)sp->n_groups);
+            out->n_groups = sp->n_groups;
+        }
+    }
+    if (!out->xyz || !out->tri || (grouped && (!out->tri_group || !out->group_name))) {
         vc_surface_free(out);
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
     }
@@ -143,6 +155,11 @@ static int soup_to_surface(const char *name, const vc_soup *sp, vc_surface *out,
     for (int64_t f = 0; f < sp->nf; f++) {
         const int64_t *v = sp->idx + sp->off[f];
         int64_t n = sp->off[f + 1] - sp->off[f];
+        if (out->tri_group) {
+            const int32_t g = sp->face_group[f];
+            for (int64_t k = 0; k < n - 2; k++)
+                out->tri_group[(t - out->tri) / 3 + k] = g;
+        }
         if (n == 4 && dist2(sp->xyz + 3 * v[1], sp->xyz + 3 * v[3]) <
                           dist2(sp->xyz + 3 * v[0], sp->xyz + 3 * v[2])) {
             int64_t q[6] = {v[0], v[1], v[3], v[1], v[2], v[3]};
@@ -312,6 +329,8 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unuse
         s->tri[3 * nt] = a;
         s->tri[3 * nt + 1] = b;
         s->tri[3 * nt + 2] = c;
+        if (s->tri_group)
+            s->tri_group[nt] = s->tri_group[t];
         order[a] = order[b] = order[c] = 0;
         nt++;
     }
@@ -348,7 +367,26 @@ int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err)
     return 0;
 }
 
-int vc_surface_concat(const vc_surface *parts, int n_parts, vc_surface *out, vc_error *err)
+/* The index of group name in out (added when new), -1 out of memory. */
+static int32_t concat_group(vc_surface *out, const char *name, int32_t *cap)
+{
+    for (int32_t g = 0; g < out->n_groups; g++)
+        if (!strncmp(out->group_name[g], name, 63))
+            return g;
+    if (out->n_groups == *cap) {
+        const int32_t c = *cap ? 2 * *cap : 8;
+        char(*p)[64] = realloc(out->group_name, sizeof *p * (size_t)c);
+        if (!p)
+            return -1;
+        out->group_name = p;
+        *cap = c;
+    }
+    snprintf(out->group_name[out->n_groups], 64, "%s", name);
+    return out->n_groups++;
+}
+
+int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *part_names,
+                      vc_surface *out, vc_error *err)
 {
     memset(out, 0, sizeof *out);
     int64_t nv = 0, nt = 0;
@@ -358,15 +396,33 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, vc_surface *out, vc_
     }
     out->xyz = malloc(sizeof(double) * 3 * (size_t)(nv + 1));
     out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt + 1));
-    if (!out->xyz || !out->tri) {
+    out->tri_group = malloc(sizeof(int32_t) * (size_t)(nt + 1));
+    if (!out->xyz || !out->tri || !out->tri_group) {
         vc_surface_free(out);
         return vc_error_set(err, VC_ENOMEM, "out of memory joining the input surfaces");
     }
+    int32_t cap = 0;
     for (int i = 0; i < n_parts; i++) {
         const vc_surface *p = &parts[i];
         memcpy(out->xyz + 3 * out->n_vertices, p->xyz, sizeof(double) * 3 * (size_t)p->n_vertices);
         for (int64_t k = 0; k < 3 * p->n_triangles; k++)
             out->tri[3 * out->n_triangles + k] = p->tri[k] + out->n_vertices;
+        /* a part's own groups, or the part as one group */
+        char own[64];
+        snprintf(own, sizeof own, "%s", part_names && part_names[i] ? part_names[i] : "part");
+        if (!part_names || !part_names[i])
+            snprintf(own, sizeof own, "part%d", i + 1);
+        int32_t single = p->tri_group ? -1 : concat_group(out, own, &cap);
+        int32_t map[1024];
+        for (int32_t g = 0; p->tri_group && g < p->n_groups && g < 1024; g++)
+            if ((map[g] = concat_group(out, p->group_name[g], &cap)) < 0)
+                single = -2;
+        if (single == -2 || (!p->tri_group && single < 0) || (p->tri_group && p->n_groups > 1024)) {
+            vc_surface_free(out);
+            return vc_error_set(err, VC_ENOMEM, "out of memory joining the input surfaces");
+        }
+        for (int64_t t = 0; t < p->n_triangles; t++)
+            out->tri_group[out->n_triangles + t] = p->tri_group ? map[p->tri_group[t]] : single;
         out->n_vertices += p->n_vertices;
         out->n_triangles += p->n_triangles;
     }

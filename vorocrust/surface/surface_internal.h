@@ -27,11 +27,20 @@ typedef struct vc_soup {
     /* How the file numbers its vertices (0 for OFF and PLY, 1 for OBJ):
      * messages quote an index as the file writes it. */
     int index_base;
+    /* Named groups (vc_soup_set_group): per face its group (faces before
+     * the first group statement: "surface"). */
+    int32_t *face_group;
+    int64_t cap_g;
+    int32_t n_groups, cap_names, cur_group;
+    char (*group_name)[64];
 } vc_soup;
 
 int vc_soup_add_vertex(vc_soup *s, double x, double y, double z);
 /* Appends a face of n indices. */
 int vc_soup_add_face(vc_soup *s, const int64_t *v, int64_t n);
+/* The faces added from now on belong to the group of this name (the first
+ * len bytes of name, cut to 63; an empty name is "surface"). */
+int vc_soup_set_group(vc_soup *s, const char *name, size_t len);
 void vc_soup_free(vc_soup *s);
 
 /* Readers: name is used in messages; buf holds the whole file and has a
@@ -115,4 +124,8 @@ static inline double vc_le_float(const unsigned char *b)
 #ifdef __cplusplus
 }
 #endif
+/* vc_soup_set_group with the rest of the scanner's line (blanks trimmed)
+ * as the name; the scanner does not move. */
+int vc_soup_set_group_rest(vc_soup *s, vc_scan *sc);
+
 #endif
