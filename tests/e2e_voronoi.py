@@ -71,7 +71,8 @@ for old in os.listdir(TMP):
 failures = []
 
 CONN_HEADER = ["cell_i", "cell_j", "seed_i", "seed_j", "area", "distance",
-               "cx", "cy", "cz", "nx", "ny", "nz", "region_i", "region_j"]
+               "cx", "cy", "cz", "nx", "ny", "nz", "region_i", "region_j", "patch"]
+BOUNDARY_ROWS = {}  # name -> the boundary rows of its connections
 
 
 def check(cond, what):
@@ -108,9 +109,20 @@ def read_connections(name, path):
     with open(path) as f:
         r = list(csv.reader(f))
     check(r and r[0] == CONN_HEADER, "%s: connections header %r" % (name, r[:1]))
-    check(all(len(row) == 14 for row in r[1:]), "%s: a connections row has not 14 columns" % name)
-    return [[int(x) for x in row[:4]] + [float(x) for x in row[4:12]] + [int(x) for x in row[12:]]
-            for row in r[1:]]
+    check(all(len(row) == 15 for row in r[1:]), "%s: a connections row has not 15 columns" % name)
+    rows = [[int(x) for x in row[:4]] + [float(x) for x in row[4:12]] + [int(x) for x in row[12:14]]
+            + [row[14]] for row in r[1:]]
+    # interior faces first (patch empty), then the boundary faces (cell_j
+    # -1, region_j 0, a patch name)
+    inner = [row[:14] for row in rows if row[1] >= 0]
+    outer = [row for row in rows if row[1] < 0]
+    check(rows[:len(inner)] == [row for row in rows if row[1] >= 0] and
+          all(row[14] == "" for row in rows[:len(inner)]) and
+          all(row[1] == -1 and row[13] == 0 and row[14] and row[4] > 0 and row[5] > 0 for row in outer),
+          "%s: connection rows: interior ones first with no patch, then boundary ones with cell_j -1, "
+          "region_j 0, a patch, area and distance > 0" % name)
+    BOUNDARY_ROWS[name] = outer
+    return inner
 
 
 def mesh(name, seeds_path, *opts, cells=None, volume=None, connections=False):
@@ -133,6 +145,10 @@ def mesh(name, seeds_path, *opts, cells=None, volume=None, connections=False):
         return None, None, None
     grid = vtkcheck.read_vtu(out)
     rows = read_connections(name, conn) if connections else None
+    if rows is not None:
+        check(len(BOUNDARY_ROWS[name]) == fig["n_faces_boundary"],
+              "%s: %d boundary connection rows, VTK sees %d boundary faces"
+              % (name, len(BOUNDARY_ROWS[name]), fig["n_faces_boundary"]))
     return fig, grid, rows
 
 

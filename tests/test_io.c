@@ -352,9 +352,21 @@ static void test_vtu_write(void)
     rc = vc_write_connections_csv(&m, csv, &err);
     CHECK_MSG(rc == 0, err.msg);
     char *txt = read_file_text(csv);
+    /* the interior face, then the ten boundary faces with their patches
+     * (walls of the box, per region), distance from the seed to the face */
     CHECK(txt && strcmp(txt, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,"
-                             "region_i,region_j\n"
-                             "0,1,5,6,1,1,1,0.5,0.5,1,0,0,1,2\n") == 0);
+                             "region_i,region_j,patch\n"
+                             "0,1,5,6,1,1,1,0.5,0.5,1,0,0,1,2,\n"
+                             "0,-1,5,-1,1,0.5,0,0.5,0.5,-1,0,0,1,0,region1_xmin\n"
+                             "0,-1,5,-1,1,0.5,0.5,0,0.5,0,-1,0,1,0,region1_ymin\n"
+                             "0,-1,5,-1,1,0.5,0.5,1,0.5,0,1,0,1,0,region1_ymax\n"
+                             "0,-1,5,-1,1,0.5,0.5,0.5,0,0,0,-1,1,0,region1_zmin\n"
+                             "0,-1,5,-1,1,0.5,0.5,0.5,1,0,0,1,1,0,region1_zmax\n"
+                             "1,-1,6,-1,1,0.5,2,0.5,0.5,1,0,0,2,0,region2_xmax\n"
+                             "1,-1,6,-1,1,0.5,1.5,0,0.5,0,-1,0,2,0,region2_ymin\n"
+                             "1,-1,6,-1,1,0.5,1.5,1,0.5,0,1,0,2,0,region2_ymax\n"
+                             "1,-1,6,-1,1,0.5,1.5,0.5,0,0,0,-1,2,0,region2_zmin\n"
+                             "1,-1,6,-1,1,0.5,1.5,0.5,1,0,0,1,2,0,region2_zmax\n") == 0);
     if (txt && failures)
         fprintf(stderr, "connections csv:\n%s", txt);
     free(txt);
@@ -428,7 +440,7 @@ static void test_vtu_grid(void)
         int64_t lines = 0;
         for (const char *q = txt; *q; ++q)
             lines += (*q == '\n');
-        CHECK(lines == 1 + m.n_interior_faces);
+        CHECK(lines == 1 + m.n_faces); /* interior faces, then boundary faces */
         /* row of interior face 0: cells 0 and 1 along x */
         const char *row = strchr(txt, '\n') + 1;
         int64_t ci, cj, si, sj;

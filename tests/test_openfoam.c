@@ -175,15 +175,16 @@ static void check_two_cubes(const char *c, int shift_written)
     CHECK(strstr(points, "\n12\n(\n(0 0 0)\n(1 0 0)\n(2 0 0)\n(0 1 0)\n"));
     CHECK(strstr(points, "(2 1 1)\n)\n"));
     CHECK(strstr(bnd, "\n6\n(\n    surface\n"));
-    static const char *const patches[6][3] = {
-        {"surface", "1", "1"}, {"xmin", "1", "2"}, {"ymin", "2", "3"},
-        {"ymax", "2", "5"},    {"zmin", "2", "7"}, {"zmax", "2", "9"}};
+    /* a surface without input groups is a wall, the box's walls patches */
+    static const char *const patches[6][4] = {
+        {"surface", "1", "1", "wall"}, {"xmin", "1", "2", "patch"}, {"ymin", "2", "3", "patch"},
+        {"ymax", "2", "5", "patch"},   {"zmin", "2", "7", "patch"}, {"zmax", "2", "9", "patch"}};
     for (int i = 0; i < 6; i++) {
         char want[256];
         snprintf(want, sizeof want,
-                 "    %s\n    {\n        type            patch;\n        nFaces          %s;\n"
+                 "    %s\n    {\n        type            %s;\n        nFaces          %s;\n"
                  "        startFace       %s;\n    }\n",
-                 patches[i][0], patches[i][1], patches[i][2]);
+                 patches[i][0], patches[i][3], patches[i][1], patches[i][2]);
         CHECK(strstr(bnd, want));
     }
     CHECK(!strstr(bnd, "xmax"));

@@ -187,6 +187,16 @@ int vc_cmd_info(int argc, char **argv)
         vc_surface_free(&s);
         return 1;
     }
+    /* the named groups of triangles: the mesh's boundary patches */
+    if (s.tri_group) {
+        printf("groups: %d\n", (int)s.n_groups);
+        for (int32_t g = 0; g < s.n_groups; g++) {
+            int64_t n = 0;
+            for (int64_t t = 0; t < s.n_triangles; t++)
+                n += s.tri_group[t] == g;
+            printf("group %d: %s, %lld triangles\n", (int)g + 1, s.group_name[g], (long long)n);
+        }
+    }
 
     int rc = 0;
     if (features) {

@@ -229,6 +229,23 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             r->surface_volume, r->input.volume, t->voronoi + t->quality + t_write_mesh,
             (long long)m->n_faces, (long long)m->n_interior_faces,
             (long long)(m->n_faces - m->n_interior_faces), (long long)m->n_points);
+    {
+        /* the boundary patches, as every writer names them */
+        vc_boundary_patches bp;
+        if (vc_polymesh_boundary_patches(m, &bp, NULL) == 0) {
+            fprintf(stderr, "  boundary patches: %d", bp.n_patches);
+            for (int k = 0; k < bp.n_patches; k++) {
+                double area = 0;
+                for (int64_t f = m->n_interior_faces; f < m->n_faces; f++)
+                    if (bp.face_patch[f - m->n_interior_faces] == k)
+                        area += m->face_area[f];
+                fprintf(stderr, "%s %s (%lld faces, area %.6g)", k ? "," : ":", bp.name[k],
+                        (long long)bp.size[k], area);
+            }
+            fprintf(stderr, "\n");
+            vc_boundary_patches_free(&bp);
+        }
+    }
     const vc_cell_quality *q = &r->cell_quality;
     fprintf(stderr,
             "  cell quality: volume min %.6g max %.6g; fatness max %.3f mean %.3f "

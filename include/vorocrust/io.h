@@ -26,12 +26,16 @@ typedef enum vc_vtu_encoding {
 int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
                  vc_error *err);
 
-/* Writes the connections (one row per interior face) as CSV with the header
- * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,region_i,region_j
- * where the normal points from cell_i to cell_j and region_i, region_j are
- * the cells' labels (1 without cell_region). cell_i is the face's owner,
- * distance is between the two cells' seeds (needs m->seed_xyz), values are
- * printed with %.17g. */
+/* Writes the connections as CSV with the header
+ * cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,region_i,region_j,patch
+ * First one row per interior face: cell_i is the face's owner, the normal
+ * points from cell_i to cell_j, distance is between the two cells' seeds
+ * (needs m->seed_xyz), region_i, region_j the cells' labels (1 without
+ * cell_region), patch empty. Then one row per boundary face: cell_j -1,
+ * seed_j the seed across the face (-1 on a wall of the box), distance from
+ * seed_i to the face's plane, the outward normal, region_j 0, and the
+ * face's patch (vc_polymesh_boundary_patches). (cx, cy, cz) is the face's
+ * area centroid; values with %.17g. */
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
                              vc_error *err);
 
