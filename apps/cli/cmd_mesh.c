@@ -41,7 +41,8 @@ static void usage(FILE *f)
         "  --surface OUT       the reconstructed surface: OBJ polygons, or VTK_POLYGON cells\n"
         "                      when OUT ends in .vtu\n"
         "  -o, --output OUT.vtu  the volume mesh: the Voronoi cells of the inside surface seeds\n"
-        "                      and the interior seeds\n"
+        "                      and the interior seeds; and OUT_boundary.vtu, its boundary\n"
+        "                      faces with their patch and region\n"
         "  --foam CASE_DIR     also write the volume mesh as OpenFOAM CASE_DIR/constant/polyMesh\n"
         "  --connections OUT.csv  with -o: the interior faces of the volume mesh (cells, seeds,\n"
         "                      area, seed distance, centroid, normal), as 'vorocrust voronoi'\n"
@@ -278,6 +279,20 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     getrusage(RUSAGE_SELF, &ru);
     fprintf(stderr, "  total: %.3f s, peak memory %.1f MiB\n", t_total,
             (double)ru.ru_maxrss / 1024.0);
+}
+
+/* OUT.vtu -> OUT_boundary.vtu (malloc'd). */
+static char *boundary_path(const char *out)
+{
+    size_t n = strlen(out);
+    const char *slash = strrchr(out, '/');
+    const char *dot = strrchr(out, '.');
+    if (dot && (!slash || dot > slash))
+        n = (size_t)(dot - out);
+    char *p = malloc(n + 16);
+    if (p)
+        snprintf(p, n + 16, "%.*s_boundary.vtu", (int)n, out);
+    return p;
 }
 
 /* The input surfaces as one: each read (and named in its errors), then
@@ -658,6 +673,18 @@ static int run_mesh(int argc, char **argv)
         const double tm = vc_cli_now();
         if (vc_write_vtu(&r.mesh, out_path, VC_VTU_ZLIB, &err))
             goto write_failed;
+        /* and its boundary faces with their patches: OUT_boundary.vtu */
+        {
+            char *bpath = boundary_path(out_path);
+            if (!bpath) {
+                vc_error_set(&err, VC_ENOMEM, "out of memory");
+                goto write_failed;
+            }
+            const int brc = vc_write_boundary_vtu(&r.mesh, bpath, &err);
+            free(bpath);
+            if (brc)
+                goto write_failed;
+        }
         if (conn_path) {
             if (vc_write_connections_csv(&r.mesh, conn_path, &err))
                 goto write_failed;

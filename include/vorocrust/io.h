@@ -39,6 +39,14 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
 int vc_write_connections_csv(const vc_polymesh *m, const char *path,
                              vc_error *err);
 
+/* Writes the boundary faces of m (faces of one cell) as an ASCII .vtu of
+ * VTK_POLYGON cells, each oriented out of its cell, with cell data
+ * "patch" (Int32, the index of its patch, vc_polymesh_boundary_patches),
+ * "region" (Int32, its cell's label) and "area" (Float64), and the patch
+ * names in the field data "patch_names" (a string array). Errors: VC_EIO
+ * naming the path, VC_EINPUT, VC_ENOMEM. */
+int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err);
+
 /* Writes a PFLOTRAN explicit unstructured grid (GRID TYPE
  * UNSTRUCTURED_EXPLICIT) to path: "CELLS n", then one line "id x y z
  * volume" per cell (ids from 1, in mesh order; the point is the cell's
