@@ -271,7 +271,8 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
     check(float(rows["fatness max"][1]) >= 3 - 1e-9 and float(rows["fatness mean"][0]) >= math.sqrt(3) - 1e-9,
           "icosphere: fatness below its bounds %r %r" % (rows["fatness max"], rows["fatness mean"]))
     check_report("icosphere", report, rows, measured, triangles)
-    check(sorted(os.listdir(mesh_dir)) == ["tetgen-bound.log", "tetgen.log", "tetgen.vtu", "vorocrust.log", "vorocrust.vtu"],
+    check(sorted(os.listdir(mesh_dir)) == ["tetgen-bound.log", "tetgen.log", "tetgen.vtu", "vorocrust.log",
+                                           "vorocrust.vtu", "vorocrust_boundary.vtu"],
           "icosphere: mesh dir holds %r" % sorted(os.listdir(mesh_dir)))
 
 # (b) vorocrust refuses an inconsistently oriented surface; TetGen does not mind

@@ -252,9 +252,10 @@ int vc_cmd_compare(int argc, char **argv)
         }
         work_slot = vc_cli_track_temp_dir(work);
     }
-    enum { VORO_MESH, VORO_LOG, TET_MESH, TET_LOG, TET_BOUND_LOG, N_PATHS };
+    enum { VORO_MESH, VORO_LOG, TET_MESH, TET_LOG, TET_BOUND_LOG, VORO_BOUNDARY, N_PATHS };
     static const char *const names[N_PATHS] = {"vorocrust.vtu", "vorocrust.log", "tetgen.vtu",
-                                               "tetgen.log", "tetgen-bound.log"};
+                                               "tetgen.log", "tetgen-bound.log",
+                                               "vorocrust_boundary.vtu"};
     char paths[N_PATHS][4096];
     for (int i = 0; i < N_PATHS; i++) {
         snprintf(paths[i], sizeof paths[i], "%s/%s", work, names[i]);
