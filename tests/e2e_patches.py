@@ -1,7 +1,7 @@
 """End-to-end test of the boundary patches (issue 21): a 4 x 1 x 1 duct whose
 input names its inlet (x = 0), outlet (x = 4) and walls, as OBJ groups, as
-the solids of an ASCII STL, and as two input files (two regions); and the
-sharp-feature patches (--patches features).
+the solids of an ASCII STL, as a PLY face property, and as two input files
+(two regions); and the sharp-feature patches (--patches features).
 
 Checked on every output: the summary's patches and areas (inlet 1, outlet
 1, walls 16), OUT_boundary.vtu (read by VTK: patch names, per-patch area),
@@ -54,6 +54,16 @@ def duct_stl(path):
                 f.writelines("   vertex %g %g %g\n" % V[i - 1] for i in t)
                 f.write("  endloop\n endfacet\n")
             f.write("endsolid %s\n" % name)
+
+
+def duct_ply(path):
+    tris = [(t, k + 1) for k, (name, ts) in enumerate(FACES.items()) for t in ts]
+    with open(path, "w") as f:
+        f.write("ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+                "property float z\nelement face %d\nproperty list uchar int vertex_indices\n"
+                "property int patch\nend_header\n" % len(tris))
+        f.writelines("%g %g %g\n" % v for v in V)
+        f.writelines("3 %d %d %d %d\n" % (t[0] - 1, t[1] - 1, t[2] - 1, k) for t, k in tris)
 
 
 def mesh(name, inputs, *extra):
@@ -220,6 +230,14 @@ if rc == 0:
     check({n: d.get("type") for n, d in b.items()} == {"inlet": "patch", "outlet": "patch", "walls": "patch"},
           "stl: OpenFOAM patches %r" % b)
     print("stl: the three solids are the three patches", flush=True)
+
+# ---- a PLY face property -------------------------------------------------------
+ply = os.path.join(TMP, "duct.ply")
+duct_ply(ply)
+rc, err = mesh("ply", [ply])
+if rc == 0:
+    check_outputs("ply", err, {"patch1": 1.0, "patch2": 1.0, "patch3": 16.0})
+    print("ply: the face property patch gives patch1, patch2, patch3", flush=True)
 
 # ---- two files: two regions, a patch per region and file --------------------
 left, right = os.path.join(TMP, "left.obj"), os.path.join(TMP, "right.obj")

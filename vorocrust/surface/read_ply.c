@@ -1,10 +1,13 @@
 /* PLY reader (ASCII, binary little and big endian). The header is parsed
  * into elements and properties so that any element and property can be
  * skipped; the vertex element gives x, y, z and the face element its
- * "vertex_indices" (or "vertex_index") list. */
+ * "vertex_indices" (or "vertex_index") list, and the face's group from an
+ * integer property patch, group, region, material, label or tag (the
+ * group "patch3" for patch 3). */
 #include "surface/surface_internal.h"
 #include "io/text_escape.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,7 +16,8 @@ enum { T_NONE, T_I8, T_U8, T_I16, T_U16, T_I32, T_U32, T_F32, T_F64 };
 typedef struct ply_prop {
     int type;       /* value type */
     int count_type; /* list length type, T_NONE for a scalar */
-    int role;       /* 0 other, 1..3 x/y/z, 4 face indices */
+    int role;       /* 0 other, 1..3 x/y/z, 4 face indices, 5 the face's group */
+    char name[16];  /* of a group property */
 } ply_prop;
 
 #define PLY_MAX_PROPS 64
@@ -147,6 +151,20 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
                 pr->role = 1 + (w3[0] - 'x');
             if (e->kind == 2 && pr->count_type && (!strcmp(w3, "vertex_indices") || !strcmp(w3, "vertex_index")))
                 pr->role = 4;
+            /* an integer face property that names the face's group (the
+             * first of them): its values are the boundary patches */
+            static const char *const group_props[] = {"patch", "group", "region", "material",
+                                                      "label", "tag"};
+            if (e->kind == 2 && !pr->count_type && is_int_type(pr->type)) {
+                int taken = 0;
+                for (int k = 0; k + 1 < e->n_props; k++)
+                    taken |= e->props[k].role == 5;
+                for (size_t k = 0; !taken && k < sizeof group_props / sizeof *group_props; k++)
+                    if (!strcmp(w3, group_props[k])) {
+                        pr->role = 5;
+                        snprintf(pr->name, sizeof pr->name, "%s", group_props[k]);
+                    }
+            }
         }
         /* comment, obj_info and unknown keywords are ignored */
     }
@@ -245,6 +263,13 @@ int vc_read_ply(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
                     }
                     if (pr->role >= 1 && pr->role <= 3)
                         xyz[pr->role - 1] = v;
+                    else if (pr->role == 5) {
+                        char g[48];
+                        const int n = snprintf(g, sizeof g, "%s%lld", pr->name,
+                                               (long long)(v > -9e18 && v < 9e18 ? v : 0));
+                        if (vc_soup_set_group(s, g, (size_t)n))
+                            FAIL(VC_ENOMEM, "%s: out of memory", name);
+                    }
                     else if (pr->role == 4) {
                         if (!(v > -9e18 && v < 9e18) || v != (double)(int64_t)v)
                             FAIL(VC_EFORMAT, "%s: face %lld: vertex index %g is not an integer",
