@@ -147,6 +147,10 @@ int vc_cmd_quality(int argc, char **argv)
     print_stats("shortest relative edge", &r.shortest_edge_rel);
     printf("cells with a shortest relative edge below 1e-2: %.2f%%\n", 100.0 * r.short_edge_share);
     print_stats("smallest face / enclosing radius^2", &r.small_face_rel);
+    if (!isnan(r.non_orthogonality_max))
+        printf("checkMesh measures: non-orthogonality max %.6g average %.6g degrees, skewness max "
+               "%.6g (%" PRId64 " faces above 4)\n", r.non_orthogonality_max,
+               r.non_orthogonality_mean, r.skewness_max, r.n_skew_faces);
     if (r.n_tetrahedra) {
         print_stats("dihedral angle min", &r.dihedral_min);
         print_stats("dihedral angle max", &r.dihedral_max);

@@ -9,8 +9,8 @@
 enum {
     ROW_TIME, ROW_CPU, ROW_MEMORY, ROW_VERTICES, ROW_CELLS, ROW_FACES, ROW_BOUNDARY_FACES,
     ROW_VOLUME, ROW_VOLUME_ERROR, ROW_FATNESS_MAX, ROW_FATNESS_MEAN, ROW_FATNESS_P99,
-    ROW_EDGE_MIN, ROW_TRIANGLES, ROW_Q_MIN, ROW_Q_MEAN, ROW_BELOW_30, ROW_ABOVE_90,
-    ROW_HAUSDORFF, ROW_COUNT
+    ROW_EDGE_MIN, ROW_NONORTH_MAX, ROW_NONORTH_MEAN, ROW_SKEW_MAX, ROW_SKEW_FACES, ROW_TRIANGLES,
+    ROW_Q_MIN, ROW_Q_MEAN, ROW_BELOW_30, ROW_ABOVE_90, ROW_HAUSDORFF, ROW_COUNT
 };
 
 static const char *const row_names[ROW_COUNT] = {
@@ -27,6 +27,10 @@ static const char *const row_names[ROW_COUNT] = {
     "fatness mean",
     "fatness p99",
     "shortest relative edge min",
+    "non-orthogonality max (deg)",
+    "non-orthogonality average (deg)",
+    "skewness max",
+    "faces with skewness > 4",
     "surface triangles",
     "surface Q min",
     "surface Q mean",
@@ -82,6 +86,10 @@ void vc_compare_row_value(const vc_compare *c, int side, int r, char *buf, size_
     case ROW_FATNESS_MEAN: put_number(buf, size, "%.6g", m->fatness.mean); break;
     case ROW_FATNESS_P99: put_number(buf, size, "%.6g", m->fatness.p99); break;
     case ROW_EDGE_MIN: put_number(buf, size, "%.6g", m->shortest_edge_rel.min); break;
+    case ROW_NONORTH_MAX: put_number(buf, size, "%.4g", m->non_orthogonality_max); break;
+    case ROW_NONORTH_MEAN: put_number(buf, size, "%.4g", m->non_orthogonality_mean); break;
+    case ROW_SKEW_MAX: put_number(buf, size, "%.4g", m->skewness_max); break;
+    case ROW_SKEW_FACES: snprintf(buf, size, "%" PRId64, m->n_skew_faces); break;
     case ROW_TRIANGLES: snprintf(buf, size, "%" PRId64, m->n_boundary_triangles); break;
     case ROW_Q_MIN: put_number(buf, size, "%.6g", m->triangle_quality.min); break;
     case ROW_Q_MEAN: put_number(buf, size, "%.6g", m->triangle_quality.mean); break;

@@ -40,6 +40,12 @@ typedef struct vc_mesh_report {
                                      below 1e-2 of their enclosing radius */
     vc_stats small_face_rel;      /* per cell: smallest face area / enclosing radius^2 */
     vc_stats dihedral_min, dihedral_max; /* tetrahedra only (n = 0 without any) */
+    /* OpenFOAM checkMesh's measures of the faces between two cells, from
+     * the cells' centroids (NaN without such faces): non-orthogonality in
+     * degrees (max, and the mean as checkMesh prints it: the angle of the
+     * mean cosine), skewness (max, and the faces above checkMesh's 4). */
+    double non_orthogonality_max, non_orthogonality_mean, skewness_max;
+    int64_t n_skew_faces;
 
     /* The boundary faces as triangles (polygons fanned from their vertex
      * average). */

@@ -63,7 +63,7 @@ static int radix_sort_keys(face_key *key, int64_t n)
  * vertex set; returns the number of distinct faces, or -1 (out of memory).
  * Faces are bucketed by a hash of their sorted ids, then compared exactly
  * within each bucket (buckets in parallel: each owns its faces). */
-int64_t vc_mesh_face_uses(const vc_vtu_mesh *m, int64_t *uses)
+int64_t vc_mesh_face_uses(const vc_vtu_mesh *m, int64_t *uses, int64_t *twin)
 {
     int64_t nf = m->n_faces, maxlen = 0;
     for (int64_t f = 0; f < nf; f++)
@@ -133,9 +133,18 @@ int64_t vc_mesh_face_uses(const vc_vtu_mesh *m, int64_t *uses)
                         count++, uses[key[l].face] = -1;
                 }
                 uses[key[k].face] = count;
+                if (twin)
+                    twin[key[k].face] = -1;
                 for (int64_t l = k + 1; l < j; l++)
-                    if (uses[key[l].face] == -1)
+                    if (uses[key[l].face] == -1) {
                         uses[key[l].face] = count;
+                        /* a face of two cells: each copy names the other */
+                        if (twin) {
+                            twin[key[l].face] = count == 2 ? key[k].face : -1;
+                            if (count == 2)
+                                twin[key[k].face] = key[l].face;
+                        }
+                    }
                 distinct++;
             }
         }

@@ -11,6 +11,8 @@
 
 #include "quality_internal.h"
 
+#define DEG_PER_RAD 57.295779513082320876798
+
 static double now(void)
 {
     struct timespec ts;
@@ -220,6 +222,113 @@ static int measure_boundary(const vc_surface *boundary, vc_mesh_report *r)
     return vc_stats_compute(q, nt, &r->triangle_quality) ? -1 : 0;
 }
 
+/* Face f's area centroid and area vector (fanned from its vertex average). */
+static void face_geometry(const vc_vtu_mesh *m, int64_t f, double c[3], double s[3])
+{
+    const int64_t b = m->face_offsets[f], n = m->face_offsets[f + 1] - b;
+    double o[3] = {0, 0, 0};
+    for (int64_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            o[k] += m->points[3 * m->face_vertices[b + i] + k] / (double)n;
+    double a_sum = 0;
+    c[0] = c[1] = c[2] = s[0] = s[1] = s[2] = 0;
+    for (int64_t i = 0; i < n; i++) {
+        const double *p = m->points + 3 * m->face_vertices[b + i];
+        const double *q = m->points + 3 * m->face_vertices[b + (i + 1) % n];
+        const double u[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
+        const double v[3] = {q[0] - o[0], q[1] - o[1], q[2] - o[2]};
+        const double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                             u[0] * v[1] - u[1] * v[0]};
+        const double a = 0.5 * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        for (int k = 0; k < 3; k++) {
+            s[k] += 0.5 * x[k];
+            c[k] += a * (o[k] + p[k] + q[k]) / 3;
+        }
+        a_sum += a;
+    }
+    for (int k = 0; k < 3; k++)
+        c[k] = a_sum > 0 ? c[k] / a_sum : o[k];
+}
+
+/* checkMesh's measures of the faces between two cells: non-orthogonality
+ * (the angle between the face's area vector and the line between the
+ * cells' centroids; the mean as checkMesh prints it, the angle of the mean
+ * cosine) and skewness (the distance from the face centroid to where that
+ * line crosses the face's plane, over the larger of a fifth of the
+ * centroids' distance and the face's extent that way). */
+static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, vc_mesh_report *r)
+{
+    const int64_t nc = m->n_cells, nf = m->n_faces;
+    double *centre = malloc(sizeof(double) * 3 * (size_t)(nc + 1));
+    int64_t *cell_of = malloc(sizeof(int64_t) * (size_t)(nf + 1));
+    if (!centre || !cell_of) {
+        free(centre);
+        free(cell_of);
+        return -1;
+    }
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int64_t c = 0; c < nc; c++) {
+        vc_cell cell;
+        cell.points = m->points;
+        cell.n_vertices = 0;
+        cell.vertices = NULL;
+        cell.n_faces = m->cell_faces[c + 1] - m->cell_faces[c];
+        cell.face_offsets = m->face_offsets + m->cell_faces[c];
+        cell.face_vertices = m->face_vertices;
+        vc_cell_volume(&cell, centre + 3 * c);
+        for (int64_t f = m->cell_faces[c]; f < m->cell_faces[c + 1]; f++)
+            cell_of[f] = c;
+    }
+    double max_angle = 0, sum_cos = 0, max_skew = 0;
+    int64_t n = 0, n_skew = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : max_angle, max_skew) \
+    reduction(+ : sum_cos, n, n_skew)
+    for (int64_t f = 0; f < nf; f++) {
+        const int64_t g = twin[f];
+        if (g < 0 || g < f)
+            continue; /* boundary, or the pair seen from its other copy */
+        const double *co = centre + 3 * cell_of[f], *cn = centre + 3 * cell_of[g];
+        double fc[3], sv[3];
+        face_geometry(m, f, fc, sv); /* outward of cell_of[f]: towards cn */
+        const double d[3] = {cn[0] - co[0], cn[1] - co[1], cn[2] - co[2]};
+        const double sl = sqrt(sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2]);
+        const double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (!(sl > 0 && dl > 0))
+            continue;
+        double cs = (sv[0] * d[0] + sv[1] * d[1] + sv[2] * d[2]) / (sl * dl);
+        cs = cs > 1 ? 1 : cs < -1 ? -1 : cs;
+        max_angle = fmax(max_angle, acos(cs) * DEG_PER_RAD);
+        sum_cos += cs;
+        n++;
+        /* skewness */
+        const double nn[3] = {sv[0] / sl, sv[1] / sl, sv[2] / sl};
+        const double cpf[3] = {fc[0] - co[0], fc[1] - co[1], fc[2] - co[2]};
+        const double dn = nn[0] * d[0] + nn[1] * d[1] + nn[2] * d[2];
+        double skew = INFINITY;
+        if (dn != 0) {
+            const double t = (nn[0] * cpf[0] + nn[1] * cpf[1] + nn[2] * cpf[2]) / dn;
+            const double w[3] = {cpf[0] - t * d[0], cpf[1] - t * d[1], cpf[2] - t * d[2]};
+            const double s = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            double extent = 0.2 * dl;
+            for (int64_t i = m->face_offsets[f]; s > 0 && i < m->face_offsets[f + 1]; i++) {
+                const double *p = m->points + 3 * m->face_vertices[i];
+                const double q[3] = {p[0] - fc[0], p[1] - fc[1], p[2] - fc[2]};
+                extent = fmax(extent, fabs(w[0] * q[0] + w[1] * q[1] + w[2] * q[2]) / s);
+            }
+            skew = s > 0 ? s / extent : 0;
+        }
+        max_skew = fmax(max_skew, skew);
+        n_skew += skew > 4;
+    }
+    r->non_orthogonality_max = n ? max_angle : NAN;
+    r->non_orthogonality_mean = n ? acos(fmin(1, sum_cos / (double)n)) * DEG_PER_RAD : NAN;
+    r->skewness_max = n ? max_skew : NAN;
+    r->n_skew_faces = n_skew;
+    free(centre);
+    free(cell_of);
+    return 0;
+}
+
 int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
                            const vc_surface *input, const char *input_name,
                            vc_mesh_report *out, vc_error *err)
@@ -232,9 +341,10 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     double *dmin = malloc(sizeof *dmin * cn), *dmax = malloc(sizeof *dmax * cn);
     double *small = malloc(sizeof *small * cn);
     int64_t *uses = malloc(sizeof *uses * (size_t)(m->n_faces ? m->n_faces : 1));
+    int64_t *twin = malloc(sizeof *twin * (size_t)(m->n_faces ? m->n_faces : 1));
     out->cell_fatness = malloc(sizeof *out->cell_fatness * cn);
     int rc = VC_ENOMEM,
-        oom = !vol || !rel || !dmin || !dmax || !small || !uses || !out->cell_fatness;
+        oom = !vol || !rel || !dmin || !dmax || !small || !uses || !twin || !out->cell_fatness;
     double t0 = now();
     oom = oom || measure_cells(m, out, vol, rel, small, dmin, dmax) != 0;
     oom = oom || vc_stats_compute(vol, nc, &out->volume) || vc_stats_compute(out->cell_fatness,
@@ -250,8 +360,9 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
         out->short_edge_share =
             out->shortest_edge_rel.n ? (double)n_short / (double)out->shortest_edge_rel.n : NAN;
         out->n_points = m->n_points;
-        out->n_faces = vc_mesh_face_uses(m, uses);
-        oom = out->n_faces < 0 || vc_mesh_boundary_surface(m, uses, &boundary) != 0;
+        out->n_faces = vc_mesh_face_uses(m, uses, twin);
+        oom = out->n_faces < 0 || vc_mesh_boundary_surface(m, uses, &boundary) != 0 ||
+              solver_measures(m, twin, out) != 0;
     }
     if (!oom) {
         for (int64_t f = 0; f < m->n_faces; f++) {
@@ -285,6 +396,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     free(dmax);
     free(small);
     free(uses);
+    free(twin);
     vc_surface_free(&boundary);
     if (rc)
         vc_mesh_report_free(out);

@@ -15,9 +15,10 @@ double vc_point_triangle_dist2(const double p[3], const double a[3], const doubl
 int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *ball);
 
 /* mesh_faces.c: sets uses[f] (n_faces entries) to the number of faces of
- * m, f included, with the same vertex set; returns the number of distinct
- * faces, or -1 when out of memory. */
-int64_t vc_mesh_face_uses(const vc_vtu_mesh *m, int64_t *uses);
+ * m, f included, with the same vertex set, and when twin is not NULL,
+ * twin[f] to the other copy of a face of exactly two cells (else -1);
+ * returns the number of distinct faces, or -1 when out of memory. */
+int64_t vc_mesh_face_uses(const vc_vtu_mesh *m, int64_t *uses, int64_t *twin);
 
 /* mesh_faces.c: the faces f with uses[f] == 1 (the boundary) as a triangle
  * surface on m's points, polygons fanned from their vertex average (added
