@@ -153,6 +153,7 @@ class ReportParser(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
         self.svgs, self.bars, self.table, self.tags = [], [], [], set()
+        self.lines = {}  # svg id -> its <line> elements
         self.current_svg = None
         self.in_td = False
         self.row = None
@@ -164,6 +165,8 @@ class ReportParser(html.parser.HTMLParser):
         if tag == "svg":
             self.current_svg = a.get("id")
             self.svgs.append(self.current_svg)
+        elif tag == "line" and self.current_svg:
+            self.lines[self.current_svg] = self.lines.get(self.current_svg, 0) + 1
         elif tag == "rect" and a.get("class") == "bar":
             self.bars.append((self.current_svg, a["data-mesher"], int(a["data-count"])))
         elif tag == "tr":
@@ -197,7 +200,16 @@ def check_report(name, report, rows, measured_cells, triangles, failed=()):
     p = ReportParser()
     p.feed(text)
     p.close()
-    check(p.svgs == ["fatness-histogram", "quality-histogram"], "%s: SVG elements %r" % (name, p.svgs))
+    check(p.svgs == ["cut-vorocrust", "cut-tetgen", "fatness-histogram", "quality-histogram"],
+          "%s: SVG elements %r" % (name, p.svgs))
+    # the cut through each mesh: segments for a mesher that succeeded, none otherwise
+    for mesher in ("vorocrust", "tetgen"):
+        n = p.lines.get("cut-" + mesher, 0)
+        check(n == 0 if mesher in failed else n > 100, "%s: %d segments in %s's cut" % (name, n, mesher))
+    # the run: date, version, threads; no path of the removed temporary directory
+    check(re.search(r"<p>Run \d{4}-\d\d-\d\d \d\d:\d\d UTC: vorocrust \d+\.\d+\.\d+ with \d+ threads?", text),
+          "%s: the report does not say when, which version and how many threads" % name)
+    check("vc-compare." not in text, "%s: the report names the removed temporary directory" % name)
     check("script" not in p.tags and "link" not in p.tags and not any(t.startswith("external:") for t in p.tags),
           "%s: the report is not self-contained: %r" % (name, sorted(p.tags)))
     table = {r[0]: r[1:] for r in p.table}
@@ -226,7 +238,8 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
     rows, other = parse_table(so)
     names = ["time (s)", "cpu time (s)", "peak memory (MiB)", "vertices", "cells", "faces", "boundary faces",
              "total volume", "volume error (%)", "fatness max", "fatness mean", "fatness p99",
-             "shortest relative edge min", "surface triangles", "surface Q min", "surface Q mean",
+             "shortest relative edge min", "non-orthogonality max (deg)", "non-orthogonality average (deg)",
+             "skewness max", "faces with skewness > 4", "surface triangles", "surface Q min", "surface Q mean",
              "angles < 30 deg (%)", "angles > 90 deg (%)", "hausdorff / diagonal"]
     check(list(rows) == names, "icosphere: table rows %r" % list(rows))
     check(close(float(other["compare"].split("enclosed volume ")[1].split(",")[0]), ico_volume, 1e-9),
@@ -260,6 +273,14 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
         for row, key in (("angles < 30 deg (%)", "angles below 30 degrees"), ("angles > 90 deg (%)", "angles above 90 degrees")):
             check(abs(float(rows[row][col]) - float(rep[key].rstrip("%"))) <= 0.006,
                   "icosphere %s: %s %s, quality %r" % (mesher, row, rows[row][col], rep[key]))
+        # checkMesh's measures, as vorocrust quality prints them
+        cm = re.match(r"non-orthogonality max ([\d.e+-]+) average ([\d.e+-]+) degrees, skewness max "
+                      r"([\d.e+-]+) \((\d+) faces above 4\)", rep.get("checkMesh measures", ""))
+        if check(cm, "icosphere %s: quality prints no checkMesh measures: %r" % (mesher, rep.get("checkMesh measures"))):
+            for k, row in enumerate(("non-orthogonality max (deg)", "non-orthogonality average (deg)",
+                                     "skewness max", "faces with skewness > 4")):
+                check(close(float(rows[row][col]), float(cm.group(k + 1)), 1e-3),
+                      "icosphere %s: %s %s, quality %s" % (mesher, row, rows[row][col], cm.group(k + 1)))
         hd = float(rep["hausdorff distance"].split(": ")[1].rstrip(")"))
         check(close(float(rows["hausdorff / diagonal"][col]), hd, 1e-3) or hd < 1e-12,
               "icosphere %s: hausdorff %s, quality %r" % (mesher, rows["hausdorff / diagonal"][col], hd))
@@ -270,7 +291,8 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
     check(0 < float(rows["hausdorff / diagonal"][0]) < 0.01, "icosphere: vorocrust hausdorff %r" % rows["hausdorff / diagonal"])
     check(float(rows["fatness max"][1]) >= 3 - 1e-9 and float(rows["fatness mean"][0]) >= math.sqrt(3) - 1e-9,
           "icosphere: fatness below its bounds %r %r" % (rows["fatness max"], rows["fatness mean"]))
-    check_report("icosphere", report, rows, measured, triangles)
+    text = check_report("icosphere", report, rows, measured, triangles)
+    check(text is not None and "its phases (s): read " in text, "icosphere: the report lacks vorocrust's phase times")
     check(sorted(os.listdir(mesh_dir)) == ["tetgen-bound.log", "tetgen.log", "tetgen.vtu", "vorocrust.log",
                                            "vorocrust.vtu", "vorocrust_boundary.vtu"],
           "icosphere: mesh dir holds %r" % sorted(os.listdir(mesh_dir)))

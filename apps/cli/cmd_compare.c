@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -19,6 +20,7 @@
 #include "commands.h"
 #include "compare.h"
 #include "vorocrust/mesh_report.h"
+#include "vorocrust/vorocrust.h"
 #include "vorocrust/surface.h"
 #include "vorocrust/vtu_reader.h"
 
@@ -61,10 +63,53 @@ static void join_command(char *const argv[], char *buf, size_t size)
     }
 }
 
-/* Reads and measures a mesher's output into side; 0, or -1 with
- * side->failure set. */
+/* The segments where the plane (axis = value) crosses the faces of m's
+ * cells, in the plane's two other coordinates. Returns 0 or -1 (memory). */
+static int cut_mesh(const vc_vtu_mesh *m, int axis, double value, double **out, int64_t *n_out)
+{
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    int64_t n = 0, cap = 1024;
+    double *seg = malloc(sizeof(double) * 4 * (size_t)cap);
+    if (!seg)
+        return -1;
+    for (int64_t f = 0; f < m->n_faces; f++) {
+        const int64_t b = m->face_offsets[f], k = m->face_offsets[f + 1] - b;
+        double pts[2][2];
+        int np = 0;
+        for (int64_t i = 0; i < k && np < 2; i++) {
+            const double *p = m->points + 3 * m->face_vertices[b + i];
+            const double *q = m->points + 3 * m->face_vertices[b + (i + 1) % k];
+            const double dp = p[axis] - value, dq = q[axis] - value;
+            if ((dp < 0) == (dq < 0))
+                continue;
+            const double t = dp / (dp - dq);
+            pts[np][0] = p[u] + t * (q[u] - p[u]);
+            pts[np][1] = p[v] + t * (q[v] - p[v]);
+            np++;
+        }
+        if (np < 2)
+            continue;
+        if (n == cap) {
+            cap *= 2;
+            double *s2 = realloc(seg, sizeof(double) * 4 * (size_t)cap);
+            if (!s2) {
+                free(seg);
+                return -1;
+            }
+            seg = s2;
+        }
+        memcpy(seg + 4 * n, pts, sizeof pts);
+        n++;
+    }
+    *out = seg;
+    *n_out = n;
+    return 0;
+}
+
+/* Reads and measures a mesher's output into side, and cuts it; 0, or -1
+ * with side->failure set. */
 static int measure(vc_compare_side *side, const char *mesh_path, const vc_surface *input,
-                   const char *input_path)
+                   const char *input_path, int cut_axis, double cut_value)
 {
     vc_error err = {0, ""};
     vc_vtu_mesh m;
@@ -74,15 +119,23 @@ static int measure(vc_compare_side *side, const char *mesh_path, const vc_surfac
         vc_vtu_mesh_free(&m);
         return -1;
     }
+    if (cut_mesh(&m, cut_axis, cut_value, &side->cut, &side->n_cut) != 0) {
+        snprintf(side->failure, sizeof side->failure, "%s: out of memory cutting the mesh",
+                 mesh_path);
+        vc_vtu_mesh_free(&m);
+        return -1;
+    }
     vc_vtu_mesh_free(&m);
     side->ok = 1;
     return 0;
 }
 
 /* Runs one mesher and measures its mesh. */
+static void read_summary(vc_compare_side *side, const char *log_path);
+
 static void run_side(vc_compare_side *side, char *const argv[], const char *mesh_path,
                      const char *log_path, const vc_surface *input, const char *input_path,
-                     int quiet)
+                     int quiet, int cut_axis, double cut_value)
 {
     join_command(argv, side->command, sizeof side->command);
     if (!quiet)
@@ -94,7 +147,34 @@ static void run_side(vc_compare_side *side, char *const argv[], const char *mesh
     if (!quiet)
         fprintf(stderr, "vorocrust compare: %s done in %.2f s, measuring %s\n", side->name,
                 side->run.wall_seconds, mesh_path);
-    measure(side, mesh_path, input, input_path);
+    read_summary(side, log_path);
+    measure(side, mesh_path, input, input_path, cut_axis, cut_value);
+}
+
+/* What vorocrust's summary (in its log) says of the run: its phase times
+ * and whether it sampled twice. */
+static void read_summary(vc_compare_side *side, const char *log_path)
+{
+    FILE *fp = fopen(log_path, "r");
+    char line[4096];
+    while (fp && fgets(line, sizeof line, fp)) {
+        line[strcspn(line, "\n")] = 0;
+        const char *p = strstr(line, "  time (s): ");
+        if (p == line)
+            snprintf(side->phases, sizeof side->phases, "%.1000s", line + 12);
+        p = strstr(line, ", after sampling at ");
+        if (p && strstr(line, "vorocrust mesh: ") == line) {
+            side->resampled = 1;
+            snprintf(side->resample_note, sizeof side->resample_note, "%.*s", (int)strcspn(p + 2, ")"),
+                     p + 2);
+        }
+        if (strstr(line, "sampling again with") && !side->resample_note[0]) {
+            side->resampled = 1;
+            snprintf(side->resample_note, sizeof side->resample_note, "%.250s", line);
+        }
+    }
+    if (fp)
+        fclose(fp);
 }
 
 static void print_table(const vc_compare *c)
@@ -273,6 +353,30 @@ int vc_cmd_compare(int argc, char **argv)
                             (rep.bbox[5] - rep.bbox[2]) * (rep.bbox[5] - rep.bbox[2]));
     c.side[VC_COMPARE_VOROCRUST].name = "vorocrust";
     c.side[VC_COMPARE_TETGEN].name = "tetgen";
+    /* the run: version, date, threads; the cut through the middle of the
+     * box, across its smallest extent */
+    memcpy(c.bbox, rep.bbox, sizeof c.bbox);
+    c.cut_axis = 0;
+    for (int k = 1; k < 3; k++)
+        if (rep.bbox[k + 3] - rep.bbox[k] < rep.bbox[c.cut_axis + 3] - rep.bbox[c.cut_axis])
+            c.cut_axis = k;
+    c.cut_value = 0.5 * (rep.bbox[c.cut_axis] + rep.bbox[c.cut_axis + 3]);
+    snprintf(c.version, sizeof c.version, "%s", vc_version());
+    {
+        time_t now = time(NULL);
+        struct tm tmv;
+        if (gmtime_r(&now, &tmv))
+            strftime(c.date, sizeof c.date, "%Y-%m-%d %H:%M UTC", &tmv);
+    }
+    long nthreads = 0;
+    if (threads)
+        vc_cli_parse_int(threads, 1, 4096, &nthreads);
+#ifdef _OPENMP
+    c.threads = threads ? (int)nthreads : omp_get_max_threads();
+#else
+    c.threads = 1;
+#endif
+    c.work_dir = mesh_dir ? NULL : work;
 
     /* vorocrust first: its cell count is TetGen's target. */
     {
@@ -291,7 +395,7 @@ int vc_cmd_compare(int argc, char **argv)
         }
         args[n] = NULL;
         run_side(&c.side[VC_COMPARE_VOROCRUST], args, paths[VORO_MESH], paths[VORO_LOG], &input,
-                 input_path, quiet);
+                 input_path, quiet, c.cut_axis, c.cut_value);
     }
     c.tetgen_target = target ? target
                     : c.side[VC_COMPARE_VOROCRUST].ok ? c.side[VC_COMPARE_VOROCRUST].report.n_cells
@@ -321,7 +425,8 @@ int vc_cmd_compare(int argc, char **argv)
                         bound_text, NULL};
         if (!bound_text[0])
             args[4] = NULL; /* no target: TetGen's quality bound alone */
-        run_side(tet, args, paths[TET_MESH], paths[TET_LOG], &input, input_path, quiet);
+        run_side(tet, args, paths[TET_MESH], paths[TET_LOG], &input, input_path, quiet,
+                 c.cut_axis, c.cut_value);
     }
     print_table(&c);
     fflush(stdout);
@@ -341,8 +446,10 @@ int vc_cmd_compare(int argc, char **argv)
         remove_work_dir(work, paths, N_PATHS);
         vc_cli_untrack(work_slot);
     }
-    for (int s = 0; s < VC_COMPARE_SIDES; s++)
+    for (int s = 0; s < VC_COMPARE_SIDES; s++) {
         vc_mesh_report_free(&c.side[s].report);
+        free(c.side[s].cut);
+    }
     vc_surface_free(&input);
     return rc;
 }

@@ -20,6 +20,17 @@ typedef struct vc_compare_side {
     int ok;                  /* the mesh was made, read back and measured */
     char failure[1024];      /* why not (one line), when !ok */
     vc_mesh_report report;   /* when ok */
+    /* The cut through the mesh (vc_compare.cut_axis, cut_value): the
+     * segments where the plane crosses the cells' faces, in the plane's
+     * two other coordinates (x1 y1 x2 y2 each). */
+    double *cut;
+    int64_t n_cut;
+    /* From vorocrust's own summary (its log): the phase times line, and
+     * whether the first sampling diverged and the surface was sampled
+     * again (resample_note says how). */
+    char phases[1024];
+    int resampled;
+    char resample_note[256];
 } vc_compare_side;
 
 typedef struct vc_compare {
@@ -29,6 +40,13 @@ typedef struct vc_compare {
     double input_diagonal;   /* its bounding-box diagonal */
     int64_t tetgen_target;   /* the --target-cells given to vc-tetgen, 0 for none */
     char tetgen_bound_command[4096]; /* the run that found TetGen's volume bound */
+    double bbox[6];          /* the input's bounding box */
+    int cut_axis;            /* the cut's plane: coordinate cut_axis = cut_value (the */
+    double cut_value;        /* axis of the box's smallest extent, through its middle) */
+    char version[64];        /* vorocrust's */
+    char date[64];           /* of the run, UTC */
+    int threads;             /* vorocrust's threads */
+    const char *work_dir;    /* the temporary directory of the meshes, NULL with --mesh-dir */
     vc_compare_side side[VC_COMPARE_SIDES];
 } vc_compare;
 
