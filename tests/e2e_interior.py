@@ -40,6 +40,7 @@ sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
 import vtkcheck  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
+import e2eutil  # noqa: E402
 from e2eutil import models_dir  # noqa: E402
 
 # One part per ctest test (tests/CMakeLists.txt); "icosphere" needs only the
@@ -71,23 +72,6 @@ def read_rows(path):
         return [r.split(",") for r in f.read().splitlines()[1:]]
 
 
-def obj_volume(path):
-    """Volume enclosed by an OBJ polygon surface (polygons fanned)."""
-    pts, vol = [], 0.0
-    with open(path) as f:
-        for line in f:
-            t = line.split()
-            if not t:
-                continue
-            if t[0] == "v":
-                pts.append(tuple(map(float, t[1:4])))
-            elif t[0] == "f":
-                p = [pts[int(x.split("/")[0]) - 1] for x in t[1:]]
-                a = p[0]
-                for b, c in zip(p[1:-1], p[2:]):
-                    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                            + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-    return vol
 
 
 def locator(points):
@@ -202,7 +186,7 @@ if PART == "models":
         m, v, f = summary(err)
         check(v and f and float(f.group(3)) <= 14, "fandisk lattice: summary %s" % err[-1500:])
         try:
-            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=obj_volume(out["surf"]))
+            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=e2eutil.obj_volume(out["surf"]))
             print("fandisk lattice: %d cells, volume %.12g, interior fatness max %s"
                   % (fig["n_cells"], fig["total_volume"], f.group(3) if f else "?"))
         except vtkcheck.CheckError as e:
@@ -233,7 +217,7 @@ if PART == "icosphere":
         check(moved > n_int // 4, "lloyd: only %d of %d interior seeds moved" % (moved, n_int))
         seeds_outside_balls_and_inside("lloyd", after, n_surface, out["balls"])
         try:
-            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=obj_volume(out["surf"]))
+            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=e2eutil.obj_volume(out["surf"]))
             print("lloyd: %d cells, %d interior seeds moved, volume %.12g" % (fig["n_cells"], moved, fig["total_volume"]))
         except vtkcheck.CheckError as e:
             check(False, "lloyd: %s" % e)
@@ -273,7 +257,7 @@ if PART.startswith("lloyd_"):
             grid = vtkcheck.read_vtu(out["vtu"])
             ids = vtk.vtkIdList()
             vols = [vtkcheck.divergence_volume(grid, c, ids) for c in range(grid.GetNumberOfCells())]
-            expected = obj_volume(out["surf"])
+            expected = e2eutil.obj_volume(out["surf"])
             check(v is not None and len(vols) == int(v.group(1)),
                   "%s: %d cells read back, the summary says %s" % (tag, len(vols), v.group(1) if v else "?"))
             check(min(vols) > 0, "%s: a cell encloses volume %g" % (tag, min(vols)))
@@ -297,7 +281,7 @@ if PART in ("models", "icosphere"):
         check(v is not None and abs(float(v.group(3)) - float(v.group(4))) <= 1e-9 * float(v.group(4)),
               "%s: summary volume %s" % (kind, v and v.groups()))
         try:
-            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=obj_volume(out["surf"]))
+            fig = vtkcheck.check_vtu(out["vtu"], expected_volume=e2eutil.obj_volume(out["surf"]))
             print("%s: %d cells, volume %.12g" % (kind, fig["n_cells"], fig["total_volume"]))
         except vtkcheck.CheckError as e:
             check(False, "%s: %s" % (kind, e))

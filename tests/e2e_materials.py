@@ -99,18 +99,6 @@ def concat_obj(path, parts):
         f.writelines(out_v + out_f)
 
 
-def obj_volume(path):
-    pts, vol = [], 0.0
-    with open(path) as f:
-        for line in f:
-            w = line.split()
-            if w and w[0] == "v":
-                pts.append(tuple(map(float, w[1:4])))
-            elif w and w[0] == "f":
-                a, b, c = (pts[int(x) - 1] for x in w[1:4])
-                vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                        a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-    return vol
 
 
 def layered_box(path, n, size, surfaces):
@@ -201,7 +189,7 @@ elif PART == "spheres":
     sphere_obj(ball, (2.0, 2.0, 2.0), 1.2)
     ball_in = os.path.join(TMP, "ball_in.obj")
     sphere_obj(ball_in, (2.0, 2.0, 2.0), 1.2, inward=True)
-    vb = obj_volume(ball)
+    vb = e2eutil.obj_volume(ball)
     incl = os.path.join(TMP, "inclusion.obj")
     concat_obj(incl, [cube, ball])
     cases["inclusion"] = ([incl], {1: (64 - vb, 4), 2: (vb, 2)})

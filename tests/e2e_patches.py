@@ -99,7 +99,7 @@ def check_outputs(name, err, want):
     area = defaultdict(float)
     for c in range(grid.GetNumberOfCells()):
         pts = vtk_points(grid, c)
-        area[names[patch[c]]] += polygon_area(pts)
+        area[names[patch[c]]] += e2eutil.polygon_area(pts)
     check(close(dict(area), want, 1e-7), "%s: boundary .vtu areas %r" % (name, dict(area)))
     # the connections' boundary rows
     area = defaultdict(float)
@@ -124,14 +124,6 @@ def vtk_points(grid, c):
     return [grid.GetPoint(ids.GetId(i)) for i in range(ids.GetNumberOfIds())]
 
 
-def polygon_area(pts):
-    n = [0.0, 0.0, 0.0]
-    for i in range(len(pts)):
-        a, b = pts[i], pts[(i + 1) % len(pts)]
-        n[0] += (a[1] - b[1]) * (a[2] + b[2])
-        n[1] += (a[2] - b[2]) * (a[0] + b[0])
-        n[2] += (a[0] - b[0]) * (a[1] + b[1])
-    return 0.5 * sum(x * x for x in n) ** 0.5
 
 
 def foam_boundary(case):

@@ -107,21 +107,8 @@ def read_ex(path, n_cells):
     return rows
 
 
-def seeds_csv(path):
-    with open(path) as f:
-        next(f)
-        return [tuple(float(x) for x in line.split(",")[:3]) for line in f if line.strip()]
 
 
-def polygon_area(pts):
-    # Newell's normal: half its length is the area of a planar polygon
-    n = [0.0, 0.0, 0.0]
-    for i in range(len(pts)):
-        a, b = pts[i], pts[(i + 1) % len(pts)]
-        n[0] += (a[1] - b[1]) * (a[2] + b[2])
-        n[1] += (a[2] - b[2]) * (a[0] + b[0])
-        n[2] += (a[0] - b[0]) * (a[1] + b[1])
-    return 0.5 * math.sqrt(sum(x * x for x in n))
 
 
 def run_case(name, inputs, expect_patches):
@@ -144,7 +131,7 @@ def run_case(name, inputs, expect_patches):
     grid = vtkcheck.read_vtu(vtu)
     volume = vtkcheck.cell_array(grid, "volume")
     seed_of = vtkcheck.cell_array(grid, "seed")
-    xyz = seeds_csv(seeds)
+    xyz = e2eutil.seeds_csv(seeds)
     check(len(cells) == grid.GetNumberOfCells(), "%s: %d cells, the .vtu %d"
           % (name, len(cells), grid.GetNumberOfCells()))
     worst_v = worst_p = 0.0
@@ -162,7 +149,7 @@ def run_case(name, inputs, expect_patches):
     shared, boundary = {}, defaultdict(float)
     for key, owners in faces.items():
         pts = [grid.GetPoint(p) for p in owners[0][1]]
-        a = polygon_area(pts)
+        a = e2eutil.polygon_area(pts)
         if len(owners) == 2:
             shared[tuple(sorted((owners[0][0], owners[1][0])))] = a
         else:

@@ -36,21 +36,6 @@ def info_regions(path):
     return rc, regions, m.group(1) if m else None, out, err
 
 
-def obj_volume(path):
-    pts, vol = [], 0.0
-    with open(path) as f:
-        for line in f:
-            w = line.split()
-            if w and w[0] == "v":
-                pts.append(tuple(map(float, w[1:4])))
-            elif w and w[0] == "f":
-                idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
-                a = pts[idx[0]]
-                for q in range(1, len(idx) - 1):
-                    b, c = pts[idx[q]], pts[idx[q + 1]]
-                    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                            a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-    return vol
 
 
 # name: dims, label, twice, flip; expected regions (volume, kind, parent, holes)
@@ -115,7 +100,7 @@ for name, (dims, label, twice, flip, want, one, mesh_volume) in CASES.items():
     else:
         check(rc == 0, "%s: mesh exit %d: %s" % (name, rc, err[-800:]))
         if rc == 0:
-            v = abs(obj_volume(surf))
+            v = abs(e2eutil.obj_volume(surf))
             check(abs(v - mesh_volume) <= 0.005 * mesh_volume,
                   "%s: reconstructed volume %.6g, the solid's %g" % (name, v, mesh_volume))
             print("%s: meshed, reconstructed volume %.6g of %g" % (name, v, mesh_volume), flush=True)
@@ -136,7 +121,7 @@ for name, volume in (("inclusion", 56), ("nested3", 152 + 8), ("cavity", 56), ("
         continue
     check(rc == 0, "%s --cavities: exit %d: %s" % (name, rc, err[-800:]))
     if rc == 0:
-        v = abs(obj_volume(surf))
+        v = abs(e2eutil.obj_volume(surf))
         check(abs(v - volume) <= 0.005 * volume, "%s --cavities: reconstructed volume %.6g, the "
               "solid's %g" % (name, v, volume))
         print("%s --cavities: meshed, reconstructed volume %.6g of %g" % (name, v, volume), flush=True)

@@ -101,10 +101,6 @@ def read_mesh(path):
     return elements, conns
 
 
-def seeds_csv(path):
-    with open(path) as f:
-        next(f)
-        return [tuple(float(x) for x in line.split(",")[:3]) for line in f if line.strip()]
 
 
 def rel(a, b):
@@ -129,7 +125,7 @@ def run_case(name, inputs, n_regions):
     volume = vtkcheck.cell_array(grid, "volume")
     region = vtkcheck.cell_array(grid, "region")
     seed_of = vtkcheck.cell_array(grid, "seed")
-    xyz = seeds_csv(seeds)
+    xyz = e2eutil.seeds_csv(seeds)
     names = [e[0] for e in elements]
     check(len(set(names)) == len(names), "%s: element names repeat" % name)
     index = {n: k for k, n in enumerate(names)}

@@ -188,3 +188,40 @@ def find_checkmesh():
     for k in ("ASAN_OPTIONS", "UBSAN_OPTIONS", "LD_PRELOAD"):
         env.pop(k, None)
     return exe, env
+
+
+def obj_volume(path):
+    """Volume enclosed by an OBJ polygon surface (polygons fanned)."""
+    pts, vol = [], 0.0
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if not t:
+                continue
+            if t[0] == "v":
+                pts.append(tuple(map(float, t[1:4])))
+            elif t[0] == "f":
+                p = [pts[int(x.split("/")[0]) - 1] for x in t[1:]]
+                a = p[0]
+                for b, c in zip(p[1:-1], p[2:]):
+                    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                            + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    return vol
+
+
+def polygon_area(pts):
+    """Area of a planar polygon: half the length of its Newell normal."""
+    n = [0.0, 0.0, 0.0]
+    for i in range(len(pts)):
+        a, b = pts[i], pts[(i + 1) % len(pts)]
+        n[0] += (a[1] - b[1]) * (a[2] + b[2])
+        n[1] += (a[2] - b[2]) * (a[0] + b[0])
+        n[2] += (a[0] - b[0]) * (a[1] + b[1])
+    return 0.5 * sum(x * x for x in n) ** 0.5
+
+
+def seeds_csv(path):
+    """The x, y, z of a seeds CSV (header line, rows x,y,z[,label])."""
+    with open(path) as f:
+        next(f)
+        return [tuple(float(x) for x in line.split(",")[:3]) for line in f if line.strip()]

@@ -187,6 +187,13 @@ typedef struct vc_boundary_patches {
     int32_t *label_value;  /* ascending; NULL without cell_region */
 } vc_boundary_patches;
 
+/* The point where the segment between the seed of face f's owner and the
+ * seed across f (the neighbour's, or the non-kept one of a boundary face)
+ * crosses f: their midpoint, on the bisector that holds the face; the
+ * face's centroid for a face on a wall of the clipping box. The two-point
+ * flux's face point: the distance from either seed is half theirs. */
+void vc_polymesh_face_seed_point(const vc_polymesh *m, int64_t f, double x[3]);
+
 /* Fills out. Returns 0, -1 when out of memory, -2 for a boundary face with
  * an unknown wall code (its index in *bad_face when not NULL). */
 int vc_polymesh_boundary_patches(const vc_polymesh *m, vc_boundary_patches *out,

@@ -1,6 +1,7 @@
 /* The boundary faces of a mesh as a .vtu of VTK_POLYGON cells, with their
  * patch and region (see include/vorocrust/io.h, vc_write_boundary_vtu). */
 #include "vorocrust/io.h"
+#include "io/io_patches.h"
 
 #include "io/tmpfile.h"
 
@@ -15,13 +16,9 @@ int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err)
     if (!m || !path || !*path)
         return vc_error_set(err, VC_EPARAM, "vc_write_boundary_vtu: no mesh or no path");
     vc_boundary_patches bp;
-    int64_t bad = -1;
-    const int prc = vc_polymesh_boundary_patches(m, &bp, &bad);
-    if (prc == -1)
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    if (prc == -2)
-        return vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64 " has an unknown wall",
-                            path, bad);
+    const int prc = vc_io_boundary_patches(m, path, &bp, err);
+    if (prc)
+        return prc;
     const int64_t ni = m->n_interior_faces, nb = m->n_faces - ni;
     /* the boundary faces' points, numbered by first use */
     int64_t *map = malloc(sizeof(int64_t) * (size_t)(m->n_points + 1));

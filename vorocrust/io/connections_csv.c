@@ -5,6 +5,7 @@
  *
  * Rows are formatted in parallel, in chunks, and written in order. */
 #include "vorocrust/io.h"
+#include "io/io_patches.h"
 
 #include "io/csv_rows.h"
 
@@ -135,13 +136,9 @@ int vc_write_connections_csv(const vc_polymesh *m, const char *path, vc_error *e
     if (rc)
         return rc;
     vc_boundary_patches bp;
-    int64_t bad = -1;
-    const int prc = vc_polymesh_boundary_patches(m, &bp, &bad);
-    if (prc == -1)
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    if (prc == -2)
-        return vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64 " has an unknown wall",
-                            path, bad);
+    const int prc = vc_io_boundary_patches(m, path, &bp, err);
+    if (prc)
+        return prc;
     const conn_ctx ctx = {m, &bp};
     rc = vc_csv_write_rows(path, "cell_i,cell_j,seed_i,seed_j,area,distance,cx,cy,cz,nx,ny,nz,"
                            "region_i,region_j,patch\n",

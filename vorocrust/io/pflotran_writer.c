@@ -9,6 +9,7 @@
  * For a boundary face the other seed is the non-kept one across it, so
  * the point is again on the face's plane, at the cell's half-distance. */
 #include "vorocrust/io.h"
+#include "io/io_patches.h"
 
 #include "io/tmpfile.h"
 
@@ -17,22 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* The point of face f between the seeds of its owner and the seed across
- * it (the neighbour's, or the non-kept one for a boundary face; a wall of
- * the box has none: the face centroid then). */
-static void face_point(const vc_polymesh *m, int64_t f, double x[3])
-{
-    const int64_t o = m->face_other_seed ? m->face_other_seed[f] : -1;
-    const double *a = m->seed_xyz + 3 * m->cell_seed[m->face_owner[f]];
-    if (o >= 0 && o < m->n_seeds) {
-        const double *b = m->seed_xyz + 3 * o;
-        for (int k = 0; k < 3; k++)
-            x[k] = 0.5 * (a[k] + b[k]);
-    } else {
-        memcpy(x, m->face_centroid + 3 * f, sizeof(double) * 3);
-    }
-}
 
 static int write_uge(const vc_polymesh *m, const char *path, vc_error *err)
 {
@@ -49,7 +34,7 @@ static int write_uge(const vc_polymesh *m, const char *path, vc_error *err)
     bad = bad || fprintf(fp, "CONNECTIONS %" PRId64 "\n", m->n_interior_faces) < 0;
     for (int64_t f = 0; f < m->n_interior_faces && !bad; f++) {
         double x[3];
-        face_point(m, f, x);
+        vc_polymesh_face_seed_point(m, f, x);
         bad = fprintf(fp, "%" PRId64 " %" PRId64 " %.17g %.17g %.17g %.17g\n",
                       m->face_owner[f] + 1, m->face_neighbour[f] + 1, x[0], x[1], x[2],
                       m->face_area[f]) < 0;
@@ -74,7 +59,7 @@ static int write_ex(const vc_polymesh *m, const vc_boundary_patches *bp, int pat
         if (bp->face_patch[f - m->n_interior_faces] != patch)
             continue;
         double x[3];
-        face_point(m, f, x);
+        vc_polymesh_face_seed_point(m, f, x);
         bad = fprintf(fp, "%" PRId64 " %.17g %.17g %.17g %.17g\n", m->face_owner[f] + 1, x[0],
                       x[1], x[2], m->face_area[f]) < 0;
     }
@@ -108,13 +93,9 @@ int vc_write_pflotran(const vc_polymesh *m, const char *path, vc_error *err)
         return vc_error_set(err, VC_EINPUT, "%s: the mesh lacks seeds, volumes or face areas",
                             path);
     vc_boundary_patches bp;
-    int64_t bad = -1;
-    const int prc = vc_polymesh_boundary_patches(m, &bp, &bad);
-    if (prc == -1)
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    if (prc == -2)
-        return vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64 " has an unknown wall",
-                            path, bad);
+    const int prc = vc_io_boundary_patches(m, path, &bp, err);
+    if (prc)
+        return prc;
     int rc = write_uge(m, path, err);
     for (int k = 0; k < bp.n_patches && rc == VC_OK; k++) {
         char *ex = ex_path(path, bp.name[k]);

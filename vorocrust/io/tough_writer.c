@@ -7,6 +7,7 @@
  * digits (fixed or exponent notation): coordinates with large offsets
  * keep nine digits where "0.1234E+07" would keep four. */
 #include "vorocrust/io.h"
+#include "io/io_patches.h"
 
 #include "io/tmpfile.h"
 
@@ -79,21 +80,6 @@ static int fmt10(double x, char out[11])
         strcat(best, ".");
     snprintf(out, 11, "%10s", best);
     return 0;
-}
-
-/* The point of face f across from its owner's seed (the seeds' midpoint,
- * on the face's plane), or its centroid on a wall of the box. */
-static void face_point(const vc_polymesh *m, int64_t f, double x[3])
-{
-    const int64_t o = m->face_other_seed ? m->face_other_seed[f] : -1;
-    const double *a = m->seed_xyz + 3 * m->cell_seed[m->face_owner[f]];
-    if (o >= 0 && o < m->n_seeds) {
-        const double *b = m->seed_xyz + 3 * o;
-        for (int k = 0; k < 3; k++)
-            x[k] = 0.5 * (a[k] + b[k]);
-    } else {
-        memcpy(x, m->face_centroid + 3 * f, sizeof(double) * 3);
-    }
 }
 
 typedef struct tough_out {
@@ -169,13 +155,9 @@ int vc_write_tough(const vc_polymesh *m, const char *path, vc_error *err)
                             "%lld five-character element names TOUGH reads",
                             path, m->n_cells, nb, (long long)NAME_CAPACITY);
     vc_boundary_patches bp;
-    int64_t badf = -1;
-    const int prc = vc_polymesh_boundary_patches(m, &bp, &badf);
-    if (prc == -1)
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
-    if (prc == -2)
-        return vc_error_set(err, VC_EINPUT, "%s: boundary face %" PRId64 " has an unknown wall",
-                            path, badf);
+    const int prc = vc_io_boundary_patches(m, path, &bp, err);
+    if (prc)
+        return prc;
     /* boundary elements patch by patch, faces in mesh order within each:
      * element n_cells + belem[f - ni] */
     int64_t *belem = malloc(sizeof(int64_t) * (size_t)(nb + 1));
@@ -225,7 +207,7 @@ int vc_write_tough(const vc_polymesh *m, const char *path, vc_error *err)
     for (int64_t e = 0; e < nb && !o.bad; e++) {
         const int64_t f = face_of[e];
         double x[3];
-        face_point(m, f, x);
+        vc_polymesh_face_seed_point(m, f, x);
         element_name(m->n_cells + e, n1);
         const int64_t c = m->face_owner[f];
         element(&o, n1, m->cell_region ? m->cell_region[c] : 1, BOUNDARY_VOLUME, x);
@@ -247,7 +229,7 @@ int vc_write_tough(const vc_polymesh *m, const char *path, vc_error *err)
         const int64_t f = face_of[e], a = m->face_owner[f];
         const double *xa = m->seed_xyz + 3 * m->cell_seed[a];
         double x[3];
-        face_point(m, f, x);
+        vc_polymesh_face_seed_point(m, f, x);
         const double d1 = sqrt((x[0] - xa[0]) * (x[0] - xa[0]) + (x[1] - xa[1]) * (x[1] - xa[1]) +
                                (x[2] - xa[2]) * (x[2] - xa[2]));
         element_name(a, n1);

@@ -39,9 +39,8 @@ int vc_mesh_boundary_groups(vc_polymesh *m, const vc_surface *s, const int32_t *
         const int64_t o = m->face_other_seed ? m->face_other_seed[f] : -1;
         int32_t g = -1;
         if (o >= 0 && o < m->n_seeds) {
-            const double *a = m->seed_xyz + 3 * m->cell_seed[m->face_owner[f]];
-            const double *b = m->seed_xyz + 3 * o;
-            const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+            double x[3];
+            vc_polymesh_face_seed_point(m, f, x);
             const int64_t t = vc_region_locator_nearest(L, x);
             g = t >= 0 ? tri_group[t] : -1;
         }

@@ -27,6 +27,19 @@ static int cmp_i32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+void vc_polymesh_face_seed_point(const vc_polymesh *m, int64_t f, double x[3])
+{
+    const int64_t o = m->face_other_seed ? m->face_other_seed[f] : -1;
+    const double *a = m->seed_xyz + 3 * m->cell_seed[m->face_owner[f]];
+    if (o >= 0 && o < m->n_seeds) {
+        const double *b = m->seed_xyz + 3 * o;
+        for (int k = 0; k < 3; k++)
+            x[k] = 0.5 * (a[k] + b[k]);
+    } else {
+        memcpy(x, m->face_centroid + 3 * f, sizeof(double) * 3);
+    }
+}
+
 int vc_boundary_patches_label_rank(const vc_boundary_patches *p, int32_t label)
 {
     if (p->n_labels <= 1)
