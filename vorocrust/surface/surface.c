@@ -417,7 +417,12 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *p
         for (int32_t g = 0; p->tri_group && g < p->n_groups && g < 1024; g++)
             if ((map[g] = concat_group(out, p->group_name[g], &cap)) < 0)
                 single = -2;
-        if (single == -2 || (!p->tri_group && single < 0) || (p->tri_group && p->n_groups > 1024)) {
+        if (p->tri_group && p->n_groups > 1024) {
+            vc_surface_free(out);
+            return vc_error_set(err, VC_EINPUT, "%s: %d groups of triangles (at most 1024 per "
+                                "input file)", own, (int)p->n_groups);
+        }
+        if (single == -2 || (!p->tri_group && single < 0)) {
             vc_surface_free(out);
             return vc_error_set(err, VC_ENOMEM, "out of memory joining the input surfaces");
         }
