@@ -78,7 +78,7 @@ static int fmt10(double x, char out[11])
      * Fortran's E edit accepts it, but keep the point for clarity */
     if (!strchr(best, '.') && !strchr(best, 'e') && strlen(best) < 10)
         strcat(best, ".");
-    snprintf(out, 11, "%10s", best);
+    snprintf(out, 11, "%10.10s", best);
     return 0;
 }
 
