@@ -14,6 +14,7 @@ For each case, from the .vtu (read by VTK) and the OpenFOAM case:
   - the connections CSV names both cells' regions;
   - checkMesh prints "Mesh OK.", splitMeshRegions -cellZones splits the
     case into one mesh per region, and checkMesh passes each.
+The basin part also meshes a layer that pinches out at 14 degrees.
 Parts (one ctest test each): boxes, spheres, basin, non_manifold_box
 (skipped without the shared models). Environment: VC_BIN, VC_TMP, VC_SOURCE,
 VC_MODELS."""
@@ -157,12 +158,80 @@ def layered_box(path, n, size, surfaces):
             fh.write("f %d %d %d\n" % t)
 
 
+def pinch_out_box(path, n, slope, size=(2.0, 1.0, 1.0), x0=0.5):
+    """A box whose bottom layer pinches out: an interface z = slope (x - x0)
+    for x >= x0 meets the bottom along the line x = x0 at atan(slope), a
+    wedge of a region (a layer thinning to nothing, as in a basin)."""
+    X, Y, Z = size
+    fs = [lambda x, y: 0.0, lambda x, y: max(0.0, slope * (x - x0)), lambda x, y: Z]
+    verts, index, tris = [], {}, []
+
+    def vid(p):
+        key = tuple(round(c, 12) for c in p)
+        if key not in index:
+            index[key] = len(verts) + 1
+            verts.append(p)
+        return index[key]
+
+    def tri(a, b, c):
+        pa, pb, pc = verts[a - 1], verts[b - 1], verts[c - 1]
+        u = [pb[i] - pa[i] for i in range(3)]
+        v = [pc[i] - pa[i] for i in range(3)]
+        cr = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        if sum(x * x for x in cr) > 1e-24:  # the wedge's walls vanish where it ends
+            tris.append((a, b, c))
+
+    def quad(a, b, c, d):
+        tri(a, b, c)
+        tri(a, c, d)
+
+    xs = [X * i / n for i in range(n + 1)]
+    ys = [Y * j / n for j in range(n + 1)]
+    for s_, g in enumerate(fs):
+        for i in range(n):
+            if s_ == 1 and xs[i] < x0 - 1e-12:
+                continue  # the interface exists where the wedge does
+            for j in range(n):
+                p = [vid((xs[a], ys[b], g(xs[a], ys[b]))) for a, b in
+                     ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1))]
+                if s_ == 0:
+                    quad(p[0], p[3], p[2], p[1])
+                else:
+                    quad(*p)
+    m = max(2, n // 4)
+
+    def wall(points, sign):
+        for L in range(2):
+            lo, hi = fs[L], fs[L + 1]
+            for k in range(len(points) - 1):
+                (xa, ya), (xb, yb) = points[k], points[k + 1]
+                if hi(xa, ya) - lo(xa, ya) < 1e-12 and hi(xb, yb) - lo(xb, yb) < 1e-12:
+                    continue
+                for t in range(m):
+                    def P(x, y, u):
+                        return vid((x, y, lo(x, y) + (hi(x, y) - lo(x, y)) * u))
+                    a, b = P(xa, ya, t / m), P(xb, yb, t / m)
+                    c, d = P(xb, yb, (t + 1) / m), P(xa, ya, (t + 1) / m)
+                    if sign > 0:
+                        quad(a, b, c, d)
+                    else:
+                        quad(a, d, c, b)
+    wall([(x, 0.0) for x in xs], 1)
+    wall([(x, Y) for x in xs], -1)
+    wall([(X, y) for y in ys], 1)
+    wall([(0.0, y) for y in ys], -1)
+    with open(path, "w") as fh:
+        fh.writelines("v %.17g %.17g %.17g\n" % v for v in verts)
+        fh.writelines("f %d %d %d\n" % t for t in tris)
+
+
 def cube_label(lo, hi):
     return lambda i, j, k: 1 if all(lo[d] <= (i, j, k)[d] < hi[d] for d in range(3)) else 0
 
 
 # ---- the cases: name -> (input files, {region label: (volume, euler)}) ---
 cases = {}
+NO_FOAM = {"pinch_out"}
 
 
 def voxel_case(name, dims, label, volumes, twice=False):
@@ -209,6 +278,14 @@ elif PART == "basin":
     vols = [float(v) for v in re.findall(r"^region \d+: volume ([-0-9.e+]+)", out, re.M)]
     check(len(vols) == 3, "basin: info lists %d regions, expected 3" % len(vols))
     cases["basin"] = ([basin], {k + 1: (v, 2) for k, v in enumerate(vols)})
+    # a layer pinching out at 14 degrees: a wedge region, a non-manifold
+    # edge where three sheets meet at a small angle
+    pinch = os.path.join(TMP, "pinch_out.obj")
+    pinch_out_box(pinch, 20, 0.25)
+    rc, out, err = e2eutil.run([BIN, "info", pinch], timeout=60)
+    vols = [float(v) for v in re.findall(r"^region \d+: volume ([-0-9.e+]+)", out, re.M)]
+    check(len(vols) == 2, "pinch_out: info lists %d regions, expected 2" % len(vols))
+    cases["pinch_out"] = ([pinch], {k + 1: (v, 2) for k, v in enumerate(vols)})
 else:
     # Sandia's test case: a box split by internal walls, 32 non-manifold edges
     cases["non_manifold_box"] = ([os.path.join(MODELS, "non_manifold_box.obj")],
@@ -320,9 +397,12 @@ for name, (inputs, want) in cases.items():
     vtu = os.path.join(TMP, name + ".vtu")
     conn = os.path.join(TMP, name + ".csv")
     case = os.path.join(TMP, name + "_case")
+    # the pinch-out's exact cells keep faces above checkMesh's skewness
+    # limit that the collapse (which keeps the interfaces in place) cannot
+    # fix: no OpenFOAM case there (issue 20)
+    foam = [] if name in NO_FOAM else ["--foam", case]
     rc, out, err = e2eutil.run([BIN, "mesh"] + inputs + ["-o", vtu, "--connections", conn,
-                                                         "--foam", case, "--threads", "2"],
-                               timeout=110)
+                                                         "--threads", "2"] + foam, timeout=110)
     if not check(rc == 0, "%s: mesh exit %d: %s" % (name, rc, err[-1500:])):
         continue
     lines = re.findall(r"^  region (\d+): (\d+) cells, volume ([-0-9.e+]+) \(input ([-0-9.e+]+)",
@@ -339,6 +419,7 @@ for name, (inputs, want) in cases.items():
     if got is None:
         continue
     connections_checks(name, conn, grid, got[0])
-    foam_checks(name, case, want, got[1])
+    if name not in NO_FOAM:
+        foam_checks(name, case, want, got[1])
 
 sys.exit(1 if failures else 0)
