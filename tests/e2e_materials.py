@@ -250,6 +250,17 @@ if PART == "boxes":
     e2eutil.voxel_surface(a, (4, 2, 2), cube_label((0, 0, 0), (2, 2, 2)))
     e2eutil.voxel_surface(b, (4, 2, 2), cube_label((2, 0, 0), (4, 2, 2)))
     cases["two_files"] = ([a, b], {1: (8, 2), 2: (8, 2)})
+    # the same boxes in UTM-like coordinates: 4e6 from the origin, 200 wide
+    # (meshed about their centre, the results moved back)
+    utm = os.path.join(TMP, "two_boxes_utm.obj")
+    with open(os.path.join(TMP, "two_boxes.obj")) as f, open(utm, "w") as g:
+        for line in f:
+            w = line.split()
+            if w and w[0] == "v":
+                line = "v %.17g %.17g %.17g\n" % (512345.5 + 50 * float(w[1]), 4012345.5 + 50 * float(w[2]),
+                                                 -1000 + 50 * float(w[3]))
+            g.write(line)
+    cases["two_boxes_utm"] = ([utm], {1: (8 * 50 ** 3, 2), 2: (8 * 50 ** 3, 2)})
 elif PART == "spheres":
     # a sphere inside a cube: an inclusion (both outward) and a cavity (inward)
     cube = os.path.join(TMP, "cube4.obj")
@@ -410,7 +421,10 @@ for name, (inputs, want) in cases.items():
     check(len(want) == 1 or len(lines) >= len(want), "%s: the summary lists %d regions, expected %d"
           % (name, len(lines), len(want)))
     try:
-        info = vtkcheck.check_vtu(vtu, rel_tol=1e-8)
+        # far from the origin the file's coordinates keep 5e-10 of 4e6: a
+        # face 1e-3 wide then has a normal good to 5e-7, and the plane test
+        # of its cell's points to about that times the cell's size
+        info = vtkcheck.check_vtu(vtu, rel_tol=1e-8, plane_tol=1e-6 if name.endswith("_utm") else 1e-8)
     except vtkcheck.CheckError as e:
         check(False, "%s: %s" % (name, e))
         continue

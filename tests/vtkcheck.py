@@ -238,13 +238,18 @@ def validator_verdict(grid):
     states = validity_states(grid)
     suspects = {c: s for c, s in enumerate(states) if s != 0}
     flagged = len(suspects)
-    for ang in ROTATIONS:
+    # the copies are also moved to the box's centre: VTK's tolerances are
+    # absolute, a mesh far from the origin (UTM coordinates) loses to them
+    b = grid.GetBounds()
+    centre = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
+    for ang in ((0.0, 0.0, 0.0),) + ROTATIONS:
         if not suspects:
             break
         t = vtk.vtkTransform()
         t.RotateX(ang[0])
         t.RotateY(ang[1])
         t.RotateZ(ang[2])
+        t.Translate(-centre[0], -centre[1], -centre[2])  # applied first
         f = vtk.vtkTransformFilter()
         f.SetInputData(grid)
         f.SetTransform(t)
@@ -340,7 +345,7 @@ def convexity_problems(grid, rel_tol=1e-8):
     return out
 
 
-def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
+def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9, plane_tol=1e-8):
     """Reads path with VTK 9.1 and checks it is a sound polyhedral mesh:
 
     - expected_cells cells if given, every cell a VTK_POLYHEDRON;
@@ -348,7 +353,10 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
       in the original orientation or a rotated copy (see validator_verdict),
       except an orientation verdict taken from a box centre outside the cell
       (see FACES_ORIENTED_INCORRECTLY),
-      and convex with outward faces by an exact plane test;
+      and convex with outward faces by an exact plane test (points within
+      plane_tol of the cell's extent above a face plane: 1e-8, the engine's
+      merge tolerance; a mesh far from the origin needs more, its file
+      coordinates keeping fewer digits at the cells' scale);
     - the cell array "volume" equals the volume its faces enclose (computed
       here) within rel_tol (at least 1e-8, the engine's planarity of faces);
       VTK's vtkCellSizeFilter agrees (1e-6) or, where
@@ -396,7 +404,7 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9):
     if len(tiny) > max(1, n_cells // 200):
         _fail(path, "%d cells with tiny features rejected by vtkCellValidator (more than 0.5%%)"
               % len(tiny))
-    bad = convexity_problems(grid)
+    bad = convexity_problems(grid, plane_tol)
     if bad:
         _fail(path, "%d cell(s) not convex or not outward by the exact plane test, first: %s"
               % (len(bad), ", ".join("cell %d: %s" % cb for cb in bad[:5])))

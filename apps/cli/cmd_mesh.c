@@ -222,12 +222,20 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                 (long long)lst->n_moved, (long long)lst->n_refused, lst->mean_shift,
                 lst->max_shift, t->lloyd);
     const vc_polymesh *m = &r->mesh;
+    /* several materials: the input's volume is its material regions' */
+    double input_volume = r->input.volume;
+    if (r->multi_material) {
+        input_volume = 0;
+        for (int64_t k = 0; k < r->n_regions; k++)
+            if (r->region_mesh[k].label)
+                input_volume += r->region_mesh[k].input_volume;
+    }
     fprintf(stderr,
             "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
             "surface %.12g, input %.12g), %.3f s; %lld faces (%lld interior, %lld "
             "boundary), %lld vertices\n",
             (long long)m->n_cells, (long long)r->n_interior_seeds, r->mesh_volume,
-            r->surface_volume, r->input.volume, t->voronoi + t->quality + t_write_mesh,
+            r->surface_volume, input_volume, t->voronoi + t->quality + t_write_mesh,
             (long long)m->n_faces, (long long)m->n_interior_faces,
             (long long)(m->n_faces - m->n_interior_faces), (long long)m->n_points);
     {

@@ -663,6 +663,73 @@ static double outer_volume(const vc_polymesh *m, const vc_polysurface *surface)
     return v;
 }
 
+/* A model this many times its size from the origin is meshed about its
+ * centre (below it, the offset costs less than 4 bits). */
+#define FAR_FROM_ORIGIN 16.0
+
+static double far_size(const double *bbox)
+{
+    const double dx = bbox[3] - bbox[0], dy = bbox[4] - bbox[1], dz = bbox[5] - bbox[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* When the box's centre is more than FAR_FROM_ORIGIN sizes from the
+ * origin: *out = s moved by -centre (its own vertices; triangles and
+ * groups borrowed from s: free it with free_centred), the centre in shift.
+ * Otherwise *out stays empty. Returns 0 or VC_ENOMEM. */
+static int centre_far_model(const vc_surface *s, const double *bbox, vc_surface *out,
+                            double shift[3], vc_error *err)
+{
+    double c[3], far = 0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5 * (bbox[k] + bbox[k + 3]);
+        far = fmax(far, fabs(c[k]));
+    }
+    if (!(far > FAR_FROM_ORIGIN * far_size(bbox)))
+        return 0;
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
+    if (!out->xyz)
+        return vc_error_set(err, VC_ENOMEM, "out of memory moving the model");
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int k = 0; k < 3; k++)
+            out->xyz[3 * v + k] = s->xyz[3 * v + k] - c[k];
+    out->n_vertices = s->n_vertices;
+    out->n_triangles = s->n_triangles;
+    out->tri = s->tri;
+    out->tri_group = s->tri_group;
+    out->n_groups = s->n_groups;
+    out->group_name = s->group_name;
+    memcpy(shift, c, sizeof c);
+    return 0;
+}
+
+static void free_centred(vc_surface *c)
+{
+    free(c->xyz);
+    memset(c, 0, sizeof *c); /* the rest is borrowed */
+}
+
+static void move_points(double *xyz, int64_t n, const double shift[3])
+{
+    for (int64_t i = 0; xyz && i < n; i++)
+        for (int k = 0; k < 3; k++)
+            xyz[3 * i + k] += shift[k];
+}
+
+/* Every position of the results back by +shift (volumes, areas and
+ * normals do not move). */
+static void move_results(vc_mesh_result *out, const double shift[3])
+{
+    move_points(out->balls.center, out->balls.n, shift);
+    move_points(out->seeds.xyz, out->seeds.n, shift);
+    move_points(out->surface.points, out->surface.n_points, shift);
+    vc_polymesh *m = &out->mesh;
+    move_points(m->points, m->n_points, shift);
+    move_points(m->face_centroid, m->n_faces, shift);
+    move_points(m->cell_centroid, m->n_cells, shift);
+    move_points(m->seed_xyz, m->n_seeds, shift);
+}
+
 /* s with the triangles flip[t] != 0 reversed, into *out. */
 static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
                            vc_error *err)
@@ -730,6 +797,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&oriented, 0, sizeof oriented);
     vc_materials mm;     /* with several regions */
     memset(&mm, 0, sizeof mm);
+    vc_surface centred;  /* a model far from the origin, moved to it */
+    memset(&centred, 0, sizeof centred);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -777,6 +846,23 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                               name, size, VC_MESH_MIN_SIZE, VC_MESH_MAX_SIZE);
             goto fail;
         }
+    }
+
+    /* Far from the origin (a model in UTM coordinates: 4e6 away, 4e3 wide),
+     * every stage would compute with coordinates that carry the offset's
+     * magnitude and lose its digits at the mesh's scale (the Voronoi engine
+     * then fails on a layered basin). The pipeline runs on the model moved
+     * to its box's centre, and the results are moved back at the end. */
+    double shift[3] = {0, 0, 0};
+    if ((rc = centre_far_model(s, out->input.bbox, &centred, shift, err)) != 0)
+        goto fail;
+    if (centred.xyz) {
+        s = &centred;
+        s_input = &centred;
+        vc_log(opt.log, VC_LOG_INFO, "mesh: the model lies %.3g of its size from the origin: "
+               "meshed about its centre (%.17g, %.17g, %.17g)",
+               sqrt(shift[0] * shift[0] + shift[1] * shift[1] + shift[2] * shift[2]) /
+                   far_size(out->input.bbox), shift[0], shift[1], shift[2]);
     }
 
     /* The regions of its arrangement: one solid as its orientation defines
@@ -878,13 +964,17 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = out->multi_material ? outer_volume(&out->mesh, &out->surface)
                                               : vc_polysurface_volume(&out->surface);
+    if (centred.xyz)
+        move_results(out, shift);
     out->time.total = now() - t0;
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
+    free_centred(&centred);
     return 0;
 fail:
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
+    free_centred(&centred);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }
