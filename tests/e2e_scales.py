@@ -146,5 +146,25 @@ if check(ref is not None, "mesh unit cube: exit %s: %s" % (rc, err[-400:])):
                 check(ok, what + " (expected the same cells or one clear line)")
             print(("%s" if ok else "KNOWN PROBLEM (not failed): %s") % what)
 
+# a cube far from the origin (UTM-like: 1e7 away, 1 wide) is meshed about
+# its centre: the same cells and volume as the same cube centred at the origin
+def mesh_moved(name, offset):
+    obj = os.path.join(TMP, name + ".obj")
+    with open(obj, "w") as f:
+        for v in CUBE_V:
+            f.write("v %r %r %r\n" % tuple(c - 0.5 + o for c, o in zip(v, offset)))
+        for t in CUBE_F:
+            f.write("f %d %d %d\n" % t)
+    rc, err = run([BIN, "mesh", obj, "-o", os.path.join(TMP, name + ".vtu"), "--threads", "2"], 120)
+    m = re.search(r"volume mesh: (\d+) cells .*?, volume (\S+) ", err)
+    return rc, err, (int(m.group(1)), float(m.group(2))) if rc == 0 and m else None
+
+
+rc, err, centred = mesh_moved("cube-centred", (0, 0, 0))
+rc2, err2, far = mesh_moved("cube-far", (1e7, 1e7, 0))
+check(centred is not None and far is not None and far == centred and "meshed about its centre" in err2,
+      "cube 1e7 from the origin: %s (exit %s), centred %s: %s" % (far, rc2, centred, err2[-300:]))
+print("cube 1e7 from the origin: %s, the same cube centred %s" % (far, centred))
+
 print("e2e_scales: %d failures, %.1f s" % (len(failures), time.time() - T0))
 sys.exit(1 if failures else 0)
