@@ -587,19 +587,26 @@ static int run_mesh(int argc, char **argv)
         if (frc)
             return frc;
     }
-    const char *outputs[8] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
-                              tough_path, foam_path};
-    for (int i = 0; i < 8; i++) {
+    /* -o OUT.vtu writes OUT_boundary.vtu too */
+    char *boundary_out = out_path ? boundary_path(out_path) : NULL;
+    const char *outputs[9] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
+                              tough_path, boundary_out, foam_path};
+    for (int i = 0; i < 9; i++) {
         if (!outputs[i])
             continue;
         for (int j = 0; j < i; j++)
             if (outputs[j] && !strcmp(outputs[i], outputs[j])) {
-                fprintf(stderr, "vorocrust: %s: named by two outputs\n", outputs[i]);
+                fprintf(stderr, "vorocrust: %s: named by two outputs%s\n", outputs[i],
+                        i == 7 || j == 7 ? " (-o writes its _boundary.vtu too)" : "");
+                free(boundary_out);
                 return 2;
             }
-        if (i < 7 && vc_cli_check_output_file(outputs[i])) /* foam_path: checked above */
+        if (i < 8 && vc_cli_check_output_file(outputs[i])) { /* foam_path: checked above */
+            free(boundary_out);
             return 1;
+        }
     }
+    free(boundary_out);
     if (fold_creases)
         opt.resample = VC_RESAMPLE_FOLDS;
     else if (sharp_angle_given)
