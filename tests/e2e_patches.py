@@ -1,7 +1,9 @@
 """End-to-end test of the boundary patches (issue 21): a 4 x 1 x 1 duct whose
 input names its inlet (x = 0), outlet (x = 4) and walls, as OBJ groups, as
 the solids of an ASCII STL, as a PLY face property, and as two input files
-(two regions); and the sharp-feature patches (--patches features).
+(two regions); a group whose border crosses a flat face (borders are
+protected as creases, so its area is exact); and the sharp-feature patches
+(--patches features).
 
 Checked on every output: the summary's patches and areas (inlet 1, outlet
 1, walls 16), OUT_boundary.vtu (read by VTK: patch names, per-patch area),
@@ -244,6 +246,17 @@ if rc == 0:
     check(groups == {"region1_left": "List<word> 1(left)", "region2_right": "List<word> 1(right)"},
           "files: inGroups %r" % groups)
     print("files: region1_left and region2_right, with their input groups", flush=True)
+
+# ---- a group border on a flat face: protected as a crease, exact areas ---------
+split = os.path.join(TMP, "split.obj")
+with open(split, "w") as f:
+    f.write("v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nv 0 0 1\nv 2 0 1\nv 2 1 1\nv 0 1 1\n"
+            "v 0.7 0 1\nv 0.7 1 1\ng walls\nf 1 3 2\nf 1 4 3\nf 1 2 6 9 5\nf 2 3 7\nf 2 7 6\n"
+            "f 3 4 8 10 7\nf 4 1 5\nf 4 5 8\nf 6 7 10\nf 6 10 9\ng inlet\nf 5 9 10\nf 5 10 8\n")
+rc, err = mesh("split", [split])
+if rc == 0:
+    check_outputs("split", err, {"walls": 9.3, "inlet": 0.7})
+    print("split: the inlet, 0.7 of a flat face, has exactly its area (its border is a crease)", flush=True)
 
 # ---- sharp-feature patches -----------------------------------------------------
 rc, err = mesh("features", [obj], "--patches", "features")

@@ -68,11 +68,22 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
             dup[key[i].tri] = 1;
     memcpy(m->surface.xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
     m->surface.n_vertices = s->n_vertices;
+    /* the input's groups go along (their borders are creases) */
+    if (s->tri_group && s->n_groups > 0) {
+        m->surface.tri_group = malloc(sizeof(int32_t) * (size_t)(nt + 1));
+        m->surface.group_name = malloc(sizeof *s->group_name * (size_t)s->n_groups);
+        if (!m->surface.tri_group || !m->surface.group_name)
+            goto oom;
+        memcpy(m->surface.group_name, s->group_name, sizeof *s->group_name * (size_t)s->n_groups);
+        m->surface.n_groups = s->n_groups;
+    }
     int64_t n = 0, nrv = 0;
     for (int64_t t = 0; t < nt; t++) {
         if (dup[t])
             continue;
         memcpy(m->surface.tri + 3 * n, s->tri + 3 * t, sizeof(int64_t) * 3);
+        if (m->surface.tri_group)
+            m->surface.tri_group[n] = s->tri_group[t];
         for (int side = 0; side < 2; side++) {
             const int64_t k = r->side_region[2 * t + side];
             m->side_region[2 * n + side] = k;

@@ -379,6 +379,29 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
 
 /* The sampling, with more attempts when it diverges (resample_plan,
  * promote_folds). Fills out's sampling fields and balls. */
+/* *extra (allocated, per edge of vc_features_detect's numbering, which is
+ * the surface's own): 1 for an edge between triangles of two groups. */
+static int group_borders(const vc_surface *s, double sharp_angle, unsigned char **extra,
+                         vc_error *err)
+{
+    vc_features f;
+    memset(&f, 0, sizeof f);
+    int rc = vc_features_detect(s, sharp_angle, &f, err);
+    if (rc)
+        return rc;
+    *extra = calloc((size_t)f.n_edges + 1, 1);
+    if (!*extra) {
+        vc_features_free(&f);
+        return vc_error_set(err, VC_ENOMEM, "out of memory");
+    }
+    for (int64_t e = 0; e < f.n_edges; e++)
+        for (int64_t k = f.edge_tri_start[e] + 1; k < f.edge_tri_start[e + 1]; k++)
+            if (s->tri_group[f.edge_tri[k]] != s->tri_group[f.edge_tri[f.edge_tri_start[e]]])
+                (*extra)[e] = 1;
+    vc_features_free(&f);
+    return 0;
+}
+
 static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *name,
                   const vc_materials *mm, vc_mesh_result *out, vc_error *err)
 {
@@ -406,11 +429,18 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     out->first_sharp_angle = so.sharp_angle;
     const int folds = (opt->resample & VC_RESAMPLE_FOLDS) && smooth == 0;
     unsigned char *stuck = NULL, *extra = NULL;
+    /* the borders between the input's groups are creases: the patches'
+     * edges are then sampled, and every boundary facet lies on one side */
+    if (opt->patches == VC_PATCHES_GROUPS && s->tri_group && s->n_groups > 1 &&
+        (rc = group_borders(s, opt->sharp_angle, &extra, err)) != 0)
+        return named(err, name, NULL);
     int fold_round = 0;
     if (folds) {
         stuck = calloc((size_t)s->n_triangles + 1, 1);
-        if (!stuck)
+        if (!stuck) {
+            free(extra);
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+        }
         so.stuck_tri = stuck;
         so.fold_stop_angle = FOLD_FLAT;
     }
