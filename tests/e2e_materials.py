@@ -104,66 +104,13 @@ def concat_obj(path, parts):
 
 def layered_box(path, n, size, surfaces):
     """A box [0,X]x[0,Y]x[0,Z] split by graph surfaces z = f(x, y) (listed
-    bottom to top, not crossing): every layer a closed region, the
-    interfaces once, every triangle facing out of the lower label
-    direction (+z for horizontal ones). n: grid steps in x and y."""
+    bottom to top, not crossing; touching where a layer pinches out): every
+    layer a closed region, the interfaces once, every triangle facing out of
+    the lower label direction (+z for horizontal ones). Where a layer has no
+    thickness its sheets are one and its walls vanish. n: grid steps in x
+    and y."""
     X, Y, Z = size
     fs = [lambda x, y: 0.0] + list(surfaces) + [lambda x, y: Z]
-    verts, index = [], {}
-    def vid(p):
-        key = tuple(round(c, 12) for c in p)
-        if key not in index:
-            index[key] = len(verts) + 1
-            verts.append(p)
-        return index[key]
-    tris = []
-    def quad(a, b, c, d):  # counter-clockwise seen from the side the normal points to
-        tris.append((a, b, c)); tris.append((a, c, d))
-    xs = [X * i / n for i in range(n + 1)]
-    ys = [Y * j / n for j in range(n + 1)]
-    # horizontal sheets, normals +z (the bottom one -z: outward)
-    for s, f in enumerate(fs):
-        for i in range(n):
-            for j in range(n):
-                p = [vid((xs[a], ys[b], f(xs[a], ys[b]))) for a, b in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1))]
-                if s == 0:
-                    quad(p[0], p[3], p[2], p[1])
-                else:
-                    quad(*p)
-    # side walls: between consecutive sheets, m vertical steps per layer
-    m = max(2, n // 4)
-    def wall(points, outward_sign):
-        # points: list of (x, y) along the wall boundary
-        for L in range(len(fs) - 1):
-            lo, hi = fs[L], fs[L + 1]
-            for k in range(len(points) - 1):
-                (x0, y0), (x1, y1) = points[k], points[k + 1]
-                for t in range(m):
-                    def P(x, y, u):
-                        return vid((x, y, lo(x, y) + (hi(x, y) - lo(x, y)) * u))
-                    a, b = P(x0, y0, t / m), P(x1, y1, t / m)
-                    c, d = P(x1, y1, (t + 1) / m), P(x0, y0, (t + 1) / m)
-                    if outward_sign > 0:
-                        quad(a, b, c, d)
-                    else:
-                        quad(a, d, c, b)
-    wall([(x, 0.0) for x in xs], 1)          # y = 0, outward -y: walking +x with z up
-    wall([(x, Y) for x in xs], -1)
-    wall([(X, y) for y in ys], 1)
-    wall([(0.0, y) for y in ys], -1)
-    with open(path, "w") as fh:
-        for v in verts:
-            fh.write("v %.17g %.17g %.17g\n" % v)
-        for t in tris:
-            fh.write("f %d %d %d\n" % t)
-
-
-def pinch_out_box(path, n, slope, size=(2.0, 1.0, 1.0), x0=0.5):
-    """A box whose bottom layer pinches out: an interface z = slope (x - x0)
-    for x >= x0 meets the bottom along the line x = x0 at atan(slope), a
-    wedge of a region (a layer thinning to nothing, as in a basin)."""
-    X, Y, Z = size
-    fs = [lambda x, y: 0.0, lambda x, y: max(0.0, slope * (x - x0)), lambda x, y: Z]
     verts, index, tris = [], {}, []
 
     def vid(p):
@@ -178,30 +125,33 @@ def pinch_out_box(path, n, slope, size=(2.0, 1.0, 1.0), x0=0.5):
         u = [pb[i] - pa[i] for i in range(3)]
         v = [pc[i] - pa[i] for i in range(3)]
         cr = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
-        if sum(x * x for x in cr) > 1e-24:  # the wedge's walls vanish where it ends
+        if sum(x * x for x in cr) > 1e-24:  # a vanished wall's triangles
             tris.append((a, b, c))
 
-    def quad(a, b, c, d):
+    def quad(a, b, c, d):  # counter-clockwise seen from the side the normal points to
         tri(a, b, c)
         tri(a, c, d)
 
     xs = [X * i / n for i in range(n + 1)]
     ys = [Y * j / n for j in range(n + 1)]
-    for s_, g in enumerate(fs):
+    # horizontal sheets, normals +z (the bottom one -z: outward)
+    for s_, f in enumerate(fs):
         for i in range(n):
-            if s_ == 1 and xs[i] < x0 - 1e-12:
-                continue  # the interface exists where the wedge does
             for j in range(n):
-                p = [vid((xs[a], ys[b], g(xs[a], ys[b]))) for a, b in
-                     ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1))]
+                corners = ((xs[i], ys[j]), (xs[i + 1], ys[j]), (xs[i + 1], ys[j + 1]), (xs[i], ys[j + 1]))
+                if s_ > 0 and all(f(x, y) - fs[s_ - 1](x, y) < 1e-12 for x, y in corners):
+                    continue  # the sheet below, where the layer pinches out
+                p = [vid((x, y, f(x, y))) for x, y in corners]
                 if s_ == 0:
                     quad(p[0], p[3], p[2], p[1])
                 else:
                     quad(*p)
+    # side walls: between consecutive sheets, m vertical steps per layer
     m = max(2, n // 4)
 
-    def wall(points, sign):
-        for L in range(2):
+    def wall(points, outward_sign):
+        # points: list of (x, y) along the wall boundary
+        for L in range(len(fs) - 1):
             lo, hi = fs[L], fs[L + 1]
             for k in range(len(points) - 1):
                 (xa, ya), (xb, yb) = points[k], points[k + 1]
@@ -212,17 +162,24 @@ def pinch_out_box(path, n, slope, size=(2.0, 1.0, 1.0), x0=0.5):
                         return vid((x, y, lo(x, y) + (hi(x, y) - lo(x, y)) * u))
                     a, b = P(xa, ya, t / m), P(xb, yb, t / m)
                     c, d = P(xb, yb, (t + 1) / m), P(xa, ya, (t + 1) / m)
-                    if sign > 0:
+                    if outward_sign > 0:
                         quad(a, b, c, d)
                     else:
                         quad(a, d, c, b)
-    wall([(x, 0.0) for x in xs], 1)
+    wall([(x, 0.0) for x in xs], 1)          # y = 0, outward -y: walking +x with z up
     wall([(x, Y) for x in xs], -1)
     wall([(X, y) for y in ys], 1)
     wall([(0.0, y) for y in ys], -1)
     with open(path, "w") as fh:
         fh.writelines("v %.17g %.17g %.17g\n" % v for v in verts)
         fh.writelines("f %d %d %d\n" % t for t in tris)
+
+
+def pinch_out_box(path, n, slope, size=(2.0, 1.0, 1.0), x0=0.5):
+    """A box whose bottom layer pinches out: an interface z = slope (x - x0)
+    for x >= x0 meets the bottom along the line x = x0 at atan(slope), a
+    wedge of a region (a layer thinning to nothing, as in a basin)."""
+    layered_box(path, n, size, [lambda x, y: max(0.0, slope * (x - x0))])
 
 
 def cube_label(lo, hi):

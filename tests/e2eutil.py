@@ -191,22 +191,9 @@ def find_checkmesh():
 
 
 def obj_volume(path):
-    """Volume enclosed by an OBJ polygon surface (polygons fanned)."""
-    pts, vol = [], 0.0
-    with open(path) as f:
-        for line in f:
-            t = line.split()
-            if not t:
-                continue
-            if t[0] == "v":
-                pts.append(tuple(map(float, t[1:4])))
-            elif t[0] == "f":
-                p = [pts[int(x.split("/")[0]) - 1] for x in t[1:]]
-                a = p[0]
-                for b, c in zip(p[1:-1], p[2:]):
-                    vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                            + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
-    return vol
+    """Volume enclosed by an OBJ polygon surface (surfacecheck's reading and volume)."""
+    import surfacecheck
+    return surfacecheck.enclosed_volume(*surfacecheck.read_surface(path))
 
 
 def polygon_area(pts):

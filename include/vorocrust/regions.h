@@ -58,6 +58,8 @@ typedef struct vc_regions {
     unsigned char *component_outward; /* per component: its triangles' normals point away
                                          from the space it encloses */
     int64_t n_twice;        /* triangles given a second time, reversed (counted once) */
+    int64_t *first_copy;    /* per triangle: the lower-numbered triangle it repeats
+                               (the same three vertices), or itself */
     int unbounded_sides;    /* which sides the unbounded region touches: 1 front, 2 back, 3 both */
     int64_t n_interface;    /* triangles with a bounded region on both sides */
     int64_t n_walls;        /* triangles with the same region on both sides: walls of

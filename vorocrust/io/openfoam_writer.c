@@ -259,7 +259,7 @@ typedef struct foam_plan {
     vc_boundary_patches patches;
     int64_t *patch_start;
     const char **patch_type;
-    char (*group_names)[64]; /* the mesh's input groups */
+    const char **patch_base; /* its input group, or its name without "regionN_" */
     /* With several regions (patches.n_labels > 1): cell zone k holds the
      * cells of label patches.label_value[k] (cells zone_cell[
      * zone_cell_start[k] ..]), and face zone j the interior faces between
@@ -281,6 +281,7 @@ static void foam_plan_free(foam_plan *pl)
     vc_boundary_patches_free(&pl->patches);
     free(pl->patch_start);
     free(pl->patch_type);
+    free(pl->patch_base);
     free(pl->zone_cell);
     free(pl->zone_cell_start);
     free(pl->face_zone_pair);
@@ -563,12 +564,12 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, const vc_foam
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     /* Patch types: the caller's, by patch name or input group; else a
      * surface without named groups is a wall, anything else a patch. */
-    pl->group_names = m->group_name;
     pl->patch_type = malloc(sizeof(char *) * (size_t)(bp->n_patches + 1));
-    if (rc == VC_OK && !pl->patch_type)
+    pl->patch_base = malloc(sizeof(char *) * (size_t)(bp->n_patches + 1));
+    if (rc == VC_OK && (!pl->patch_type || !pl->patch_base))
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
     for (int k = 0; rc == VC_OK && k < bp->n_patches; k++) {
-        const char *base = foam_patch_base(m, bp, k);
+        const char *base = pl->patch_base[k] = foam_patch_base(m, bp, k);
         pl->patch_type[k] = !m->face_group && !strcmp(base, "surface") ? "wall" : "patch";
         for (int i = 0; i < n_types; i++)
             if (!strcmp(types[i].name, bp->name[k]) || !strcmp(types[i].name, base))
@@ -728,12 +729,9 @@ static void foam_write_boundary(foam_out *o, const foam_plan *pl)
     for (int k = 0; k < bp->n_patches; k++) {
         /* with several regions, a patch split off an input group names it */
         char groups[128] = "";
-        if (bp->n_labels > 1) {
-            const char *g = bp->group[k] >= 0 ? pl->group_names[bp->group[k]]
-                            : strchr(bp->name[k], '_') ? strchr(bp->name[k], '_') + 1
-                                                         : bp->name[k];
-            snprintf(groups, sizeof groups, "        inGroups        List<word> 1(%.63s);\n", g);
-        }
+        if (bp->n_labels > 1)
+            snprintf(groups, sizeof groups, "        inGroups        List<word> 1(%.63s);\n",
+                     pl->patch_base[k]);
         snprintf(line, sizeof line,
                  "    %s\n    {\n        type            %s;\n%s"
                  "        nFaces          %" PRId64 ";\n        startFace       %" PRId64

@@ -6,20 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct tri_key {
-    int64_t v[3]; /* sorted */
-    int64_t tri;
-} tri_key;
-
-static int cmp_tri_key(const void *a, const void *b)
-{
-    const tri_key *x = a, *y = b;
-    for (int k = 0; k < 3; k++)
-        if (x->v[k] != y->v[k])
-            return x->v[k] < y->v[k] ? -1 : 1;
-    return (x->tri > y->tri) - (x->tri < y->tri);
-}
-
 static int cmp_i64(const void *a, const void *b)
 {
     const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
@@ -41,8 +27,6 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
 {
     memset(m, 0, sizeof *m);
     const int64_t nt = s->n_triangles, nr = r->n_regions;
-    tri_key *key = malloc(sizeof(tri_key) * (size_t)(nt + 1));
-    unsigned char *dup = calloc((size_t)nt + 1, 1);
     m->surface.xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
     m->surface.tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt + 1));
     m->side_region = malloc(sizeof(int64_t) * 2 * (size_t)(nt + 1));
@@ -51,21 +35,9 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
     m->euler = calloc((size_t)nr + 1, sizeof(int64_t));
     /* (region, vertex) of every side, for the vertices of each boundary */
     int64_t *rv = malloc(sizeof(int64_t) * 6 * (size_t)(nt + 1));
-    if (!key || !dup || !m->surface.xyz || !m->surface.tri || !m->side_region || !m->label ||
+    if (!m->surface.xyz || !m->surface.tri || !m->side_region || !m->label ||
         !m->volume || !m->euler || !rv)
         goto oom;
-    /* a triangle given twice (reversed) is one interface: the first copy */
-    for (int64_t t = 0; t < nt; t++) {
-        int64_t a = s->tri[3 * t], b = s->tri[3 * t + 1], c = s->tri[3 * t + 2], x;
-        if (a > b) { x = a; a = b; b = x; }
-        if (b > c) { x = b; b = c; c = x; }
-        if (a > b) { x = a; a = b; b = x; }
-        key[t] = (tri_key){{a, b, c}, t};
-    }
-    qsort(key, (size_t)nt, sizeof(tri_key), cmp_tri_key);
-    for (int64_t i = 1; i < nt; i++)
-        if (!memcmp(key[i].v, key[i - 1].v, sizeof key[i].v))
-            dup[key[i].tri] = 1;
     memcpy(m->surface.xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
     m->surface.n_vertices = s->n_vertices;
     /* the input's groups go along (their borders are creases) */
@@ -79,7 +51,8 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
     }
     int64_t n = 0, nrv = 0;
     for (int64_t t = 0; t < nt; t++) {
-        if (dup[t])
+        /* a triangle given twice (reversed) is one interface: the first copy */
+        if (r->first_copy[t] != t)
             continue;
         memcpy(m->surface.tri + 3 * n, s->tri + 3 * t, sizeof(int64_t) * 3);
         if (m->surface.tri_group)
@@ -111,8 +84,6 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
         m->label[k] = r->region[k].kind == VC_REGION_VOID ? 0 : (int32_t)(k + 1);
         m->volume[k] = r->region[k].volume;
     }
-    free(key);
-    free(dup);
     free(rv);
     if (vc_region_locator_build(&m->surface, m->side_region, &m->locator, err)) {
         vc_materials_free(m);
@@ -120,8 +91,6 @@ int vc_materials_init(const vc_surface *s, const vc_regions *r, vc_materials *m,
     }
     return 0;
 oom:
-    free(key);
-    free(dup);
     free(rv);
     vc_materials_free(m);
     return vc_error_set(err, VC_ENOMEM, "out of memory for the regions");

@@ -103,6 +103,19 @@ static double face_area(const vc_vtu_mesh *m, int64_t f)
     return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+/* Cell c of m as the quality library sees it. */
+static vc_cell cell_of_mesh(const vc_vtu_mesh *m, int64_t c)
+{
+    vc_cell cell;
+    cell.points = m->points;
+    cell.n_vertices = 0;
+    cell.vertices = NULL;
+    cell.n_faces = m->cell_faces[c + 1] - m->cell_faces[c];
+    cell.face_offsets = m->face_offsets + m->cell_faces[c];
+    cell.face_vertices = m->face_vertices;
+    return cell;
+}
+
 static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, double *rel,
                          double *small, double *dmin, double *dmax)
 {
@@ -131,13 +144,7 @@ static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, d
             n_open++;
             open_flag[c] = 1;
         }
-        vc_cell cell;
-        cell.points = m->points;
-        cell.n_vertices = 0;
-        cell.vertices = NULL;
-        cell.n_faces = m->cell_faces[c + 1] - m->cell_faces[c];
-        cell.face_offsets = m->face_offsets + m->cell_faces[c];
-        cell.face_vertices = m->face_vertices;
+        vc_cell cell = cell_of_mesh(m, c);
         vc_cell_measures cm;
         double signed_volume;
         if (vc_cell_measure(&cell, &cm) == 0) {
@@ -268,13 +275,7 @@ static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, vc_mesh_re
     }
 #pragma omp parallel for schedule(dynamic, 256)
     for (int64_t c = 0; c < nc; c++) {
-        vc_cell cell;
-        cell.points = m->points;
-        cell.n_vertices = 0;
-        cell.vertices = NULL;
-        cell.n_faces = m->cell_faces[c + 1] - m->cell_faces[c];
-        cell.face_offsets = m->face_offsets + m->cell_faces[c];
-        cell.face_vertices = m->face_vertices;
+        vc_cell cell = cell_of_mesh(m, c);
         vc_cell_volume(&cell, centre + 3 * c);
         for (int64_t f = m->cell_faces[c]; f < m->cell_faces[c + 1]; f++)
             cell_of[f] = c;

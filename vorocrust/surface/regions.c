@@ -520,6 +520,8 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
     free(twin);
     free(seen_front);
     free(seen_back);
+    out->first_copy = alias; /* handed over */
+    alias = NULL;
 
 done:
     if (rc)
@@ -586,5 +588,6 @@ void vc_regions_free(vc_regions *r)
     free(r->component_of);
     free(r->component_depth);
     free(r->component_outward);
+    free(r->first_copy);
     memset(r, 0, sizeof *r);
 }
