@@ -710,6 +710,17 @@ if PART != "synthetic":
                 check(grid.GetNumberOfCells() == n_kept,
                       "%s: %d cells read back, %d kept seeds" % (name, grid.GetNumberOfCells(), n_kept))
                 print("%s: %d cells, validation passed, read back by VTK" % (name, grid.GetNumberOfCells()))
+            # The exact engine (issue 19) on the same seeds: no refusal
+            # allowed, the same cells.
+            out_x = os.path.join(TMP, name + "_exact.vtu")
+            rc, so, se = run(path, "-o", out_x, "--exact")
+            if check(rc == 0 and "validation passed" in so + se,
+                     "%s --exact: exit %d: %s" % (name, rc, se[-800:])):
+                grid = vtkcheck.read_vtu(out_x)
+                n_kept = sum(1 for r in base + extra if r[3] != 0)
+                check(grid.GetNumberOfCells() == n_kept,
+                      "%s --exact: %d cells read back, %d kept seeds" % (name, grid.GetNumberOfCells(), n_kept))
+                print("%s --exact: %d cells, validation passed, read back by VTK" % (name, grid.GetNumberOfCells()))
 
 if PART == "synthetic":
     # =========================================================================

@@ -38,6 +38,14 @@ typedef struct vc_voronoi_options {
      * seeds crowd the bins), VC_NEIGHBOURS_GRID or VC_NEIGHBOURS_TREE. The
      * cells are the same either way; only the time differs. */
     int neighbours;
+    /* 1: the exact engine (experimental; issue 19): every side decision by
+     * an exact predicate with a symbolic perturbation, cells stitched by
+     * their vertices' seeds, no repair passes (voronoi/cell_stitch.h).
+     * It meshes random, lattice, co-spherical and VoroCrust seed sets, but
+     * can leave a face of zero area where a degenerate face has a vertex
+     * inside its segment (not yet handled), and is slower on VoroCrust
+     * seeds. 0 (the default): the tolerance engine. */
+    int exact;
 } vc_voronoi_options;
 
 enum { VC_NEIGHBOURS_AUTO = 0, VC_NEIGHBOURS_GRID = 1, VC_NEIGHBOURS_TREE = 2 };

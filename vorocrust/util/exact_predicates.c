@@ -9,6 +9,7 @@
  * path is simple rather than fast (sums by repeated growth): it runs only
  * when the filter cannot decide. */
 #include "util/exact_predicates.h"
+#include "util/expansion.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -98,24 +99,18 @@ static int scale(const double *e, int ne, double b, double *h)
     return n;
 }
 
-/* An expansion in a heap buffer. */
-typedef struct expn {
-    double *v;
-    int n;
-} expn;
-
-static expn from_double(double x)
+vc_expn vc_expn_from_double(double x)
 {
-    expn r = {malloc(sizeof(double)), 1};
+    vc_expn r = {malloc(sizeof(double)), 1};
     if (r.v)
         r.v[0] = x;
     return r;
 }
 
 /* a - b exactly, as an expansion of at most two components. */
-static expn diff(double a, double b)
+vc_expn vc_expn_diff(double a, double b)
 {
-    expn r = {malloc(2 * sizeof(double)), 0};
+    vc_expn r = {malloc(2 * sizeof(double)), 0};
     if (!r.v)
         return r;
     const double s = a - b, bv = a - s, av = s + bv;
@@ -126,9 +121,9 @@ static expn diff(double a, double b)
     return r;
 }
 
-static expn add(expn a, expn b)
+vc_expn vc_expn_add(vc_expn a, vc_expn b)
 {
-    expn r = {malloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
+    vc_expn r = {malloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
     double *scratch = malloc(sizeof(double) * (size_t)(a.n + b.n + 2));
     if (r.v && scratch && a.v && b.v)
         r.n = sum(a.v, a.n, b.v, b.n, r.v, scratch);
@@ -140,25 +135,25 @@ static expn add(expn a, expn b)
     return r;
 }
 
-static expn neg(expn a)
+vc_expn vc_expn_neg(vc_expn a)
 {
     for (int i = 0; a.v && i < a.n; i++)
         a.v[i] = -a.v[i];
     return a;
 }
 
-static expn mul(expn a, expn b)
+vc_expn vc_expn_mul(vc_expn a, vc_expn b)
 {
-    expn acc = from_double(0);
+    vc_expn acc = vc_expn_from_double(0);
     double *part = malloc(sizeof(double) * (size_t)(2 * a.n + 1));
     if (!part || !a.v || !b.v || !acc.v) {
         free(part);
         free(acc.v);
-        return (expn){NULL, 0};
+        return (vc_expn){NULL, 0};
     }
     for (int j = 0; j < b.n; j++) {
-        expn p = {part, scale(a.v, a.n, b.v[j], part)};
-        expn s = add(acc, p);
+        vc_expn p = {part, scale(a.v, a.n, b.v[j], part)};
+        vc_expn s = vc_expn_add(acc, p);
         free(acc.v);
         acc = s;
         if (!acc.v)
@@ -169,25 +164,25 @@ static expn mul(expn a, expn b)
 }
 
 /* Frees x and y, returns x op y. */
-static expn add_free(expn x, expn y)
+vc_expn vc_expn_add_free(vc_expn x, vc_expn y)
 {
-    expn r = add(x, y);
+    vc_expn r = vc_expn_add(x, y);
     free(x.v);
     free(y.v);
     return r;
 }
 
-static expn mul_free(expn x, expn y)
+vc_expn vc_expn_mul_free(vc_expn x, vc_expn y)
 {
-    expn r = mul(x, y);
+    vc_expn r = vc_expn_mul(x, y);
     free(x.v);
     free(y.v);
     return r;
 }
 
-static expn copy(expn a)
+vc_expn vc_expn_copy(vc_expn a)
 {
-    expn r = {malloc(sizeof(double) * (size_t)(a.n > 0 ? a.n : 1)), a.n};
+    vc_expn r = {malloc(sizeof(double) * (size_t)(a.n > 0 ? a.n : 1)), a.n};
     for (int i = 0; r.v && a.v && i < a.n; i++)
         r.v[i] = a.v[i];
     if (!a.v) {
@@ -198,7 +193,7 @@ static expn copy(expn a)
 }
 
 /* The sign, or VC_PREDICATE_NOMEM when out of memory. */
-static int sign_free(expn x)
+int vc_expn_sign_free(vc_expn x)
 {
     if (!x.v)
         return VC_PREDICATE_NOMEM;
@@ -208,26 +203,26 @@ static int sign_free(expn x)
 }
 
 /* x0 * y1 - x1 * y0 (frees nothing) */
-static expn cross2(expn x0, expn y0, expn x1, expn y1)
+static vc_expn cross2(vc_expn x0, vc_expn y0, vc_expn x1, vc_expn y1)
 {
-    return add_free(mul(x0, y1), neg(mul(x1, y0)));
+    return vc_expn_add_free(vc_expn_mul(x0, y1), vc_expn_neg(vc_expn_mul(x1, y0)));
 }
 
 /* ---- orient3d ----------------------------------------------------------- */
 
 static int orient3d_expansion(const double *a, const double *b, const double *c, const double *d)
 {
-    expn ad[3], bd[3], cd[3];
+    vc_expn ad[3], bd[3], cd[3];
     for (int k = 0; k < 3; k++) {
-        ad[k] = diff(a[k], d[k]);
-        bd[k] = diff(b[k], d[k]);
-        cd[k] = diff(c[k], d[k]);
+        ad[k] = vc_expn_diff(a[k], d[k]);
+        bd[k] = vc_expn_diff(b[k], d[k]);
+        cd[k] = vc_expn_diff(c[k], d[k]);
     }
     /* adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady) */
-    expn t1 = mul_free(copy(ad[2]), cross2(bd[0], bd[1], cd[0], cd[1]));
-    expn t2 = mul_free(copy(bd[2]), cross2(cd[0], cd[1], ad[0], ad[1]));
-    expn t3 = mul_free(copy(cd[2]), cross2(ad[0], ad[1], bd[0], bd[1]));
-    const int s = sign_free(add_free(add_free(t1, t2), t3));
+    vc_expn t1 = vc_expn_mul_free(vc_expn_copy(ad[2]), cross2(bd[0], bd[1], cd[0], cd[1]));
+    vc_expn t2 = vc_expn_mul_free(vc_expn_copy(bd[2]), cross2(cd[0], cd[1], ad[0], ad[1]));
+    vc_expn t3 = vc_expn_mul_free(vc_expn_copy(cd[2]), cross2(ad[0], ad[1], bd[0], bd[1]));
+    const int s = vc_expn_sign_free(vc_expn_add_free(vc_expn_add_free(t1, t2), t3));
     for (int k = 0; k < 3; k++) {
         free(ad[k].v);
         free(bd[k].v);
@@ -264,26 +259,26 @@ static int insphere_expansion(const double *a, const double *b, const double *c,
                               const double *e)
 {
     const double *p[4] = {a, b, c, d};
-    expn x[4], y[4], z[4], lift[4];
+    vc_expn x[4], y[4], z[4], lift[4];
     for (int i = 0; i < 4; i++) {
-        x[i] = diff(p[i][0], e[0]);
-        y[i] = diff(p[i][1], e[1]);
-        z[i] = diff(p[i][2], e[2]);
-        lift[i] = add_free(add_free(mul(x[i], x[i]), mul(y[i], y[i])), mul(z[i], z[i]));
+        x[i] = vc_expn_diff(p[i][0], e[0]);
+        y[i] = vc_expn_diff(p[i][1], e[1]);
+        z[i] = vc_expn_diff(p[i][2], e[2]);
+        lift[i] = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(x[i], x[i]), vc_expn_mul(y[i], y[i])), vc_expn_mul(z[i], z[i]));
     }
     /* the 2x2 minors of the x, y columns */
-    expn ab = cross2(x[0], y[0], x[1], y[1]), bc = cross2(x[1], y[1], x[2], y[2]);
-    expn cd = cross2(x[2], y[2], x[3], y[3]), da = cross2(x[3], y[3], x[0], y[0]);
-    expn ac = cross2(x[0], y[0], x[2], y[2]), bd = cross2(x[1], y[1], x[3], y[3]);
+    vc_expn ab = cross2(x[0], y[0], x[1], y[1]), bc = cross2(x[1], y[1], x[2], y[2]);
+    vc_expn cd = cross2(x[2], y[2], x[3], y[3]), da = cross2(x[3], y[3], x[0], y[0]);
+    vc_expn ac = cross2(x[0], y[0], x[2], y[2]), bd = cross2(x[1], y[1], x[3], y[3]);
     /* the 3x3 minors */
-    expn abc = add_free(add_free(mul(z[0], bc), neg(mul(z[1], ac))), mul(z[2], ab));
-    expn bcd = add_free(add_free(mul(z[1], cd), neg(mul(z[2], bd))), mul(z[3], bc));
-    expn cda = add_free(add_free(mul(z[2], da), mul(z[3], ac)), mul(z[0], cd));
-    expn dab = add_free(add_free(mul(z[3], ab), mul(z[0], bd)), mul(z[1], da));
+    vc_expn abc = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(z[0], bc), vc_expn_neg(vc_expn_mul(z[1], ac))), vc_expn_mul(z[2], ab));
+    vc_expn bcd = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(z[1], cd), vc_expn_neg(vc_expn_mul(z[2], bd))), vc_expn_mul(z[3], bc));
+    vc_expn cda = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(z[2], da), vc_expn_mul(z[3], ac)), vc_expn_mul(z[0], cd));
+    vc_expn dab = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(z[3], ab), vc_expn_mul(z[0], bd)), vc_expn_mul(z[1], da));
     /* (dlift abc - clift dab) + (blift cda - alift bcd) */
-    expn det = add_free(add_free(mul(lift[3], abc), neg(mul(lift[2], dab))),
-                        add_free(mul(lift[1], cda), neg(mul(lift[0], bcd))));
-    const int s = sign_free(det);
+    vc_expn det = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(lift[3], abc), vc_expn_neg(vc_expn_mul(lift[2], dab))),
+                        vc_expn_add_free(vc_expn_mul(lift[1], cda), vc_expn_neg(vc_expn_mul(lift[0], bcd))));
+    const int s = vc_expn_sign_free(det);
     for (int i = 0; i < 4; i++) {
         free(x[i].v);
         free(y[i].v);

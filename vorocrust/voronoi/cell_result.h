@@ -19,9 +19,11 @@
 typedef struct vc_cell_result {
     int nv, nf, nfv;    /* nfv <= 65535 */
     double *v;          /* 3 * nv, absolute positions */
+    double *ev;         /* nv: bound on each position's distance to the exact vertex */
     int32_t *plane;     /* nf: neighbour seed index, or a wall code (< 0) */
     uint16_t *face_start; /* nf + 1 */
     uint16_t *fv;       /* nfv local vertex indices */
+    uint16_t *vf;       /* 3 * nv: the faces of each vertex's three planes */
     double scale;       /* local cell size: distance to the nearest face's seed */
 } vc_cell_result;
 

@@ -10,6 +10,8 @@
  * the new plane. */
 #include "convex_cell.h"
 
+#include "util/exact_predicates.h"
+
 #include <math.h>
 #include <stdlib.h>
 #ifdef __SSE2__
@@ -38,7 +40,7 @@ void vc_convex_cell_init(vc_convex_cell *c) { memset(c, 0, sizeof *c); }
 
 void vc_convex_cell_free(vc_convex_cell *c)
 {
-    vc_cell_buf *bufs[] = {&c->b_r2,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_px,  &c->b_py, &c->b_pz,
+    vc_cell_buf *bufs[] = {&c->b_pc, &c->b_r2, &c->b_ev, &c->b_eb, &c->b_out,         &c->b_plane,    &c->b_plane_id, &c->b_tri,      &c->b_px,  &c->b_py, &c->b_pz,
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_plane_index, &c->b_face_start, &c->b_fv,
                            &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_edge_owner, &c->b_new_pt,
@@ -53,14 +55,29 @@ static inline double norm2(const double *x)
     return x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
 }
 
-/* rmax2 from the per-vertex squared distances. */
+/* rmax2 from the per-vertex squared distances and error bounds: the
+ * exact vertex is within ev of the point, so a seed can cut only within
+ * twice |x| + ev of the seed, and the point's clearance ball must grow by
+ * 2 ev to hold the exact one's. */
 static void update_rmax2(vc_convex_cell *c)
 {
-    double r2 = 0;
-    for (int i = 0; i < c->nt; i++)
+    double r2 = 0, e = 0;
+    if (!c->exact) {
+        for (int i = 0; i < c->nt; i++)
+            r2 = c->r2[i] > r2 ? c->r2[i] : r2;
+        c->rmax2 = r2;
+        return;
+    }
+    for (int i = 0; i < c->nt; i++) {
         r2 = c->r2[i] > r2 ? c->r2[i] : r2;
-    c->rmax2 = r2;
+        e = c->ev[i] > e ? c->ev[i] : e;
+    }
+    const double r = sqrt(r2) + 2 * e;
+    c->rmax2 = r * r;
 }
+
+/* Unit roundoff. */
+#define U 1.1102230246251565e-16
 
 /* Records triangle t (planes tr[0..2]) as the holder of its three edges. */
 static inline void set_edge_owner(uint16_t *owner, const int *tr, int t)
@@ -88,10 +105,13 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     c->py = reserve(&c->b_py, 8, sizeof(double));
     c->pz = reserve(&c->b_pz, 8, sizeof(double));
     c->r2 = reserve(&c->b_r2, 8, sizeof(double));
+    c->ev = reserve(&c->b_ev, 8, sizeof(double));
+    c->eb = reserve(&c->b_eb, 8, sizeof(double));
+    c->pc = reserve(&c->b_pc, 8, VC_POWER_CACHE * sizeof(double));
     c->edge_owner = reserve(&c->b_edge_owner, VC_EDGE_OWNER_PLANES * VC_EDGE_OWNER_PLANES,
                             sizeof(uint16_t));
     if (!c->plane || !c->plane_id || !c->tri || !c->px || !c->py || !c->pz || !c->r2 ||
-        !c->edge_owner)
+        !c->ev || !c->eb || !c->pc || !c->edge_owner)
         return VC_CELL_NOMEM;
     /* Plane 2 * axis is the lower wall (normal -e_axis), 2 * axis + 1 the
      * upper one. */
@@ -123,8 +143,13 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
         c->py[k] = x[1];
         c->pz[k] = x[2];
         c->r2[k] = norm2(x);
+        /* each coordinate is a wall less the seed, rounded once */
+        c->ev[k] = c->exact ? 2 * U * sqrt(c->r2[k]) : 0;
+        c->eb[k] = c->exact ? c->ev[k] + 8 * U * sqrt(c->r2[k]) : 0;
+        c->pc[VC_POWER_CACHE * k + 13] = 0;
     }
     c->nt = 8;
+    c->n_exact = 0;
     update_rmax2(c);
     for (int t = 0; t < 8; t++)
         set_edge_owner(c->edge_owner, c->tri + 3 * t, t);
@@ -143,39 +168,83 @@ static int has_edge(const int *tri, const int *list, int n, int a, int b)
     return 0;
 }
 
-int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
-                       double tol)
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3])
+{
+    double C[3][3];
+    for (int i = 0; i < 3; i++) {
+        const double *u = q[(i + 1) % 3], *v = q[(i + 2) % 3];
+        C[i][0] = u[1] * v[2] - u[2] * v[1];
+        C[i][1] = u[2] * v[0] - u[0] * v[2];
+        C[i][2] = u[0] * v[1] - u[1] * v[0];
+    }
+    const double D = q[0][0] * C[0][0] + q[0][1] * C[0][1] + q[0][2] * C[0][2];
+    for (int k = 0; k < 3; k++)
+        y[k] = (q[0][3] * C[0][k] + q[1][3] * C[1][k] + q[2][3] * C[2][k]) / D;
+    if (!(D != 0))
+        return INFINITY;
+    double len[3];
+    for (int i = 0; i < 3; i++)
+        len[i] = sqrt(q[i][0] * q[i][0] + q[i][1] * q[i][1] + q[i][2] * q[i][2]);
+    const double vy = sqrt(norm2(y));
+    double sum = 6 * vy * len[0] * len[1] * len[2];
+    for (int i = 0; i < 3; i++) {
+        const double d = fabs(q[i][3]);
+        const double dd = wall[i] ? d : 4 * len[i] * len[i], dn = wall[i] ? 0 : len[i];
+        sum += len[(i + 1) % 3] * len[(i + 2) % 3] * (dd + dn * vy + 7 * d);
+    }
+    const double e = 4 * U * sum / fabs(D) + 2 * U * vy;
+    return isfinite(e) ? e : INFINITY;
+}
+
+/* The vertex of planes a, b and P (in that order: det(n_a, n_b, n_P) > 0
+ * in exact arithmetic) into y, with the bound of vc_solve_planes (+inf
+ * where the rounded determinant has the wrong sign). */
+static double solve_vertex(const vc_convex_cell *c, int ia, int ib, int ic, double y[3])
+{
+    const double *q[3] = {c->plane + 4 * ia, c->plane + 4 * ib, c->plane + 4 * ic};
+    const int wall[3] = {c->plane_id[ia] < 0, c->plane_id[ib] < 0, c->plane_id[ic] < 0};
+    const double D = q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) +
+                     q[0][1] * (q[1][2] * q[2][0] - q[1][0] * q[2][2]) +
+                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+    const double e = vc_solve_planes(q, wall, y);
+    return D > 0 ? e : INFINITY;
+}
+
+int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
 {
     const double p2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     const double half = 0.5 * p2;
-    const double thr = tol * p2; /* (tol |p|) in distance, times |p| */
+    const double plen = sqrt(p2), pterm = c->exact ? 12 * U * plen : 0;
+    const double thr = c->exact ? 0 : c->tol * p2; /* (tol |p|) in distance, times |p| */
     const int nt = c->nt, np = c->np;
 
     double *dist = reserve(&c->b_dist, nt, sizeof(double));
     int *conflict = reserve(&c->b_conflict, nt, sizeof(int));
-    if (!dist || !conflict)
+    unsigned char *out = reserve(&c->b_out, nt, 1);
+    if (!dist || !conflict || !out)
         return VC_CELL_NOMEM;
-    int n_out = 0, n_in = 0;
-    /* Distances first and whether any is beyond the plane (branch-free,
-     * vectorizable loops), then the removed vertices, only when the plane
-     * cuts. */
+    int n_out = 0;
+    /* Distances first and whether any may be beyond the plane (branch-free,
+     * vectorizable loops); the sides only when the plane may cut. */
     {
         const double *px = c->px, *py = c->py, *pz = c->pz;
         const double p0 = p[0], p1 = p[1], p2c = p[2];
-        double smax = -INFINITY; /* NaN distances are ignored, as below */
+        double smax = -INFINITY; /* of dist + its bound; NaN ignored */
+        const double *eb = c->eb;
         int t = 0;
 #ifdef __SSE2__
         /* Two vertices at a time, with the same operations in the same
          * order as the scalar expression below. */
         const __m128d P0 = _mm_set1_pd(p0), P1 = _mm_set1_pd(p1), P2 = _mm_set1_pd(p2c),
-                      H = _mm_set1_pd(half);
+                      H = _mm_set1_pd(half), PL = _mm_set1_pd(plen), PT = _mm_set1_pd(pterm);
         __m128d m = _mm_set1_pd(-INFINITY);
         for (; t + 1 < nt; t += 2) {
             __m128d s2 = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(px + t), P0),
                                     _mm_mul_pd(_mm_loadu_pd(py + t), P1));
             s2 = _mm_sub_pd(_mm_add_pd(s2, _mm_mul_pd(_mm_loadu_pd(pz + t), P2)), H);
             _mm_storeu_pd(dist + t, s2);
-            m = _mm_max_pd(s2, m); /* s2 > m ? s2 : m, per lane */
+            __m128d b = _mm_mul_pd(PL, _mm_add_pd(_mm_loadu_pd(eb + t), PT));
+            m = _mm_max_pd(_mm_add_pd(s2, b), m); /* per lane */
         }
         double mm[2];
         _mm_storeu_pd(mm, m);
@@ -184,18 +253,57 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         for (; t < nt; t++) {
             double s = px[t] * p0 + py[t] * p1 + pz[t] * p2c - half;
             dist[t] = s;
-            smax = s > smax ? s : smax;
+            const double hi = s + plen * (eb[t] + pterm);
+            smax = hi > smax ? hi : smax;
         }
         if (!(smax > thr))
-            return 0;
+            return 0; /* every vertex is kept */
     }
-    /* Without branches: which vertices go is unpredictable. */
-    for (int t = 0; t < nt; t++) {
+    if (!c->exact) {
+        int n_in = 0;
+        /* Without branches: which vertices go is unpredictable. */
+        for (int t = 0; t < nt; t++) {
+            out[t] = dist[t] > thr;
+            conflict[n_out] = t;
+            n_out += dist[t] > thr;
+            n_in += dist[t] < -thr;
+        }
+        if (n_in == 0)
+            return -2;
+    }
+    /* The side of each vertex: the filter, else the exact test. */
+    double prow[VC_POWER_ROW];
+    int prow_ready = 0;
+    for (int t = 0; t < nt && c->exact; t++) {
+        const double b = plen * (c->eb[t] + pterm);
+        int o;
+        if (dist[t] > b)
+            o = 1;
+        else if (dist[t] < -b)
+            o = 0;
+        else {
+            const int *tr = c->tri + 3 * t;
+            const int64_t pl[3] = {c->plane_id[tr[0]], c->plane_id[tr[1]], c->plane_id[tr[2]]};
+            double *cache = c->pc + VC_POWER_CACHE * t;
+            if (cache[13] != 1)
+                vc_power_vertex_prepare(c->ctx, c->seed, pl, cache);
+            if (!prow_ready) {
+                vc_power_plane_prepare(c->ctx, c->seed, plane_id, prow);
+                prow_ready = 1;
+            }
+            const int r = vc_power_side_cached(c->ctx, c->seed, pl, plane_id, cache, prow);
+            c->n_exact++;
+            if (r == VC_PREDICATE_NOMEM)
+                return VC_CELL_NOMEM;
+            o = r < 0;
+        }
+        out[t] = (unsigned char)o;
         conflict[n_out] = t;
-        n_out += dist[t] > thr;
-        n_in += dist[t] < -thr;
+        n_out += o;
     }
-    if (n_in == 0)
+    if (n_out == 0)
+        return 0;
+    if (n_out == nt)
         return -2;
 
     /* Boundary of the removed region: per plane, its outgoing boundary
@@ -227,7 +335,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
                     use_owner = 0;
                     break;
                 }
-                if (dist[across] > thr)
+                if (out[across])
                     continue; /* removed too: not on the boundary */
                 if (next[a] != -1)
                     simple = 0; /* the region touches itself: not a disk */
@@ -326,13 +434,15 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     if (found != n_boundary)
         return -1;
 
-    /* The new plane, and one new vertex per boundary edge, in cycle order:
-     * where the edge crosses the plane, interpolated from its kept end (a
-     * kept end within the tolerance outside gives the end itself). */
+    /* The new plane, and one new vertex per boundary edge, in cycle order,
+     * solved from its three planes (or, where that solve is too
+     * ill-conditioned to bound, where the edge crosses the plane,
+     * interpolated between its ends, within their distance of the exact
+     * vertex). */
     const int P = np;
     c->plane = reserve(&c->b_plane, np + 1, 4 * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, np + 1, sizeof(int64_t));
-    double *new_pt = reserve(&c->b_new_pt, n_boundary, 3 * sizeof(double));
+    double *new_pt = reserve(&c->b_new_pt, n_boundary, 5 * sizeof(double)); /* x, ev, eb */
     int *new_tri = reserve(&c->b_new_tri, n_boundary, 3 * sizeof(int));
     if (!c->plane || !c->plane_id || !new_pt || !new_tri)
         return VC_CELL_NOMEM;
@@ -347,16 +457,70 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     a = first;
     for (int k = 0; k < n_boundary; k++) {
         const int b = next[a], tin = edge_out[a], tout = edge_tri[a];
-        const double s_in = dist[tin], s_out = dist[tout];
-        double u = -s_in / (s_out - s_in);
-        if (u < 0)
-            u = 0;
-        const double xi[3] = {c->px[tin], c->py[tin], c->pz[tin]};
-        const double xo[3] = {c->px[tout], c->py[tout], c->pz[tout]};
-        double *y = new_pt + 3 * k;
-        y[0] = xi[0] + u * (xo[0] - xi[0]);
-        y[1] = xi[1] + u * (xo[1] - xi[1]);
-        y[2] = xi[2] + u * (xo[2] - xi[2]);
+        double *y = new_pt + 5 * k;
+        if (!c->exact) {
+            /* interpolated from the kept end (a kept end within the
+             * tolerance outside gives the end itself) */
+            const double s_in = dist[tin], s_out = dist[tout];
+            double u = -s_in / (s_out - s_in);
+            if (u < 0)
+                u = 0;
+            const double xi[3] = {c->px[tin], c->py[tin], c->pz[tin]};
+            const double xo[3] = {c->px[tout], c->py[tout], c->pz[tout]};
+            y[0] = xi[0] + u * (xo[0] - xi[0]);
+            y[1] = xi[1] + u * (xo[1] - xi[1]);
+            y[2] = xi[2] + u * (xo[2] - xi[2]);
+            y[3] = y[4] = 0;
+            new_tri[3 * k] = a;
+            new_tri[3 * k + 1] = b;
+            new_tri[3 * k + 2] = P;
+            a = b;
+            continue;
+        }
+        double e = solve_vertex(c, a, b, P, y);
+        const double vy = sqrt(norm2(y));
+        if (!(isfinite(vy) && e <= 1e-6 * vy)) {
+            /* ill-conditioned: the vertex in double-double, from the
+             * exact seeds (the side test's prepared part: v = -W / C_3) */
+            double pc[VC_POWER_CACHE];
+            const int64_t pl[3] = {c->plane_id[a], c->plane_id[b], plane_id};
+            vc_power_vertex_prepare(c->ctx, c->seed, pl, pc);
+            const double C3 = pc[6] + pc[7], eC3 = 3.2e-30 * pc[11];
+            double z[3], ez2 = 0, vz = 0;
+            for (int j = 0; j < 3; j++) {
+                z[j] = -(pc[2 * j] + pc[2 * j + 1]) / C3;
+                vz += z[j] * z[j];
+            }
+            vz = sqrt(vz);
+            for (int j = 0; j < 3; j++) {
+                const double ej = (3.2e-30 * pc[8 + j] + fabs(z[j]) * eC3) / (fabs(C3) - eC3);
+                ez2 += ej * ej;
+            }
+            double ez = fabs(C3) > eC3 ? sqrt(ez2) + 4 * U * vz : INFINITY;
+            if (!(ez < e)) {
+                /* last resort: where the edge crosses the plane, within
+                 * its ends' distance of the exact vertex */
+                const double s_in = dist[tin], s_out = dist[tout];
+                double u = -s_in / (s_out - s_in);
+                u = u > 0 ? (u < 1 ? u : 1) : 0;
+                const double xi[3] = {c->px[tin], c->py[tin], c->pz[tin]};
+                const double xo[3] = {c->px[tout], c->py[tout], c->pz[tout]};
+                double d2 = 0;
+                for (int j = 0; j < 3; j++) {
+                    z[j] = xi[j] + u * (xo[j] - xi[j]);
+                    d2 += (xo[j] - xi[j]) * (xo[j] - xi[j]);
+                }
+                ez = sqrt(d2) + c->ev[tin] + c->ev[tout];
+            }
+            if (ez < e || !(e == e)) {
+                y[0] = z[0];
+                y[1] = z[1];
+                y[2] = z[2];
+                e = ez;
+            }
+        }
+        y[3] = e;
+        y[4] = e + 8 * U * sqrt(norm2(y));
         new_tri[3 * k] = a;
         new_tri[3 * k + 1] = b;
         new_tri[3 * k + 2] = P;
@@ -376,7 +540,10 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
     c->py = reserve(&c->b_py, new_nt > nt ? new_nt : nt, sizeof(double));
     c->pz = reserve(&c->b_pz, new_nt > nt ? new_nt : nt, sizeof(double));
     c->r2 = reserve(&c->b_r2, new_nt > nt ? new_nt : nt, sizeof(double));
-    if (!c->tri || !c->px || !c->py || !c->pz || !c->r2)
+    c->ev = reserve(&c->b_ev, new_nt > nt ? new_nt : nt, sizeof(double));
+    c->eb = reserve(&c->b_eb, new_nt > nt ? new_nt : nt, sizeof(double));
+    c->pc = reserve(&c->b_pc, new_nt > nt ? new_nt : nt, VC_POWER_CACHE * sizeof(double));
+    if (!c->tri || !c->px || !c->py || !c->pz || !c->r2 || !c->ev || !c->eb || !c->pc)
         return VC_CELL_NOMEM;
     const int keep_owner = c->edge_owner_ok && np + 1 <= VC_EDGE_OWNER_PLANES;
     c->edge_owner_ok = keep_owner;
@@ -386,10 +553,13 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
         memcpy(c->tri + 3 * t, new_tri + 3 * k, 3 * sizeof(int));
         if (keep_owner)
             set_edge_owner(owner, new_tri + 3 * k, t);
-        c->px[t] = new_pt[3 * k];
-        c->py[t] = new_pt[3 * k + 1];
-        c->pz[t] = new_pt[3 * k + 2];
-        c->r2[t] = norm2(new_pt + 3 * k);
+        c->px[t] = new_pt[5 * k];
+        c->py[t] = new_pt[5 * k + 1];
+        c->pz[t] = new_pt[5 * k + 2];
+        c->r2[t] = norm2(new_pt + 5 * k);
+        c->ev[t] = new_pt[5 * k + 3];
+        c->eb[t] = new_pt[5 * k + 4];
+        c->pc[VC_POWER_CACHE * t + 13] = 0;
     }
     if (n_boundary < n_out) {
         /* The fan is in slots before the first hole left (the removed
@@ -399,7 +569,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
          * boundary edges now. */
         int w = conflict[n_boundary];
         for (int t = w + 1; t < nt; t++) {
-            const int kept = !(dist[t] > thr);
+            const int kept = !out[t];
             memcpy(c->tri + 3 * w, c->tri + 3 * t, 3 * sizeof(int));
             if (keep_owner && kept)
                 set_edge_owner(owner, c->tri + 3 * w, w);
@@ -407,6 +577,13 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
             c->py[w] = c->py[t];
             c->pz[w] = c->pz[t];
             c->r2[w] = c->r2[t];
+            c->ev[w] = c->ev[t];
+            c->eb[w] = c->eb[t];
+            if (c->pc[VC_POWER_CACHE * t + 13] == 1)
+                memcpy(c->pc + VC_POWER_CACHE * w, c->pc + VC_POWER_CACHE * t,
+                       VC_POWER_CACHE * sizeof(double));
+            else
+                c->pc[VC_POWER_CACHE * w + 13] = 0;
             w += kept;
         }
     }

@@ -16,6 +16,8 @@
 
 #include <stdint.h>
 
+#include "power_side.h"
+
 /* A growable array: data, capacity in elements. */
 typedef struct vc_cell_buf {
     void *data;
@@ -37,7 +39,26 @@ typedef struct vc_convex_cell {
     int *tri;            /* 3 * nt */
     double *px, *py, *pz; /* nt each: the vertex points, by coordinate */
     double *r2;          /* nt: squared distance of each vertex */
-    double rmax2;        /* largest squared distance of a vertex */
+    /* nt: a bound on the distance from each vertex point to the exact
+     * vertex (the meeting point of its three exact planes: bisectors of
+     * the input seeds, walls of the box), from the rounding of the planes
+     * and of the solve; and that bound plus 8 ulp of |x|, which the side
+     * test's filter uses. */
+    double *ev, *eb;
+    /* nt * VC_POWER_CACHE: each vertex's part of the side test, prepared
+     * the first time the filter cannot decide it (entry 13: prepared). */
+    double *pc;
+    double rmax2;        /* largest (|x| + 2 ev)^2 over the vertices: no
+                            seed farther than 2 sqrt(rmax2) can cut */
+    /* The seed of the cell and the seeds and box behind its planes: where
+     * the filter cannot decide a side, the exact test (power_side.h). */
+    const vc_power_ctx *ctx;
+    int64_t seed;
+    /* exact: sides decided exactly (below); otherwise a vertex within tol
+     * |p| of a plane counts as on it (kept), and ev, eb stay 0. */
+    int exact;
+    double tol;
+    int64_t n_exact;     /* exact side tests made (statistics) */
     /* While every plane index is below VC_EDGE_OWNER_PLANES: per directed
      * plane pair (a, b), the triangle holding the edge a -> b, at
      * edge_owner[a * VC_EDGE_OWNER_PLANES + b] (entries of edges no
@@ -58,7 +79,7 @@ typedef struct vc_convex_cell {
     int *fv;
 
     /* Storage and scratch reused by every cut. */
-    vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2;
+    vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2, b_ev, b_eb, b_out, b_pc;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
     vc_cell_buf b_edge_owner;
@@ -71,20 +92,36 @@ typedef struct vc_convex_cell {
 void vc_convex_cell_init(vc_convex_cell *c);
 void vc_convex_cell_free(vc_convex_cell *c);
 
-/* Resets c to the box [lo, hi] (relative coordinates, lo < 0 < hi), with the
- * six faces carrying wall_id[k] for the walls xmin, xmax, ymin, ymax, zmin,
- * zmax. Returns 0, or VC_CELL_NOMEM. */
+/* Resets c to the box [lo, hi] (relative coordinates, lo < 0 < hi: the
+ * walls of ctx's box less the seed's position, rounded), with the six faces
+ * carrying wall_id[k] for the walls xmin, xmax, ymin, ymax, zmin, zmax
+ * (VC_WALL_XMIN - k). c->ctx and c->seed must be set. Returns 0, or
+ * VC_CELL_NOMEM. */
 int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
                              const double hi[3], const int64_t wall_id[6]);
 
-/* Cuts c with the bisector of the seed (origin) and the point p: keeps
- * {x : x.p <= |p|^2 / 2}. Vertices within tol * |p| of the plane count as
- * on it (kept), so a plane through existing vertices changes nothing.
- * Returns 1 if the cell changed, 0 if the plane misses it, -1 on a
- * numerical failure (the removed part is not a disk), -2 if nothing of
- * the cell would remain, VC_CELL_NOMEM out of memory. */
-int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id,
-                       double tol);
+/* Cuts c with the bisector of the seed and seed plane_id, at p relative to
+ * the seed (its coordinates less the seed's, rounded): keeps the vertices
+ * nearer the seed. With c->exact, which vertices go is decided exactly,
+ * with ties broken by the engine's symbolic perturbation (power_side.h): a
+ * floating-point filter with a rigorous error bound decides the clear
+ * cases, the exact test the others, and new vertices are computed from
+ * their three planes. Otherwise vertices within c->tol |p| of the plane
+ * count as on it (kept) and new vertices are interpolated along their
+ * edge. Returns 1 if the cell changed, 0 if the plane misses it, -1 if the
+ * removed part is not a disk (a tolerance problem; with exact decisions, a
+ * defect), -2 if nothing of the cell would remain, VC_CELL_NOMEM out of
+ * memory (also from the exact test). */
+int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id);
+
+/* The point where three planes (n, d) meet, {x : n.x = d}, by Cramer's
+ * rule, into y; returns a bound on its distance to where the exact planes
+ * meet, those of which q are rounded copies: a bisector of the origin and
+ * a seed at n (wall[i] = 0; n rounded within U |n| per component, d
+ * within 4 U |n|^2) or a wall (wall[i] = 1: n exact, d within U |d|). The
+ * bound is first order in U, taken four times; +inf when the rounded
+ * determinant is 0. */
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3]);
 
 /* Fills the face form (nv, nf, nfv, face_plane, face_start, fv) from
  * the current cell. Returns 0, -1 if a face cycle is inconsistent, or

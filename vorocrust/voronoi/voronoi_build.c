@@ -5,6 +5,7 @@
 #define _DEFAULT_SOURCE 1 /* madvise, in cell_result.h */
 #endif
 #include "vorocrust/voronoi.h"
+#include "vorocrust/seeds.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -18,6 +19,7 @@
 #include "convex_cell.h"
 #include "seed_grid.h"
 #include "seed_kdtree.h"
+#include "cell_stitch.h"
 #include "polymesh/repair.h"
 #include "util/threads.h"
 
@@ -30,10 +32,13 @@ static double wall_seconds(void)
 #endif
 }
 
-/* Vertices within CLIP_TOL * |p| of the bisector of a neighbour at p count
- * as on it: co-spherical seeds give no sliver faces. Copies of a vertex
- * computed in different cells are merged within MERGE_TOL times the local
- * cell size; it must exceed the clipping tolerance by a wide margin. */
+/* The tolerance engine: vertices within CLIP_TOL * |p| of the bisector of
+ * a neighbour at p count as on it, so co-spherical seeds give no sliver
+ * faces. Copies of a vertex computed in different cells are merged within
+ * MERGE_TOL times the local cell size; it must exceed the clipping
+ * tolerance by a wide margin. The exact engine (cell_stitch.h) merges
+ * Voronoi vertices nearer each other than MERGE_TOL times their distance
+ * to their seeds: seeds co-spherical to rounding give one vertex. */
 #define CLIP_TOL 1e-10
 #define MERGE_TOL 1e-8
 /* Clusters of points at open cells' edges are collapsed within this
@@ -64,6 +69,8 @@ typedef struct cell_job {
     double dup_dist2;
     double slack; /* rounding allowance on bin boxes (absolute) */
     const double *seed_xyz; /* the seeds' coordinates, by seed index */
+    vc_power_ctx ctx;       /* the same, and the box, for the exact side test */
+    int exact;              /* the exact engine */
 } cell_job;
 
 /* Beyond the first shell of bins, a seed t (at p relative to the seed) can
@@ -116,6 +123,11 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
     for (int t = 0; t < cell->nt; t++) {
         const double x[3] = {cell->px[t], cell->py[t], cell->pz[t]};
         double r2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * BALL_GROW;
+        if (cell->exact) {
+            /* the exact vertex is within ev of x: its ball within 2 ev of x's */
+            const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
+            r2 = rr * rr * BALL_GROW;
+        }
         if (4.0 * r2 < 0.9 * h2)
             continue;
         /* Insertion by decreasing radius: a bin test stops at the first
@@ -215,13 +227,13 @@ static void prune_range(const cell_job *job, const vc_convex_cell *cell, prune *
 /* Cuts the cell with the bisector of seed t (at relative position p,
  * squared distance d2); returns CELL_*. */
 static int cut_with_seed(const cell_job *job, vc_convex_cell *cell, prune *pr, int64_t t,
-                         const double p[3], double d2, double tol, int64_t *other)
+                         const double p[3], double d2, int64_t *other)
 {
     if (d2 <= job->dup_dist2) {
         *other = t;
         return CELL_DUPLICATE;
     }
-    int r = vc_convex_cell_cut(cell, p, t, tol);
+    int r = vc_convex_cell_cut(cell, p, t);
     if (r == VC_CELL_NOMEM)
         return CELL_NOMEM;
     if (r == -1)
@@ -241,7 +253,7 @@ static inline int may_cut(const vc_convex_cell *cell, double d2)
 
 /* Visits the seeds of one bin; returns CELL_*. */
 static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, prune *pr, int64_t s,
-                        const double *xs, int64_t bin, double tol, int64_t *other)
+                        const double *xs, int64_t bin, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
     for (int64_t k = g->bin_start[bin]; k < g->bin_start[bin + 1]; k++) {
@@ -253,7 +265,7 @@ static int cut_with_bin(const cell_job *job, vc_convex_cell *cell, prune *pr, in
         double d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
         if (!may_cut(cell, d2))
             continue;
-        int r = cut_with_seed(job, cell, pr, t, p, d2, tol, other);
+        int r = cut_with_seed(job, cell, pr, t, p, d2, other);
         if (r != CELL_OK)
             return r;
     }
@@ -318,8 +330,11 @@ static void offset_gaps(const vc_seed_grid *g, const double *x, const int b[3],
 
 /* Resets the cell of the seed at xs to the clipping box, in coordinates
  * relative to the seed. */
-static int reset_to_box(const cell_job *job, vc_convex_cell *cell, const double *xs)
+static int reset_to_box(const cell_job *job, vc_convex_cell *cell, int64_t s, const double *xs)
 {
+    cell->ctx = &job->ctx;
+    cell->seed = s;
+    cell->exact = job->exact;
     double lo[3], hi[3];
     const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
                               VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
@@ -334,10 +349,11 @@ static int reset_to_box(const cell_job *job, vc_convex_cell *cell, const double 
  * 27 nearest bins are cut nearest first, so that the cell shrinks fast and
  * the farther seeds are mostly rejected by the radius test alone. */
 static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *cand_buf,
-                        prune *pr, int64_t s, const double *xs, double tol, int64_t *other)
+                        prune *pr, int64_t s, const double *xs, int64_t *other)
 {
     const vc_seed_grid *g = job->grid;
-    if (reset_to_box(job, cell, xs) != 0)
+
+    if (reset_to_box(job, cell, s, xs) != 0)
         return CELL_NOMEM;
     int b[3];
     vc_seed_grid_locate(g, xs, b);
@@ -391,8 +407,7 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
             continue;
         const double *xt = g->xyz + 3 * sorted[m].k;
         double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
-        int r = cut_with_seed(job, cell, pr, g->seed_index[sorted[m].k], p, sorted[m].d2, tol,
-                              other);
+        int r = cut_with_seed(job, cell, pr, g->seed_index[sorted[m].k], p, sorted[m].d2, other);
         if (r != CELL_OK)
             return r;
     }
@@ -400,8 +415,14 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     pr->dirty = 1;
     for (; o < g->n_offsets; o++) {
         const vc_grid_offset *off = &g->offsets[o];
-        if (!may_cut(cell, off->dmin2 * h2))
-            return CELL_OK;
+        /* The offsets are a cube of Chebyshev radius R sorted by distance:
+         * past the first one out of reach, none of them is in reach, but
+         * the rings beyond the cube start at (R h)^2 and may be. */
+        if (!may_cut(cell, off->dmin2 * h2)) {
+            if (!may_cut(cell, (double)R * R * h2))
+                return CELL_OK;
+            break;
+        }
         /* Infinite outside the grid, which may_cut rejects. */
         const double bd2 = gap2[0][off->dx + R] + gap2[1][off->dy + R] + gap2[2][off->dz + R];
         if (!may_cut(cell, bd2))
@@ -410,7 +431,7 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
         /* The ball test costs more than it saves on ordinary cells. */
         if (cell->rmax2 > BIG_CELL * h2 && !bin_reachable(job, cell, pr, xs, i, j, k, bd2))
             continue;
-        int r = cut_with_bin(job, cell, pr, s, xs, vc_seed_grid_bin(g, i, j, k), tol, other);
+        int r = cut_with_bin(job, cell, pr, s, xs, vc_seed_grid_bin(g, i, j, k), other);
         if (r != CELL_OK)
             return r;
     }
@@ -451,7 +472,7 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
                     if (!may_cut(cell, bd2) || !bin_reachable(job, cell, pr, xs, i, j, k, bd2))
                         continue;
                     int r = cut_with_bin(job, cell, pr, s, xs, vc_seed_grid_bin(g, i, j, k),
-                                         tol, other);
+                                         other);
                     if (r != CELL_OK)
                         return r;
                 }
@@ -483,9 +504,9 @@ static int on_box(const vc_convex_cell *cell)
  * one is farther than twice the cell's radius: no seed beyond can cut. */
 static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *hit_buf,
                             vc_cell_buf *cand_buf, prune *pr, int64_t s, const double *xs,
-                            double tol, int64_t *other)
+                            int64_t *other)
 {
-    if (reset_to_box(job, cell, xs) != 0)
+    if (reset_to_box(job, cell, s, xs) != 0)
         return CELL_NOMEM;
     const vc_seed_kdtree *t = job->tree;
     int done = 0;
@@ -504,14 +525,14 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
                 return CELL_OK; /* the rest are farther still */
             const double *xt = job->seed_xyz + 3 * hit[m].seed;
             double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
-            int r = cut_with_seed(job, cell, pr, hit[m].seed, p, hit[m].d2, tol, other);
+            int r = cut_with_seed(job, cell, pr, hit[m].seed, p, hit[m].d2, other);
             if (r != CELL_OK)
                 return r;
         }
         if (got < k || (got > 0 && !may_cut(cell, hit[got - 1].d2)))
             return CELL_OK;
         if ((2 * k > KNN_MAX || on_box(cell)))
-            return compute_cell(job, cell, cand_buf, pr, s, xs, tol, other);
+            return compute_cell(job, cell, cand_buf, pr, s, xs, other);
         done = got;
     }
 }
@@ -543,20 +564,20 @@ static char *byte_buf_grow(byte_buf *b, size_t add)
     return p;
 }
 
-static size_t topo_bytes(int nf, int nfv)
+static size_t topo_bytes(int nf, int nfv, int nv)
 {
-    size_t b = (size_t)nf * sizeof(int32_t) + (size_t)(nf + 1 + nfv) * sizeof(uint16_t);
+    size_t b = (size_t)nf * sizeof(int32_t) + (size_t)(nf + 1 + nfv + 3 * nv) * sizeof(uint16_t);
     return (b + 7) & ~(size_t)7;
 }
 
 /* Appends the finished cell to the scratch buffers (res gets the counts and
  * the scale; its pointers are set when the chunk is stored). Returns 0, or
  * -1 when out of memory. */
-static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *coord,
+static int store_cell(vc_convex_cell *cell, const double *xs, byte_buf *coord,
                       byte_buf *topo, vc_cell_result *res)
 {
-    double *v = (double *)byte_buf_grow(coord, (size_t)cell->nv * 3 * sizeof(double));
-    char *t = byte_buf_grow(topo, topo_bytes(cell->nf, cell->nfv));
+    double *v = (double *)byte_buf_grow(coord, (size_t)cell->nv * 4 * sizeof(double));
+    char *t = byte_buf_grow(topo, topo_bytes(cell->nf, cell->nfv, cell->nv));
     if (!v || !t)
         return -1;
     res->nv = cell->nv;
@@ -564,11 +585,15 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
     res->nfv = cell->nfv;
     int32_t *plane = (int32_t *)t;
     uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
+    uint16_t *vf = fv + cell->nfv;
     double scale2 = INFINITY, r2 = 0;
     for (int i = 0; i < cell->nv; i++) {
         v[3 * i] = xs[0] + cell->px[i];
         v[3 * i + 1] = xs[1] + cell->py[i];
         v[3 * i + 2] = xs[2] + cell->pz[i];
+        /* and the rounding of the sum */
+        v[3 * cell->nv + i] = cell->ev[i] + 2.3e-16 * (fabs(v[3 * i]) + fabs(v[3 * i + 1]) +
+                                                       fabs(v[3 * i + 2]));
     }
     for (int f = 0; f < cell->nf; f++)
         plane[f] = (int32_t)cell->face_plane[f]; /* seed indices < 2^31 (checked) */
@@ -576,6 +601,14 @@ static int store_cell(const vc_convex_cell *cell, const double *xs, byte_buf *co
         fs[f] = (uint16_t)cell->face_start[f];
     for (int i = 0; i < cell->nfv; i++)
         fv[i] = (uint16_t)cell->fv[i];
+    /* Each vertex's three planes as the local faces they make (every plane
+     * of a vertex has a face), in the triangle's order. The faces' scratch
+     * (b_count) is free again: it maps plane indices to faces. */
+    int *face_of = cell->b_count.data;
+    for (int f = 0; f < cell->nf; f++)
+        face_of[cell->face_plane_index[f]] = f;
+    for (int i = 0; i < 3 * cell->nv; i++)
+        vf[i] = (uint16_t)face_of[cell->tri[i]];
     /* The local size: distance to the nearest seed that makes a face, or
      * the cell's diameter when only walls bound it. A seed's plane holds
      * its position relative to this seed (the same differences as
@@ -763,6 +796,12 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
     job.grid = &grid;
     job.seed_xyz = seeds->xyz;
+    job.exact = opt.exact;
+    job.ctx.xyz = seeds->xyz;
+    for (int d = 0; d < 3; d++) {
+        job.ctx.box_lo[d] = job.box_lo[d];
+        job.ctx.box_hi[d] = job.box_hi[d];
+    }
     /* How crowded the bins are where the seeds are: the mean count of the
      * bin of a seed (sum of squared counts over the seeds). Near
      * SEEDS_PER_BIN + 1 for evenly spread seeds; VoroCrust's seeds crowd
@@ -846,8 +885,10 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     const int64_t n_chunks = (n_kept + CHUNK - 1) / CHUNK;
     vc_cell_store store;
     memset(&store, 0, sizeof store);
-#pragma omp parallel num_threads(threads)
+    int64_t n_exact = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : n_exact)
     {
+        int64_t n_exact_thread = 0;
         vc_convex_cell cell;
         vc_convex_cell_init(&cell);
         vc_cell_buf cand_buf = {NULL, 0}, hit_buf = {NULL, 0};
@@ -864,18 +905,23 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 const int64_t s = grid.seed_index[build_pos[m]];
                 const double *xs = grid.xyz + 3 * build_pos[m]; /* a copy of seed s */
                 int r = CELL_NUMERIC;
-                /* A cut that cannot be closed is a tolerance problem: retry
-                 * with a coarser tolerance before giving up. */
+                /* The tolerance engine: a cut that cannot be closed is a
+                 * tolerance problem, retried with a coarser tolerance
+                 * before giving up. The exact engine runs once. */
                 for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
                      tol *= 100) {
+                    cell.tol = tol;
                     r = job.tree ? compute_cell_knn(&job, &cell, &hit_buf, &cand_buf, &pr, s, xs,
-                                                    tol, &other[k])
-                                 : compute_cell(&job, &cell, &cand_buf, &pr, s, xs, tol, &other[k]);
+                                                    &other[k])
+                                 : compute_cell(&job, &cell, &cand_buf, &pr, s, xs, &other[k]);
                     if (r == CELL_OK) {
                         int fr = vc_convex_cell_faces(&cell);
                         r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
                     }
+                    if (job.exact)
+                        break;
                 }
+                n_exact_thread += cell.n_exact;
                 /* Local vertex indices are 16-bit in the stored cell. */
                 if (r == CELL_OK && cell.nfv > 65535)
                     r = CELL_TOO_BIG;
@@ -916,11 +962,14 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 c->plane = (int32_t *)tb;
                 c->face_start = (uint16_t *)(c->plane + c->nf);
                 c->fv = c->face_start + c->nf + 1;
-                cb += (size_t)c->nv * 3 * sizeof(double);
-                tb += topo_bytes(c->nf, c->nfv);
+                c->vf = c->fv + c->nfv;
+                c->ev = c->v + 3 * c->nv;
+                cb += (size_t)c->nv * 4 * sizeof(double);
+                tb += topo_bytes(c->nf, c->nfv, c->nv);
             }
         }
         vc_convex_cell_free(&cell);
+        n_exact += n_exact_thread;
         free(cand_buf.data);
         free(hit_buf.data);
         free(pr.ball.data);
@@ -940,7 +989,10 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                               (long long)s, (long long)other[k], x[0], x[1], x[2]);
         else if (status[k] == CELL_NUMERIC)
             rc = vc_error_set(err, VC_EINTERNAL,
-                              "the cell of seed %lld (%g %g %g) could not be built robustly",
+                              job.exact ? "the cell of seed %lld (%g %g %g): a cut did not remove "
+                                          "a disk (a defect of the exact engine)"
+                                        : "the cell of seed %lld (%g %g %g) could not be built "
+                                          "robustly",
                               (long long)s, x[0], x[1], x[2]);
         else if (status[k] == CELL_NOMEM)
             rc = vc_error_set(err, VC_ENOMEM, "out of memory storing %lld cells",
@@ -964,12 +1016,20 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         if (progress && wall_seconds() - t_start > 1.0)
             vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld cells built in %.3f s; stitching",
                    (long long)n_kept, wall_seconds() - t_start);
-        /* The stitching frees cells once it has read them. */
-        int64_t n_degenerate = 0;
-        rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
-                                    MERGE_TOL, threads, opt.log, out, &n_degenerate, err);
-        if (rc == 0 && n_degenerate > 0)
-            rc = repair_degenerate(out, threads, opt.log, err);
+        if (job.exact) {
+            vc_log(opt.log, VC_LOG_DEBUG,
+                   "  cells: %lld side tests past the filter, %lld in expansions so far",
+                   (long long)n_exact, vc_power_expansion_count());
+            rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, MERGE_TOL,
+                                 threads, opt.log, out, err);
+        } else {
+            /* The stitching frees cells once it has read them. */
+            int64_t n_degenerate = 0;
+            rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
+                                        MERGE_TOL, threads, opt.log, out, &n_degenerate, err);
+            if (rc == 0 && n_degenerate > 0)
+                rc = repair_degenerate(out, threads, opt.log, err);
+        }
     }
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);

@@ -1,0 +1,1286 @@
+/* Stitching Voronoi cells by the identity of their vertices (see
+ * cell_stitch.h).
+ *
+ * Positions: m is a cell's place in the spatial build order, k its kept
+ * index (the output cell index, ascending seed). Every pass is over the
+ * cells, on threads, writing to places fixed by prefix sums, or a
+ * union-find whose classes do not depend on the order of the unions (the
+ * smallest member is the root), so the output is the same for any thread
+ * count. */
+#include "cell_stitch.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "convex_cell.h"
+#include "util/exact_predicates.h"
+#include "util/union_find.h"
+
+static double wall_time(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    return 0;
+#endif
+}
+
+typedef struct stitch {
+    const vc_seeds *seeds;
+    const vc_power_ctx *ctx;
+    const vc_cell_result *cells;
+    const int64_t *kept_seed, *order;
+    int64_t n_kept;
+    int64_t *kidx;    /* per seed: its kept index, or -1 */
+    int64_t *kpos;    /* per kept index: its position m */
+    int64_t *loc_off; /* per position: the first of its vertices in gid[] */
+    int64_t *gid;     /* per cell vertex: its global vertex */
+    int64_t n_gid;
+    double *gp;       /* 3 per global vertex: the owner's position */
+    double *gev;      /* per global vertex: the owner's error bound */
+    double *grad;     /* per global vertex: its distance to its lowest seed */
+    int64_t *gkey;    /* 4 per global vertex: its planes, ascending */
+    int64_t *root;    /* per global vertex: its class (the smallest member) */
+    unsigned char *nontrivial; /* per root: its class has several members */
+    unsigned char *candidate;  /* per root: may be a straight point */
+    unsigned char *straight;   /* per root: a point inside a straight edge */
+    int64_t *face_off;         /* per position: its first face in degenerate[] */
+    unsigned char *degenerate; /* per cell face: a segment (zero area) */
+    struct split *splits;      /* points of degenerate faces inside edges */
+    int64_t n_splits;
+} stitch;
+
+/* A point p inside the edge lo - hi (lo < hi) at parameter t from lo. */
+typedef struct split {
+    int64_t lo, hi, p;
+    double t;
+} split;
+
+static int cmp_split(const void *x, const void *y)
+{
+    const split *a = x, *b = y;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi)
+        return a->hi < b->hi ? -1 : 1;
+    if (a->t != b->t)
+        return a->t < b->t ? -1 : 1;
+    return (a->p > b->p) - (a->p < b->p);
+}
+
+static inline int64_t seed_of(const stitch *st, int64_t m)
+{
+    return st->kept_seed[st->order[m]];
+}
+
+/* The four planes of vertex i of the cell at m, ascending. */
+static void vertex_key(const stitch *st, int64_t m, int i, int64_t key[4])
+{
+    const vc_cell_result *c = &st->cells[m];
+    key[0] = seed_of(st, m);
+    for (int j = 0; j < 3; j++)
+        key[j + 1] = c->plane[c->vf[3 * i + j]];
+    for (int a = 1; a < 4; a++) {
+        int64_t x = key[a];
+        int b = a;
+        for (; b > 0 && key[b - 1] > x; b--)
+            key[b] = key[b - 1];
+        key[b] = x;
+    }
+}
+
+/* The position of the owner of a key: the kept seed of lowest index. */
+static int64_t owner_of(const stitch *st, const int64_t key[4])
+{
+    for (int j = 0; j < 4; j++)
+        if (key[j] >= 0 && st->kidx[key[j]] >= 0)
+            return st->kpos[st->kidx[key[j]]];
+    return -1; /* not reached: the cell's own seed is kept */
+}
+
+/* The vertex of the cell at o with this key, found on o's face against
+ * seed t (a seed of the key other than o's); -1 if o lacks it. */
+static int find_in_owner(const stitch *st, int64_t o, int64_t t, const int64_t key[4])
+{
+    const vc_cell_result *c = &st->cells[o];
+    for (int f = 0; f < c->nf; f++) {
+        if (c->plane[f] != t)
+            continue;
+        for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++) {
+            int64_t k2[4];
+            vertex_key(st, o, c->fv[j], k2);
+            if (memcmp(k2, key, sizeof k2) == 0)
+                return c->fv[j];
+        }
+        return -1;
+    }
+    return -1;
+}
+
+/* The point of a vertex from its key alone, so that it does not depend on
+ * which cells are kept: the planes of the key's other entries relative to
+ * its lowest seed, solved. Returns the error bound (+inf where the solve
+ * is too ill-conditioned to trust). */
+static double canonical_point(const vc_power_ctx *ctx, const int64_t key[4], double x[3],
+                              double *rad)
+{
+    int b = 0;
+    while (b < 4 && key[b] < 0)
+        b++;
+    const double *xb = ctx->xyz + 3 * key[b];
+    double q[3][4];
+    int wall[3];
+    for (int j = 0, m = 0; j < 4; j++) {
+        if (j == b)
+            continue;
+        if (key[j] >= 0) {
+            const double *xa = ctx->xyz + 3 * key[j];
+            for (int d = 0; d < 3; d++)
+                q[m][d] = xa[d] - xb[d];
+            q[m][3] = 0.5 * (q[m][0] * q[m][0] + q[m][1] * q[m][1] + q[m][2] * q[m][2]);
+            wall[m] = 0;
+        } else {
+            const int k = (int)(-1 - key[j]), axis = k / 2;
+            const double X = (k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+            for (int d = 0; d < 3; d++)
+                q[m][d] = d == axis ? 1.0 : 0.0;
+            q[m][3] = X - xb[axis];
+            wall[m] = 1;
+        }
+        m++;
+    }
+    const double *qp[3] = {q[0], q[1], q[2]};
+    double y[3];
+    const double e = vc_solve_planes(qp, wall, y);
+    *rad = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+    for (int d = 0; d < 3; d++)
+        x[d] = xb[d] + y[d];
+    const double e2 = e + 2.3e-16 * (fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
+    return isfinite(*rad) && e <= 1e-6 * *rad ? e2 : INFINITY;
+}
+
+/* Are the global vertices u and v the same point exactly? u's point on
+ * every plane of v's. 1, 0, or VC_PREDICATE_NOMEM. */
+static int same_point(const stitch *st, int64_t u, int64_t v)
+{
+    const int64_t *ku = st->gkey + 4 * u, *kv = st->gkey + 4 * v;
+    int b = 0;
+    while (b < 4 && ku[b] < 0)
+        b++;
+    int64_t pl[3];
+    for (int j = 0, m = 0; j < 4; j++)
+        if (j != b)
+            pl[m++] = ku[j];
+    for (int j = 0; j < 4; j++) {
+        const int64_t q = kv[j];
+        if (q == ku[0] || q == ku[1] || q == ku[2] || q == ku[3])
+            continue;
+        const int r = vc_power_on_plane(st->ctx, ku[b], pl, q);
+        if (r != 1)
+            return r;
+    }
+    return 1;
+}
+
+/* Do the ends i and j of an edge of the cell at m coincide? Exactly, or
+ * within merge_tol of their distance to their seeds. The same answer in
+ * every cell that has the edge: it reads the global points and bounds, and
+ * the exact test is exact. Returns 1, 0, or VC_PREDICATE_NOMEM. */
+static int edge_collapses(const stitch *st, int64_t m, int i, int j, double merge_tol)
+{
+    const vc_cell_result *c = &st->cells[m];
+    const int64_t gi = st->gid[st->loc_off[m] + i], gj = st->gid[st->loc_off[m] + j];
+    const double *a = st->gp + 3 * gi, *b = st->gp + 3 * gj;
+    const double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                          (a[2] - b[2]) * (a[2] - b[2]));
+    const double r = st->grad[gi] < st->grad[gj] ? st->grad[gi] : st->grad[gj];
+    if (d <= merge_tol * r)
+        return 1;
+    if (d > st->gev[gi] + st->gev[gj])
+        return 0;
+    /* Within rounding of each other: exact. j's plane that i lacks. */
+    int64_t pi[3], q = 0;
+    for (int u = 0; u < 3; u++)
+        pi[u] = c->plane[c->vf[3 * i + u]];
+    for (int u = 0; u < 3; u++) {
+        const int64_t x = c->plane[c->vf[3 * j + u]];
+        if (x != pi[0] && x != pi[1] && x != pi[2])
+            q = x;
+    }
+    return vc_power_on_plane(st->ctx, seed_of(st, m), pi, q);
+}
+
+/* The cycle of face f of the cell at m as class roots, without repeats
+ * and folds (x, a, x becomes x), and without straight points when
+ * drop_straight; into buf (room for the face). Returns its length (below
+ * 3: the face is gone). */
+static int clean_cycle(const stitch *st, int64_t m, int f, int drop_straight, int64_t *buf)
+{
+    const vc_cell_result *c = &st->cells[m];
+    int n = 0;
+    for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++) {
+        const int64_t r = st->root[st->gid[st->loc_off[m] + c->fv[j]]];
+        if (drop_straight && st->straight[r])
+            continue;
+        if (n > 0 && buf[n - 1] == r)
+            continue;
+        buf[n++] = r;
+        /* a fold: ... x, a, x */
+        while (n >= 3 && buf[n - 1] == buf[n - 3])
+            n -= 2;
+    }
+    /* the same across the cycle's end */
+    for (int changed = 1; changed && n >= 2;) {
+        changed = 0;
+        if (buf[n - 1] == buf[0]) {
+            n--;
+            changed = 1;
+        } else if (n >= 3 && buf[n - 2] == buf[0]) { /* x, ..., x, a | */
+            n -= 2;
+            changed = 1;
+        } else if (n >= 3 && buf[n - 1] == buf[1]) { /* | a, x, ..., x */
+            memmove(buf, buf + 2, (size_t)(n - 2) * sizeof *buf);
+            n -= 2;
+            changed = 1;
+        }
+    }
+    return n >= 3 ? n : 0;
+}
+
+/* The splits of the edge a - b: their range in st->splits. */
+static int64_t splits_of(const stitch *st, int64_t a, int64_t b, int64_t *count)
+{
+    const int64_t lo = a < b ? a : b, hi = a < b ? b : a;
+    int64_t l = 0, h = st->n_splits;
+    while (l < h) {
+        const int64_t mid = (l + h) / 2;
+        const split *q = &st->splits[mid];
+        if (q->lo < lo || (q->lo == lo && q->hi < hi))
+            l = mid + 1;
+        else
+            h = mid;
+    }
+    int64_t e = l;
+    while (e < st->n_splits && st->splits[e].lo == lo && st->splits[e].hi == hi)
+        e++;
+    *count = e - l;
+    return l;
+}
+
+/* The cycle of face f of the cell at m as written: clean_cycle without
+ * straight points, nothing for a degenerate face, and the points of
+ * degenerate faces inside its edges inserted. *buf grows as needed.
+ * Returns the length, 0 when the face is gone, -1 out of memory. */
+static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int *cap,
+                       int64_t *tmp)
+{
+    if (st->degenerate && st->degenerate[st->face_off[m] + f])
+        return 0;
+    const int len = clean_cycle(st, m, f, 1, tmp);
+    if (len == 0)
+        return 0;
+    int n = 0;
+    for (int j = 0; j < len; j++) {
+        const int64_t a = tmp[j], b = tmp[j + 1 < len ? j + 1 : 0];
+        /* a, then what lies inside a -> b: the edge's split points, and
+         * theirs inside the pieces (degenerate faces next to each other),
+         * to a fixed depth */
+        const int start = n;
+        if (n + 2 > *cap) {
+            int nc = 2 * (n + 2) + 16;
+            int64_t *q = realloc(*buf, (size_t)nc * sizeof *q);
+            if (!q)
+                return -1;
+            *buf = q;
+            *cap = nc;
+        }
+        (*buf)[n++] = a;
+        (*buf)[n++] = b; /* removed below */
+        for (int depth = 0, changed = 1; changed && depth < 8 && st->n_splits; depth++) {
+            changed = 0;
+            for (int i = start; i + 1 < n; i++) {
+                const int64_t u = (*buf)[i], v = (*buf)[i + 1];
+                int64_t k = 0;
+                const int64_t at = splits_of(st, u, v, &k);
+                if (k == 0)
+                    continue;
+                if (n + k > *cap) {
+                    int nc = 2 * (n + (int)k) + 16;
+                    int64_t *q = realloc(*buf, (size_t)nc * sizeof *q);
+                    if (!q)
+                        return -1;
+                    *buf = q;
+                    *cap = nc;
+                }
+                /* only points not yet in this edge's list (rounding can
+                 * order nearly coincident points differently in two
+                 * degenerate faces) */
+                int64_t add[64];
+                int na = 0;
+                for (int64_t q = 0; q < k && na < 64; q++) {
+                    const int64_t p = st->splits[u < v ? at + q : at + k - 1 - q].p;
+                    int seen = st->straight[p]; /* left out of every face */
+                    for (int r = start; r < n && !seen; r++)
+                        seen = (*buf)[r] == p;
+                    if (!seen)
+                        add[na++] = p;
+                }
+                if (na == 0)
+                    continue;
+                memmove(*buf + i + 1 + na, *buf + i + 1, (size_t)(n - i - 1) * sizeof **buf);
+                for (int q = 0; q < na; q++)
+                    (*buf)[i + 1 + q] = add[q];
+                n += na;
+                i += na;
+                changed = 1;
+            }
+        }
+        n--; /* b starts the next edge */
+    }
+    return n;
+}
+
+/* Is face f of the cell at m written by that cell (interior faces by the
+ * lower seed, boundary faces always)? */
+static inline int owns_face(const stitch *st, int64_t m, int f)
+{
+    const int64_t t = st->cells[m].plane[f];
+    return t < 0 || st->kidx[t] < 0 || seed_of(st, m) < t;
+}
+
+static inline int is_interior(const stitch *st, int64_t t)
+{
+    return t >= 0 && st->kidx[t] >= 0;
+}
+
+/* Per cell (by position): counts, then places. */
+typedef struct cell_count {
+    int64_t n_int, fv_int, n_bnd, fv_bnd, n_faces;
+} cell_count;
+
+static int max_face_len(const vc_cell_result *c)
+{
+    int mx = 0;
+    for (int f = 0; f < c->nf; f++)
+        if (c->face_start[f + 1] - c->face_start[f] > mx)
+            mx = c->face_start[f + 1] - c->face_start[f];
+    return mx;
+}
+
+/* A point of a boundary face, by the hash cell of its position. */
+typedef struct hashed_point {
+    int64_t i[3];
+    int64_t g;
+} hashed_point;
+
+static int cmp_hashed(const void *x, const void *y)
+{
+    const hashed_point *a = x, *b = y;
+    for (int d = 0; d < 3; d++)
+        if (a->i[d] != b->i[d])
+            return a->i[d] < b->i[d] ? -1 : 1;
+    return (a->g > b->g) - (a->g < b->g);
+}
+
+/* Kept cells that meet only across non-kept cells or the box (an edge or
+ * a corner, as in a checkerboard) share vertices that no edge of a kept
+ * cell joins. The points of boundary faces are united with every other
+ * such point that is the same exact point, or nearer than merge_tol of
+ * their distance to their seeds: a function of the two points alone, so
+ * the classes do not depend on the order. Returns the unions made, or -1
+ * when out of memory. */
+static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
+{
+    const int64_t ng = st->n_gid;
+    unsigned char *on = calloc((size_t)ng + 1, 1);
+    if (!on)
+        return -1;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < st->n_kept; m++) {
+        const vc_cell_result *c = &st->cells[m];
+        for (int f = 0; f < c->nf; f++) {
+            if (is_interior(st, c->plane[f]))
+                continue;
+            for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++)
+                on[st->gid[st->loc_off[m] + c->fv[j]]] = 1; /* the same value from any thread */
+        }
+    }
+    int64_t nb = 0;
+    double reach = 0, extent = 0;
+    for (int64_t g = 0; g < ng; g++) {
+        if (!on[g])
+            continue;
+        nb++;
+        const double r = merge_tol * st->grad[g] + 2 * st->gev[g];
+        reach = r > reach ? r : reach;
+        for (int d = 0; d < 3; d++)
+            extent = fabs(st->gp[3 * g + d]) > extent ? fabs(st->gp[3 * g + d]) : extent;
+    }
+    hashed_point *h = malloc((size_t)(nb + 1) * sizeof *h);
+    if (!h) {
+        free(on);
+        return -1;
+    }
+    /* Hash cells as wide as the largest merge distance (merge_tol of the
+     * distance to the seeds); a point whose error bound reaches farther
+     * (an ill-conditioned vertex) searches as many cells as it needs. */
+    double q = 0;
+    for (int64_t g = 0; g < ng; g++)
+        if (on[g] && merge_tol * st->grad[g] > q)
+            q = merge_tol * st->grad[g];
+    if (!(q > 1e-13 * (extent + 1)))
+        q = 1e-13 * (extent + 1);
+    (void)reach;
+    for (int64_t g = 0, n = 0; g < ng; g++) {
+        if (!on[g])
+            continue;
+        for (int d = 0; d < 3; d++)
+            h[n].i[d] = (int64_t)floor(st->gp[3 * g + d] / q);
+        h[n++].g = g;
+    }
+    free(on);
+    qsort(h, (size_t)nb, sizeof *h, cmp_hashed);
+    int64_t n_unions = 0;
+    for (int64_t a = 0; a < nb; a++) {
+        const int64_t u = h[a].g;
+        const double ru = merge_tol * st->grad[u] + 2 * st->gev[u];
+        (void)ru;
+        const int64_t w = 1;
+        for (int64_t dz = -w; dz <= w; dz++)
+            for (int64_t dy = -w; dy <= w; dy++)
+                for (int64_t dx = -w; dx <= w; dx++) {
+                    hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] + dz}, -1};
+                    /* the first entry of that cell */
+                    int64_t lo = 0, hi = nb;
+                    while (lo < hi) {
+                        const int64_t mid = (lo + hi) / 2;
+                        if (cmp_hashed(&h[mid], &key) < 0)
+                            lo = mid + 1;
+                        else
+                            hi = mid;
+                    }
+                    for (int64_t b = lo; b < nb && h[b].i[0] == key.i[0] && h[b].i[1] == key.i[1] &&
+                                         h[b].i[2] == key.i[2];
+                         b++) {
+                        const int64_t v = h[b].g;
+                        if (v == u)
+                            continue;
+                        const double *x = st->gp + 3 * u, *y = st->gp + 3 * v;
+                        const double dd = sqrt((x[0] - y[0]) * (x[0] - y[0]) +
+                                               (x[1] - y[1]) * (x[1] - y[1]) +
+                                               (x[2] - y[2]) * (x[2] - y[2]));
+                        const double r = st->grad[u] < st->grad[v] ? st->grad[u] : st->grad[v];
+                        int join = dd <= merge_tol * r;
+                        if (!join && dd <= st->gev[u] + st->gev[v] &&
+                            vc_uf_find(st->root, u) != vc_uf_find(st->root, v)) {
+                            const int e = same_point(st, u, v);
+                            if (e == VC_PREDICATE_NOMEM) {
+                                free(h);
+                                return -1;
+                            }
+                            join = e == 1;
+                        }
+                        if (join && vc_uf_find(st->root, u) != vc_uf_find(st->root, v)) {
+                            vc_uf_unite(st->root, u, v);
+                            n_unions++;
+                        }
+                    }
+                }
+    }
+    (void)threads;
+    free(h);
+    return n_unions;
+}
+
+/* Do the points cyc[0..n) lie on one segment, within merge_tol of their
+ * distance to their seeds? Then t[j] is point j's parameter along it (from
+ * the end of lower index of the farthest pair). A function of the point
+ * set alone: both copies of a face decide alike. */
+static int on_segment(const stitch *st, const int64_t *cyc, int n, double merge_tol, double *t)
+{
+    int pa = 0, pb = 1;
+    double best = -1;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++) {
+            const double *x = st->gp + 3 * cyc[i], *y = st->gp + 3 * cyc[j];
+            const double d2 = (x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+                              (x[2] - y[2]) * (x[2] - y[2]);
+            const int64_t lo = cyc[i] < cyc[j] ? cyc[i] : cyc[j];
+            const int64_t blo = cyc[pa] < cyc[pb] ? cyc[pa] : cyc[pb];
+            if (d2 > best || (d2 == best && lo < blo)) {
+                best = d2;
+                pa = i;
+                pb = j;
+            }
+        }
+    if (cyc[pb] < cyc[pa]) {
+        const int x = pa;
+        pa = pb;
+        pb = x;
+    }
+    if (!(best > 0))
+        return 0;
+    double rmin = INFINITY;
+    for (int i = 0; i < n; i++)
+        rmin = st->grad[cyc[i]] < rmin ? st->grad[cyc[i]] : rmin;
+    const double *P = st->gp + 3 * cyc[pa], *Q = st->gp + 3 * cyc[pb];
+    const double u[3] = {Q[0] - P[0], Q[1] - P[1], Q[2] - P[2]};
+    const double L = sqrt(best);
+    for (int i = 0; i < n; i++) {
+        const double *x = st->gp + 3 * cyc[i];
+        const double w[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double c[3] = {w[1] * u[2] - w[2] * u[1], w[2] * u[0] - w[0] * u[2],
+                             w[0] * u[1] - w[1] * u[0]};
+        if (sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / L > merge_tol * rmin)
+            return 0;
+        t[i] = (w[0] * u[0] + w[1] * u[1] + w[2] * u[2]) / best;
+    }
+    return 1;
+}
+
+typedef struct split_buf {
+    split *s;
+    int64_t n, cap;
+} split_buf;
+
+static int split_push(split_buf *b, split x)
+{
+    if (b->n == b->cap) {
+        int64_t cap = b->cap ? 2 * b->cap : 256;
+        split *q = realloc(b->s, (size_t)cap * sizeof *q);
+        if (!q)
+            return -1;
+        b->s = q;
+        b->cap = cap;
+    }
+    b->s[b->n++] = x;
+    return 0;
+}
+
+typedef struct pair64 {
+    int64_t a, b;
+} pair64;
+
+typedef struct pair_buf {
+    pair64 *p;
+    int64_t n, cap;
+} pair_buf;
+
+static int pair_push(pair_buf *b, int64_t x, int64_t y)
+{
+    if (b->n == b->cap) {
+        int64_t cap = b->cap ? 2 * b->cap : 1024;
+        pair64 *q = realloc(b->p, (size_t)cap * sizeof *q);
+        if (!q)
+            return -1;
+        b->p = q;
+        b->cap = cap;
+    }
+    b->p[b->n++] = (pair64){x, y};
+    return 0;
+}
+
+static int cmp_pair(const void *x, const void *y)
+{
+    const pair64 *a = x, *b = y;
+    if (a->a != b->a)
+        return a->a < b->a ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
+                    const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
+                    double merge_tol, int threads, const vc_logger *log, vc_polymesh *out,
+                    vc_error *err)
+{
+    const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
+    double t0 = wall_time(), tp = t0;
+#define PHASE(name)                                                                               \
+    do {                                                                                          \
+        if (timing) {                                                                             \
+            const double now_ = wall_time();                                                      \
+            vc_log(log, VC_LOG_DEBUG, "  stitch: %-10s %.3f s", name, now_ - tp);                \
+            tp = now_;                                                                            \
+        }                                                                                         \
+    } while (0)
+    memset(out, 0, sizeof *out);
+    stitch st;
+    memset(&st, 0, sizeof st);
+    st.seeds = seeds;
+    st.ctx = ctx;
+    st.cells = cells;
+    st.kept_seed = kept_seed;
+    st.order = order;
+    st.n_kept = n_kept;
+    const int64_t n = seeds->n;
+    int rc = 0;
+    int64_t *owned = NULL, *vbase = NULL;
+    cell_count *cnt = NULL;
+    pair_buf *pairs = NULL;
+    int64_t *fill = NULL;
+    unsigned char *used = NULL;
+    int64_t *pid = NULL;
+    volatile int failed = 0, inconsistent = 0;
+    int64_t bad_m = -1;
+
+    st.kidx = malloc((size_t)n * sizeof(int64_t));
+    st.kpos = malloc((size_t)n_kept * sizeof(int64_t));
+    st.loc_off = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    owned = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    vbase = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    if (!st.kidx || !st.kpos || !st.loc_off || !owned || !vbase)
+        goto nomem;
+    for (int64_t i = 0; i < n; i++)
+        st.kidx[i] = -1;
+    for (int64_t k = 0; k < n_kept; k++)
+        st.kidx[kept_seed[k]] = k;
+    for (int64_t m = 0; m < n_kept; m++)
+        st.kpos[order[m]] = m;
+    st.loc_off[0] = 0;
+    for (int64_t m = 0; m < n_kept; m++)
+        st.loc_off[m + 1] = st.loc_off[m] + cells[m].nv;
+    st.gid = malloc((size_t)(st.loc_off[n_kept] > 0 ? st.loc_off[n_kept] : 1) * sizeof(int64_t));
+    if (!st.gid)
+        goto nomem;
+
+    /* Owned vertices, numbered in the owners' order. */
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++) {
+        int64_t c = 0;
+        for (int i = 0; i < cells[m].nv; i++) {
+            int64_t key[4];
+            vertex_key(&st, m, i, key);
+            c += owner_of(&st, key) == m;
+        }
+        owned[m] = c;
+    }
+    vbase[0] = 0;
+    for (int64_t m = 0; m < n_kept; m++)
+        vbase[m + 1] = vbase[m] + owned[m];
+    st.n_gid = vbase[n_kept];
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++) {
+        int64_t g = vbase[m];
+        for (int i = 0; i < cells[m].nv; i++) {
+            int64_t key[4];
+            vertex_key(&st, m, i, key);
+            st.gid[st.loc_off[m] + i] = owner_of(&st, key) == m ? g++ : -1;
+        }
+    }
+    /* The others, looked up in their owners. */
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const int64_t s = seed_of(&st, m);
+        for (int i = 0; i < cells[m].nv; i++) {
+            if (st.gid[st.loc_off[m] + i] >= 0)
+                continue;
+            int64_t key[4];
+            vertex_key(&st, m, i, key);
+            const int64_t o = owner_of(&st, key);
+            const int j = find_in_owner(&st, o, s, key);
+            if (j < 0) {
+#pragma omp critical(vc_stitch_bad)
+                if (bad_m < 0 || m < bad_m)
+                    bad_m = m;
+                inconsistent = 1;
+                continue;
+            }
+            st.gid[st.loc_off[m] + i] = st.gid[st.loc_off[o] + j];
+        }
+    }
+    if (inconsistent) {
+        const int64_t s = seed_of(&st, bad_m);
+        rc = vc_error_set(err, VC_EINTERNAL,
+                          "the cells of seed %lld (%g %g %g) and a neighbour disagree on a vertex "
+                          "(a defect of the engine)",
+                          (long long)s, seeds->xyz[3 * s], seeds->xyz[3 * s + 1],
+                          seeds->xyz[3 * s + 2]);
+        goto done;
+    }
+    free(owned);
+    owned = NULL;
+    PHASE("lookup");
+
+    /* The global vertices' points. */
+    const int64_t ng = st.n_gid;
+    st.gp = malloc((size_t)(3 * ng + 1) * sizeof(double));
+    st.gev = malloc((size_t)(ng + 1) * sizeof(double));
+    st.grad = malloc((size_t)(ng + 1) * sizeof(double));
+    st.root = malloc((size_t)(ng + 1) * sizeof(int64_t));
+    st.gkey = malloc((size_t)(4 * ng + 1) * sizeof(int64_t));
+    if (!st.gp || !st.gev || !st.grad || !st.root || !st.gkey)
+        goto nomem;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++) {
+        const vc_cell_result *c = &cells[m];
+        const double *xs = seeds->xyz + 3 * seed_of(&st, m);
+        for (int i = 0; i < c->nv; i++) {
+            const int64_t g = st.gid[st.loc_off[m] + i];
+            if (g < vbase[m] || g >= vbase[m + 1])
+                continue; /* not this cell's own */
+            int64_t *key = st.gkey + 4 * g;
+            vertex_key(&st, m, i, key);
+            double rad;
+            st.gev[g] = canonical_point(ctx, key, st.gp + 3 * g, &rad);
+            st.grad[g] = rad;
+            if (!(st.gev[g] < INFINITY)) {
+                /* ill-conditioned: the owner's own point */
+                const double *v = c->v + 3 * i;
+                memcpy(st.gp + 3 * g, v, 3 * sizeof(double));
+                st.gev[g] = c->ev[i];
+                st.grad[g] = sqrt((v[0] - xs[0]) * (v[0] - xs[0]) +
+                                  (v[1] - xs[1]) * (v[1] - xs[1]) + (v[2] - xs[2]) * (v[2] - xs[2]));
+            }
+            /* a vertex on a wall lies exactly on it */
+            for (int j = 0; j < 4; j++)
+                if (key[j] < 0) {
+                    const int w = (int)(-1 - key[j]), axis = w / 2;
+                    st.gp[3 * g + axis] = (w % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+                }
+        }
+    }
+
+    /* Collapsed edges, then their classes. */
+    pairs = calloc((size_t)threads, sizeof *pairs);
+    if (!pairs)
+        goto nomem;
+#pragma omp parallel num_threads(threads)
+    {
+#ifdef _OPENMP
+        pair_buf *pb = &pairs[omp_get_thread_num()];
+#else
+        pair_buf *pb = &pairs[0];
+#endif
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_kept; m++) {
+            const vc_cell_result *c = &cells[m];
+            for (int f = 0; f < c->nf; f++) {
+                const int j0 = c->face_start[f], j1 = c->face_start[f + 1];
+                for (int j = j0; j < j1; j++) {
+                    const int a = c->fv[j], b = c->fv[j + 1 < j1 ? j + 1 : j0];
+                    const int64_t ga = st.gid[st.loc_off[m] + a], gb = st.gid[st.loc_off[m] + b];
+                    if (ga > gb)
+                        continue; /* each edge once per cell: from its lower end */
+                    const int r = edge_collapses(&st, m, a, b, merge_tol);
+                    if (r == VC_PREDICATE_NOMEM || (r == 1 && pair_push(pb, ga, gb) != 0))
+                        failed = 1;
+                }
+            }
+        }
+    }
+    if (failed)
+        goto nomem;
+    for (int64_t g = 0; g < ng; g++)
+        st.root[g] = g;
+    int64_t n_collapsed = 0;
+    for (int t = 0; t < threads; t++) {
+        for (int64_t i = 0; i < pairs[t].n; i++)
+            vc_uf_unite(st.root, pairs[t].p[i].a, pairs[t].p[i].b);
+        n_collapsed += pairs[t].n;
+        free(pairs[t].p);
+        pairs[t] = (pair_buf){NULL, 0, 0};
+    }
+    const int64_t n_matched = match_boundary_points(&st, threads, merge_tol);
+    if (n_matched < 0)
+        goto nomem;
+    n_collapsed += n_matched;
+    for (int64_t g = 0; g < ng; g++)
+        st.root[g] = vc_uf_find(st.root, g);
+    st.nontrivial = calloc((size_t)ng + 1, 1);
+    st.candidate = calloc((size_t)ng + 1, 1);
+    st.straight = calloc((size_t)ng + 1, 1);
+    if (!st.nontrivial || !st.candidate || !st.straight)
+        goto nomem;
+    for (int64_t g = 0; g < ng; g++)
+        if (st.root[g] != g)
+            st.nontrivial[st.root[g]] = 1;
+    PHASE("collapse");
+
+    /* Straight points: only where a class has several members can one
+     * appear (the exact diagram's vertices have three edges or more in
+     * every cell). Candidates: such classes and their neighbours; their
+     * degree over every face that remains. */
+    if (n_collapsed > 0) {
+#pragma omp parallel num_threads(threads)
+        {
+            int64_t *buf = NULL;
+            int cap = 0;
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t m = 0; m < n_kept; m++) {
+                const vc_cell_result *c = &cells[m];
+                const int need = max_face_len(c);
+                if (need > cap) {
+                    free(buf);
+                    cap = need;
+                    buf = malloc((size_t)cap * sizeof *buf);
+                    if (!buf) {
+                        cap = 0;
+                        failed = 1;
+                        continue;
+                    }
+                }
+                for (int f = 0; f < c->nf; f++) {
+                    const int len = clean_cycle(&st, m, f, 0, buf);
+                    for (int j = 0; j < len; j++) {
+                        const int64_t v = buf[j], u = buf[j ? j - 1 : len - 1],
+                                      w = buf[j + 1 < len ? j + 1 : 0];
+                        if (st.nontrivial[v] || st.nontrivial[u] || st.nontrivial[w])
+                            st.candidate[v] = 1; /* the same value from every thread */
+                    }
+                }
+            }
+#ifdef _OPENMP
+            pair_buf *pb = &pairs[omp_get_thread_num()];
+#else
+            pair_buf *pb = &pairs[0];
+#endif
+#pragma omp barrier
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t m = 0; m < n_kept; m++) {
+                const vc_cell_result *c = &cells[m];
+                const int need = max_face_len(c);
+                if (need > cap) {
+                    free(buf);
+                    cap = need;
+                    buf = malloc((size_t)cap * sizeof *buf);
+                    if (!buf) {
+                        cap = 0;
+                        failed = 1;
+                        continue;
+                    }
+                }
+                for (int f = 0; f < c->nf; f++) {
+                    const int len = clean_cycle(&st, m, f, 0, buf);
+                    for (int j = 0; j < len; j++) {
+                        const int64_t v = buf[j];
+                        if (!st.candidate[v])
+                            continue;
+                        if (pair_push(pb, v, buf[j ? j - 1 : len - 1]) != 0 ||
+                            pair_push(pb, v, buf[j + 1 < len ? j + 1 : 0]) != 0)
+                            failed = 1;
+                    }
+                }
+            }
+            free(buf);
+        }
+        if (failed)
+            goto nomem;
+        int64_t total = 0;
+        for (int t = 0; t < threads; t++)
+            total += pairs[t].n;
+        /* (vertex, neighbour) packed in 64 bits (global vertices are
+         * below 2^32 here: checked), radix sorted, then counted */
+        uint64_t *all = malloc((size_t)(total + 1) * sizeof *all);
+        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
+        if (!all || !tmp || ng >= ((int64_t)1 << 32)) {
+            free(all);
+            free(tmp);
+            goto nomem;
+        }
+        int64_t at = 0;
+        for (int t = 0; t < threads; t++) {
+            for (int64_t i = 0; i < pairs[t].n; i++)
+                all[at++] = ((uint64_t)pairs[t].p[i].a << 32) | (uint64_t)pairs[t].p[i].b;
+            free(pairs[t].p);
+            pairs[t] = (pair_buf){NULL, 0, 0};
+        }
+        for (int shift = 0; shift < 64; shift += 16) {
+            static const int R = 1 << 16;
+            int64_t *count = calloc((size_t)R + 1, sizeof *count);
+            if (!count) {
+                free(all);
+                free(tmp);
+                goto nomem;
+            }
+            for (int64_t i = 0; i < total; i++)
+                count[((all[i] >> shift) & 0xffff) + 1]++;
+            for (int r = 0; r < R; r++)
+                count[r + 1] += count[r];
+            for (int64_t i = 0; i < total; i++)
+                tmp[count[(all[i] >> shift) & 0xffff]++] = all[i];
+            free(count);
+            uint64_t *sw = all;
+            all = tmp;
+            tmp = sw;
+        }
+        free(tmp);
+        for (int64_t i = 0; i < total;) {
+            int64_t j = i, deg = 0;
+            const uint64_t v = all[i] >> 32;
+            for (; j < total && (all[j] >> 32) == v; j++)
+                deg += j == i || all[j] != all[j - 1];
+            if (deg == 2)
+                st.straight[v] = 1;
+            i = j;
+        }
+        free(all);
+    }
+    PHASE("straight");
+
+    /* Degenerate faces: a face whose points lie on one segment has no area
+     * (seeds co-circular, exactly or to rounding). It leaves both cells,
+     * and each of its points lying inside an edge of it joins every face
+     * that has that edge, so the cells stay closed. */
+    {
+        st.face_off = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+        if (!st.face_off)
+            goto nomem;
+        st.face_off[0] = 0;
+        for (int64_t m = 0; m < n_kept; m++)
+            st.face_off[m + 1] = st.face_off[m] + cells[m].nf;
+        st.degenerate = calloc((size_t)st.face_off[n_kept] + 1, 1);
+        split_buf *sb = calloc((size_t)threads, sizeof *sb);
+        if (!st.degenerate || !sb) {
+            free(sb);
+            goto nomem;
+        }
+#pragma omp parallel num_threads(threads)
+        {
+#ifdef _OPENMP
+            split_buf *b = &sb[omp_get_thread_num()];
+#else
+            split_buf *b = &sb[0];
+#endif
+            int64_t *buf = NULL;
+            double *t = NULL;
+            int cap = 0;
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t m = 0; m < n_kept; m++) {
+                const vc_cell_result *c = &cells[m];
+                const int need = max_face_len(c);
+                if (need > cap) {
+                    free(buf);
+                    free(t);
+                    cap = need;
+                    buf = malloc((size_t)cap * sizeof *buf);
+                    t = malloc((size_t)cap * sizeof *t);
+                    if (!buf || !t) {
+                        cap = 0;
+                        failed = 1;
+                        continue;
+                    }
+                }
+                for (int f = 0; f < c->nf; f++) {
+                    const int len = clean_cycle(&st, m, f, 1, buf);
+                    if (len < 3 || !on_segment(&st, buf, len, merge_tol, t))
+                        continue;
+                    st.degenerate[st.face_off[m] + f] = 1;
+                    for (int j = 0; j < len; j++) {
+                        const int jn = j + 1 < len ? j + 1 : 0;
+                        const int64_t a = buf[j], bb = buf[jn];
+                        const double ta = t[j], tb = t[jn];
+                        const double lo_t = a < bb ? ta : tb, hi_t = a < bb ? tb : ta;
+                        for (int q = 0; q < len; q++) {
+                            const double tq = t[q];
+                            const int inside = (tq > ta && tq < tb) || (tq < ta && tq > tb);
+                            if (!inside || buf[q] == a || buf[q] == bb)
+                                continue;
+                            const split x = {a < bb ? a : bb, a < bb ? bb : a, buf[q],
+                                             (tq - lo_t) / (hi_t - lo_t)};
+                            if (split_push(b, x) != 0)
+                                failed = 1;
+                        }
+                    }
+                }
+            }
+            free(buf);
+            free(t);
+        }
+        int64_t total = 0;
+        for (int th = 0; th < threads; th++)
+            total += sb[th].n;
+        if (total > 0 && !failed) {
+            st.splits = malloc((size_t)total * sizeof *st.splits);
+            if (!st.splits)
+                failed = 1;
+            else {
+                int64_t at = 0;
+                for (int th = 0; th < threads; th++) {
+                    if (sb[th].n)
+                        memcpy(st.splits + at, sb[th].s, (size_t)sb[th].n * sizeof *st.splits);
+                    at += sb[th].n;
+                }
+                qsort(st.splits, (size_t)total, sizeof *st.splits, cmp_split);
+                int64_t w = 0;
+                for (int64_t i = 0; i < total; i++)
+                    if (w == 0 || st.splits[i].lo != st.splits[w - 1].lo ||
+                        st.splits[i].hi != st.splits[w - 1].hi || st.splits[i].p != st.splits[w - 1].p)
+                        st.splits[w++] = st.splits[i];
+                st.n_splits = w;
+            }
+        }
+        for (int th = 0; th < threads; th++)
+            free(sb[th].s);
+        free(sb);
+        if (failed)
+            goto nomem;
+    }
+    PHASE("degenerate");
+
+    /* Counts per cell, and the points used. */
+    cnt = calloc((size_t)n_kept + 1, sizeof *cnt);
+    used = calloc((size_t)ng + 1, 1);
+    if (!cnt || !used)
+        goto nomem;
+#pragma omp parallel num_threads(threads)
+    {
+        int64_t *buf = NULL, *ob = NULL;
+        int cap = 0, ocap = 0;
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_kept; m++) {
+            const vc_cell_result *c = &cells[m];
+            const int need = max_face_len(c);
+            if (need > cap) {
+                free(buf);
+                cap = need;
+                buf = malloc((size_t)cap * sizeof *buf);
+                if (!buf) {
+                    cap = 0;
+                    failed = 1;
+                    continue;
+                }
+            }
+            cell_count *a = &cnt[m];
+            for (int f = 0; f < c->nf; f++) {
+                const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
+                if (len < 0)
+                    failed = 1;
+                if (len <= 0)
+                    continue;
+                a->n_faces++;
+                if (!owns_face(&st, m, f))
+                    continue;
+                if (is_interior(&st, c->plane[f])) {
+                    a->n_int++;
+                    a->fv_int += len;
+                } else {
+                    a->n_bnd++;
+                    a->fv_bnd += len;
+                }
+                for (int j = 0; j < len; j++)
+                    used[ob[j]] = 1;
+            }
+        }
+        free(buf);
+        free(ob);
+    }
+    if (failed)
+        goto nomem;
+    /* Points: the used roots in global order. */
+    pid = malloc((size_t)(ng + 1) * sizeof(int64_t));
+    if (!pid)
+        goto nomem;
+    int64_t n_points = 0;
+    for (int64_t g = 0; g < ng; g++)
+        pid[g] = used[g] ? n_points++ : -1;
+    free(used);
+    used = NULL;
+    out->n_points = n_points;
+    out->points = malloc((size_t)(3 * n_points + 1) * sizeof(double));
+    if (!out->points)
+        goto nomem;
+    for (int64_t g = 0; g < ng; g++)
+        if (pid[g] >= 0)
+            memcpy(out->points + 3 * pid[g], st.gp + 3 * g, 3 * sizeof(double));
+
+    /* Places, by kept index. */
+    int64_t n_int = 0, n_bnd = 0, fv_int = 0, fv_bnd = 0, n_cf = 0;
+    out->n_cells = n_kept;
+    out->cell_offsets = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    if (!out->cell_offsets)
+        goto nomem;
+    for (int64_t k = 0; k < n_kept; k++) {
+        cell_count *a = &cnt[st.kpos[k]];
+        const int64_t ni = a->n_int, nb = a->n_bnd, fi = a->fv_int, fb = a->fv_bnd;
+        out->cell_offsets[k] = n_cf;
+        n_cf += a->n_faces;
+        a->n_int = n_int;
+        a->n_bnd = n_bnd;
+        a->fv_int = fv_int;
+        a->fv_bnd = fv_bnd;
+        n_int += ni;
+        n_bnd += nb;
+        fv_int += fi;
+        fv_bnd += fb;
+    }
+    out->cell_offsets[n_kept] = n_cf;
+    const int64_t n_faces = n_int + n_bnd;
+    out->n_faces = n_faces;
+    out->n_interior_faces = n_int;
+    out->face_offsets = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
+    out->face_vertices = malloc((size_t)(fv_int + fv_bnd + 1) * sizeof(int64_t));
+    out->face_owner = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
+    out->face_neighbour = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
+    out->face_other_seed = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
+    out->cell_faces = malloc((size_t)(n_cf + 1) * sizeof(int64_t));
+    if (!out->face_offsets || !out->face_vertices || !out->face_owner || !out->face_neighbour ||
+        !out->face_other_seed || !out->cell_faces)
+        goto nomem;
+    out->face_offsets[0] = 0;
+
+    /* The faces, each by its owner: interior ones by neighbour. */
+#pragma omp parallel num_threads(threads)
+    {
+        int64_t *buf = NULL, *ob = NULL;
+        int ocap = 0;
+        int cap = 0;
+        pair64 *nb = NULL;
+        int nb_cap = 0;
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_kept; m++) {
+            const vc_cell_result *c = &cells[m];
+            const int64_t k = order[m];
+            const int need = max_face_len(c);
+            if (need > cap || c->nf > nb_cap) {
+                free(buf);
+                free(nb);
+                cap = need > cap ? need : cap;
+                nb_cap = c->nf > nb_cap ? c->nf : nb_cap;
+                buf = malloc((size_t)cap * sizeof *buf);
+                nb = malloc((size_t)nb_cap * sizeof *nb);
+                if (!buf || !nb) {
+                    cap = nb_cap = 0;
+                    failed = 1;
+                    continue;
+                }
+            }
+            const cell_count *a = &cnt[m];
+            int n_nb = 0;
+            int64_t ib = n_int + a->n_bnd, pb = fv_int + a->fv_bnd;
+            for (int f = 0; f < c->nf; f++) {
+                if (!owns_face(&st, m, f))
+                    continue;
+                const int64_t t = c->plane[f];
+                if (is_interior(&st, t)) {
+                    nb[n_nb++] = (pair64){st.kidx[t], f};
+                    continue;
+                }
+                const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
+                if (len < 0)
+                    failed = 1;
+                if (len <= 0)
+                    continue;
+                out->face_owner[ib] = k;
+                out->face_neighbour[ib] = -1;
+                out->face_other_seed[ib] = t;
+                for (int j = 0; j < len; j++)
+                    out->face_vertices[pb + j] = pid[ob[j]];
+                pb += len;
+                out->face_offsets[ib + 1] = pb;
+                ib++;
+            }
+            qsort(nb, (size_t)n_nb, sizeof *nb, cmp_pair);
+            int64_t ii = a->n_int, pi = a->fv_int;
+            for (int q = 0; q < n_nb; q++) {
+                const int f = (int)nb[q].b;
+                const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
+                if (len < 0)
+                    failed = 1;
+                if (len <= 0)
+                    continue;
+                out->face_owner[ii] = k;
+                out->face_neighbour[ii] = nb[q].a;
+                out->face_other_seed[ii] = c->plane[f];
+                for (int j = 0; j < len; j++)
+                    out->face_vertices[pi + j] = pid[ob[j]];
+                pi += len;
+                out->face_offsets[ii + 1] = pi;
+                ii++;
+            }
+        }
+        free(buf);
+        free(ob);
+        free(nb);
+    }
+    if (failed)
+        goto nomem;
+    PHASE("faces");
+
+    /* Each cell's faces, in increasing order. */
+    fill = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    if (!fill)
+        goto nomem;
+    memcpy(fill, out->cell_offsets, (size_t)(n_kept + 1) * sizeof(int64_t));
+    for (int64_t i = 0; i < n_faces; i++) {
+        out->cell_faces[fill[out->face_owner[i]]++] = i;
+        if (out->face_neighbour[i] >= 0)
+            out->cell_faces[fill[out->face_neighbour[i]]++] = i;
+    }
+    for (int64_t k = 0; k < n_kept; k++)
+        if (fill[k] != out->cell_offsets[k + 1]) {
+            /* a face one cell has and its neighbour not */
+            const int64_t s = kept_seed[k];
+            rc = vc_error_set(err, VC_EINTERNAL,
+                              "the cell of seed %lld (%g %g %g) and a neighbour disagree on a "
+                              "face (a defect of the engine)",
+                              (long long)s, seeds->xyz[3 * s], seeds->xyz[3 * s + 1],
+                              seeds->xyz[3 * s + 2]);
+            goto done;
+        }
+
+    out->cell_seed = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
+    out->cell_region = malloc((size_t)(n_kept + 1) * sizeof(int32_t));
+    out->n_seeds = n;
+    out->seed_xyz = malloc((size_t)(3 * n + 1) * sizeof(double));
+    out->face_area = malloc((size_t)(n_faces + 1) * sizeof(double));
+    out->face_centroid = malloc((size_t)(3 * n_faces + 1) * sizeof(double));
+    out->face_normal = malloc((size_t)(3 * n_faces + 1) * sizeof(double));
+    out->cell_volume = malloc((size_t)(n_kept + 1) * sizeof(double));
+    out->cell_centroid = malloc((size_t)(3 * n_kept + 1) * sizeof(double));
+    if (!out->cell_seed || !out->cell_region || !out->seed_xyz || !out->face_area ||
+        !out->face_centroid || !out->face_normal || !out->cell_volume || !out->cell_centroid)
+        goto nomem;
+    for (int64_t k = 0; k < n_kept; k++) {
+        out->cell_seed[k] = kept_seed[k];
+        out->cell_region[k] = seeds->label[kept_seed[k]];
+    }
+    memcpy(out->seed_xyz, seeds->xyz, (size_t)n * 3 * sizeof(double));
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int64_t i = 0; i < n_faces; i++)
+        vc_polymesh_update_face_geometry(out, i);
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int64_t k = 0; k < n_kept; k++)
+        vc_polymesh_update_cell_geometry(out, k);
+    PHASE("geometry");
+    if (timing)
+        vc_log(log, VC_LOG_DEBUG, "  stitch: %lld vertices, %lld edges collapsed, total %.3f s",
+               (long long)ng, (long long)n_collapsed, wall_time() - t0);
+    goto done;
+
+nomem:
+    rc = vc_error_set(err, VC_ENOMEM, "out of memory while stitching %lld cells",
+                      (long long)n_kept);
+done:
+    if (rc != 0)
+        vc_polymesh_free(out);
+    if (pairs)
+        for (int t = 0; t < threads; t++)
+            free(pairs[t].p);
+    free(pairs);
+    free(st.kidx);
+    free(st.kpos);
+    free(st.loc_off);
+    free(st.gid);
+    free(st.gp);
+    free(st.gev);
+    free(st.grad);
+    free(st.root);
+    free(st.nontrivial);
+    free(st.candidate);
+    free(st.straight);
+    free(st.face_off);
+    free(st.degenerate);
+    free(st.splits);
+    free(owned);
+    free(vbase);
+    free(cnt);
+    free(fill);
+    free(used);
+    free(pid);
+    return rc;
+#undef PHASE
+}

@@ -1,0 +1,524 @@
+/* The exact side test of the Voronoi engine (see power_side.h).
+ *
+ * Coordinates relative to s. A bisector of s and seed a is the constraint
+ * p_a . v = (|p_a|^2 - w_a + w_s) / 2 (p_a = a - s, w the weights), a wall
+ * of axis k at X is e_k . v = X - s_k. With the three planes of the vertex
+ * as rows [n_i, -d_i] of a 4 x 4 matrix M and the tested plane as the last
+ * row ([-p_x, (|p_x|^2 - w_x + w_s) / 2] for the bisector of s and x),
+ * det M = det A * f(v), A the 3 x 3 block of normals and f(v) half the
+ * power of v with respect to x minus that with respect to s (a Schur
+ * complement). So the side is sign(det M) * sign(det A).
+ *
+ * det M is affine in the weights (they appear only in the last column):
+ * det M = det M0 + sum_j w_j coef_j, coef_j = sum_i D_ij C_i with C_i the
+ * cofactors of the last column and D_ij the derivative of row i's last
+ * entry by w_j (+-1/2; the common factor 1/2 is dropped). With w_j =
+ * eps^(j+1), the sign is that of det M0 or else of the first non-zero
+ * coef_j in increasing seed index. coef_x = -det A is never zero, so the
+ * test always decides. f is the same function of the weights in every
+ * cell holding the vertex (the vertex is where the powers of its seeds are
+ * equal), so every cell reads the same sign. */
+#include "power_side.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "util/exact_predicates.h"
+#include "util/expansion.h"
+
+/* One row of M: three normal components and the last entry, and which
+ * seed weights move the last entry (+1 or -1 each; -1: none). */
+typedef struct row {
+    vc_expn n[3], last;
+    int64_t seed_plus, seed_minus; /* d(last)/dw = +1 for seed_plus, -1 for seed_minus */
+} row;
+
+static void row_free(row *r)
+{
+    for (int k = 0; k < 3; k++)
+        free(r->n[k].v);
+    free(r->last.v);
+}
+
+/* |p|^2 / 2 for the expansion vector p (p kept). */
+static vc_expn half_norm2(const vc_expn p[3])
+{
+    vc_expn q = vc_expn_add_free(vc_expn_add_free(vc_expn_mul(p[0], p[0]), vc_expn_mul(p[1], p[1])),
+                                 vc_expn_mul(p[2], p[2]));
+    return vc_expn_mul_free(q, vc_expn_from_double(0.5));
+}
+
+/* The row of plane id (bisector or wall) for the cell of s. A vertex
+ * plane: [n, -d]. tested: the tested bisector's row [-p, |p|^2 / 2]
+ * (the wall's row is the same either way). */
+static row make_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int tested)
+{
+    row r;
+    const double *xs = ctx->xyz + 3 * s;
+    r.seed_plus = r.seed_minus = -1;
+    if (id >= 0) {
+        const double *xa = ctx->xyz + 3 * id;
+        for (int k = 0; k < 3; k++)
+            r.n[k] = vc_expn_diff(xa[k], xs[k]);
+        r.last = half_norm2(r.n);
+        if (tested) {
+            for (int k = 0; k < 3; k++)
+                r.n[k] = vc_expn_neg(r.n[k]);
+            r.seed_plus = s;   /* (|p|^2 - w_x + w_s) / 2 */
+            r.seed_minus = id;
+        } else {
+            r.last = vc_expn_neg(r.last); /* -(|p|^2 - w_a + w_s) / 2 */
+            r.seed_plus = id;
+            r.seed_minus = s;
+        }
+    } else {
+        const int k = (int)(-1 - id), axis = k / 2; /* VC_WALL_XMIN = -1 */
+        const double X = (k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+        for (int j = 0; j < 3; j++)
+            r.n[j] = vc_expn_from_double(j == axis ? 1.0 : 0.0);
+        r.last = vc_expn_neg(vc_expn_diff(X, xs[axis]));
+    }
+    return r;
+}
+
+/* det [a; b; c] of expansion rows (operands kept). */
+static vc_expn det3(const vc_expn *a, const vc_expn *b, const vc_expn *c)
+{
+    vc_expn m0 = vc_expn_add_free(vc_expn_mul(b[1], c[2]), vc_expn_neg(vc_expn_mul(b[2], c[1])));
+    vc_expn m1 = vc_expn_add_free(vc_expn_mul(b[0], c[2]), vc_expn_neg(vc_expn_mul(b[2], c[0])));
+    vc_expn m2 = vc_expn_add_free(vc_expn_mul(b[0], c[1]), vc_expn_neg(vc_expn_mul(b[1], c[0])));
+    vc_expn t = vc_expn_add_free(vc_expn_mul_free(vc_expn_copy(a[0]), m0),
+                                 vc_expn_neg(vc_expn_mul_free(vc_expn_copy(a[1]), m1)));
+    return vc_expn_add_free(t, vc_expn_mul_free(vc_expn_copy(a[2]), m2));
+}
+
+/* The cofactors C_i of the last column of M (rows r[0..3]). */
+static void cofactors(const row *r, vc_expn C[4])
+{
+    for (int i = 0; i < 4; i++) {
+        const vc_expn *q[3];
+        for (int j = 0, m = 0; j < 4; j++)
+            if (j != i)
+                q[m++] = r[j].n;
+        C[i] = det3(q[0], q[1], q[2]);
+        if ((i + 3) % 2)
+            C[i] = vc_expn_neg(C[i]);
+    }
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+    const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* sign(det M0), or with perturb the sign of det M(eps); C: the cofactors. */
+static int det_sign(const row *r, const vc_expn C[4], int perturb)
+{
+    vc_expn d = vc_expn_from_double(0);
+    for (int i = 0; i < 4; i++)
+        d = vc_expn_add_free(d, vc_expn_mul(r[i].last, C[i]));
+    const int s0 = vc_expn_sign_free(d);
+    if (s0 != 0 || !perturb)
+        return s0;
+    /* The seeds whose weights appear, in increasing index. */
+    int64_t seed[8];
+    int ns = 0;
+    for (int i = 0; i < 4; i++) {
+        if (r[i].seed_plus >= 0)
+            seed[ns++] = r[i].seed_plus;
+        if (r[i].seed_minus >= 0)
+            seed[ns++] = r[i].seed_minus;
+    }
+    qsort(seed, (size_t)ns, sizeof seed[0], cmp_i64);
+    for (int m = 0; m < ns; m++) {
+        if (m > 0 && seed[m] == seed[m - 1])
+            continue;
+        vc_expn coef = vc_expn_from_double(0);
+        for (int i = 0; i < 4; i++) {
+            if (r[i].seed_plus == seed[m])
+                coef = vc_expn_add_free(coef, vc_expn_copy(C[i]));
+            if (r[i].seed_minus == seed[m])
+                coef = vc_expn_add_free(coef, vc_expn_neg(vc_expn_copy(C[i])));
+        }
+        const int sc = vc_expn_sign_free(coef);
+        if (sc != 0)
+            return sc;
+    }
+    return 0; /* not reached for a tested bisector: coef_x = -det A */
+}
+
+/* ---- the double-double stage ----------------------------------------
+ * det M0 in double-double arithmetic (a value as an unevaluated sum hi +
+ * lo, about 106 bits): the differences to s are exact, every later
+ * operation errs by at most a few units of 2^-104 of its magnitude. With
+ * a bound on that error from the permanent (the same sums of absolute
+ * values), this decides every vertex that rounding alone puts near the
+ * plane (seeds co-spherical to rounding, rounded lattices) at the cost of
+ * some hundred floating-point operations; only exact ties, and values
+ * below about 1e-29 of the permanent, go on to the expansions. */
+typedef struct dd {
+    double hi, lo;
+} dd;
+
+static inline dd dd_two_sum(double a, double b)
+{
+    const double s = a + b, bv = s - a, av = s - bv;
+    return (dd){s, (a - av) + (b - bv)};
+}
+
+/* The operations below also clear *ex when they round: a value computed
+ * with *ex still set is exact (the inputs' differences are exact, and
+ * lattice-like seeds, whose coordinates have few significant bits, keep
+ * every product and sum exact: their ties are then settled here). */
+static inline dd dd_add(dd a, dd b, int *ex)
+{
+    dd s = dd_two_sum(a.hi, b.hi);
+    const dd t1 = dd_two_sum(s.lo, a.lo), t2 = dd_two_sum(t1.hi, b.lo);
+    *ex &= (t1.lo == 0) & (t2.lo == 0);
+    return dd_two_sum(s.hi, t2.hi);
+}
+
+static inline dd dd_neg(dd a) { return (dd){-a.hi, -a.lo}; }
+
+static inline dd dd_mul(dd a, dd b, int *ex)
+{
+    const double p = a.hi * b.hi, pe = fma(a.hi, b.hi, -p);
+    const double c1 = a.hi * b.lo, c2 = a.lo * b.hi;
+    const dd e1 = dd_two_sum(pe, c1), e2 = dd_two_sum(e1.hi, c2);
+    *ex &= (fma(a.hi, b.lo, -c1) == 0) & (fma(a.lo, b.hi, -c2) == 0) & (a.lo * b.lo == 0) &
+           (e1.lo == 0) & (e2.lo == 0);
+    return dd_two_sum(p, e2.hi);
+}
+
+static inline double dd_abs(dd a) { return fabs(a.hi) + fabs(a.lo); }
+
+static inline int dd_sign(dd a)
+{
+    const double v = a.hi != 0 ? a.hi : a.lo;
+    return (v > 0) - (v < 0);
+}
+
+/* A row in double-double: normals and last entry. */
+typedef struct dd_row {
+    dd n[3], last;
+    int64_t seed_plus, seed_minus; /* as in row */
+} dd_row;
+
+static dd_row make_dd_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int tested, int *ex)
+{
+    dd_row r;
+    const double *xs = ctx->xyz + 3 * s;
+    r.seed_plus = r.seed_minus = -1;
+    if (id >= 0) {
+        const double *xa = ctx->xyz + 3 * id;
+        for (int k = 0; k < 3; k++)
+            r.n[k] = dd_two_sum(xa[k], -xs[k]); /* exact */
+        dd q = dd_add(dd_add(dd_mul(r.n[0], r.n[0], ex), dd_mul(r.n[1], r.n[1], ex), ex),
+                      dd_mul(r.n[2], r.n[2], ex), ex);
+        q.hi *= 0.5; /* exact unless it underflows */
+        q.lo *= 0.5;
+        if (tested) {
+            for (int k = 0; k < 3; k++)
+                r.n[k] = dd_neg(r.n[k]);
+            r.last = q;
+            r.seed_plus = s;
+            r.seed_minus = id;
+        } else {
+            r.last = dd_neg(q);
+            r.seed_plus = id;
+            r.seed_minus = s;
+        }
+    } else {
+        const int k = (int)(-1 - id), axis = k / 2;
+        const double X = (k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+        for (int j = 0; j < 3; j++)
+            r.n[j] = (dd){j == axis ? 1.0 : 0.0, 0.0};
+        r.last = dd_neg(dd_two_sum(X, -xs[axis]));
+    }
+    return r;
+}
+
+/* The double-double stage: the sign of det M0 (0 for an exact tie), or
+ * with side the perturbed side as vc_power_side returns it, when this
+ * stage can tell; 2 when it cannot. */
+static int dd_stage(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q,
+                    int side)
+{
+    int ex = 1;
+    dd_row r[4];
+    for (int i = 0; i < 3; i++)
+        r[i] = make_dd_row(ctx, s, plane[i], 0, &ex);
+    r[3] = make_dd_row(ctx, s, q, 1, &ex);
+    dd det = {0, 0}, C[4];
+    double perm = 0, permA = 0;
+    for (int i = 0; i < 4; i++) {
+        const dd_row *a[3];
+        for (int j = 0, m = 0; j < 4; j++)
+            if (j != i)
+                a[m++] = &r[j];
+        /* det3 of the normals of a[0..2] */
+        dd m0 = dd_add(dd_mul(a[1]->n[1], a[2]->n[2], &ex), dd_neg(dd_mul(a[1]->n[2], a[2]->n[1], &ex)), &ex);
+        dd m1 = dd_add(dd_mul(a[1]->n[0], a[2]->n[2], &ex), dd_neg(dd_mul(a[1]->n[2], a[2]->n[0], &ex)), &ex);
+        dd m2 = dd_add(dd_mul(a[1]->n[0], a[2]->n[1], &ex), dd_neg(dd_mul(a[1]->n[1], a[2]->n[0], &ex)), &ex);
+        dd c = dd_add(dd_add(dd_mul(a[0]->n[0], m0, &ex), dd_neg(dd_mul(a[0]->n[1], m1, &ex)), &ex),
+                      dd_mul(a[0]->n[2], m2, &ex), &ex);
+        const double p0 = dd_abs(a[1]->n[1]) * dd_abs(a[2]->n[2]) + dd_abs(a[1]->n[2]) * dd_abs(a[2]->n[1]);
+        const double p1 = dd_abs(a[1]->n[0]) * dd_abs(a[2]->n[2]) + dd_abs(a[1]->n[2]) * dd_abs(a[2]->n[0]);
+        const double p2 = dd_abs(a[1]->n[0]) * dd_abs(a[2]->n[1]) + dd_abs(a[1]->n[1]) * dd_abs(a[2]->n[0]);
+        const double pc = dd_abs(a[0]->n[0]) * p0 + dd_abs(a[0]->n[1]) * p1 + dd_abs(a[0]->n[2]) * p2;
+        if ((i + 3) % 2)
+            c = dd_neg(c);
+        C[i] = c;
+        if (i == 3)
+            permA = pc;
+        det = dd_add(det, dd_mul(r[i].last, c, &ex), &ex);
+        perm += dd_abs(r[i].last) * pc;
+    }
+    /* det A = C[3], never zero for a vertex */
+    const double boundA = 64.0 * 4.930380657631324e-32 * permA;
+    int sa = dd_sign(C[3]);
+    if (!ex && fabs(C[3].hi + C[3].lo) <= boundA)
+        return 2;
+    int sm;
+    if (ex)
+        sm = dd_sign(det);
+    else {
+        /* about 12 operations deep, each within 4 * 2^-104 of its
+         * magnitude: 64 * 2^-104 * perm with room */
+        const double bound = 64.0 * 4.930380657631324e-32 * perm, v = det.hi + det.lo;
+        sm = v > bound ? 1 : (v < -bound ? -1 : 2);
+        if (sm == 2)
+            return 2;
+    }
+    if (!side)
+        return sm;
+    if (sm == 0) {
+        /* an exact tie: the first weight, by seed index, whose
+         * coefficient (a sum of cofactors, exact here) is not zero */
+        int64_t seed[8];
+        int ns = 0;
+        for (int i = 0; i < 4; i++) {
+            if (r[i].seed_plus >= 0)
+                seed[ns++] = r[i].seed_plus;
+            if (r[i].seed_minus >= 0)
+                seed[ns++] = r[i].seed_minus;
+        }
+        for (int a = 1; a < ns; a++) {
+            const int64_t x = seed[a];
+            int b = a;
+            for (; b > 0 && seed[b - 1] > x; b--)
+                seed[b] = seed[b - 1];
+            seed[b] = x;
+        }
+        for (int m = 0; m < ns && sm == 0; m++) {
+            if (m > 0 && seed[m] == seed[m - 1])
+                continue;
+            dd coef = {0, 0};
+            for (int i = 0; i < 4; i++) {
+                if (r[i].seed_plus == seed[m])
+                    coef = dd_add(coef, C[i], &ex);
+                if (r[i].seed_minus == seed[m])
+                    coef = dd_add(coef, dd_neg(C[i]), &ex);
+            }
+            if (!ex)
+                return 2;
+            sm = dd_sign(coef);
+        }
+    }
+    return sm * sa > 0 ? 1 : -1;
+}
+
+static long long n_expansion;
+
+long long vc_power_expansion_count(void)
+{
+    return __atomic_load_n(&n_expansion, __ATOMIC_RELAXED);
+}
+
+static int evaluate(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q,
+                    int side)
+{
+    __atomic_add_fetch(&n_expansion, 1, __ATOMIC_RELAXED);
+    row r[4];
+    for (int i = 0; i < 3; i++)
+        r[i] = make_row(ctx, s, plane[i], 0);
+    r[3] = make_row(ctx, s, q, 1);
+    vc_expn C[4];
+    cofactors(r, C);
+    int result;
+    const int sm = det_sign(r, C, side);
+    /* det A = det of the three vertex rows = C_3 (cofactor sign +). */
+    const int sa = vc_expn_sign_free(vc_expn_copy(C[3]));
+    if (sm == VC_PREDICATE_NOMEM || sa == VC_PREDICATE_NOMEM)
+        result = VC_PREDICATE_NOMEM;
+    else if (side)
+        result = sm * sa > 0 ? 1 : -1;
+    else
+        result = sm == 0;
+    for (int i = 0; i < 4; i++) {
+        row_free(&r[i]);
+        free(C[i].v);
+    }
+    return result;
+}
+
+/* The vertex's part of det M0, cached (see power_side.h): with X_i the
+ * cross products of the other two vertex rows' normals, the cofactors are
+ * C_i = -n_3 . X_i (i < 3) and C_3 = det A, so det M0 = -n_3 . W + L_3 C_3
+ * with W = sum_i L_i X_i (the Cramer numerator of the vertex). Layout:
+ * W (3 double-doubles), C_3, the permanents of W's components and of C_3,
+ * whether all of it is exact, 1 (prepared), then X_0, X_1, X_2 (for
+ * ties). */
+void vc_power_vertex_prepare(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3],
+                             double cache[VC_POWER_CACHE])
+{
+    int ex = 1;
+    dd_row r[3];
+    for (int i = 0; i < 3; i++)
+        r[i] = make_dd_row(ctx, s, plane[i], 0, &ex);
+    dd W[3] = {{0, 0}, {0, 0}, {0, 0}};
+    double pW[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++) {
+        const dd *a = r[(i + 1) % 3].n, *b = r[(i + 2) % 3].n;
+        const dd X[3] = {
+            dd_add(dd_mul(a[1], b[2], &ex), dd_neg(dd_mul(a[2], b[1], &ex)), &ex),
+            dd_add(dd_mul(a[2], b[0], &ex), dd_neg(dd_mul(a[0], b[2], &ex)), &ex),
+            dd_add(dd_mul(a[0], b[1], &ex), dd_neg(dd_mul(a[1], b[0], &ex)), &ex)};
+        const double pX[3] = {dd_abs(a[1]) * dd_abs(b[2]) + dd_abs(a[2]) * dd_abs(b[1]),
+                              dd_abs(a[2]) * dd_abs(b[0]) + dd_abs(a[0]) * dd_abs(b[2]),
+                              dd_abs(a[0]) * dd_abs(b[1]) + dd_abs(a[1]) * dd_abs(b[0])};
+        for (int k = 0; k < 3; k++) {
+            cache[14 + 6 * i + 2 * k] = X[k].hi;
+            cache[15 + 6 * i + 2 * k] = X[k].lo;
+            W[k] = dd_add(W[k], dd_mul(r[i].last, X[k], &ex), &ex);
+            pW[k] += dd_abs(r[i].last) * pX[k];
+        }
+        if (i == 0) {
+            const dd C3 = dd_add(dd_add(dd_mul(r[0].n[0], X[0], &ex), dd_mul(r[0].n[1], X[1], &ex), &ex),
+                                 dd_mul(r[0].n[2], X[2], &ex), &ex);
+            cache[6] = C3.hi;
+            cache[7] = C3.lo;
+            cache[11] = dd_abs(r[0].n[0]) * pX[0] + dd_abs(r[0].n[1]) * pX[1] + dd_abs(r[0].n[2]) * pX[2];
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        cache[2 * k] = W[k].hi;
+        cache[2 * k + 1] = W[k].lo;
+        cache[8 + k] = pW[k];
+    }
+    cache[12] = ex;
+    cache[13] = 1;
+}
+
+/* An exact tie, every cached value exact: the perturbed side from the
+ * cofactors C_i = -n_3 . X_i and C_3 (see det_sign). 2 when a coefficient
+ * rounds. */
+static int cached_tie(int64_t s, const int64_t plane[3], int64_t x, const dd_row *t,
+                      const double *cache, int sa)
+{
+    int ex = 1;
+    dd C[4];
+    for (int i = 0; i < 3; i++) {
+        const double *X = cache + 14 + 6 * i;
+        C[i] = dd_neg(dd_add(dd_add(dd_mul(t->n[0], (dd){X[0], X[1]}, &ex),
+                                    dd_mul(t->n[1], (dd){X[2], X[3]}, &ex), &ex),
+                             dd_mul(t->n[2], (dd){X[4], X[5]}, &ex), &ex));
+    }
+    C[3] = (dd){cache[6], cache[7]};
+    if (!ex)
+        return 2;
+    /* rows: i < 3 the vertex planes (+ for its seed, - for s), 3 the
+     * tested plane (+ for s, - for x) */
+    int64_t seed[5];
+    int ns = 0;
+    seed[ns++] = s;
+    seed[ns++] = x;
+    for (int i = 0; i < 3; i++)
+        if (plane[i] >= 0)
+            seed[ns++] = plane[i];
+    for (int a = 1; a < ns; a++) {
+        const int64_t v = seed[a];
+        int b = a;
+        for (; b > 0 && seed[b - 1] > v; b--)
+            seed[b] = seed[b - 1];
+        seed[b] = v;
+    }
+    for (int m = 0; m < ns; m++) {
+        dd coef = {0, 0};
+        if (seed[m] == s) {
+            for (int i = 0; i < 3; i++)
+                if (plane[i] >= 0)
+                    coef = dd_add(coef, dd_neg(C[i]), &ex);
+            coef = dd_add(coef, C[3], &ex);
+        } else if (seed[m] == x)
+            coef = dd_neg(C[3]);
+        else
+            for (int i = 0; i < 3; i++)
+                if (plane[i] == seed[m])
+                    coef = C[i];
+        if (!ex)
+            return 2;
+        const int sc = dd_sign(coef);
+        if (sc != 0)
+            return sc * sa > 0 ? 1 : -1;
+    }
+    return 2;
+}
+
+void vc_power_plane_prepare(const vc_power_ctx *ctx, int64_t s, int64_t x,
+                            double row[VC_POWER_ROW])
+{
+    int ex = 1;
+    const dd_row t = make_dd_row(ctx, s, x, 1, &ex);
+    for (int k = 0; k < 3; k++) {
+        row[2 * k] = t.n[k].hi;
+        row[2 * k + 1] = t.n[k].lo;
+    }
+    row[6] = t.last.hi;
+    row[7] = t.last.lo;
+    row[8] = ex;
+}
+
+int vc_power_side_cached(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x,
+                         const double cache[VC_POWER_CACHE], const double row[VC_POWER_ROW])
+{
+    int ex = cache[12] != 0 && row[8] != 0;
+    dd_row t;
+    for (int k = 0; k < 3; k++)
+        t.n[k] = (dd){row[2 * k], row[2 * k + 1]};
+    t.last = (dd){row[6], row[7]};
+    const dd W[3] = {{cache[0], cache[1]}, {cache[2], cache[3]}, {cache[4], cache[5]}};
+    const dd C3 = {cache[6], cache[7]};
+    const dd nw = dd_add(dd_add(dd_mul(t.n[0], W[0], &ex), dd_mul(t.n[1], W[1], &ex), &ex),
+                         dd_mul(t.n[2], W[2], &ex), &ex);
+    const dd det = dd_add(dd_neg(nw), dd_mul(t.last, C3, &ex), &ex);
+    const double perm = dd_abs(t.n[0]) * cache[8] + dd_abs(t.n[1]) * cache[9] +
+                        dd_abs(t.n[2]) * cache[10] + dd_abs(t.last) * cache[11];
+    const double bound = 64.0 * 4.930380657631324e-32 * perm;
+    const double boundA = 64.0 * 4.930380657631324e-32 * cache[11];
+    const double v = det.hi + det.lo, a = C3.hi + C3.lo;
+    if ((ex || fabs(a) > boundA) && a != 0) {
+        const int sa = a > 0 ? 1 : -1;
+        if (ex ? v != 0 : fabs(v) > bound)
+            return (v > 0 ? 1 : -1) * sa > 0 ? 1 : -1;
+        if (ex) {
+            const int r = cached_tie(s, plane, x, &t, cache, sa);
+            if (r != 2)
+                return r;
+        }
+    }
+    return vc_power_side(ctx, s, plane, x); /* a tie, or too near one */
+}
+
+int vc_power_side(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x)
+{
+    const int r = dd_stage(ctx, s, plane, x, 1);
+    return r != 2 ? r : evaluate(ctx, s, plane, x, 1);
+}
+
+int vc_power_on_plane(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q)
+{
+    const int r = dd_stage(ctx, s, plane, q, 0);
+    return r != 2 ? r == 0 : evaluate(ctx, s, plane, q, 0);
+}
