@@ -64,6 +64,8 @@ static void usage(FILE *f)
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
         "  --lloyd N           N iterations of Lloyd relaxation of the interior seeds, 0 to\n"
         "                      1000 (default 0); the surface seeds stay fixed\n"
+        "  --exact-engine      the volume mesh from the exact Voronoi engine (experimental;\n"
+        "                      see 'vorocrust voronoi --exact')\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -360,6 +362,8 @@ static int run_mesh(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--surface-only")) {
             surface_only = 1;
+        } else if (!strcmp(a, "--exact-engine")) {
+            opt.exact_engine = 1;
         } else if (!strcmp(a, "--no-lift")) {
             opt.no_lift = 1;
         } else if (!strcmp(a, "--quiet")) {

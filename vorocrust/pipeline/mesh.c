@@ -625,6 +625,7 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = opt->threads;
+    vo.exact = opt->exact_engine;
     vo.log = opt->log;
     vc_log(opt->log, VC_LOG_INFO, "mesh: Voronoi cells of %lld seeds", (long long)out->seeds.n);
     if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))

@@ -1269,6 +1269,7 @@ done:
     free(st.gev);
     free(st.grad);
     free(st.root);
+    free(st.gkey);
     free(st.nontrivial);
     free(st.candidate);
     free(st.straight);
