@@ -257,9 +257,10 @@ if PART in ("volume", "icosphere"):
         except vtkcheck.CheckError as e:
             check(False, "%s volume mesh: %s" % (model, e))
         # The exact engine (issue 19, opt-in): the same cells, a valid mesh
-        # of the same volume, the same bytes on 1 and 2 threads.
+        # of the same volume, the same bytes on 1 and 2 threads (not on
+        # sphere.obj: the icosphere part has a sphere, and the time).
         xs = []
-        for t in ("1", "2"):
+        for t in ("1", "2") if os.path.basename(model) != "sphere.obj" else ():
             xvtu = os.path.join(TMP, "mesh_vol_%s_exact_%s.vtu" % (tag, t))
             rc, out, err = run("mesh", os.path.join(MODELS or "", model), "-o", xvtu, "--threads", t,
                                "--exact-engine")

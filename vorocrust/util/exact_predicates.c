@@ -14,6 +14,52 @@
 #include <math.h>
 #include <stdlib.h>
 
+/* Expansions live in a per-thread arena while an evaluation holds one
+ * (vc_expn_arena_begin): one block instead of a heap allocation per
+ * operation; beyond it, or outside an evaluation, the heap. */
+#define ARENA_BYTES ((size_t)60 << 10)
+typedef struct expn_arena {
+    char *base;
+    size_t used;
+    int depth;
+} expn_arena;
+static _Thread_local expn_arena tl_arena;
+
+void vc_expn_arena_begin(void)
+{
+    if (tl_arena.depth++ == 0) {
+        tl_arena.base = malloc(ARENA_BYTES);
+        tl_arena.used = 0;
+    }
+}
+
+void vc_expn_arena_end(void)
+{
+    if (--tl_arena.depth == 0) {
+        free(tl_arena.base);
+        tl_arena.base = NULL;
+    }
+}
+
+static void *xalloc(size_t n)
+{
+    n = (n + 15) & ~(size_t)15;
+    if (tl_arena.base && tl_arena.used + n <= ARENA_BYTES) {
+        void *p = tl_arena.base + tl_arena.used;
+        tl_arena.used += n;
+        return p;
+    }
+    return malloc(n);
+}
+
+void vc_expn_release(void *p)
+{
+    const char *c = p;
+    if (tl_arena.base && c >= tl_arena.base && c < tl_arena.base + ARENA_BYTES)
+        return; /* freed with the arena */
+    free(p);
+}
+
 /* The filters' relative error bounds: (3 + 16 eps) eps for orient3d's
  * permanent and (16 + 224 eps) eps for insphere's, eps = 2^-53 (Shewchuk
  * 1997, errboundA of each predicate). */
@@ -101,7 +147,7 @@ static int scale(const double *e, int ne, double b, double *h)
 
 vc_expn vc_expn_from_double(double x)
 {
-    vc_expn r = {malloc(sizeof(double)), 1};
+    vc_expn r = {xalloc(sizeof(double)), 1};
     if (r.v)
         r.v[0] = x;
     return r;
@@ -110,7 +156,7 @@ vc_expn vc_expn_from_double(double x)
 /* a - b exactly, as an expansion of at most two components. */
 vc_expn vc_expn_diff(double a, double b)
 {
-    vc_expn r = {malloc(2 * sizeof(double)), 0};
+    vc_expn r = {xalloc(2 * sizeof(double)), 0};
     if (!r.v)
         return r;
     const double s = a - b, bv = a - s, av = s + bv;
@@ -123,15 +169,15 @@ vc_expn vc_expn_diff(double a, double b)
 
 vc_expn vc_expn_add(vc_expn a, vc_expn b)
 {
-    vc_expn r = {malloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
-    double *scratch = malloc(sizeof(double) * (size_t)(a.n + b.n + 2));
+    vc_expn r = {xalloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
+    double *scratch = xalloc(sizeof(double) * (size_t)(a.n + b.n + 2));
     if (r.v && scratch && a.v && b.v)
         r.n = sum(a.v, a.n, b.v, b.n, r.v, scratch);
     else {
-        free(r.v);
+        vc_expn_release(r.v);
         r.v = NULL;
     }
-    free(scratch);
+    vc_expn_release(scratch);
     return r;
 }
 
@@ -145,21 +191,21 @@ vc_expn vc_expn_neg(vc_expn a)
 vc_expn vc_expn_mul(vc_expn a, vc_expn b)
 {
     vc_expn acc = vc_expn_from_double(0);
-    double *part = malloc(sizeof(double) * (size_t)(2 * a.n + 1));
+    double *part = xalloc(sizeof(double) * (size_t)(2 * a.n + 1));
     if (!part || !a.v || !b.v || !acc.v) {
-        free(part);
-        free(acc.v);
+        vc_expn_release(part);
+        vc_expn_release(acc.v);
         return (vc_expn){NULL, 0};
     }
     for (int j = 0; j < b.n; j++) {
         vc_expn p = {part, scale(a.v, a.n, b.v[j], part)};
         vc_expn s = vc_expn_add(acc, p);
-        free(acc.v);
+        vc_expn_release(acc.v);
         acc = s;
         if (!acc.v)
             break;
     }
-    free(part);
+    vc_expn_release(part);
     return acc;
 }
 
@@ -167,26 +213,26 @@ vc_expn vc_expn_mul(vc_expn a, vc_expn b)
 vc_expn vc_expn_add_free(vc_expn x, vc_expn y)
 {
     vc_expn r = vc_expn_add(x, y);
-    free(x.v);
-    free(y.v);
+    vc_expn_release(x.v);
+    vc_expn_release(y.v);
     return r;
 }
 
 vc_expn vc_expn_mul_free(vc_expn x, vc_expn y)
 {
     vc_expn r = vc_expn_mul(x, y);
-    free(x.v);
-    free(y.v);
+    vc_expn_release(x.v);
+    vc_expn_release(y.v);
     return r;
 }
 
 vc_expn vc_expn_copy(vc_expn a)
 {
-    vc_expn r = {malloc(sizeof(double) * (size_t)(a.n > 0 ? a.n : 1)), a.n};
+    vc_expn r = {xalloc(sizeof(double) * (size_t)(a.n > 0 ? a.n : 1)), a.n};
     for (int i = 0; r.v && a.v && i < a.n; i++)
         r.v[i] = a.v[i];
     if (!a.v) {
-        free(r.v);
+        vc_expn_release(r.v);
         r.v = NULL;
     }
     return r;
@@ -198,7 +244,7 @@ int vc_expn_sign_free(vc_expn x)
     if (!x.v)
         return VC_PREDICATE_NOMEM;
     const double top = x.v[x.n - 1];
-    free(x.v);
+    vc_expn_release(x.v);
     return (top > 0) - (top < 0);
 }
 
@@ -224,9 +270,9 @@ static int orient3d_expansion(const double *a, const double *b, const double *c,
     vc_expn t3 = vc_expn_mul_free(vc_expn_copy(cd[2]), cross2(ad[0], ad[1], bd[0], bd[1]));
     const int s = vc_expn_sign_free(vc_expn_add_free(vc_expn_add_free(t1, t2), t3));
     for (int k = 0; k < 3; k++) {
-        free(ad[k].v);
-        free(bd[k].v);
-        free(cd[k].v);
+        vc_expn_release(ad[k].v);
+        vc_expn_release(bd[k].v);
+        vc_expn_release(cd[k].v);
     }
     return s; /* VC_PREDICATE_NOMEM (2) when out of memory */
 }
@@ -280,21 +326,21 @@ static int insphere_expansion(const double *a, const double *b, const double *c,
                         vc_expn_add_free(vc_expn_mul(lift[1], cda), vc_expn_neg(vc_expn_mul(lift[0], bcd))));
     const int s = vc_expn_sign_free(det);
     for (int i = 0; i < 4; i++) {
-        free(x[i].v);
-        free(y[i].v);
-        free(z[i].v);
-        free(lift[i].v);
+        vc_expn_release(x[i].v);
+        vc_expn_release(y[i].v);
+        vc_expn_release(z[i].v);
+        vc_expn_release(lift[i].v);
     }
-    free(ab.v);
-    free(bc.v);
-    free(cd.v);
-    free(da.v);
-    free(ac.v);
-    free(bd.v);
-    free(abc.v);
-    free(bcd.v);
-    free(cda.v);
-    free(dab.v);
+    vc_expn_release(ab.v);
+    vc_expn_release(bc.v);
+    vc_expn_release(cd.v);
+    vc_expn_release(da.v);
+    vc_expn_release(ac.v);
+    vc_expn_release(bd.v);
+    vc_expn_release(abc.v);
+    vc_expn_release(bcd.v);
+    vc_expn_release(cda.v);
+    vc_expn_release(dab.v);
     return s;
 }
 

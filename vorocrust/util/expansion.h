@@ -28,5 +28,12 @@ vc_expn vc_expn_mul_free(vc_expn x, vc_expn y);
 /* The sign of x (+1, -1, 0), or VC_PREDICATE_NOMEM (exact_predicates.h)
  * when x is an out-of-memory result; frees x. */
 int vc_expn_sign_free(vc_expn x);
+/* Frees an expansion's storage (v). */
+void vc_expn_release(void *v);
+/* Between begin and end (nested pairs allowed, per thread) expansions are
+ * taken from one block freed at the end: an evaluation's expansions must
+ * not outlive it. */
+void vc_expn_arena_begin(void);
+void vc_expn_arena_end(void);
 
 #endif

@@ -20,6 +20,15 @@
 #include "util/exact_predicates.h"
 #include "util/union_find.h"
 
+static inline int omp_thread(void)
+{
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
 static double wall_time(void)
 {
 #ifdef _OPENMP
@@ -620,7 +629,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     int rc = 0;
     int64_t *owned = NULL, *vbase = NULL;
     cell_count *cnt = NULL;
-    pair_buf *pairs = NULL;
+    pair_buf *pairs = NULL, *near = NULL;
     int64_t *fill = NULL;
     unsigned char *used = NULL;
     int64_t *pid = NULL;
@@ -746,7 +755,8 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
 
     /* Collapsed edges, then their classes. */
     pairs = calloc((size_t)threads, sizeof *pairs);
-    if (!pairs)
+    near = calloc((size_t)threads, sizeof *near);
+    if (!pairs || !near)
         goto nomem;
 #pragma omp parallel num_threads(threads)
     {
@@ -788,13 +798,20 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     if (n_matched < 0)
         goto nomem;
     n_collapsed += n_matched;
-    for (int64_t g = 0; g < ng; g++)
-        st.root[g] = vc_uf_find(st.root, g);
     st.nontrivial = calloc((size_t)ng + 1, 1);
     st.candidate = calloc((size_t)ng + 1, 1);
     st.straight = calloc((size_t)ng + 1, 1);
     if (!st.nontrivial || !st.candidate || !st.straight)
         goto nomem;
+    /* The classes, and what follows from them; again when degenerate faces
+     * hold points too near each other to order along them (below). */
+    int reclass_round = 0;
+reclass:
+    for (int64_t g = 0; g < ng; g++)
+        st.root[g] = vc_uf_find(st.root, g);
+    memset(st.nontrivial, 0, (size_t)ng + 1);
+    memset(st.candidate, 0, (size_t)ng + 1);
+    memset(st.straight, 0, (size_t)ng + 1);
     for (int64_t g = 0; g < ng; g++)
         if (st.root[g] != g)
             st.nontrivial[st.root[g]] = 1;
@@ -969,6 +986,22 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
                     if (len < 3 || !on_segment(&st, buf, len, merge_tol, t))
                         continue;
                     st.degenerate[st.face_off[m] + f] = 1;
+                    /* Points nearer each other than four times the width
+                     * allowed cannot be ordered along the segment alike in
+                     * every face: they are united (and all redone). */
+                    double rmin = INFINITY;
+                    for (int j = 0; j < len; j++)
+                        rmin = st.grad[buf[j]] < rmin ? st.grad[buf[j]] : rmin;
+                    for (int i2 = 0; i2 < len; i2++)
+                        for (int j2 = i2 + 1; j2 < len; j2++) {
+                            const double *x = st.gp + 3 * buf[i2], *y = st.gp + 3 * buf[j2];
+                            const double d = sqrt((x[0] - y[0]) * (x[0] - y[0]) +
+                                                  (x[1] - y[1]) * (x[1] - y[1]) +
+                                                  (x[2] - y[2]) * (x[2] - y[2]));
+                            if (d <= 4 * merge_tol * rmin &&
+                                pair_push(&near[omp_thread()], buf[i2], buf[j2]) != 0)
+                                failed = 1;
+                        }
                     for (int j = 0; j < len; j++) {
                         const int jn = j + 1 < len ? j + 1 : 0;
                         const int64_t a = buf[j], bb = buf[jn];
@@ -1018,6 +1051,28 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
         free(sb);
         if (failed)
             goto nomem;
+        int64_t n_near = 0;
+        for (int th = 0; th < threads; th++) {
+            for (int64_t i = 0; i < near[th].n; i++)
+                if (vc_uf_find(st.root, near[th].p[i].a) != vc_uf_find(st.root, near[th].p[i].b)) {
+                    vc_uf_unite(st.root, near[th].p[i].a, near[th].p[i].b);
+                    n_near++;
+                }
+            free(near[th].p);
+            near[th] = (pair_buf){NULL, 0, 0};
+        }
+        if (n_near > 0 && reclass_round < 3) {
+            n_collapsed += n_near;
+            reclass_round++;
+            free(st.face_off);
+            free(st.degenerate);
+            free(st.splits);
+            st.face_off = NULL;
+            st.degenerate = NULL;
+            st.splits = NULL;
+            st.n_splits = 0;
+            goto reclass;
+        }
     }
     PHASE("degenerate");
 
@@ -1261,6 +1316,10 @@ done:
         for (int t = 0; t < threads; t++)
             free(pairs[t].p);
     free(pairs);
+    if (near)
+        for (int t = 0; t < threads; t++)
+            free(near[t].p);
+    free(near);
     free(st.kidx);
     free(st.kpos);
     free(st.loc_off);

@@ -36,8 +36,8 @@ typedef struct row {
 static void row_free(row *r)
 {
     for (int k = 0; k < 3; k++)
-        free(r->n[k].v);
-    free(r->last.v);
+        vc_expn_release(r->n[k].v);
+    vc_expn_release(r->last.v);
 }
 
 /* |p|^2 / 2 for the expansion vector p (p kept). */
@@ -340,6 +340,7 @@ static int evaluate(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], 
                     int side)
 {
     __atomic_add_fetch(&n_expansion, 1, __ATOMIC_RELAXED);
+    vc_expn_arena_begin();
     row r[4];
     for (int i = 0; i < 3; i++)
         r[i] = make_row(ctx, s, plane[i], 0);
@@ -358,8 +359,9 @@ static int evaluate(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], 
         result = sm == 0;
     for (int i = 0; i < 4; i++) {
         row_free(&r[i]);
-        free(C[i].v);
+        vc_expn_release(C[i].v);
     }
+    vc_expn_arena_end();
     return result;
 }
 
