@@ -570,6 +570,18 @@ static int split_push(split_buf *b, split x)
     return 0;
 }
 
+/* *buf with room for the longest face of c (grown as needed). */
+static int face_buf(const vc_cell_result *c, int64_t **buf, int *cap)
+{
+    const int need = max_face_len(c);
+    if (need <= *cap)
+        return 0;
+    free(*buf);
+    *buf = malloc((size_t)need * sizeof **buf);
+    *cap = *buf ? need : 0;
+    return *buf ? 0 : -1;
+}
+
 typedef struct pair64 {
     int64_t a, b;
 } pair64;
@@ -829,16 +841,9 @@ reclass:
 #pragma omp for schedule(dynamic, 256)
             for (int64_t m = 0; m < n_kept; m++) {
                 const vc_cell_result *c = &cells[m];
-                const int need = max_face_len(c);
-                if (need > cap) {
-                    free(buf);
-                    cap = need;
-                    buf = malloc((size_t)cap * sizeof *buf);
-                    if (!buf) {
-                        cap = 0;
-                        failed = 1;
-                        continue;
-                    }
+                if (face_buf(c, &buf, &cap) != 0) {
+                    failed = 1;
+                    continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
                     const int len = clean_cycle(&st, m, f, 0, buf);
@@ -859,16 +864,9 @@ reclass:
 #pragma omp for schedule(dynamic, 256)
             for (int64_t m = 0; m < n_kept; m++) {
                 const vc_cell_result *c = &cells[m];
-                const int need = max_face_len(c);
-                if (need > cap) {
-                    free(buf);
-                    cap = need;
-                    buf = malloc((size_t)cap * sizeof *buf);
-                    if (!buf) {
-                        cap = 0;
-                        failed = 1;
-                        continue;
-                    }
+                if (face_buf(c, &buf, &cap) != 0) {
+                    failed = 1;
+                    continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
                     const int len = clean_cycle(&st, m, f, 0, buf);
@@ -1088,16 +1086,9 @@ reclass:
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const vc_cell_result *c = &cells[m];
-            const int need = max_face_len(c);
-            if (need > cap) {
-                free(buf);
-                cap = need;
-                buf = malloc((size_t)cap * sizeof *buf);
-                if (!buf) {
-                    cap = 0;
-                    failed = 1;
-                    continue;
-                }
+            if (face_buf(c, &buf, &cap) != 0) {
+                failed = 1;
+                continue;
             }
             cell_count *a = &cnt[m];
             for (int f = 0; f < c->nf; f++) {

@@ -112,6 +112,17 @@ static int cmp_i64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Sorts seed[0..n) and drops repeats; returns the count. */
+static int sorted_unique(int64_t *seed, int n)
+{
+    qsort(seed, (size_t)n, sizeof seed[0], cmp_i64);
+    int w = 0;
+    for (int i = 0; i < n; i++)
+        if (w == 0 || seed[i] != seed[w - 1])
+            seed[w++] = seed[i];
+    return w;
+}
+
 /* sign(det M0), or with perturb the sign of det M(eps); C: the cofactors. */
 static int det_sign(const row *r, const vc_expn C[4], int perturb)
 {
@@ -130,10 +141,8 @@ static int det_sign(const row *r, const vc_expn C[4], int perturb)
         if (r[i].seed_minus >= 0)
             seed[ns++] = r[i].seed_minus;
     }
-    qsort(seed, (size_t)ns, sizeof seed[0], cmp_i64);
+    ns = sorted_unique(seed, ns);
     for (int m = 0; m < ns; m++) {
-        if (m > 0 && seed[m] == seed[m - 1])
-            continue;
         vc_expn coef = vc_expn_from_double(0);
         for (int i = 0; i < 4; i++) {
             if (r[i].seed_plus == seed[m])
@@ -304,16 +313,8 @@ static int dd_stage(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], 
             if (r[i].seed_minus >= 0)
                 seed[ns++] = r[i].seed_minus;
         }
-        for (int a = 1; a < ns; a++) {
-            const int64_t x = seed[a];
-            int b = a;
-            for (; b > 0 && seed[b - 1] > x; b--)
-                seed[b] = seed[b - 1];
-            seed[b] = x;
-        }
+        ns = sorted_unique(seed, ns);
         for (int m = 0; m < ns && sm == 0; m++) {
-            if (m > 0 && seed[m] == seed[m - 1])
-                continue;
             dd coef = {0, 0};
             for (int i = 0; i < 4; i++) {
                 if (r[i].seed_plus == seed[m])
@@ -439,13 +440,7 @@ static int cached_tie(int64_t s, const int64_t plane[3], int64_t x, const dd_row
     for (int i = 0; i < 3; i++)
         if (plane[i] >= 0)
             seed[ns++] = plane[i];
-    for (int a = 1; a < ns; a++) {
-        const int64_t v = seed[a];
-        int b = a;
-        for (; b > 0 && seed[b - 1] > v; b--)
-            seed[b] = seed[b - 1];
-        seed[b] = v;
-    }
+    ns = sorted_unique(seed, ns);
     for (int m = 0; m < ns; m++) {
         dd coef = {0, 0};
         if (seed[m] == s) {
