@@ -18,6 +18,7 @@
 
 #include "convex_cell.h"
 #include "util/exact_predicates.h"
+#include "util/reserve.h"
 #include "util/union_find.h"
 
 static inline int omp_thread(void)
@@ -164,7 +165,7 @@ static double canonical_point(const vc_power_ctx *ctx, const int64_t key[4], dou
     }
     const double *qp[3] = {q[0], q[1], q[2]};
     double y[3];
-    const double e = vc_solve_planes(qp, wall, y);
+    const double e = vc_solve_planes(qp, wall, y, NULL);
     *rad = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
     for (int d = 0; d < 3; d++)
         x[d] = xb[d] + y[d];
@@ -195,32 +196,22 @@ static int same_point(const stitch *st, int64_t u, int64_t v)
     return 1;
 }
 
-/* Do the ends i and j of an edge of the cell at m coincide? Exactly, or
- * within merge_tol of their distance to their seeds. The same answer in
- * every cell that has the edge: it reads the global points and bounds, and
- * the exact test is exact. Returns 1, 0, or VC_PREDICATE_NOMEM. */
-static int edge_collapses(const stitch *st, int64_t m, int i, int j, double merge_tol)
+/* Are the global vertices u and v one point of the mesh? Nearer each
+ * other than merge_tol of their distance to their seeds, or the same point
+ * exactly (tested only when within their error bounds). A function of the
+ * two vertices alone, so every cell and every pass decides alike. Returns
+ * 1, 0, or VC_PREDICATE_NOMEM. */
+static int points_coincide(const stitch *st, int64_t u, int64_t v, double merge_tol)
 {
-    const vc_cell_result *c = &st->cells[m];
-    const int64_t gi = st->gid[st->loc_off[m] + i], gj = st->gid[st->loc_off[m] + j];
-    const double *a = st->gp + 3 * gi, *b = st->gp + 3 * gj;
+    const double *a = st->gp + 3 * u, *b = st->gp + 3 * v;
     const double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                           (a[2] - b[2]) * (a[2] - b[2]));
-    const double r = st->grad[gi] < st->grad[gj] ? st->grad[gi] : st->grad[gj];
+    const double r = st->grad[u] < st->grad[v] ? st->grad[u] : st->grad[v];
     if (d <= merge_tol * r)
         return 1;
-    if (d > st->gev[gi] + st->gev[gj])
+    if (d > st->gev[u] + st->gev[v])
         return 0;
-    /* Within rounding of each other: exact. j's plane that i lacks. */
-    int64_t pi[3], q = 0;
-    for (int u = 0; u < 3; u++)
-        pi[u] = c->plane[c->vf[3 * i + u]];
-    for (int u = 0; u < 3; u++) {
-        const int64_t x = c->plane[c->vf[3 * j + u]];
-        if (x != pi[0] && x != pi[1] && x != pi[2])
-            q = x;
-    }
-    return vc_power_on_plane(st->ctx, seed_of(st, m), pi, q);
+    return same_point(st, u, v);
 }
 
 /* The cycle of face f of the cell at m as class roots, without repeats
@@ -284,7 +275,7 @@ static int64_t splits_of(const stitch *st, int64_t a, int64_t b, int64_t *count)
  * straight points, nothing for a degenerate face, and the points of
  * degenerate faces inside its edges inserted. *buf grows as needed.
  * Returns the length, 0 when the face is gone, -1 out of memory. */
-static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int *cap,
+static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int64_t *cap,
                        int64_t *tmp)
 {
     if (st->degenerate && st->degenerate[st->face_off[m] + f])
@@ -299,14 +290,8 @@ static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int *c
          * theirs inside the pieces (degenerate faces next to each other),
          * to a fixed depth */
         const int start = n;
-        if (n + 2 > *cap) {
-            int nc = 2 * (n + 2) + 16;
-            int64_t *q = realloc(*buf, (size_t)nc * sizeof *q);
-            if (!q)
-                return -1;
-            *buf = q;
-            *cap = nc;
-        }
+        if (vc_reserve(buf, cap, n + 2, sizeof **buf) != 0)
+            return -1;
         (*buf)[n++] = a;
         (*buf)[n++] = b; /* removed below */
         for (int depth = 0, changed = 1; changed && depth < 8 && st->n_splits; depth++) {
@@ -317,14 +302,8 @@ static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int *c
                 const int64_t at = splits_of(st, u, v, &k);
                 if (k == 0)
                     continue;
-                if (n + k > *cap) {
-                    int nc = 2 * (n + (int)k) + 16;
-                    int64_t *q = realloc(*buf, (size_t)nc * sizeof *q);
-                    if (!q)
-                        return -1;
-                    *buf = q;
-                    *cap = nc;
-                }
+                if (vc_reserve(buf, cap, n + k, sizeof **buf) != 0)
+                    return -1;
                 /* only points not yet in this edge's list (rounding can
                  * order nearly coincident points differently in two
                  * degenerate faces) */
@@ -478,22 +457,14 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
                         const int64_t v = h[b].g;
                         if (v == u)
                             continue;
-                        const double *x = st->gp + 3 * u, *y = st->gp + 3 * v;
-                        const double dd = sqrt((x[0] - y[0]) * (x[0] - y[0]) +
-                                               (x[1] - y[1]) * (x[1] - y[1]) +
-                                               (x[2] - y[2]) * (x[2] - y[2]));
-                        const double r = st->grad[u] < st->grad[v] ? st->grad[u] : st->grad[v];
-                        int join = dd <= merge_tol * r;
-                        if (!join && dd <= st->gev[u] + st->gev[v] &&
-                            vc_uf_find(st->root, u) != vc_uf_find(st->root, v)) {
-                            const int e = same_point(st, u, v);
-                            if (e == VC_PREDICATE_NOMEM) {
-                                free(h);
-                                return -1;
-                            }
-                            join = e == 1;
+                        if (vc_uf_find(st->root, u) == vc_uf_find(st->root, v))
+                            continue;
+                        const int join = points_coincide(st, u, v, merge_tol);
+                        if (join == VC_PREDICATE_NOMEM) {
+                            free(h);
+                            return -1;
                         }
-                        if (join && vc_uf_find(st->root, u) != vc_uf_find(st->root, v)) {
+                        if (join) {
                             vc_uf_unite(st->root, u, v);
                             n_unions++;
                         }
@@ -558,28 +529,16 @@ typedef struct split_buf {
 
 static int split_push(split_buf *b, split x)
 {
-    if (b->n == b->cap) {
-        int64_t cap = b->cap ? 2 * b->cap : 256;
-        split *q = realloc(b->s, (size_t)cap * sizeof *q);
-        if (!q)
-            return -1;
-        b->s = q;
-        b->cap = cap;
-    }
+    if (vc_reserve(&b->s, &b->cap, b->n + 1, sizeof *b->s) != 0)
+        return -1;
     b->s[b->n++] = x;
     return 0;
 }
 
 /* *buf with room for the longest face of c (grown as needed). */
-static int face_buf(const vc_cell_result *c, int64_t **buf, int *cap)
+static int face_buf(const vc_cell_result *c, int64_t **buf, int64_t *cap)
 {
-    const int need = max_face_len(c);
-    if (need <= *cap)
-        return 0;
-    free(*buf);
-    *buf = malloc((size_t)need * sizeof **buf);
-    *cap = *buf ? need : 0;
-    return *buf ? 0 : -1;
+    return vc_reserve(buf, cap, max_face_len(c), sizeof **buf);
 }
 
 typedef struct pair64 {
@@ -593,14 +552,8 @@ typedef struct pair_buf {
 
 static int pair_push(pair_buf *b, int64_t x, int64_t y)
 {
-    if (b->n == b->cap) {
-        int64_t cap = b->cap ? 2 * b->cap : 1024;
-        pair64 *q = realloc(b->p, (size_t)cap * sizeof *q);
-        if (!q)
-            return -1;
-        b->p = q;
-        b->cap = cap;
-    }
+    if (vc_reserve(&b->p, &b->cap, b->n + 1, sizeof *b->p) != 0)
+        return -1;
     b->p[b->n++] = (pair64){x, y};
     return 0;
 }
@@ -787,7 +740,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
                     const int64_t ga = st.gid[st.loc_off[m] + a], gb = st.gid[st.loc_off[m] + b];
                     if (ga > gb)
                         continue; /* each edge once per cell: from its lower end */
-                    const int r = edge_collapses(&st, m, a, b, merge_tol);
+                    const int r = points_coincide(&st, ga, gb, merge_tol);
                     if (r == VC_PREDICATE_NOMEM || (r == 1 && pair_push(pb, ga, gb) != 0))
                         failed = 1;
                 }
@@ -836,8 +789,7 @@ reclass:
     if (n_collapsed > 0) {
 #pragma omp parallel num_threads(threads)
         {
-            int64_t *buf = NULL;
-            int cap = 0;
+            int64_t *buf = NULL, cap = 0;
 #pragma omp for schedule(dynamic, 256)
             for (int64_t m = 0; m < n_kept; m++) {
                 const vc_cell_result *c = &cells[m];
@@ -960,24 +912,15 @@ reclass:
 #else
             split_buf *b = &sb[0];
 #endif
-            int64_t *buf = NULL;
+            int64_t *buf = NULL, cap = 0, tcap = 0;
             double *t = NULL;
-            int cap = 0;
 #pragma omp for schedule(dynamic, 256)
             for (int64_t m = 0; m < n_kept; m++) {
                 const vc_cell_result *c = &cells[m];
-                const int need = max_face_len(c);
-                if (need > cap) {
-                    free(buf);
-                    free(t);
-                    cap = need;
-                    buf = malloc((size_t)cap * sizeof *buf);
-                    t = malloc((size_t)cap * sizeof *t);
-                    if (!buf || !t) {
-                        cap = 0;
-                        failed = 1;
-                        continue;
-                    }
+                if (face_buf(c, &buf, &cap) != 0 ||
+                    vc_reserve(&t, &tcap, max_face_len(c), sizeof *t) != 0) {
+                    failed = 1;
+                    continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
                     const int len = clean_cycle(&st, m, f, 1, buf);
@@ -1081,8 +1024,7 @@ reclass:
         goto nomem;
 #pragma omp parallel num_threads(threads)
     {
-        int64_t *buf = NULL, *ob = NULL;
-        int cap = 0, ocap = 0;
+        int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0;
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const vc_cell_result *c = &cells[m];
@@ -1171,28 +1113,15 @@ reclass:
     /* The faces, each by its owner: interior ones by neighbour. */
 #pragma omp parallel num_threads(threads)
     {
-        int64_t *buf = NULL, *ob = NULL;
-        int ocap = 0;
-        int cap = 0;
+        int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0, nb_cap = 0;
         pair64 *nb = NULL;
-        int nb_cap = 0;
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const vc_cell_result *c = &cells[m];
             const int64_t k = order[m];
-            const int need = max_face_len(c);
-            if (need > cap || c->nf > nb_cap) {
-                free(buf);
-                free(nb);
-                cap = need > cap ? need : cap;
-                nb_cap = c->nf > nb_cap ? c->nf : nb_cap;
-                buf = malloc((size_t)cap * sizeof *buf);
-                nb = malloc((size_t)nb_cap * sizeof *nb);
-                if (!buf || !nb) {
-                    cap = nb_cap = 0;
-                    failed = 1;
-                    continue;
-                }
+            if (face_buf(c, &buf, &cap) != 0 || vc_reserve(&nb, &nb_cap, c->nf, sizeof *nb) != 0) {
+                failed = 1;
+                continue;
             }
             const cell_count *a = &cnt[m];
             int n_nb = 0;

@@ -168,7 +168,7 @@ static int has_edge(const int *tri, const int *list, int n, int a, int b)
     return 0;
 }
 
-double vc_solve_planes(const double *const q[3], const int wall[3], double y[3])
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det)
 {
     double C[3][3];
     for (int i = 0; i < 3; i++) {
@@ -178,6 +178,8 @@ double vc_solve_planes(const double *const q[3], const int wall[3], double y[3])
         C[i][2] = u[0] * v[1] - u[1] * v[0];
     }
     const double D = q[0][0] * C[0][0] + q[0][1] * C[0][1] + q[0][2] * C[0][2];
+    if (det)
+        *det = D;
     for (int k = 0; k < 3; k++)
         y[k] = (q[0][3] * C[0][k] + q[1][3] * C[1][k] + q[2][3] * C[2][k]) / D;
     if (!(D != 0))
@@ -203,10 +205,8 @@ static double solve_vertex(const vc_convex_cell *c, int ia, int ib, int ic, doub
 {
     const double *q[3] = {c->plane + 4 * ia, c->plane + 4 * ib, c->plane + 4 * ic};
     const int wall[3] = {c->plane_id[ia] < 0, c->plane_id[ib] < 0, c->plane_id[ic] < 0};
-    const double D = q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) +
-                     q[0][1] * (q[1][2] * q[2][0] - q[1][0] * q[2][2]) +
-                     q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
-    const double e = vc_solve_planes(q, wall, y);
+    double D;
+    const double e = vc_solve_planes(q, wall, y, &D);
     return D > 0 ? e : INFINITY;
 }
 

@@ -26,11 +26,16 @@
 #include "util/exact_predicates.h"
 #include "util/expansion.h"
 
-/* One row of M: three normal components and the last entry, and which
- * seed weights move the last entry (+1 or -1 each; -1: none). */
+/* Which seed weights move a row's last entry: d(last)/dw = +1 for plus,
+ * -1 for minus (-1: none). */
+typedef struct row_weight {
+    int64_t plus, minus;
+} row_weight;
+
+/* One row of M: three normal components and the last entry. */
 typedef struct row {
     vc_expn n[3], last;
-    int64_t seed_plus, seed_minus; /* d(last)/dw = +1 for seed_plus, -1 for seed_minus */
+    row_weight w;
 } row;
 
 static void row_free(row *r)
@@ -55,7 +60,7 @@ static row make_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int tested)
 {
     row r;
     const double *xs = ctx->xyz + 3 * s;
-    r.seed_plus = r.seed_minus = -1;
+    r.w.plus = r.w.minus = -1;
     if (id >= 0) {
         const double *xa = ctx->xyz + 3 * id;
         for (int k = 0; k < 3; k++)
@@ -64,12 +69,12 @@ static row make_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int tested)
         if (tested) {
             for (int k = 0; k < 3; k++)
                 r.n[k] = vc_expn_neg(r.n[k]);
-            r.seed_plus = s;   /* (|p|^2 - w_x + w_s) / 2 */
-            r.seed_minus = id;
+            r.w.plus = s;   /* (|p|^2 - w_x + w_s) / 2 */
+            r.w.minus = id;
         } else {
             r.last = vc_expn_neg(r.last); /* -(|p|^2 - w_a + w_s) / 2 */
-            r.seed_plus = id;
-            r.seed_minus = s;
+            r.w.plus = id;
+            r.w.minus = s;
         }
     } else {
         const int k = (int)(-1 - id), axis = k / 2; /* VC_WALL_XMIN = -1 */
@@ -123,6 +128,20 @@ static int sorted_unique(int64_t *seed, int n)
     return w;
 }
 
+/* The seeds whose weights move the four rows, ascending, once each;
+ * returns their count. */
+static int weighted_seeds(const row_weight w[4], int64_t seed[8])
+{
+    int ns = 0;
+    for (int i = 0; i < 4; i++) {
+        if (w[i].plus >= 0)
+            seed[ns++] = w[i].plus;
+        if (w[i].minus >= 0)
+            seed[ns++] = w[i].minus;
+    }
+    return sorted_unique(seed, ns);
+}
+
 /* sign(det M0), or with perturb the sign of det M(eps); C: the cofactors. */
 static int det_sign(const row *r, const vc_expn C[4], int perturb)
 {
@@ -132,22 +151,15 @@ static int det_sign(const row *r, const vc_expn C[4], int perturb)
     const int s0 = vc_expn_sign_free(d);
     if (s0 != 0 || !perturb)
         return s0;
-    /* The seeds whose weights appear, in increasing index. */
     int64_t seed[8];
-    int ns = 0;
-    for (int i = 0; i < 4; i++) {
-        if (r[i].seed_plus >= 0)
-            seed[ns++] = r[i].seed_plus;
-        if (r[i].seed_minus >= 0)
-            seed[ns++] = r[i].seed_minus;
-    }
-    ns = sorted_unique(seed, ns);
+    const row_weight w[4] = {r[0].w, r[1].w, r[2].w, r[3].w};
+    const int ns = weighted_seeds(w, seed);
     for (int m = 0; m < ns; m++) {
         vc_expn coef = vc_expn_from_double(0);
         for (int i = 0; i < 4; i++) {
-            if (r[i].seed_plus == seed[m])
+            if (r[i].w.plus == seed[m])
                 coef = vc_expn_add_free(coef, vc_expn_copy(C[i]));
-            if (r[i].seed_minus == seed[m])
+            if (r[i].w.minus == seed[m])
                 coef = vc_expn_add_free(coef, vc_expn_neg(vc_expn_copy(C[i])));
         }
         const int sc = vc_expn_sign_free(coef);
@@ -211,14 +223,14 @@ static inline int dd_sign(dd a)
 /* A row in double-double: normals and last entry. */
 typedef struct dd_row {
     dd n[3], last;
-    int64_t seed_plus, seed_minus; /* as in row */
+    row_weight w;
 } dd_row;
 
 static dd_row make_dd_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int tested, int *ex)
 {
     dd_row r;
     const double *xs = ctx->xyz + 3 * s;
-    r.seed_plus = r.seed_minus = -1;
+    r.w.plus = r.w.minus = -1;
     if (id >= 0) {
         const double *xa = ctx->xyz + 3 * id;
         for (int k = 0; k < 3; k++)
@@ -231,12 +243,12 @@ static dd_row make_dd_row(const vc_power_ctx *ctx, int64_t s, int64_t id, int te
             for (int k = 0; k < 3; k++)
                 r.n[k] = dd_neg(r.n[k]);
             r.last = q;
-            r.seed_plus = s;
-            r.seed_minus = id;
+            r.w.plus = s;
+            r.w.minus = id;
         } else {
             r.last = dd_neg(q);
-            r.seed_plus = id;
-            r.seed_minus = s;
+            r.w.plus = id;
+            r.w.minus = s;
         }
     } else {
         const int k = (int)(-1 - id), axis = k / 2;
@@ -306,20 +318,14 @@ static int dd_stage(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], 
         /* an exact tie: the first weight, by seed index, whose
          * coefficient (a sum of cofactors, exact here) is not zero */
         int64_t seed[8];
-        int ns = 0;
-        for (int i = 0; i < 4; i++) {
-            if (r[i].seed_plus >= 0)
-                seed[ns++] = r[i].seed_plus;
-            if (r[i].seed_minus >= 0)
-                seed[ns++] = r[i].seed_minus;
-        }
-        ns = sorted_unique(seed, ns);
+        const row_weight w[4] = {r[0].w, r[1].w, r[2].w, r[3].w};
+        const int ns = weighted_seeds(w, seed);
         for (int m = 0; m < ns && sm == 0; m++) {
             dd coef = {0, 0};
             for (int i = 0; i < 4; i++) {
-                if (r[i].seed_plus == seed[m])
+                if (r[i].w.plus == seed[m])
                     coef = dd_add(coef, C[i], &ex);
-                if (r[i].seed_minus == seed[m])
+                if (r[i].w.minus == seed[m])
                     coef = dd_add(coef, dd_neg(C[i]), &ex);
             }
             if (!ex)
