@@ -256,29 +256,6 @@ if PART in ("volume", "icosphere"):
                   "%s: mesh volume %.9g vs input %.9g" % (model, fig["total_volume"], iv))
         except vtkcheck.CheckError as e:
             check(False, "%s volume mesh: %s" % (model, e))
-        # The exact engine (issue 19, opt-in): the same cells, a valid mesh
-        # of the same volume, the same bytes on 1 and 2 threads (not on
-        # sphere.obj: the icosphere part has a sphere, and the time).
-        xs = []
-        for t in ("1", "2") if os.path.basename(model) != "sphere.obj" else ():
-            xvtu = os.path.join(TMP, "mesh_vol_%s_exact_%s.vtu" % (tag, t))
-            rc, out, err = run("mesh", os.path.join(MODELS or "", model), "-o", xvtu, "--threads", t,
-                               "--exact-engine")
-            check(rc == 0, "%s --exact-engine: exit %d: %s" % (model, rc, err[-600:]))
-            if rc != 0:
-                break
-            xs.append(open(xvtu, "rb").read())
-        if len(xs) == 2:
-            check(xs[0] == xs[1], "%s --exact-engine: the mesh differs between 1 and 2 threads" % model)
-            try:
-                xfig = vtkcheck.check_vtu(xvtu, expected_volume=sv)
-                check(xfig["n_cells"] == fig["n_cells"],
-                      "%s --exact-engine: %d cells, the default engine %d" % (model, xfig["n_cells"],
-                                                                             fig["n_cells"]))
-                print("%s --exact-engine: %d cells, volume %.12g" % (model, xfig["n_cells"],
-                                                                      xfig["total_volume"]))
-            except vtkcheck.CheckError as e:
-                check(False, "%s --exact-engine: %s" % (model, e))
 
 if PART == "icosphere":
     # The centre lift removes the chords' volume bias: the reconstructed

@@ -23,11 +23,6 @@ static double total_volume(const vc_polymesh *m)
     return v;
 }
 
-/* The engine under test: the tolerance engine here, the exact one
- * (vc_voronoi_options.exact) in test_voronoi_exact.c; both must pass the
- * same checks. */
-static int use_exact;
-
 /* Builds with the given neighbour source and validates; returns the
  * build's code. */
 static int build_with(const vc_seeds *s, const double *box, int neighbours, int threads,
@@ -41,7 +36,6 @@ static int build_with(const vc_seeds *s, const double *box, int neighbours, int 
     }
     opt.threads = threads;
     opt.neighbours = neighbours;
-    opt.exact = use_exact;
     vc_error err = {0, ""};
     memset(m, 0, sizeof *m);
     int rc = vc_voronoi_build(s, &opt, m, &err);
@@ -542,31 +536,22 @@ static void test_neighbour_sources(void)
     }
 }
 
-/* test_voronoi_exact.c includes this file with VC_TEST_EXACT_ENGINE set:
- * the two engines are two tests (each within the suite's time per test). */
-#ifndef VC_TEST_EXACT_ENGINE
-#define VC_TEST_EXACT_ENGINE 0
-#endif
-
 int main(void)
 {
-    for (use_exact = VC_TEST_EXACT_ENGINE; use_exact <= VC_TEST_EXACT_ENGINE; use_exact++) {
-        printf("---- the %s engine\n", use_exact ? "exact" : "tolerance");
-        test_single_and_duplicates();
-        test_lattice(6);
-        test_checkerboard();
-        test_cube_corners();
-        test_random(2000, 42);
-        test_random(20000, 43);
-        test_cospherical();
-        test_vorocrust_seeds();
-        test_no_box();
-        test_neighbour_sources();
-        for (int shifted = 0; shifted < 2; shifted++)
-            for (int e = 0; e < 7; e++)
-                for (uint64_t seed = 1; seed <= 2; seed++)
-                    test_near_degenerate(shifted, 1e-9 * pow(10.0, 0.5 * e), seed);
-    }
+    test_single_and_duplicates();
+    test_lattice(6);
+    test_checkerboard();
+    test_cube_corners();
+    test_random(2000, 42);
+    test_random(20000, 43);
+    test_cospherical();
+    test_vorocrust_seeds();
+    test_no_box();
+    test_neighbour_sources();
+    for (int shifted = 0; shifted < 2; shifted++)
+        for (int e = 0; e < 7; e++)
+            for (uint64_t seed = 1; seed <= 2; seed++)
+                test_near_degenerate(shifted, 1e-9 * pow(10.0, 0.5 * e), seed);
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else

@@ -73,6 +73,7 @@ typedef struct config {
     int threads_count;
     uint64_t seed;
     int skip_voropp, skip_vorocrust, validate, repeat;
+    const char *seeds_path; /* a seeds CSV instead of random seeds */
 } config;
 
 static double clock_seconds(clockid_t id)
@@ -112,8 +113,37 @@ static size_t read_all(int fd, void *buf, size_t len)
     return got;
 }
 
-static int make_seeds(vc_seeds *s, int64_t n, uint64_t seed, vc_error *err)
+/* The seeds of a run, and the box: N random seeds in the unit cube, or
+ * the seeds of cfg->seeds_path, every one kept, in their bounding box grown
+ * by 1% of its diagonal on every side. */
+static int make_seeds(vc_seeds *s, int64_t n, const config *cfg, double box[6], vc_error *err)
 {
+    if (cfg->seeds_path) {
+        int rc = vc_seeds_read_csv(cfg->seeds_path, s, err);
+        if (rc)
+            return rc;
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int64_t i = 0; i < s->n; i++) {
+            s->label[i] = 1;
+            for (int d = 0; d < 3; d++) {
+                lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
+                hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
+            }
+        }
+        const double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                                 (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        for (int d = 0; d < 3; d++) {
+            box[d] = lo[d] - 0.01 * diag;
+            box[d + 3] = hi[d] + 0.01 * diag;
+        }
+        return VC_OK;
+    }
+    for (int d = 0; d < 3; d++) {
+        box[d] = 0;
+        box[d + 3] = 1;
+    }
+    const uint64_t seed = cfg->seed;
     int rc = vc_seeds_alloc(s, n, err);
     if (rc)
         return rc;
@@ -133,9 +163,9 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
     vc_error err;
     memset(&err, 0, sizeof err);
     vc_seeds seeds;
-    const double box[6] = {0, 0, 0, 1, 1, 1};
+    double box[6];
 
-    if (make_seeds(&seeds, n, cfg->seed, &err)) {
+    if (make_seeds(&seeds, n, cfg, box, &err)) {
         snprintf(rep.msg, sizeof rep.msg, "%s", err.msg);
     } else if (engine == ENGINE_SEEDS) {
         rep.ok = 1;
@@ -164,7 +194,7 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
             double v = 0.0;
             for (int64_t c = 0; c < mesh.n_cells; c++)
                 v += mesh.cell_volume[c];
-            rep.volume = v;
+            rep.volume = v / ((box[3] - box[0]) * (box[4] - box[1]) * (box[5] - box[2]));
             if (cfg->validate) {
                 char report[200];
                 report[0] = '\0';
@@ -187,7 +217,7 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
             rep.cell_faces = vr.cell_faces;
             rep.boundary_faces = vr.boundary_faces;
             rep.interior_faces = (vr.cell_faces - vr.boundary_faces) / 2;
-            rep.volume = vr.volume;
+            rep.volume = vr.volume / ((box[3] - box[0]) * (box[4] - box[1]) * (box[5] - box[2]));
             memcpy(rep.grid, vr.grid, sizeof rep.grid);
         }
     }
@@ -289,6 +319,8 @@ static void usage(FILE *f)
             "  --n N[,N...]           seed counts (repeatable; default 100000,1000000)\n"
             "  --threads-list T[,T...] vorocrust thread counts (default 1,2)\n"
             "  --seed S               random seed (default 1)\n"
+            "  --seeds FILE.csv       these seeds (x,y,z[,label]; all kept) in their bounding box\n"
+            "                         grown by 1%% of its diagonal, instead of random ones\n"
             "  --repeat R             runs per configuration, the fastest is reported (default 1)\n"
             "  --skip-voropp          do not run Voro++\n"
             "  --skip-vorocrust       do not run vorocrust\n"
@@ -352,7 +384,8 @@ static int parse_args(int argc, char **argv, config *cfg)
             snprintf(name, sizeof name, "%s", a);
         }
         int takes_value = !strcmp(name, "--n") || !strcmp(name, "--threads-list") ||
-                          !strcmp(name, "--seed") || !strcmp(name, "--repeat");
+                          !strcmp(name, "--seed") || !strcmp(name, "--repeat") ||
+                          !strcmp(name, "--seeds");
         if (takes_value && !val) {
             if (i + 1 >= argc) {
                 fprintf(stderr, "vc-bench-voronoi: %s needs a value\n", name);
@@ -394,6 +427,8 @@ static int parse_args(int argc, char **argv, config *cfg)
                 return 0;
             }
             cfg->repeat = (int)r;
+        } else if (!strcmp(name, "--seeds")) {
+            cfg->seeds_path = val;
         } else if (!strcmp(name, "--skip-voropp")) {
             cfg->skip_voropp = 1;
         } else if (!strcmp(name, "--skip-vorocrust")) {
@@ -408,6 +443,21 @@ static int parse_args(int argc, char **argv, config *cfg)
             usage(stderr);
             return 0;
         }
+    }
+    if (cfg->seeds_path) {
+        if (cfg->n_count) {
+            fprintf(stderr, "vc-bench-voronoi: --seeds and --n exclude each other\n");
+            return 0;
+        }
+        vc_seeds s;
+        vc_error err;
+        if (vc_seeds_read_csv(cfg->seeds_path, &s, &err)) {
+            fprintf(stderr, "vc-bench-voronoi: %s\n", err.msg);
+            return 0;
+        }
+        cfg->n_list[0] = s.n;
+        cfg->n_count = 1;
+        vc_seeds_free(&s);
     }
     if (cfg->n_count == 0) {
         cfg->n_list[0] = 100000;
@@ -503,9 +553,14 @@ int main(int argc, char **argv)
     for (k = 0; k < n_runs; k++)
         measure(&runs[k], &cfg);
 
-    printf("# vc-bench-voronoi: N uniform random seeds in the unit cube (seed %" PRIu64
-           "), cells clipped to [0,1]^3\n",
-           cfg.seed);
+    if (cfg.seeds_path)
+        printf("# vc-bench-voronoi: the %" PRId64 " seeds of %s, all kept, cells clipped to their "
+               "bounding box grown by 1%% of its diagonal\n",
+               cfg.n_list[0], cfg.seeds_path);
+    else
+        printf("# vc-bench-voronoi: N uniform random seeds in the unit cube (seed %" PRIu64
+               "), cells clipped to [0,1]^3\n",
+               cfg.seed);
     printf("# %ld CPUs online, load average %.2f at start; best of %d run(s); each run in its own "
            "process\n",
            ncpu, load[0], cfg.repeat);

@@ -64,8 +64,6 @@ static void usage(FILE *f)
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
         "  --lloyd N           N iterations of Lloyd relaxation of the interior seeds, 0 to\n"
         "                      1000 (default 0); the surface seeds stay fixed\n"
-        "  --exact-engine      the volume mesh from the exact Voronoi engine (experimental;\n"
-        "                      see 'vorocrust voronoi --exact')\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -152,7 +150,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             "  centre lift: %s\n"
             "  surface seeds: %lld (%lld inside, %lld outside)\n"
             "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
-            "%s, %lld components, %lld T-junction vertices repaired\n"
+            "%s, %lld components\n"
             "  surface quality: Q min %.3f mean %.3f; angles < 30 deg %.1f%%, > 90 deg %.1f%% "
             "(%lld triangles, polygons fanned from their centroid)\n"
             "  time (s): read %.3f, features and smoothing %.3f, sizing %.3f, corner protection %.3f, edge "
@@ -178,7 +176,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                     topo->n_misoriented_edges == 0 && topo->n_nonmanifold_vertices == 0
                 ? "closed 2-manifold, consistently oriented"
                 : "NOT a closed consistently oriented 2-manifold",
-            (long long)topo->n_components, (long long)r->n_tjunctions_repaired, sq->q_min,
+            (long long)topo->n_components, sq->q_min,
             sq->q_mean, sq->pct_below_30, sq->pct_above_90, (long long)sq->n_triangles, t_read,
             t->features, t->sizing, t->corners, t->edges, t->surface, t->lipschitz, t->slivers,
             t->seeds, t->reconstruct, t_write_surface, failed_time);
@@ -362,8 +360,6 @@ static int run_mesh(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--surface-only")) {
             surface_only = 1;
-        } else if (!strcmp(a, "--exact-engine")) {
-            opt.exact_engine = 1;
         } else if (!strcmp(a, "--no-lift")) {
             opt.no_lift = 1;
         } else if (!strcmp(a, "--quiet")) {

@@ -31,8 +31,6 @@ static void usage(FILE *f)
         "  --encoding zlib|raw     binary encoding of the .vtu (default zlib)\n"
         "  --threads N             threads (default: all cores); the mesh does not depend on it\n"
         "  --no-validate           skip the mesh validator\n"
-        "  --exact                 the exact engine (experimental): exact decisions, cells\n"
-        "                          stitched by their vertices' seeds, no repair passes\n"
         "  --quiet                 no progress or summary\n"
         "  --verbose               also the phase timings of the engine\n");
 }
@@ -112,8 +110,6 @@ int vc_cmd_voronoi(int argc, char **argv)
             }
         } else if (!strcmp(a, "--no-validate")) {
             validate = 0;
-        } else if (!strcmp(a, "--exact")) {
-            opt.exact = 1;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (!strcmp(a, "--verbose")) {

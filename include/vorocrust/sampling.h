@@ -141,12 +141,9 @@ void vc_polysurface_free(vc_polysurface *p);
 /* The reconstructed surface: the Voronoi facets between an inside
  * (label != 0) and an outside (label 0) seed, oriented outward (seen
  * counter-clockwise from the outside seed), with the mesh's global
- * vertices (unused ones dropped). A vertex that rounding left on a facet
- * edge of one side only (a T-junction on the degenerate edge between two
- * ball centres) is inserted into the other side's facet; their number goes
- * to *n_repaired when not NULL. */
+ * vertices (unused ones dropped). */
 int vc_reconstruct_surface(const vc_seeds *seeds, int threads, vc_polysurface *out,
-                           int64_t *n_repaired, vc_error *err);
+                           vc_error *err);
 
 /* Topology of a polygonal surface: edges used by exactly two polygons in
  * opposite directions make a closed, consistently oriented surface. */

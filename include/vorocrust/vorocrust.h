@@ -119,10 +119,6 @@ typedef struct vc_mesh_options {
     vc_interior_kind interior;
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */
-    /* 1: the volume mesh from the exact
-     * Voronoi engine (vc_voronoi_options.exact, experimental); 0 (default):
-     * the tolerance engine. Lloyd relaxation uses the tolerance engine. */
-    int exact_engine;
     int threads;             /* <= 0: OpenMP's default */
     /* A sampling predicted (from the sizing) to need more balls than this
      * is refused before it starts, and one that reaches it stops, both with
@@ -232,7 +228,6 @@ typedef struct vc_mesh_result {
      * largest |owner - neighbour| of an interior face, in it and in the
      * engine's order by seed. */
     int64_t cell_bandwidth, cell_bandwidth_engine;
-    int64_t n_tjunctions_repaired;
     int surface_closed;         /* closed, consistently oriented 2-manifold with the
                                    input's Euler characteristic (always 1 on success:
                                    vc_mesh fails otherwise) */

@@ -3,11 +3,18 @@
  * Builds the Voronoi cells of the kept seeds (label != 0) of a seed set,
  * with the non-kept seeds shaping the cells but contributing none, and
  * assembles them into one conforming mesh: global vertices, every face
- * between two kept cells stored once. Coincident Voronoi vertices (seeds
- * that are co-spherical, as VoroCrust's are by construction) are merged
- * and zero-length edges and zero-area faces dropped, with a tolerance
- * relative to the local cell size (the distance from the seed to its
- * nearest neighbour). */
+ * between two kept cells stored once.
+ *
+ * Every decision about a cell's shape (is this vertex beyond the bisector
+ * of the seed and that neighbour?) is exact: a floating-point filter with
+ * a rigorous error bound, then double-double and expansion arithmetic,
+ * with exact ties (co-spherical seeds, as VoroCrust's are by construction)
+ * broken by one symbolic perturbation that every cell applies alike. A
+ * Voronoi vertex is named by its seeds; cells that share it agree by
+ * construction and are stitched by that name. Vertices of degree above 4
+ * come out as one point, zero-length edges and zero-area faces disappear;
+ * Voronoi vertices that differ only by rounding (nearer each other than
+ * 1e-8 of their distance to their seeds) are also one point. */
 #ifndef VORO_CRUST_VORONOI_H
 #define VORO_CRUST_VORONOI_H
 
@@ -38,14 +45,6 @@ typedef struct vc_voronoi_options {
      * seeds crowd the bins), VC_NEIGHBOURS_GRID or VC_NEIGHBOURS_TREE. The
      * cells are the same either way; only the time differs. */
     int neighbours;
-    /* 1: the exact engine (experimental; issue 19): every side decision by
-     * an exact predicate with a symbolic perturbation, cells stitched by
-     * their vertices' seeds, no repair passes (voronoi/cell_stitch.h).
-     * It meshes random, lattice, co-spherical and VoroCrust seed sets, but
-     * can leave a face of zero area where a degenerate face has a vertex
-     * inside its segment (not yet handled), and is slower on VoroCrust
-     * seeds. 0 (the default): the tolerance engine. */
-    int exact;
 } vc_voronoi_options;
 
 enum { VC_NEIGHBOURS_AUTO = 0, VC_NEIGHBOURS_GRID = 1, VC_NEIGHBOURS_TREE = 2 };

@@ -80,6 +80,39 @@ static int leaf_too_large(p8est_t *forest, p4est_topidx_t tree, p8est_quadrant_t
     return diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, g->lipschitz, g->cap);
 }
 
+/* Significant bits kept of the trees' side (see snap_to_lattice). */
+enum { SIDE_BITS = 12 };
+
+/* Puts the leaf centres on an exact binary lattice: the side rounded up to
+ * SIDE_BITS significant bits, the low corner to a multiple of the side's
+ * last bit over 2^20 (p4est's coordinates are multiples of 2^-19 of a
+ * tree). Every centre lo + side * v is then exact in double, and the
+ * differences of neighbouring centres have few significant bits. Why: the
+ * centres of the leaves around a shared corner are co-spherical (the
+ * corners of any box are), and the exact Voronoi engine certifies such
+ * ties in double-double arithmetic only when their products are short;
+ * otherwise each costs an evaluation in expansions. The side grows by at
+ * most 2^-12 of itself (the brick stays centred); a brick too far from
+ * the origin for the lattice to be exact is left as it is. */
+static void snap_to_lattice(double lo[3], double *side, const int n[3])
+{
+    int e;
+    (void)frexp(*side, &e); /* side = f 2^e, f in [0.5, 1) */
+    const double unit = ldexp(1.0, e - SIDE_BITS);
+    const double snapped = unit * ceil(*side / unit);
+    const double quantum = ldexp(unit, -20);
+    double out[3];
+    for (int d = 0; d < 3; d++) {
+        const double centred = lo[d] - 0.5 * (double)n[d] * (snapped - *side);
+        out[d] = quantum * nearbyint(centred / quantum);
+        /* exact while every centre stays below 2^53 quanta */
+        if (!(fabs(out[d]) + (double)(n[d] + 1) * snapped < ldexp(quantum, 52)))
+            return;
+    }
+    memcpy(lo, out, sizeof out);
+    *side = snapped;
+}
+
 /* The bounding box of the ball centres, grown by 1% of its diagonal so that
  * no centre sits on the forest's boundary, then covered by a brick of
  * n[0] x n[1] x n[2] cubes of side *tree_side, centred on it. */
@@ -116,6 +149,7 @@ static void brick_layout(const vc_balls *b, double lo[3], double *tree_side, int
         lo[d] -= 0.5 * ((double)n[d] * side - ext[d]);
     }
     *tree_side = side;
+    snap_to_lattice(lo, tree_side, n);
 }
 
 int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octree_options *opt,

@@ -332,13 +332,11 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
         if ((rc = volume_mesh(&vo, name, mm, out, err)) != 0)
             return rc;
         t = now();
-        out->n_tjunctions_repaired = 0;
         return check_regions(opt, name, mm, out, unresolved, t, err);
     }
     if (opt->surface_only) {
         t = now();
-        if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface,
-                                   &out->n_tjunctions_repaired, err) != 0)
+        if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface, err) != 0)
             return named(err, name, "reconstructing the surface");
     } else {
         /* The volume mesh holds the surface as its boundary faces: one
@@ -347,7 +345,6 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
         if ((rc = volume_mesh(opt, name, NULL, out, err)) != 0)
             return rc;
         t = now();
-        out->n_tjunctions_repaired = 0;
         if (vc_polymesh_boundary_surface(&out->mesh, &out->surface))
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
     }
@@ -625,7 +622,6 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = opt->threads;
-    vo.exact = opt->exact_engine;
     vo.log = opt->log;
     vc_log(opt->log, VC_LOG_INFO, "mesh: Voronoi cells of %lld seeds", (long long)out->seeds.n);
     if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))

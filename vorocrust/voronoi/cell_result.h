@@ -53,8 +53,7 @@ static inline void *vc_big_alloc(size_t bytes)
 /* Where the cells' data live: the blocks of consecutive cells, carved out
  * of large regions (one pool for the coordinates, one for the rest) mapped
  * by the engine itself, so that freeing a pool returns its memory to the
- * system at once, or hands its pages on to the mesh's arrays (see
- * page_bank.h). The stitching does so once it no longer needs them. */
+ * system at once. */
 typedef struct vc_region_pool {
     char **region;
     size_t *region_size;
@@ -100,15 +99,11 @@ static inline void *vc_region_take(vc_region_pool *p, size_t bytes)
     return out;
 }
 
-/* Empties the pool: its regions go to bank (NULL: back to the system). */
-static inline void vc_region_pool_release(vc_region_pool *p, vc_page_bank *bank)
+/* Empties the pool: its regions go back to the system. */
+static inline void vc_region_pool_free(vc_region_pool *p)
 {
-    for (int64_t i = 0; i < p->n; i++) {
-        if (bank)
-            (void)vc_page_bank_add(bank, p->region[i], p->region_size[i]);
-        else
-            vc_pages_unmap(p->region[i], p->region_size[i]);
-    }
+    for (int64_t i = 0; i < p->n; i++)
+        vc_pages_unmap(p->region[i], p->region_size[i]);
     free(p->region);
     free(p->region_size);
     p->region = NULL;
@@ -116,30 +111,5 @@ static inline void vc_region_pool_release(vc_region_pool *p, vc_page_bank *bank)
     p->n = p->cap = 0;
     p->used = 0;
 }
-
-static inline void vc_region_pool_free(vc_region_pool *p) { vc_region_pool_release(p, NULL); }
-
-/* Stitches the independently computed cells of the kept seeds into out:
- * copies of one Voronoi vertex in different cells are identified (within
- * merge_tol times the local cell size), zero-length edges and zero-area
- * faces are dropped, and every face between two kept cells is stored once.
- * order lists the kept cells in a spatially coherent order (NULL:
- * 0..n_kept-1) and cells[m] is the cell of kept seed order[m] (the k-th
- * kept seed is kept_seed[k]): vertex copies are numbered in that order, so
- * that neighbouring cells' copies are close in memory. *cells is freed (and
- * set to NULL) once read. store: where the cells' data live (its pools
- * are emptied once read for the last time, their pages going to the
- * mesh's arrays; NULL: never).
- * *n_degenerate receives the number of faces dropped whole and of points
- * inserted into edges (T-junctions): where it is 0, no vertex lies inside
- * an edge (see vc_polymesh_remove_straight_vertices).
- * At most 2^31 - 1 vertex copies (about 80 million cells; VC_EPARAM beyond).
- * Runs on threads threads (OpenMP); the result does not depend on their
- * number. The phase times go to log at VC_LOG_DEBUG (log may be NULL). */
-int vc_assemble_conforming(const vc_seeds *seeds, vc_cell_result **cells,
-                           const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                           vc_cell_store *store, double merge_tol, int threads,
-                           const vc_logger *log, vc_polymesh *out, int64_t *n_degenerate,
-                           vc_error *err);
 
 #endif

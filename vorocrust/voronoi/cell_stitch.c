@@ -58,6 +58,7 @@ typedef struct stitch {
     unsigned char *nontrivial; /* per root: its class has several members */
     unsigned char *candidate;  /* per root: may be a straight point */
     unsigned char *straight;   /* per root: a point inside a straight edge */
+    unsigned char *split_point; /* per root: inside an edge of a degenerate face */
     int64_t *face_off;         /* per position: its first face in degenerate[] */
     unsigned char *degenerate; /* per cell face: a segment (zero area) */
     struct split *splits;      /* points of degenerate faces inside edges */
@@ -215,17 +216,14 @@ static int points_coincide(const stitch *st, int64_t u, int64_t v, double merge_
 }
 
 /* The cycle of face f of the cell at m as class roots, without repeats
- * and folds (x, a, x becomes x), and without straight points when
- * drop_straight; into buf (room for the face). Returns its length (below
- * 3: the face is gone). */
-static int clean_cycle(const stitch *st, int64_t m, int f, int drop_straight, int64_t *buf)
+ * and folds (x, a, x becomes x), into buf (room for the face). Returns its
+ * length (below 3: the face is gone). */
+static int clean_cycle(const stitch *st, int64_t m, int f, int64_t *buf)
 {
     const vc_cell_result *c = &st->cells[m];
     int n = 0;
     for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++) {
         const int64_t r = st->root[st->gid[st->loc_off[m] + c->fv[j]]];
-        if (drop_straight && st->straight[r])
-            continue;
         if (n > 0 && buf[n - 1] == r)
             continue;
         buf[n++] = r;
@@ -271,16 +269,16 @@ static int64_t splits_of(const stitch *st, int64_t a, int64_t b, int64_t *count)
     return l;
 }
 
-/* The cycle of face f of the cell at m as written: clean_cycle without
- * straight points, nothing for a degenerate face, and the points of
- * degenerate faces inside its edges inserted. *buf grows as needed.
+/* The cycle of face f of the cell at m as written: clean_cycle, nothing
+ * for a degenerate face, the points of degenerate faces inside its edges
+ * inserted, and straight points left out. *buf grows as needed.
  * Returns the length, 0 when the face is gone, -1 out of memory. */
 static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int64_t *cap,
                        int64_t *tmp)
 {
     if (st->degenerate && st->degenerate[st->face_off[m] + f])
         return 0;
-    const int len = clean_cycle(st, m, f, 1, tmp);
+    const int len = clean_cycle(st, m, f, tmp);
     if (len == 0)
         return 0;
     int n = 0;
@@ -311,7 +309,7 @@ static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int64_
                 int na = 0;
                 for (int64_t q = 0; q < k && na < 64; q++) {
                     const int64_t p = st->splits[u < v ? at + q : at + k - 1 - q].p;
-                    int seen = st->straight[p]; /* left out of every face */
+                    int seen = 0;
                     for (int r = start; r < n && !seen; r++)
                         seen = (*buf)[r] == p;
                     if (!seen)
@@ -329,7 +327,12 @@ static int final_cycle(const stitch *st, int64_t m, int f, int64_t **buf, int64_
         }
         n--; /* b starts the next edge */
     }
-    return n;
+    /* straight points last: the splits are keyed by the edges around them */
+    int w = 0;
+    for (int j = 0; j < n; j++)
+        if (!st->straight[(*buf)[j]])
+            (*buf)[w++] = (*buf)[j];
+    return w >= 3 ? w : 0;
 }
 
 /* Is face f of the cell at m written by that cell (interior faces by the
@@ -782,111 +785,6 @@ reclass:
             st.nontrivial[st.root[g]] = 1;
     PHASE("collapse");
 
-    /* Straight points: only where a class has several members can one
-     * appear (the exact diagram's vertices have three edges or more in
-     * every cell). Candidates: such classes and their neighbours; their
-     * degree over every face that remains. */
-    if (n_collapsed > 0) {
-#pragma omp parallel num_threads(threads)
-        {
-            int64_t *buf = NULL, cap = 0;
-#pragma omp for schedule(dynamic, 256)
-            for (int64_t m = 0; m < n_kept; m++) {
-                const vc_cell_result *c = &cells[m];
-                if (face_buf(c, &buf, &cap) != 0) {
-                    failed = 1;
-                    continue;
-                }
-                for (int f = 0; f < c->nf; f++) {
-                    const int len = clean_cycle(&st, m, f, 0, buf);
-                    for (int j = 0; j < len; j++) {
-                        const int64_t v = buf[j], u = buf[j ? j - 1 : len - 1],
-                                      w = buf[j + 1 < len ? j + 1 : 0];
-                        if (st.nontrivial[v] || st.nontrivial[u] || st.nontrivial[w])
-                            st.candidate[v] = 1; /* the same value from every thread */
-                    }
-                }
-            }
-#ifdef _OPENMP
-            pair_buf *pb = &pairs[omp_get_thread_num()];
-#else
-            pair_buf *pb = &pairs[0];
-#endif
-#pragma omp barrier
-#pragma omp for schedule(dynamic, 256)
-            for (int64_t m = 0; m < n_kept; m++) {
-                const vc_cell_result *c = &cells[m];
-                if (face_buf(c, &buf, &cap) != 0) {
-                    failed = 1;
-                    continue;
-                }
-                for (int f = 0; f < c->nf; f++) {
-                    const int len = clean_cycle(&st, m, f, 0, buf);
-                    for (int j = 0; j < len; j++) {
-                        const int64_t v = buf[j];
-                        if (!st.candidate[v])
-                            continue;
-                        if (pair_push(pb, v, buf[j ? j - 1 : len - 1]) != 0 ||
-                            pair_push(pb, v, buf[j + 1 < len ? j + 1 : 0]) != 0)
-                            failed = 1;
-                    }
-                }
-            }
-            free(buf);
-        }
-        if (failed)
-            goto nomem;
-        int64_t total = 0;
-        for (int t = 0; t < threads; t++)
-            total += pairs[t].n;
-        /* (vertex, neighbour) packed in 64 bits (global vertices are
-         * below 2^32 here: checked), radix sorted, then counted */
-        uint64_t *all = malloc((size_t)(total + 1) * sizeof *all);
-        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
-        if (!all || !tmp || ng >= ((int64_t)1 << 32)) {
-            free(all);
-            free(tmp);
-            goto nomem;
-        }
-        int64_t at = 0;
-        for (int t = 0; t < threads; t++) {
-            for (int64_t i = 0; i < pairs[t].n; i++)
-                all[at++] = ((uint64_t)pairs[t].p[i].a << 32) | (uint64_t)pairs[t].p[i].b;
-            free(pairs[t].p);
-            pairs[t] = (pair_buf){NULL, 0, 0};
-        }
-        for (int shift = 0; shift < 64; shift += 16) {
-            static const int R = 1 << 16;
-            int64_t *count = calloc((size_t)R + 1, sizeof *count);
-            if (!count) {
-                free(all);
-                free(tmp);
-                goto nomem;
-            }
-            for (int64_t i = 0; i < total; i++)
-                count[((all[i] >> shift) & 0xffff) + 1]++;
-            for (int r = 0; r < R; r++)
-                count[r + 1] += count[r];
-            for (int64_t i = 0; i < total; i++)
-                tmp[count[(all[i] >> shift) & 0xffff]++] = all[i];
-            free(count);
-            uint64_t *sw = all;
-            all = tmp;
-            tmp = sw;
-        }
-        free(tmp);
-        for (int64_t i = 0; i < total;) {
-            int64_t j = i, deg = 0;
-            const uint64_t v = all[i] >> 32;
-            for (; j < total && (all[j] >> 32) == v; j++)
-                deg += j == i || all[j] != all[j - 1];
-            if (deg == 2)
-                st.straight[v] = 1;
-            i = j;
-        }
-        free(all);
-    }
-    PHASE("straight");
 
     /* Degenerate faces: a face whose points lie on one segment has no area
      * (seeds co-circular, exactly or to rounding). It leaves both cells,
@@ -923,7 +821,7 @@ reclass:
                     continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
-                    const int len = clean_cycle(&st, m, f, 1, buf);
+                    const int len = clean_cycle(&st, m, f, buf);
                     if (len < 3 || !on_segment(&st, buf, len, merge_tol, t))
                         continue;
                     st.degenerate[st.face_off[m] + f] = 1;
@@ -985,6 +883,12 @@ reclass:
                         st.splits[i].hi != st.splits[w - 1].hi || st.splits[i].p != st.splits[w - 1].p)
                         st.splits[w++] = st.splits[i];
                 st.n_splits = w;
+                st.split_point = calloc((size_t)ng + 1, 1);
+                if (!st.split_point)
+                    failed = 1;
+                else
+                    for (int64_t i = 0; i < w; i++)
+                        st.split_point[st.splits[i].p] = 1;
             }
         }
         for (int th = 0; th < threads; th++)
@@ -1008,6 +912,8 @@ reclass:
             free(st.face_off);
             free(st.degenerate);
             free(st.splits);
+            free(st.split_point);
+            st.split_point = NULL;
             st.face_off = NULL;
             st.degenerate = NULL;
             st.splits = NULL;
@@ -1016,6 +922,121 @@ reclass:
         }
     }
     PHASE("degenerate");
+    /* Straight points: only where a class has several members or a
+     * degenerate face left a point inside an edge can one appear (the exact
+     * diagram's vertices have three edges or more in every cell).
+     * Candidates: such points and their neighbours; their degree over the
+     * faces as written (degenerate faces gone, split points in). A split
+     * point only non-kept cells need is one: kept cells would show it as a
+     * hanging vertex on a straight edge, which floating point cannot keep
+     * convex. */
+    if (n_collapsed > 0 || st.n_splits > 0) {
+#pragma omp parallel num_threads(threads)
+        {
+            int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0;
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t m = 0; m < n_kept; m++) {
+                const vc_cell_result *c = &cells[m];
+                if (face_buf(c, &buf, &cap) != 0) {
+                    failed = 1;
+                    continue;
+                }
+                for (int f = 0; f < c->nf; f++) {
+                    const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
+                    if (len < 0)
+                        failed = 1;
+                    for (int j = 0; j < len; j++) {
+                        const int64_t v = ob[j], u = ob[j ? j - 1 : len - 1],
+                                      w = ob[j + 1 < len ? j + 1 : 0];
+                        if (st.nontrivial[v] || st.nontrivial[u] || st.nontrivial[w] ||
+                            (st.split_point && st.split_point[v]))
+                            st.candidate[v] = 1; /* the same value from every thread */
+                    }
+                }
+            }
+#ifdef _OPENMP
+            pair_buf *pb = &pairs[omp_get_thread_num()];
+#else
+            pair_buf *pb = &pairs[0];
+#endif
+#pragma omp barrier
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t m = 0; m < n_kept; m++) {
+                const vc_cell_result *c = &cells[m];
+                if (face_buf(c, &buf, &cap) != 0) {
+                    failed = 1;
+                    continue;
+                }
+                for (int f = 0; f < c->nf; f++) {
+                    const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
+                    if (len < 0)
+                        failed = 1;
+                    for (int j = 0; j < len; j++) {
+                        const int64_t v = ob[j];
+                        if (!st.candidate[v])
+                            continue;
+                        if (pair_push(pb, v, ob[j ? j - 1 : len - 1]) != 0 ||
+                            pair_push(pb, v, ob[j + 1 < len ? j + 1 : 0]) != 0)
+                            failed = 1;
+                    }
+                }
+            }
+            free(buf);
+            free(ob);
+        }
+        if (failed)
+            goto nomem;
+        int64_t total = 0;
+        for (int t = 0; t < threads; t++)
+            total += pairs[t].n;
+        /* (vertex, neighbour) packed in 64 bits (global vertices are
+         * below 2^32 here: checked), radix sorted, then counted */
+        uint64_t *all = malloc((size_t)(total + 1) * sizeof *all);
+        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
+        if (!all || !tmp || ng >= ((int64_t)1 << 32)) {
+            free(all);
+            free(tmp);
+            goto nomem;
+        }
+        int64_t at = 0;
+        for (int t = 0; t < threads; t++) {
+            for (int64_t i = 0; i < pairs[t].n; i++)
+                all[at++] = ((uint64_t)pairs[t].p[i].a << 32) | (uint64_t)pairs[t].p[i].b;
+            free(pairs[t].p);
+            pairs[t] = (pair_buf){NULL, 0, 0};
+        }
+        for (int shift = 0; shift < 64; shift += 16) {
+            static const int R = 1 << 16;
+            int64_t *count = calloc((size_t)R + 1, sizeof *count);
+            if (!count) {
+                free(all);
+                free(tmp);
+                goto nomem;
+            }
+            for (int64_t i = 0; i < total; i++)
+                count[((all[i] >> shift) & 0xffff) + 1]++;
+            for (int r = 0; r < R; r++)
+                count[r + 1] += count[r];
+            for (int64_t i = 0; i < total; i++)
+                tmp[count[(all[i] >> shift) & 0xffff]++] = all[i];
+            free(count);
+            uint64_t *sw = all;
+            all = tmp;
+            tmp = sw;
+        }
+        free(tmp);
+        for (int64_t i = 0; i < total;) {
+            int64_t j = i, deg = 0;
+            const uint64_t v = all[i] >> 32;
+            for (; j < total && (all[j] >> 32) == v; j++)
+                deg += j == i || all[j] != all[j - 1];
+            if (deg == 2)
+                st.straight[v] = 1;
+            i = j;
+        }
+        free(all);
+    }
+    PHASE("straight");
 
     /* Counts per cell, and the points used. */
     cnt = calloc((size_t)n_kept + 1, sizeof *cnt);
@@ -1252,6 +1273,7 @@ done:
     free(st.nontrivial);
     free(st.candidate);
     free(st.straight);
+    free(st.split_point);
     free(st.face_off);
     free(st.degenerate);
     free(st.splits);

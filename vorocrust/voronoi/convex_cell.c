@@ -62,12 +62,6 @@ static inline double norm2(const double *x)
 static void update_rmax2(vc_convex_cell *c)
 {
     double r2 = 0, e = 0;
-    if (!c->exact) {
-        for (int i = 0; i < c->nt; i++)
-            r2 = c->r2[i] > r2 ? c->r2[i] : r2;
-        c->rmax2 = r2;
-        return;
-    }
     for (int i = 0; i < c->nt; i++) {
         r2 = c->r2[i] > r2 ? c->r2[i] : r2;
         e = c->ev[i] > e ? c->ev[i] : e;
@@ -144,8 +138,8 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
         c->pz[k] = x[2];
         c->r2[k] = norm2(x);
         /* each coordinate is a wall less the seed, rounded once */
-        c->ev[k] = c->exact ? 2 * U * sqrt(c->r2[k]) : 0;
-        c->eb[k] = c->exact ? c->ev[k] + 8 * U * sqrt(c->r2[k]) : 0;
+        c->ev[k] = 2 * U * sqrt(c->r2[k]);
+        c->eb[k] = c->ev[k] + 8 * U * sqrt(c->r2[k]);
         c->pc[VC_POWER_CACHE * k + 13] = 0;
     }
     c->nt = 8;
@@ -214,8 +208,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
 {
     const double p2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     const double half = 0.5 * p2;
-    const double plen = sqrt(p2), pterm = c->exact ? 12 * U * plen : 0;
-    const double thr = c->exact ? 0 : c->tol * p2; /* (tol |p|) in distance, times |p| */
+    const double plen = sqrt(p2), pterm = 12 * U * plen;
     const int nt = c->nt, np = c->np;
 
     double *dist = reserve(&c->b_dist, nt, sizeof(double));
@@ -256,25 +249,13 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
             const double hi = s + plen * (eb[t] + pterm);
             smax = hi > smax ? hi : smax;
         }
-        if (!(smax > thr))
+        if (!(smax > 0))
             return 0; /* every vertex is kept */
-    }
-    if (!c->exact) {
-        int n_in = 0;
-        /* Without branches: which vertices go is unpredictable. */
-        for (int t = 0; t < nt; t++) {
-            out[t] = dist[t] > thr;
-            conflict[n_out] = t;
-            n_out += dist[t] > thr;
-            n_in += dist[t] < -thr;
-        }
-        if (n_in == 0)
-            return -2;
     }
     /* The side of each vertex: the filter, else the exact test. */
     double prow[VC_POWER_ROW];
     int prow_ready = 0;
-    for (int t = 0; t < nt && c->exact; t++) {
+    for (int t = 0; t < nt; t++) {
         const double b = plen * (c->eb[t] + pterm);
         int o;
         if (dist[t] > b)
@@ -458,25 +439,6 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
     for (int k = 0; k < n_boundary; k++) {
         const int b = next[a], tin = edge_out[a], tout = edge_tri[a];
         double *y = new_pt + 5 * k;
-        if (!c->exact) {
-            /* interpolated from the kept end (a kept end within the
-             * tolerance outside gives the end itself) */
-            const double s_in = dist[tin], s_out = dist[tout];
-            double u = -s_in / (s_out - s_in);
-            if (u < 0)
-                u = 0;
-            const double xi[3] = {c->px[tin], c->py[tin], c->pz[tin]};
-            const double xo[3] = {c->px[tout], c->py[tout], c->pz[tout]};
-            y[0] = xi[0] + u * (xo[0] - xi[0]);
-            y[1] = xi[1] + u * (xo[1] - xi[1]);
-            y[2] = xi[2] + u * (xo[2] - xi[2]);
-            y[3] = y[4] = 0;
-            new_tri[3 * k] = a;
-            new_tri[3 * k + 1] = b;
-            new_tri[3 * k + 2] = P;
-            a = b;
-            continue;
-        }
         double e = solve_vertex(c, a, b, P, y);
         const double vy = sqrt(norm2(y));
         if (!(isfinite(vy) && e <= 1e-6 * vy)) {

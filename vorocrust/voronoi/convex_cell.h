@@ -54,10 +54,6 @@ typedef struct vc_convex_cell {
      * the filter cannot decide a side, the exact test (power_side.h). */
     const vc_power_ctx *ctx;
     int64_t seed;
-    /* exact: sides decided exactly (below); otherwise a vertex within tol
-     * |p| of a plane counts as on it (kept), and ev, eb stay 0. */
-    int exact;
-    double tol;
     int64_t n_exact;     /* exact side tests made (statistics) */
     /* While every plane index is below VC_EDGE_OWNER_PLANES: per directed
      * plane pair (a, b), the triangle holding the edge a -> b, at
@@ -102,16 +98,13 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
 
 /* Cuts c with the bisector of the seed and seed plane_id, at p relative to
  * the seed (its coordinates less the seed's, rounded): keeps the vertices
- * nearer the seed. With c->exact, which vertices go is decided exactly,
- * with ties broken by the engine's symbolic perturbation (power_side.h): a
- * floating-point filter with a rigorous error bound decides the clear
- * cases, the exact test the others, and new vertices are computed from
- * their three planes. Otherwise vertices within c->tol |p| of the plane
- * count as on it (kept) and new vertices are interpolated along their
- * edge. Returns 1 if the cell changed, 0 if the plane misses it, -1 if the
- * removed part is not a disk (a tolerance problem; with exact decisions, a
- * defect), -2 if nothing of the cell would remain, VC_CELL_NOMEM out of
- * memory (also from the exact test). */
+ * nearer the seed. Which vertices go is decided exactly, with ties broken
+ * by the engine's symbolic perturbation (power_side.h): a floating-point
+ * filter with a rigorous error bound decides the clear cases, the exact
+ * test the others, and new vertices are computed from their three planes.
+ * Returns 1 if the cell changed, 0 if the plane misses it, -1 if the
+ * removed part is not a disk (a defect), -2 if nothing of the cell would
+ * remain, VC_CELL_NOMEM out of memory (also from the exact test). */
 int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id);
 
 /* The point where three planes (n, d) meet, {x : n.x = d}, by Cramer's

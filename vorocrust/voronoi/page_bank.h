@@ -1,13 +1,6 @@
-/* Pages the process has already touched, handed on to new large arrays
- * instead of being returned to the system. Internal to the Voronoi engine.
- *
- * On this kind of machine the first touch of fresh memory (the kernel
- * clearing it) costs about 2 s per GB, a large part of a 1M-cell build;
- * the stitching frees the cells' storage and then allocates the mesh's
- * arrays of about the same size. A bank holds regions mapped by the
- * engine itself; on Linux their pages are moved (mremap, no copy, no
- * clearing) into the large arrays allocated from it, which stay ordinary
- * heap blocks freed with free(). Elsewhere it only allocates. */
+/* Large memory regions mapped by the Voronoi engine itself (the cells'
+ * storage: freeing them returns the memory to the system at once), and
+ * whether large arrays ask for huge pages. Internal to the engine. */
 #ifndef VC_PAGE_BANK_H
 #define VC_PAGE_BANK_H
 
@@ -31,22 +24,5 @@ void vc_pages_advise(void *p, size_t bytes);
  * memory aligned to a huge page; NULL when out of memory. */
 void *vc_pages_map(size_t bytes);
 void vc_pages_unmap(void *p, size_t bytes);
-
-typedef struct vc_page_bank {
-    char **region;
-    size_t *size; /* bytes left at region[i] (multiples of VC_HUGE_PAGE) */
-    int64_t n, cap;
-} vc_page_bank;
-
-/* Adds a region from vc_pages_map to the bank, which then owns it. Returns
- * 0, or -1 when out of memory (the region is unmapped then). */
-int vc_page_bank_add(vc_page_bank *b, void *p, size_t bytes);
-
-/* bytes of memory, like vc_big_alloc (freed with free()), with as much of
- * it as the bank holds made of the bank's pages (contents undefined). */
-void *vc_page_bank_alloc(vc_page_bank *b, size_t bytes);
-
-/* Unmaps what is left in the bank. */
-void vc_page_bank_free(vc_page_bank *b);
 
 #endif

@@ -20,7 +20,6 @@
 #include "seed_grid.h"
 #include "seed_kdtree.h"
 #include "cell_stitch.h"
-#include "polymesh/repair.h"
 #include "util/threads.h"
 
 static double wall_seconds(void)
@@ -32,21 +31,10 @@ static double wall_seconds(void)
 #endif
 }
 
-/* The tolerance engine: vertices within CLIP_TOL * |p| of the bisector of
- * a neighbour at p count as on it, so co-spherical seeds give no sliver
- * faces. Copies of a vertex computed in different cells are merged within
- * MERGE_TOL times the local cell size; it must exceed the clipping
- * tolerance by a wide margin. The exact engine (cell_stitch.h) merges
- * Voronoi vertices nearer each other than MERGE_TOL times their distance
- * to their seeds: seeds co-spherical to rounding give one vertex. */
-#define CLIP_TOL 1e-10
+/* The stitching (cell_stitch.h) merges Voronoi vertices nearer each other
+ * than MERGE_TOL times their distance to their seeds: seeds co-spherical
+ * to rounding give one vertex. */
 #define MERGE_TOL 1e-8
-/* Clusters of points at open cells' edges are collapsed within this
- * fraction of the cell's size: the clusters measured were up to 2.1e-7 of
- * it wide (synthetic near-co-spherical seeds), and the merged points,
- * which move by at most this, stayed within the validator's planarity
- * tolerance on every case measured. */
-#define OPEN_CLUSTER_TOL 1e-6
 
 void vc_voronoi_options_default(vc_voronoi_options *opt)
 {
@@ -70,7 +58,6 @@ typedef struct cell_job {
     double slack; /* rounding allowance on bin boxes (absolute) */
     const double *seed_xyz; /* the seeds' coordinates, by seed index */
     vc_power_ctx ctx;       /* the same, and the box, for the exact side test */
-    int exact;              /* the exact engine */
 } cell_job;
 
 /* Beyond the first shell of bins, a seed t (at p relative to the seed) can
@@ -122,12 +109,9 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
     int n = 0;
     for (int t = 0; t < cell->nt; t++) {
         const double x[3] = {cell->px[t], cell->py[t], cell->pz[t]};
-        double r2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) * BALL_GROW;
-        if (cell->exact) {
-            /* the exact vertex is within ev of x: its ball within 2 ev of x's */
-            const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
-            r2 = rr * rr * BALL_GROW;
-        }
+        /* the exact vertex is within ev of x: its ball within 2 ev of x's */
+        const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
+        const double r2 = rr * rr * BALL_GROW;
         if (4.0 * r2 < 0.9 * h2)
             continue;
         /* Insertion by decreasing radius: a bin test stops at the first
@@ -334,7 +318,6 @@ static int reset_to_box(const cell_job *job, vc_convex_cell *cell, int64_t s, co
 {
     cell->ctx = &job->ctx;
     cell->seed = s;
-    cell->exact = job->exact;
     double lo[3], hi[3];
     const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
                               VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
@@ -640,43 +623,6 @@ static int store_cell(vc_convex_cell *cell, const double *xs, byte_buf *coord,
  * 100: 2.09 / 1.87, 333 (bunny.off): 4.46 / 7.51. */
 #define CROWDED_BINS 50.0
 
-/* Passes over a mesh whose stitching met a degeneracy (a dropped face or
- * a T-junction), in this order (see polymesh.h):
- *  - straight vertices: degenerate seeds leave points inside edges, which
- *    VTK rejects and which make needle triangles;
- *  - nearly co-spherical seeds can leave a cluster of points a few merge
- *    tolerances wide that neighbouring cells resolve differently (open
- *    cells: collapsed), and a face listed twice by one cell (dropped);
- *    either may leave straight vertices again.
- * Returns 0, or VC_ENOMEM (out is then freed). */
-static int repair_degenerate(vc_polymesh *out, int threads, const vc_logger *log, vc_error *err)
-{
-    const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
-    double ts = wall_seconds();
-    int64_t n_straight = vc_polymesh_remove_straight_vertices(out, threads);
-    if (n_straight < 0)
-        goto nomem;
-    if (timing)
-        vc_log(log, VC_LOG_DEBUG, "  straight vertices: %lld removed in %.3f s", (long long)n_straight,
-                wall_seconds() - ts);
-    ts = wall_seconds();
-    const int64_t n_merged = vc_polymesh_collapse_open_clusters(out, OPEN_CLUSTER_TOL, threads);
-    if (n_merged < 0)
-        goto nomem;
-    const int64_t n_dup = vc_polymesh_drop_duplicate_faces(out, threads);
-    if (n_dup < 0)
-        goto nomem;
-    if (timing)
-        vc_log(log, VC_LOG_DEBUG, "  open cells: %lld points merged, %lld duplicate faces dropped in %.3f s",
-                (long long)n_merged, (long long)n_dup, wall_seconds() - ts);
-    if (n_merged + n_dup > 0 && vc_polymesh_remove_straight_vertices(out, threads) < 0)
-        goto nomem;
-    return 0;
-nomem:
-    vc_polymesh_free(out);
-    return vc_error_set(err, VC_ENOMEM, "out of memory repairing a degenerate mesh");
-}
-
 /* The seeds' (or the box's) span: cell volumes go as its cube, the
  * duplicate distance as its square; outside these bounds either leaves the
  * normal doubles. */
@@ -796,7 +742,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
     job.grid = &grid;
     job.seed_xyz = seeds->xyz;
-    job.exact = opt.exact;
     job.ctx.xyz = seeds->xyz;
     for (int d = 0; d < 3; d++) {
         job.ctx.box_lo[d] = job.box_lo[d];
@@ -904,22 +849,12 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 const int64_t k = build_order[m];
                 const int64_t s = grid.seed_index[build_pos[m]];
                 const double *xs = grid.xyz + 3 * build_pos[m]; /* a copy of seed s */
-                int r = CELL_NUMERIC;
-                /* The tolerance engine: a cut that cannot be closed is a
-                 * tolerance problem, retried with a coarser tolerance
-                 * before giving up. The exact engine runs once. */
-                for (double tol = CLIP_TOL; tol <= CLIP_TOL * 1e4 && r == CELL_NUMERIC;
-                     tol *= 100) {
-                    cell.tol = tol;
-                    r = job.tree ? compute_cell_knn(&job, &cell, &hit_buf, &cand_buf, &pr, s, xs,
-                                                    &other[k])
+                int r = job.tree ? compute_cell_knn(&job, &cell, &hit_buf, &cand_buf, &pr, s,
+                                                    xs, &other[k])
                                  : compute_cell(&job, &cell, &cand_buf, &pr, s, xs, &other[k]);
-                    if (r == CELL_OK) {
-                        int fr = vc_convex_cell_faces(&cell);
-                        r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
-                    }
-                    if (job.exact)
-                        break;
+                if (r == CELL_OK) {
+                    const int fr = vc_convex_cell_faces(&cell);
+                    r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
                 }
                 n_exact_thread += cell.n_exact;
                 /* Local vertex indices are 16-bit in the stored cell. */
@@ -989,10 +924,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                               (long long)s, (long long)other[k], x[0], x[1], x[2]);
         else if (status[k] == CELL_NUMERIC)
             rc = vc_error_set(err, VC_EINTERNAL,
-                              job.exact ? "the cell of seed %lld (%g %g %g): a cut did not remove "
-                                          "a disk (a defect of the exact engine)"
-                                        : "the cell of seed %lld (%g %g %g) could not be built "
-                                          "robustly",
+                              "the cell of seed %lld (%g %g %g): a cut did not remove a disk "
+                              "(a defect of the engine)",
                               (long long)s, x[0], x[1], x[2]);
         else if (status[k] == CELL_NOMEM)
             rc = vc_error_set(err, VC_ENOMEM, "out of memory storing %lld cells",
@@ -1016,20 +949,11 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         if (progress && wall_seconds() - t_start > 1.0)
             vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld cells built in %.3f s; stitching",
                    (long long)n_kept, wall_seconds() - t_start);
-        if (job.exact) {
-            vc_log(opt.log, VC_LOG_DEBUG,
-                   "  cells: %lld side tests past the filter, %lld in expansions so far",
-                   (long long)n_exact, vc_power_expansion_count());
-            rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, MERGE_TOL,
-                                 threads, opt.log, out, err);
-        } else {
-            /* The stitching frees cells once it has read them. */
-            int64_t n_degenerate = 0;
-            rc = vc_assemble_conforming(seeds, &cells, kept_seed, n_kept, build_order, &store,
-                                        MERGE_TOL, threads, opt.log, out, &n_degenerate, err);
-            if (rc == 0 && n_degenerate > 0)
-                rc = repair_degenerate(out, threads, opt.log, err);
-        }
+        vc_log(opt.log, VC_LOG_DEBUG,
+               "  cells: %lld side tests past the filter, %lld in expansions so far",
+               (long long)n_exact, vc_power_expansion_count());
+        rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, MERGE_TOL,
+                             threads, opt.log, out, err);
     }
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);
