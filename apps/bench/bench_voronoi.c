@@ -53,6 +53,7 @@ typedef struct child_report {
     int64_t cells, points, faces, interior_faces, boundary_faces;
     int64_t cell_faces; /* sum over cells of their face count */
     int64_t invalid;    /* vc_polymesh_validate problems; -1 if not run */
+    uint64_t digest;    /* of the mesh's points, faces and cells (vorocrust) */
     int grid[3];        /* Voro++ block grid */
     char msg[MSG_LEN];
 } child_report;
@@ -116,6 +117,31 @@ static size_t read_all(int fd, void *buf, size_t len)
 /* The seeds of a run, and the box: N random seeds in the unit cube, or
  * the seeds of cfg->seeds_path, every one kept, in their bounding box grown
  * by 1% of its diagonal on every side. */
+/* FNV-1a over bytes, continued from h. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < len; i++) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+/* A digest of the mesh's bytes: equal digests for the runs of one N on
+ * different thread counts stand for byte-identical meshes. */
+static uint64_t mesh_digest(const vc_polymesh *m)
+{
+    uint64_t h = 14695981039346656037ull;
+    h = fnv1a(h, m->points, (size_t)m->n_points * 3 * sizeof(double));
+    h = fnv1a(h, m->face_offsets, (size_t)(m->n_faces + 1) * sizeof(int64_t));
+    h = fnv1a(h, m->face_vertices, (size_t)m->face_offsets[m->n_faces] * sizeof(int64_t));
+    h = fnv1a(h, m->face_owner, (size_t)m->n_faces * sizeof(int64_t));
+    h = fnv1a(h, m->face_neighbour, (size_t)m->n_faces * sizeof(int64_t));
+    h = fnv1a(h, m->cell_faces, (size_t)m->cell_offsets[m->n_cells] * sizeof(int64_t));
+    return h;
+}
+
 static int make_seeds(vc_seeds *s, int64_t n, const config *cfg, double box[6], vc_error *err)
 {
     if (cfg->seeds_path) {
@@ -195,6 +221,7 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
             for (int64_t c = 0; c < mesh.n_cells; c++)
                 v += mesh.cell_volume[c];
             rep.volume = v / ((box[3] - box[0]) * (box[4] - box[1]) * (box[5] - box[2]));
+            rep.digest = mesh_digest(&mesh);
             if (cfg->validate) {
                 char report[200];
                 report[0] = '\0';
@@ -578,10 +605,15 @@ int main(int argc, char **argv)
             continue;
         const child_report *p = &r->rep;
         if (r->engine == ENGINE_VOROCRUST) {
-            /* The mesh does not depend on the thread count: print it once. */
-            int seen = 0;
-            for (int j = 0; j < k; j++)
-                seen |= runs[j].ok && runs[j].engine == ENGINE_VOROCRUST && runs[j].n == r->n;
+            /* The mesh does not depend on the thread count: print it once,
+             * with whether every thread count gave the same bytes. */
+            int seen = 0, same = 1, counts = 0;
+            for (int j = 0; j < n_runs; j++)
+                if (runs[j].ok && runs[j].engine == ENGINE_VOROCRUST && runs[j].n == r->n) {
+                    seen |= j < k;
+                    same &= runs[j].rep.digest == p->digest;
+                    counts++;
+                }
             if (seen)
                 continue;
             printf("  vorocrust N=%" PRId64 ": %" PRId64 " points, %" PRId64 " faces (%" PRId64
@@ -592,6 +624,9 @@ int main(int argc, char **argv)
             if (p->invalid >= 0)
                 printf(", validate: %" PRId64 " problem(s)%s%s", p->invalid,
                        p->invalid ? ": " : "", p->invalid ? p->msg : "");
+            if (counts > 1)
+                printf(", %s for the %d thread counts", same ? "byte-identical" : "DIFFERENT",
+                       counts);
             printf("\n");
         } else {
             printf("  Voro++    N=%" PRId64 ": %" PRId64 " cells, %" PRId64 " cell faces (%.2f "

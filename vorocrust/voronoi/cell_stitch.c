@@ -48,7 +48,7 @@ typedef struct stitch {
     int64_t *kidx;    /* per seed: its kept index, or -1 */
     int64_t *kpos;    /* per kept index: its position m */
     int64_t *loc_off; /* per position: the first of its vertices in gid[] */
-    int64_t *gid;     /* per cell vertex: its global vertex */
+    int32_t *gid;     /* per cell vertex: its global vertex (below 2^31: checked) */
     int64_t n_gid;
     double *gp;       /* 3 per global vertex: the owner's position */
     double *gev;      /* per global vertex: the owner's error bound */
@@ -121,10 +121,16 @@ static int find_in_owner(const stitch *st, int64_t o, int64_t t, const int64_t k
     for (int f = 0; f < c->nf; f++) {
         if (c->plane[f] != t)
             continue;
+        /* the vertex whose three planes are all in the key (with o's own
+         * seed, its fourth entry) */
         for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++) {
-            int64_t k2[4];
-            vertex_key(st, o, c->fv[j], k2);
-            if (memcmp(k2, key, sizeof k2) == 0)
+            const uint16_t *vf = c->vf + 3 * c->fv[j];
+            int in = 1;
+            for (int q = 0; q < 3 && in; q++) {
+                const int64_t p = c->plane[vf[q]];
+                in = p == key[0] || p == key[1] || p == key[2] || p == key[3];
+            }
+            if (in)
                 return c->fv[j];
         }
         return -1;
@@ -571,8 +577,8 @@ static int cmp_pair(const void *x, const void *y)
 
 int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
                     const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                    double merge_tol, int threads, const vc_logger *log, vc_polymesh *out,
-                    vc_error *err)
+                    vc_cell_store *store, double merge_tol, int threads, const vc_logger *log,
+                    vc_polymesh *out, vc_error *err)
 {
     const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
     double t0 = wall_time(), tp = t0;
@@ -620,18 +626,19 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     st.loc_off[0] = 0;
     for (int64_t m = 0; m < n_kept; m++)
         st.loc_off[m + 1] = st.loc_off[m] + cells[m].nv;
-    st.gid = malloc((size_t)(st.loc_off[n_kept] > 0 ? st.loc_off[n_kept] : 1) * sizeof(int64_t));
+    st.gid = malloc((size_t)(st.loc_off[n_kept] > 0 ? st.loc_off[n_kept] : 1) * sizeof(int32_t));
     if (!st.gid)
         goto nomem;
 
-    /* Owned vertices, numbered in the owners' order. */
+    /* Owned vertices, numbered in the owners' order: first within the
+     * cell, then offset by the cells before. */
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t m = 0; m < n_kept; m++) {
-        int64_t c = 0;
+        int32_t c = 0;
         for (int i = 0; i < cells[m].nv; i++) {
             int64_t key[4];
             vertex_key(&st, m, i, key);
-            c += owner_of(&st, key) == m;
+            st.gid[st.loc_off[m] + i] = owner_of(&st, key) == m ? c++ : -1;
         }
         owned[m] = c;
     }
@@ -639,15 +646,16 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     for (int64_t m = 0; m < n_kept; m++)
         vbase[m + 1] = vbase[m] + owned[m];
     st.n_gid = vbase[n_kept];
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int64_t m = 0; m < n_kept; m++) {
-        int64_t g = vbase[m];
-        for (int i = 0; i < cells[m].nv; i++) {
-            int64_t key[4];
-            vertex_key(&st, m, i, key);
-            st.gid[st.loc_off[m] + i] = owner_of(&st, key) == m ? g++ : -1;
-        }
+    if (st.n_gid >= INT32_MAX) {
+        rc = vc_error_set(err, VC_EPARAM, "%lld Voronoi vertices: at most %d are supported",
+                          (long long)st.n_gid, INT32_MAX - 1);
+        goto done;
     }
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++)
+        for (int i = 0; i < cells[m].nv; i++)
+            if (st.gid[st.loc_off[m] + i] >= 0)
+                st.gid[st.loc_off[m] + i] += (int32_t)vbase[m];
     /* The others, looked up in their owners. */
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t m = 0; m < n_kept; m++) {
@@ -721,6 +729,10 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
         }
     }
 
+    /* The cells' coordinates are not read again. */
+    if (store)
+        vc_region_pool_free(&store->coord);
+
     /* Collapsed edges, then their classes. */
     pairs = calloc((size_t)threads, sizeof *pairs);
     near = calloc((size_t)threads, sizeof *near);
@@ -789,8 +801,10 @@ reclass:
     /* Degenerate faces: a face whose points lie on one segment has no area
      * (seeds co-circular, exactly or to rounding). It leaves both cells,
      * and each of its points lying inside an edge of it joins every face
-     * that has that edge, so the cells stay closed. */
-    {
+     * that has that edge, so the cells stay closed. Only where edges
+     * collapsed: a face of the perturbed diagram that has no area in the
+     * exact one has some of its vertices coincide. */
+    if (n_collapsed > 0) {
         st.face_off = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
         if (!st.face_off)
             goto nomem;
@@ -1089,12 +1103,15 @@ reclass:
     free(used);
     used = NULL;
     out->n_points = n_points;
-    out->points = malloc((size_t)(3 * n_points + 1) * sizeof(double));
-    if (!out->points)
-        goto nomem;
+    /* in place: pid[g] <= g */
     for (int64_t g = 0; g < ng; g++)
-        if (pid[g] >= 0)
-            memcpy(out->points + 3 * pid[g], st.gp + 3 * g, 3 * sizeof(double));
+        if (pid[g] >= 0 && pid[g] != g)
+            memcpy(st.gp + 3 * pid[g], st.gp + 3 * g, 3 * sizeof(double));
+    {
+        double *shrunk = realloc(st.gp, (size_t)(3 * n_points + 1) * sizeof(double));
+        out->points = shrunk ? shrunk : st.gp;
+        st.gp = NULL;
+    }
 
     /* Places, by kept index. */
     int64_t n_int = 0, n_bnd = 0, fv_int = 0, fv_bnd = 0, n_cf = 0;
@@ -1194,6 +1211,9 @@ reclass:
     }
     if (failed)
         goto nomem;
+    /* Nor the cells (before the geometry's arrays: a lower peak). */
+    if (store)
+        vc_region_pool_free(&store->topo);
     PHASE("faces");
 
     /* Each cell's faces, in increasing order. */

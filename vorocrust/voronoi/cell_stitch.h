@@ -18,8 +18,10 @@
  *    edge's two vertices alone, so every cell collapses it alike;
  *  - faces whose cycle collapses below three points disappear from both
  *    cells, a cycle that folds back on itself (x, a, x) loses the fold,
- *    and a point that the collapse leaves inside a straight edge (two
- *    neighbours in the whole mesh) leaves every face.
+ *    a face whose points all lie on one segment (zero area) leaves both
+ *    cells, its points inserted into the edges of the faces around it,
+ *    and a point left inside a straight edge (two neighbours in the faces
+ *    as written) leaves every face.
  * Output: interior faces sorted by (owner, neighbour), the owner being the
  * lower cell, then boundary faces by owner, in the cell's face order;
  * points in the owners' order (cells in the spatial order given); a cell
@@ -33,10 +35,14 @@
 #include "power_side.h"
 
 /* cells[m] is the cell of kept seed kept_seed[order[m]] (kept_seed
- * ascending, n_kept of them). */
+ * ascending, n_kept of them). store (may be NULL): where the cells' data
+ * live; its pools are emptied as soon as they are no longer read (the
+ * coordinates once the points are known, the rest before the mesh's
+ * geometry is allocated), which lowers the peak memory; cells must not be
+ * read after the call then. */
 int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
                     const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                    double merge_tol, int threads, const vc_logger *log, vc_polymesh *out,
-                    vc_error *err);
+                    vc_cell_store *store, double merge_tol, int threads, const vc_logger *log,
+                    vc_polymesh *out, vc_error *err);
 
 #endif

@@ -952,8 +952,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_log(opt.log, VC_LOG_DEBUG,
                "  cells: %lld side tests past the filter, %lld in expansions so far",
                (long long)n_exact, vc_power_expansion_count());
-        rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, MERGE_TOL,
-                             threads, opt.log, out, err);
+        rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, &store,
+                             MERGE_TOL, threads, opt.log, out, err);
     }
     vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);
