@@ -89,36 +89,49 @@ static inline void two_product(double a, double b, double *x, double *y)
     *y = fma(a, b, -*x);
 }
 
-/* h = e + b; returns its length (at most ne + 1). */
-static int grow(const double *e, int ne, double b, double *h)
+/* h = e + f, for nonoverlapping e and f as this file makes them (from
+ * exact differences, two_product, scale and this sum, with round-to-even:
+ * Shewchuk's strongly nonoverlapping expansions): the components of both
+ * merged by magnitude, then accumulated in one pass, keeping the non-zero
+ * rounding errors (his linear-time expansion sum, Theorem 13). h may not
+ * alias e or f; it holds ne + nf components. Returns its length. */
+static int sum(const double *e, int ne, const double *f, int nf, double *h)
 {
-    double q = b;
-    int n = 0;
-    for (int i = 0; i < ne; i++) {
+    int i = 0, j = 0, n = 0;
+    double q;
+    if (ne + nf < 2) { /* not made here: every expansion has a component */
+        h[0] = ne ? e[0] : f[0];
+        return 1;
+    }
+    /* the two smallest components, in increasing magnitude */
+    double g[2];
+    for (int k = 0; k < 2; k++) {
+        if (j >= nf || (i < ne && fabs(e[i]) <= fabs(f[j])))
+            g[k] = e[i++];
+        else
+            g[k] = f[j++];
+    }
+    {
+        /* fast two-sum: |g[1]| >= |g[0]| */
+        q = g[1] + g[0];
+        const double err = g[0] - (q - g[1]);
+        if (err != 0)
+            h[n++] = err;
+    }
+    while (i < ne || j < nf) {
+        double x;
+        if (j >= nf || (i < ne && fabs(e[i]) <= fabs(f[j])))
+            x = e[i++];
+        else
+            x = f[j++];
         double s, err;
-        two_sum(q, e[i], &s, &err);
+        two_sum(q, x, &s, &err);
         q = s;
         if (err != 0)
             h[n++] = err;
     }
     if (q != 0 || n == 0)
         h[n++] = q;
-    return n;
-}
-
-/* h = e + f (h may not alias e or f; scratch holds ne + nf + 1). */
-static int sum(const double *e, int ne, const double *f, int nf, double *h, double *scratch)
-{
-    int n = 0;
-    for (int i = 0; i < ne; i++)
-        h[n++] = e[i];
-    for (int j = 0; j < nf; j++) {
-        n = grow(h, n, f[j], scratch);
-        for (int i = 0; i < n; i++)
-            h[i] = scratch[i];
-    }
-    if (n == 1 && h[0] == 0)
-        return 1;
     return n;
 }
 
@@ -170,14 +183,12 @@ vc_expn vc_expn_diff(double a, double b)
 vc_expn vc_expn_add(vc_expn a, vc_expn b)
 {
     vc_expn r = {xalloc(sizeof(double) * (size_t)(a.n + b.n + 1)), 0};
-    double *scratch = xalloc(sizeof(double) * (size_t)(a.n + b.n + 2));
-    if (r.v && scratch && a.v && b.v)
-        r.n = sum(a.v, a.n, b.v, b.n, r.v, scratch);
+    if (r.v && a.v && b.v)
+        r.n = sum(a.v, a.n, b.v, b.n, r.v);
     else {
         vc_expn_release(r.v);
         r.v = NULL;
     }
-    vc_expn_release(scratch);
     return r;
 }
 

@@ -1,8 +1,10 @@
 /* Exact real numbers as floating-point expansions (Shewchuk 1997): a sum of
  * non-overlapping doubles in increasing magnitude, whose sign is the sign
  * of the largest component. For the exact paths of the predicates
- * (exact_predicates.c, the Voronoi engine's power_side.c): simple rather
- * than fast, every value in its own heap buffer. An operation that runs
+ * (exact_predicates.c, the Voronoi engine's power_side.c): sums merge
+ * their operands in linear time, products scale one operand by each
+ * component of the other; every value has its own buffer (from the arena
+ * below when one is open). An operation that runs
  * out of memory returns an expansion whose v is NULL; every later
  * operation propagates it and vc_expn_sign_free reports it. */
 #ifndef VC_UTIL_EXPANSION_H
