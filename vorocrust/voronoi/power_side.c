@@ -24,6 +24,7 @@
 #include <stdlib.h>
 
 #include "util/exact_predicates.h"
+#include "util/bigint.h"
 #include "util/expansion.h"
 
 /* Which seed weights move a row's last entry: d(last)/dw = +1 for plus,
@@ -336,6 +337,166 @@ static int dd_stage(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], 
     return sm * sa > 0 ? 1 : -1;
 }
 
+/* ---- the integer stage: exact ties in fixed-width integers ------------
+ * Every double involved (s, the rows' seeds, the walls) is M 2^e with M a
+ * 53-bit integer; brought to the smallest exponent E of them, each is an
+ * integer, and so are the differences to s. Row by row, a seed row [p,
+ * -|p|^2 / 2] (p = I 2^E) times 2^(1-E) is [2 I, -|I|^2 2^E], a wall row
+ * [e_k, -(X - s_k)] times 2 is [2 e_k, -2 J 2^E]; the last column then
+ * shares the factor 2^E, dropped. Every factor is positive, so det M, det
+ * A and every coefficient of the weights (which the seed rows scale alike)
+ * keep their signs. What does not fit the integers' capacity (exponents
+ * too far apart) goes to the expansions. */
+typedef struct int_row {
+    vc_bigint n[3], last;
+    row_weight w;
+} int_row;
+
+static void min_exponent(double v, int *E)
+{
+    if (v != 0) {
+        int e;
+        (void)frexp(v, &e);
+        if (e - 53 < *E)
+            *E = e - 53;
+    }
+}
+
+/* v as an integer in units of 2^E (E at most v's exponent less 53). */
+static int to_integer(double v, int E, vc_bigint *r)
+{
+    if (v == 0)
+        return vc_bigint_set(r, 0, 0);
+    int e;
+    const double f = frexp(v, &e);
+    return vc_bigint_set(r, (int64_t)ldexp(f, 53), e - 53 - E);
+}
+
+static int make_int_row(const vc_power_ctx *ctx, const vc_bigint S[3], int E, int64_t s,
+                        int64_t id, int tested, int_row *r)
+{
+    int rc = 0;
+    r->w.plus = r->w.minus = -1;
+    if (id >= 0) {
+        const double *xa = ctx->xyz + 3 * id;
+        vc_bigint I[3], q;
+        for (int k = 0; k < 3 && !rc; k++) {
+            vc_bigint a;
+            rc |= to_integer(xa[k], E, &a);
+            rc |= vc_bigint_sub(&I[k], &a, &S[k]);
+        }
+        if (rc)
+            return -1;
+        rc |= vc_bigint_mul(&r->last, &I[0], &I[0]);
+        rc |= vc_bigint_mul(&q, &I[1], &I[1]);
+        rc |= vc_bigint_add(&r->last, &r->last, &q);
+        rc |= vc_bigint_mul(&q, &I[2], &I[2]);
+        rc |= vc_bigint_add(&r->last, &r->last, &q);
+        for (int k = 0; k < 3; k++)
+            rc |= vc_bigint_add(&r->n[k], &I[k], &I[k]);
+        if (tested) {
+            for (int k = 0; k < 3; k++)
+                r->n[k].neg = r->n[k].n ? !r->n[k].neg : 0;
+            r->w.plus = s;
+            r->w.minus = id;
+        } else {
+            r->last.neg = r->last.n ? !r->last.neg : 0;
+            r->w.plus = id;
+            r->w.minus = s;
+        }
+    } else {
+        const int k = (int)(-1 - id), axis = k / 2;
+        const double X = (k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+        vc_bigint x;
+        for (int j = 0; j < 3; j++)
+            rc |= vc_bigint_set(&r->n[j], j == axis ? 2 : 0, 0);
+        rc |= to_integer(X, E, &x);
+        rc |= vc_bigint_sub(&r->last, &S[axis], &x); /* -(X - s_k) */
+        rc |= vc_bigint_add(&r->last, &r->last, &r->last);
+    }
+    return rc ? -1 : 0;
+}
+
+/* det [a; b; c] of integer rows into r. */
+static int int_det3(const vc_bigint *a, const vc_bigint *b, const vc_bigint *c, vc_bigint *r)
+{
+    vc_bigint m, t;
+    int rc = 0;
+    r->n = 0;
+    r->neg = 0;
+    static const int idx[3][2] = {{1, 2}, {2, 0}, {0, 1}}; /* a_k (b x c)_k */
+    for (int k = 0; k < 3; k++) {
+        const int i = idx[k][0], j = idx[k][1];
+        rc |= vc_bigint_mul(&m, &b[i], &c[j]);
+        rc |= vc_bigint_mul(&t, &b[j], &c[i]);
+        rc |= vc_bigint_sub(&m, &m, &t);
+        rc |= vc_bigint_mul(&m, &m, &a[k]);
+        rc |= vc_bigint_add(r, r, &m);
+    }
+    return rc ? -1 : 0;
+}
+
+/* The test in integers: as evaluate (below); returns 0 with *result set,
+ * or -1 when the values do not fit. */
+static int evaluate_integer(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q,
+                            int side, int *result)
+{
+    const int64_t ids[4] = {plane[0], plane[1], plane[2], q};
+    const double *xs = ctx->xyz + 3 * s;
+    int E = 1 << 20;
+    for (int d = 0; d < 3; d++)
+        min_exponent(xs[d], &E);
+    for (int i = 0; i < 4; i++) {
+        if (ids[i] >= 0) {
+            for (int d = 0; d < 3; d++)
+                min_exponent(ctx->xyz[3 * ids[i] + d], &E);
+        } else {
+            const int k = (int)(-1 - ids[i]), axis = k / 2;
+            min_exponent((k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis], &E);
+        }
+    }
+    vc_bigint S[3];
+    for (int d = 0; d < 3; d++)
+        if (to_integer(xs[d], E, &S[d]) != 0)
+            return -1;
+    int_row r[4];
+    for (int i = 0; i < 4; i++)
+        if (make_int_row(ctx, S, E, s, ids[i], i == 3, &r[i]) != 0)
+            return -1;
+    vc_bigint C[4], det = {0, 0, {0}}, t;
+    for (int i = 0; i < 4; i++) {
+        const vc_bigint *m[3];
+        for (int j = 0, k = 0; j < 4; j++)
+            if (j != i)
+                m[k++] = r[j].n;
+        if (int_det3(m[0], m[1], m[2], &C[i]) != 0)
+            return -1;
+        if ((i + 3) % 2)
+            C[i].neg = C[i].n ? !C[i].neg : 0;
+        if (vc_bigint_mul(&t, &r[i].last, &C[i]) != 0 || vc_bigint_add(&det, &det, &t) != 0)
+            return -1;
+    }
+    int sm = vc_bigint_sign(&det);
+    const int sa = vc_bigint_sign(&C[3]);
+    if (sm == 0 && side) {
+        int64_t seed[8];
+        const row_weight w[4] = {r[0].w, r[1].w, r[2].w, r[3].w};
+        const int ns = weighted_seeds(w, seed);
+        for (int m = 0; m < ns && sm == 0; m++) {
+            vc_bigint coef = {0, 0, {0}};
+            for (int i = 0; i < 4; i++) {
+                if (r[i].w.plus == seed[m] && vc_bigint_add(&coef, &coef, &C[i]) != 0)
+                    return -1;
+                if (r[i].w.minus == seed[m] && vc_bigint_sub(&coef, &coef, &C[i]) != 0)
+                    return -1;
+            }
+            sm = vc_bigint_sign(&coef);
+        }
+    }
+    *result = side ? (sm * sa > 0 ? 1 : -1) : sm == 0;
+    return 0;
+}
+
 static long long n_expansion;
 
 long long vc_power_expansion_count(void)
@@ -343,8 +504,41 @@ long long vc_power_expansion_count(void)
     return __atomic_load_n(&n_expansion, __ATOMIC_RELAXED);
 }
 
+static int evaluate_expansions(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3],
+                               int64_t q, int side);
+
+static long long n_exact_eval;
+
+long long vc_power_exact_count(void)
+{
+    return __atomic_load_n(&n_exact_eval, __ATOMIC_RELAXED);
+}
+
+/* The exact test: in integers when they can hold it, else in expansions.
+ * side: the perturbed side (vc_power_side's value); otherwise whether
+ * the unperturbed vertex lies on the plane. */
 static int evaluate(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q,
                     int side)
+{
+    __atomic_add_fetch(&n_exact_eval, 1, __ATOMIC_RELAXED);
+    int by_integers;
+    if (evaluate_integer(ctx, s, plane, q, side, &by_integers) == 0)
+        return by_integers;
+    return evaluate_expansions(ctx, s, plane, q, side);
+}
+
+int vc_power_side_by(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x,
+                     int method)
+{
+    if (method == 0) {
+        int r;
+        return evaluate_integer(ctx, s, plane, x, 1, &r) == 0 ? r : -2;
+    }
+    return evaluate_expansions(ctx, s, plane, x, 1);
+}
+
+static int evaluate_expansions(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3],
+                               int64_t q, int side)
 {
     __atomic_add_fetch(&n_expansion, 1, __ATOMIC_RELAXED);
     vc_expn_arena_begin();

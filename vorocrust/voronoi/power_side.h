@@ -53,7 +53,16 @@ int vc_power_side_cached(const vc_power_ctx *ctx, int64_t s, const int64_t plane
  * two planes coincide exactly when either lies on the other's third. */
 int vc_power_on_plane(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q);
 
-/* How many tests needed the expansions (statistics; all threads). */
+/* How many tests needed exact arithmetic, and how many of those the
+ * expansions (statistics; all threads). Exact tests run in fixed-width
+ * integers (util/bigint.h) when the coordinates' exponents are close
+ * enough for them, else in expansions. */
+long long vc_power_exact_count(void);
 long long vc_power_expansion_count(void);
+
+/* The exact test alone, for the tests: method 0 in integers (-2 when they
+ * cannot hold the values), 1 in expansions. */
+int vc_power_side_by(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x,
+                     int method);
 
 #endif

@@ -950,8 +950,8 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld cells built in %.3f s; stitching",
                    (long long)n_kept, wall_seconds() - t_start);
         vc_log(opt.log, VC_LOG_DEBUG,
-               "  cells: %lld side tests past the filter, %lld in expansions so far",
-               (long long)n_exact, vc_power_expansion_count());
+               "  cells: %lld side tests past the filter; so far %lld exact (%lld in expansions)",
+               (long long)n_exact, vc_power_exact_count(), vc_power_expansion_count());
         rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, &store,
                              MERGE_TOL, threads, opt.log, out, err);
     }

@@ -1,0 +1,96 @@
+/* util/bigint.h against __int128 (values below 2^126) and against
+ * identities at full width: (a + b) - b = a, a * b = b * a, (a * b) with a
+ * carry through every limb, and overflow reported at the capacity. */
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "util/bigint.h"
+
+#include "test_check.h"
+
+typedef __int128 i128;
+
+static uint64_t rng_state = 0x853c49e6748fea9bULL;
+
+static uint64_t next(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return rng_state;
+}
+
+/* The value of a bigint that fits in 126 bits. */
+static i128 value(const vc_bigint *a)
+{
+    i128 v = 0;
+    for (int i = a->n - 1; i >= 0; i--)
+        v = (v << 64) | (i128)a->d[i];
+    return a->neg ? -v : v;
+}
+
+static int equal(const vc_bigint *a, const vc_bigint *b)
+{
+    return a->n == b->n && a->neg == b->neg && !memcmp(a->d, b->d, (size_t)a->n * sizeof a->d[0]);
+}
+
+int main(void)
+{
+    /* small values: every operation against __int128 */
+    for (int t = 0; t < 20000; t++) {
+        const int64_t ma = (int64_t)(next() >> (11 + next() % 40)) * ((next() & 1) ? -1 : 1);
+        const int64_t mb = (int64_t)(next() >> (11 + next() % 40)) * ((next() & 1) ? -1 : 1);
+        const int sa = (int)(next() % 60), sb = (int)(next() % 60);
+        vc_bigint a, b, r;
+        CHECK(vc_bigint_set(&a, ma, sa) == 0 && vc_bigint_set(&b, mb, sb) == 0);
+        const i128 va = (i128)ma * ((i128)1 << sa), vb = (i128)mb * ((i128)1 << sb);
+        CHECK(value(&a) == va && value(&b) == vb);
+        CHECK(vc_bigint_add(&r, &a, &b) == 0 && value(&r) == va + vb);
+        CHECK(vc_bigint_sub(&r, &a, &b) == 0 && value(&r) == va - vb);
+        CHECK(vc_bigint_sign(&r) == ((va - vb > 0) - (va - vb < 0)));
+        /* products below 2^110 */
+        const int64_t pa = ma >> 12, pb = mb >> 12;
+        CHECK(vc_bigint_set(&a, pa, sa / 4) == 0 && vc_bigint_set(&b, pb, sb / 4) == 0);
+        CHECK(vc_bigint_mul(&r, &a, &b) == 0 &&
+              value(&r) == ((i128)pa << (sa / 4)) * ((i128)pb << (sb / 4)));
+        /* in place */
+        CHECK(vc_bigint_add(&a, &a, &a) == 0 && value(&a) == 2 * ((i128)pa << (sa / 4)));
+    }
+    /* wide values: identities */
+    for (int t = 0; t < 2000; t++) {
+        vc_bigint a, b, c, r, q;
+        CHECK(vc_bigint_set(&a, (int64_t)(next() >> 1) - (int64_t)(next() >> 1), (int)(next() % 300)) == 0);
+        CHECK(vc_bigint_set(&b, (int64_t)(next() >> 1) - (int64_t)(next() >> 1), (int)(next() % 300)) == 0);
+        CHECK(vc_bigint_set(&c, (int64_t)(next() >> 2), (int)(next() % 200)) == 0);
+        CHECK(vc_bigint_mul(&a, &a, &c) == 0 && vc_bigint_mul(&b, &b, &c) == 0);
+        CHECK(vc_bigint_add(&r, &a, &b) == 0 && vc_bigint_sub(&q, &r, &b) == 0 && equal(&q, &a));
+        CHECK(vc_bigint_mul(&r, &a, &b) == 0 && vc_bigint_mul(&q, &b, &a) == 0 && equal(&r, &q));
+        CHECK(vc_bigint_sub(&r, &a, &a) == 0 && vc_bigint_sign(&r) == 0);
+    }
+    /* (2^(64k) - 1)^2: a carry through every limb */
+    {
+        vc_bigint a, one, r, s;
+        CHECK(vc_bigint_set(&a, 1, 64 * 8) == 0 && vc_bigint_set(&one, 1, 0) == 0);
+        CHECK(vc_bigint_sub(&a, &a, &one) == 0 && a.n == 8);
+        CHECK(vc_bigint_mul(&r, &a, &a) == 0 && r.n == 16);
+        /* (2^512 - 1)^2 + 2 (2^512 - 1) + 1 = 2^1024 */
+        CHECK(vc_bigint_add(&s, &r, &a) == 0 && vc_bigint_add(&s, &s, &a) == 0 &&
+              vc_bigint_add(&s, &s, &one) == 0);
+        CHECK(s.n == 17 && s.d[16] == 1);
+        for (int i = 0; i < 16; i++)
+            CHECK(s.d[i] == 0);
+    }
+    /* overflow at the capacity is reported */
+    {
+        vc_bigint a, r;
+        CHECK(vc_bigint_set(&a, 3, 64 * (VC_BIGINT_LIMBS / 2)) == 0);
+        CHECK(vc_bigint_mul(&r, &a, &a) == -1);
+        CHECK(vc_bigint_set(&a, 1, 64 * VC_BIGINT_LIMBS) == -1);
+    }
+    if (failures)
+        fprintf(stderr, "%d check(s) failed\n", failures);
+    else
+        printf("all bigint checks passed\n");
+    return failures ? 1 : 0;
+}
