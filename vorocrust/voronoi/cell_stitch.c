@@ -10,6 +10,7 @@
 #include "cell_stitch.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef _OPENMP
@@ -28,6 +29,22 @@ static inline int omp_thread(void)
 #else
     return 0;
 #endif
+}
+
+/* Resident memory in MiB, for the phase lines (0 where unknown). */
+static double resident_mib(void)
+{
+    double mib = 0;
+#ifdef __linux__
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (f) {
+        long size = 0, resident = 0;
+        if (fscanf(f, "%ld %ld", &size, &resident) == 2)
+            mib = (double)resident * 4096.0 / (1024.0 * 1024.0);
+        fclose(f);
+    }
+#endif
+    return mib;
 }
 
 static double wall_time(void)
@@ -559,6 +576,19 @@ typedef struct pair_buf {
     int64_t n, cap;
 } pair_buf;
 
+typedef struct u64_buf {
+    uint64_t *v;
+    int64_t n, cap;
+} u64_buf;
+
+static int u64_push(u64_buf *b, uint64_t x)
+{
+    if (vc_reserve(&b->v, &b->cap, b->n + 1, sizeof *b->v) != 0)
+        return -1;
+    b->v[b->n++] = x;
+    return 0;
+}
+
 static int pair_push(pair_buf *b, int64_t x, int64_t y)
 {
     if (vc_reserve(&b->p, &b->cap, b->n + 1, sizeof *b->p) != 0)
@@ -586,7 +616,8 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     do {                                                                                          \
         if (timing) {                                                                             \
             const double now_ = wall_time();                                                      \
-            vc_log(log, VC_LOG_DEBUG, "  stitch: %-10s %.3f s", name, now_ - tp);                \
+            vc_log(log, VC_LOG_DEBUG, "  stitch: %-10s %.3f s, resident %.0f MiB", name,         \
+                   now_ - tp, resident_mib());                                                    \
             tp = now_;                                                                            \
         }                                                                                         \
     } while (0)
@@ -604,6 +635,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     int64_t *owned = NULL, *vbase = NULL;
     cell_count *cnt = NULL;
     pair_buf *pairs = NULL, *near = NULL;
+    u64_buf *links = NULL;
     int64_t *fill = NULL;
     unsigned char *used = NULL;
     int64_t *pid = NULL;
@@ -736,7 +768,8 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     /* Collapsed edges, then their classes. */
     pairs = calloc((size_t)threads, sizeof *pairs);
     near = calloc((size_t)threads, sizeof *near);
-    if (!pairs || !near)
+    links = calloc((size_t)threads, sizeof *links);
+    if (!pairs || !near || !links)
         goto nomem;
 #pragma omp parallel num_threads(threads)
     {
@@ -956,6 +989,8 @@ reclass:
                     continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
+                    if (!owns_face(&st, m, f))
+                        continue; /* every written face once */
                     const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
                     if (len < 0)
                         failed = 1;
@@ -969,9 +1004,9 @@ reclass:
                 }
             }
 #ifdef _OPENMP
-            pair_buf *pb = &pairs[omp_get_thread_num()];
+            u64_buf *pb = &links[omp_get_thread_num()];
 #else
-            pair_buf *pb = &pairs[0];
+            u64_buf *pb = &links[0];
 #endif
 #pragma omp barrier
 #pragma omp for schedule(dynamic, 256)
@@ -982,15 +1017,17 @@ reclass:
                     continue;
                 }
                 for (int f = 0; f < c->nf; f++) {
+                    if (!owns_face(&st, m, f))
+                        continue;
                     const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
                     if (len < 0)
                         failed = 1;
                     for (int j = 0; j < len; j++) {
-                        const int64_t v = ob[j];
+                        const uint64_t v = (uint64_t)ob[j];
                         if (!st.candidate[v])
                             continue;
-                        if (pair_push(pb, v, ob[j ? j - 1 : len - 1]) != 0 ||
-                            pair_push(pb, v, ob[j + 1 < len ? j + 1 : 0]) != 0)
+                        if (u64_push(pb, v << 32 | (uint64_t)ob[j ? j - 1 : len - 1]) != 0 ||
+                            u64_push(pb, v << 32 | (uint64_t)ob[j + 1 < len ? j + 1 : 0]) != 0)
                             failed = 1;
                     }
                 }
@@ -1002,22 +1039,26 @@ reclass:
             goto nomem;
         int64_t total = 0;
         for (int t = 0; t < threads; t++)
-            total += pairs[t].n;
+            total += links[t].n;
         /* (vertex, neighbour) packed in 64 bits (global vertices are
-         * below 2^32 here: checked), radix sorted, then counted */
+         * below 2^31: checked), gathered (each thread's buffer freed as it
+         * is copied, the sort's second array only then), radix sorted, and
+         * counted */
         uint64_t *all = malloc((size_t)(total + 1) * sizeof *all);
-        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
-        if (!all || !tmp || ng >= ((int64_t)1 << 32)) {
-            free(all);
-            free(tmp);
+        if (!all)
             goto nomem;
-        }
         int64_t at = 0;
         for (int t = 0; t < threads; t++) {
-            for (int64_t i = 0; i < pairs[t].n; i++)
-                all[at++] = ((uint64_t)pairs[t].p[i].a << 32) | (uint64_t)pairs[t].p[i].b;
-            free(pairs[t].p);
-            pairs[t] = (pair_buf){NULL, 0, 0};
+            if (links[t].n)
+                memcpy(all + at, links[t].v, (size_t)links[t].n * sizeof *all);
+            at += links[t].n;
+            free(links[t].v);
+            links[t] = (u64_buf){NULL, 0, 0};
+        }
+        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
+        if (!tmp) {
+            free(all);
+            goto nomem;
         }
         for (int shift = 0; shift < 64; shift += 16) {
             static const int R = 1 << 16;
@@ -1281,6 +1322,10 @@ done:
         for (int t = 0; t < threads; t++)
             free(near[t].p);
     free(near);
+    if (links)
+        for (int t = 0; t < threads; t++)
+            free(links[t].v);
+    free(links);
     free(st.kidx);
     free(st.kpos);
     free(st.loc_off);
