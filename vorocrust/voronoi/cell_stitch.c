@@ -548,18 +548,16 @@ static int on_segment(const stitch *st, const int64_t *cyc, int n, double merge_
     return 1;
 }
 
+/* The growing per-thread lists below: {v, n, cap}. PUSH appends x to
+ * the list at b; 0, or -1 when out of memory. */
+#define PUSH(b, x)                                                                                \
+    (vc_reserve(&(b)->v, &(b)->cap, (b)->n + 1, sizeof *(b)->v) != 0 ? -1                         \
+                                                                       : ((b)->v[(b)->n++] = (x), 0))
+
 typedef struct split_buf {
-    split *s;
+    split *v;
     int64_t n, cap;
 } split_buf;
-
-static int split_push(split_buf *b, split x)
-{
-    if (vc_reserve(&b->s, &b->cap, b->n + 1, sizeof *b->s) != 0)
-        return -1;
-    b->s[b->n++] = x;
-    return 0;
-}
 
 /* *buf with room for the longest face of c (grown as needed). */
 static int face_buf(const vc_cell_result *c, int64_t **buf, int64_t *cap)
@@ -572,7 +570,7 @@ typedef struct pair64 {
 } pair64;
 
 typedef struct pair_buf {
-    pair64 *p;
+    pair64 *v;
     int64_t n, cap;
 } pair_buf;
 
@@ -580,22 +578,6 @@ typedef struct u64_buf {
     uint64_t *v;
     int64_t n, cap;
 } u64_buf;
-
-static int u64_push(u64_buf *b, uint64_t x)
-{
-    if (vc_reserve(&b->v, &b->cap, b->n + 1, sizeof *b->v) != 0)
-        return -1;
-    b->v[b->n++] = x;
-    return 0;
-}
-
-static int pair_push(pair_buf *b, int64_t x, int64_t y)
-{
-    if (vc_reserve(&b->p, &b->cap, b->n + 1, sizeof *b->p) != 0)
-        return -1;
-    b->p[b->n++] = (pair64){x, y};
-    return 0;
-}
 
 static int cmp_pair(const void *x, const void *y)
 {
@@ -789,7 +771,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
                     if (ga > gb)
                         continue; /* each edge once per cell: from its lower end */
                     const int r = points_coincide(&st, ga, gb, merge_tol);
-                    if (r == VC_PREDICATE_NOMEM || (r == 1 && pair_push(pb, ga, gb) != 0))
+                    if (r == VC_PREDICATE_NOMEM || (r == 1 && PUSH(pb, ((pair64){ga, gb})) != 0))
                         failed = 1;
                 }
             }
@@ -802,9 +784,9 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     int64_t n_collapsed = 0;
     for (int t = 0; t < threads; t++) {
         for (int64_t i = 0; i < pairs[t].n; i++)
-            vc_uf_unite(st.root, pairs[t].p[i].a, pairs[t].p[i].b);
+            vc_uf_unite(st.root, pairs[t].v[i].a, pairs[t].v[i].b);
         n_collapsed += pairs[t].n;
-        free(pairs[t].p);
+        free(pairs[t].v);
         pairs[t] = (pair_buf){NULL, 0, 0};
     }
     const int64_t n_matched = match_boundary_points(&st, threads, merge_tol);
@@ -885,7 +867,7 @@ reclass:
                                                   (x[1] - y[1]) * (x[1] - y[1]) +
                                                   (x[2] - y[2]) * (x[2] - y[2]));
                             if (d <= 4 * merge_tol * rmin &&
-                                pair_push(&near[omp_thread()], buf[i2], buf[j2]) != 0)
+                                PUSH(&near[omp_thread()], ((pair64){buf[i2], buf[j2]})) != 0)
                                 failed = 1;
                         }
                     for (int j = 0; j < len; j++) {
@@ -900,7 +882,7 @@ reclass:
                                 continue;
                             const split x = {a < bb ? a : bb, a < bb ? bb : a, buf[q],
                                              (tq - lo_t) / (hi_t - lo_t)};
-                            if (split_push(b, x) != 0)
+                            if (PUSH(b, x) != 0)
                                 failed = 1;
                         }
                     }
@@ -920,7 +902,7 @@ reclass:
                 int64_t at = 0;
                 for (int th = 0; th < threads; th++) {
                     if (sb[th].n)
-                        memcpy(st.splits + at, sb[th].s, (size_t)sb[th].n * sizeof *st.splits);
+                        memcpy(st.splits + at, sb[th].v, (size_t)sb[th].n * sizeof *st.splits);
                     at += sb[th].n;
                 }
                 qsort(st.splits, (size_t)total, sizeof *st.splits, cmp_split);
@@ -939,18 +921,18 @@ reclass:
             }
         }
         for (int th = 0; th < threads; th++)
-            free(sb[th].s);
+            free(sb[th].v);
         free(sb);
         if (failed)
             goto nomem;
         int64_t n_near = 0;
         for (int th = 0; th < threads; th++) {
             for (int64_t i = 0; i < near[th].n; i++)
-                if (vc_uf_find(st.root, near[th].p[i].a) != vc_uf_find(st.root, near[th].p[i].b)) {
-                    vc_uf_unite(st.root, near[th].p[i].a, near[th].p[i].b);
+                if (vc_uf_find(st.root, near[th].v[i].a) != vc_uf_find(st.root, near[th].v[i].b)) {
+                    vc_uf_unite(st.root, near[th].v[i].a, near[th].v[i].b);
                     n_near++;
                 }
-            free(near[th].p);
+            free(near[th].v);
             near[th] = (pair_buf){NULL, 0, 0};
         }
         if (n_near > 0 && reclass_round < 3) {
@@ -1026,8 +1008,8 @@ reclass:
                         const uint64_t v = (uint64_t)ob[j];
                         if (!st.candidate[v])
                             continue;
-                        if (u64_push(pb, v << 32 | (uint64_t)ob[j ? j - 1 : len - 1]) != 0 ||
-                            u64_push(pb, v << 32 | (uint64_t)ob[j + 1 < len ? j + 1 : 0]) != 0)
+                        if (PUSH(pb, v << 32 | (uint64_t)ob[j ? j - 1 : len - 1]) != 0 ||
+                            PUSH(pb, v << 32 | (uint64_t)ob[j + 1 < len ? j + 1 : 0]) != 0)
                             failed = 1;
                     }
                 }
@@ -1316,11 +1298,11 @@ done:
         vc_polymesh_free(out);
     if (pairs)
         for (int t = 0; t < threads; t++)
-            free(pairs[t].p);
+            free(pairs[t].v);
     free(pairs);
     if (near)
         for (int t = 0; t < threads; t++)
-            free(near[t].p);
+            free(near[t].v);
     free(near);
     if (links)
         for (int t = 0; t < threads; t++)
