@@ -166,8 +166,58 @@ static void test_far_exponents(void)
     CHECKF(n_declined > declined_before, "far exponents: the integers did not decline");
 }
 
+/* vc_power_vertex_exact: the vertex of s and three seeds (or two seeds
+ * and a wall) is equidistant from s and its seeds (and on the wall), to
+ * rounding, at every scale; random seeds near one another and far from
+ * the origin make the double solve lose digits the integers keep. */
+static void test_vertex_exact(double scale, double offset)
+{
+    enum { N = 24 };
+    double xyz[3 * N];
+    for (int i = 0; i < 3 * N; i++)
+        xyz[i] = offset + scale * uniform();
+    vc_power_ctx ctx = {xyz, {0}, {0}};
+    set_box(&ctx, offset - 0.5 * scale, offset + 1.5 * scale);
+    for (int t = 0; t < 200; t++) {
+        const int64_t s = t % N, a = (t + 3) % N, b = (t + 8) % N, c = (t + 15) % N;
+        const int64_t pl[3] = {a, b, t % 2 ? c : VC_WALL_XMIN - (t % 6)};
+        if (pl[2] >= 0 && vc_orient3d_exact(xyz + 3 * s, xyz + 3 * a, xyz + 3 * b, xyz + 3 * c) == 0)
+            continue;
+        double y[3];
+        if (vc_power_vertex_exact(&ctx, s, pl, y) != 0) {
+            CHECKF(0, "vertex_exact declined: scale %g, offset %g", scale, offset);
+            continue;
+        }
+        /* |y - (p - s)|^2 - |y|^2 = 0 for every seed p of the planes, in
+         * long double against the terms' size */
+        const long double r2 = (long double)y[0] * y[0] + (long double)y[1] * y[1] +
+                               (long double)y[2] * y[2];
+        for (int i = 0; i < 3; i++) {
+            if (pl[i] < 0) {
+                const int k = (int)(-1 - pl[i]), axis = k / 2;
+                const double X = (k % 2) ? ctx.box_hi[axis] : ctx.box_lo[axis];
+                const long double off = (long double)xyz[3 * s + axis] + y[axis] - X;
+                CHECKF(fabsl(off) <= 1e-14L * (fabsl((long double)X) + sqrtl(r2)),
+                       "vertex_exact off its wall by %Lg (scale %g)", off, scale);
+                continue;
+            }
+            long double q2 = 0, pp = 0;
+            for (int d = 0; d < 3; d++) {
+                const long double p = (long double)xyz[3 * pl[i] + d] - xyz[3 * s + d];
+                q2 += ((long double)y[d] - p) * ((long double)y[d] - p);
+                pp += p * p;
+            }
+            CHECKF(fabsl(q2 - r2) <= 1e-13L * (r2 + pp), "vertex_exact: unequal distances %Lg "
+                   "against %Lg (scale %g, offset %g)", q2, r2, scale, offset);
+        }
+    }
+}
+
 int main(void)
 {
+    test_vertex_exact(1.0, 0);
+    test_vertex_exact(1e-6, 1000);
+    test_vertex_exact(0x1.0p30, 0x1.0p40);
     const double scales[3] = {0x1.0p-40, 1.0, 0x1.0p30};
     for (int i = 0; i < 3; i++) {
         test_random(scales[i], 0);

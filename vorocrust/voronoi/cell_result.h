@@ -16,15 +16,15 @@
 
 #include "page_bank.h"
 
+/* Only the combinatorics: the stitching computes every vertex's point from
+ * the seeds of its planes (cell_stitch.c), so the cells' own points are
+ * not kept. */
 typedef struct vc_cell_result {
     int nv, nf, nfv;    /* nfv <= 65535 */
-    double *v;          /* 3 * nv, absolute positions */
-    double *ev;         /* nv: bound on each position's distance to the exact vertex */
     int32_t *plane;     /* nf: neighbour seed index, or a wall code (< 0) */
     uint16_t *face_start; /* nf + 1 */
     uint16_t *fv;       /* nfv local vertex indices */
     uint16_t *vf;       /* 3 * nv: the faces of each vertex's three planes */
-    double scale;       /* local cell size: distance to the nearest face's seed */
 } vc_cell_result;
 
 /* Large arrays that are touched once, in passes: aligned to huge pages,
@@ -51,9 +51,8 @@ static inline void *vc_big_alloc(size_t bytes)
 }
 
 /* Where the cells' data live: the blocks of consecutive cells, carved out
- * of large regions (one pool for the coordinates, one for the rest) mapped
- * by the engine itself, so that freeing a pool returns its memory to the
- * system at once. */
+ * of large regions mapped by the engine itself, so that freeing the pool
+ * returns its memory to the system at once. */
 typedef struct vc_region_pool {
     char **region;
     size_t *region_size;
@@ -62,7 +61,7 @@ typedef struct vc_region_pool {
 } vc_region_pool;
 
 typedef struct vc_cell_store {
-    vc_region_pool coord, topo;
+    vc_region_pool topo;
 } vc_cell_store;
 
 #define VC_REGION_BYTES ((size_t)64 << 20)

@@ -155,10 +155,11 @@ static int find_in_owner(const stitch *st, int64_t o, int64_t t, const int64_t k
     return -1;
 }
 
-/* The point of a vertex from its key alone, so that it does not depend on
- * which cells are kept: the planes of the key's other entries relative to
- * its lowest seed, solved. Returns the error bound (+inf where the solve
- * is too ill-conditioned to trust). */
+/* The point of a vertex from its key alone, so that it depends neither on
+ * which cells are kept nor on how a cell was built: the planes of the
+ * key's other entries relative to its lowest seed, solved in double, or
+ * where that is too ill-conditioned, exactly in integers and rounded.
+ * Returns a bound on its distance to the exact vertex. */
 static double canonical_point(const vc_power_ctx *ctx, const int64_t key[4], double x[3],
                               double *rad)
 {
@@ -189,12 +190,29 @@ static double canonical_point(const vc_power_ctx *ctx, const int64_t key[4], dou
     }
     const double *qp[3] = {q[0], q[1], q[2]};
     double y[3];
-    const double e = vc_solve_planes(qp, wall, y, NULL);
+    double e = vc_solve_planes(qp, wall, y, NULL);
     *rad = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+    if (!(isfinite(*rad) && e <= 1e-6 * *rad)) {
+        /* too ill-conditioned in double: the exact vertex, rounded */
+        int64_t pl[3];
+        for (int j = 0, m = 0; j < 4; j++)
+            if (j != b)
+                pl[m++] = key[j];
+        if (vc_power_vertex_exact(ctx, key[b], pl, y) == 0) {
+            *rad = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+            e = 8 * 1.1102230246251565e-16 * *rad;
+        } else if (!isfinite(*rad)) {
+            /* not reached for inputs the integers can hold (exponents
+             * within about 300 bits of each other): the seed itself, with
+             * no bound, so that every decision about it is exact */
+            y[0] = y[1] = y[2] = 0;
+            *rad = 0;
+            e = INFINITY;
+        }
+    }
     for (int d = 0; d < 3; d++)
         x[d] = xb[d] + y[d];
-    const double e2 = e + 2.3e-16 * (fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
-    return isfinite(*rad) && e <= 1e-6 * *rad ? e2 : INFINITY;
+    return e + 2.3e-16 * (fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
 }
 
 /* Are the global vertices u and v the same point exactly? u's point on
@@ -587,6 +605,22 @@ static int cmp_pair(const void *x, const void *y)
     return (a->b > b->b) - (a->b < b->b);
 }
 
+/* Frees the stitching's arrays (and clears them). */
+static void free_stitch_arrays(stitch *st)
+{
+    void *arrays[] = {st->kidx, st->kpos, st->loc_off, st->gid, st->gp, st->gev,
+                      st->grad, st->root, st->gkey, st->nontrivial, st->candidate, st->straight,
+                      st->split_point, st->face_off, st->degenerate, st->splits};
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
+        free(arrays[i]);
+    st->kidx = st->kpos = st->loc_off = st->root = st->gkey = st->face_off = NULL;
+    st->gid = NULL;
+    st->gp = st->gev = st->grad = NULL;
+    st->nontrivial = st->candidate = st->straight = st->split_point = st->degenerate = NULL;
+    st->splits = NULL;
+    st->n_splits = 0;
+}
+
 int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
                     const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
                     vc_cell_store *store, double merge_tol, int threads, const vc_logger *log,
@@ -716,7 +750,6 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t m = 0; m < n_kept; m++) {
         const vc_cell_result *c = &cells[m];
-        const double *xs = seeds->xyz + 3 * seed_of(&st, m);
         for (int i = 0; i < c->nv; i++) {
             const int64_t g = st.gid[st.loc_off[m] + i];
             if (g < vbase[m] || g >= vbase[m + 1])
@@ -726,14 +759,6 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
             double rad;
             st.gev[g] = canonical_point(ctx, key, st.gp + 3 * g, &rad);
             st.grad[g] = rad;
-            if (!(st.gev[g] < INFINITY)) {
-                /* ill-conditioned: the owner's own point */
-                const double *v = c->v + 3 * i;
-                memcpy(st.gp + 3 * g, v, 3 * sizeof(double));
-                st.gev[g] = c->ev[i];
-                st.grad[g] = sqrt((v[0] - xs[0]) * (v[0] - xs[0]) +
-                                  (v[1] - xs[1]) * (v[1] - xs[1]) + (v[2] - xs[2]) * (v[2] - xs[2]));
-            }
             /* a vertex on a wall lies exactly on it */
             for (int j = 0; j < 4; j++)
                 if (key[j] < 0) {
@@ -742,10 +767,6 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
                 }
         }
     }
-
-    /* The cells' coordinates are not read again. */
-    if (store)
-        vc_region_pool_free(&store->coord);
 
     /* Collapsed edges, then their classes. */
     pairs = calloc((size_t)threads, sizeof *pairs);
@@ -1234,9 +1255,16 @@ reclass:
     }
     if (failed)
         goto nomem;
-    /* Nor the cells (before the geometry's arrays: a lower peak). */
+    /* Nor the cells, nor the stitching's own arrays: freed before the
+     * geometry's arrays are allocated, which lowers the peak (at 1M random
+     * seeds the stitching's arrays are about 0.6 KB per cell). */
     if (store)
         vc_region_pool_free(&store->topo);
+    free_stitch_arrays(&st);
+    free(pid);
+    free(cnt);
+    pid = NULL;
+    cnt = NULL;
     PHASE("faces");
 
     /* Each cell's faces, in increasing order. */
@@ -1308,22 +1336,7 @@ done:
         for (int t = 0; t < threads; t++)
             free(links[t].v);
     free(links);
-    free(st.kidx);
-    free(st.kpos);
-    free(st.loc_off);
-    free(st.gid);
-    free(st.gp);
-    free(st.gev);
-    free(st.grad);
-    free(st.root);
-    free(st.gkey);
-    free(st.nontrivial);
-    free(st.candidate);
-    free(st.straight);
-    free(st.split_point);
-    free(st.face_off);
-    free(st.degenerate);
-    free(st.splits);
+    free_stitch_arrays(&st);
     free(owned);
     free(vbase);
     free(cnt);

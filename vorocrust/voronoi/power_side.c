@@ -497,6 +497,78 @@ static int evaluate_integer(const vc_power_ctx *ctx, int64_t s, const int64_t pl
     return 0;
 }
 
+/* An integer as m 2^e, m a double (the top 128 bits, rounded). */
+static double bigint_to_double(const vc_bigint *a, int *e)
+{
+    *e = 0;
+    if (a->n == 0)
+        return 0;
+    double m = (double)a->d[a->n - 1];
+    if (a->n >= 2) {
+        m = m * 0x1p64 + (double)a->d[a->n - 2];
+        *e = 64 * (a->n - 2);
+    }
+    return a->neg ? -m : m;
+}
+
+int vc_power_vertex_exact(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], double y[3])
+{
+    const double *xs = ctx->xyz + 3 * s;
+    int E = 1 << 20;
+    for (int d = 0; d < 3; d++)
+        min_exponent(xs[d], &E);
+    for (int i = 0; i < 3; i++) {
+        if (plane[i] >= 0) {
+            for (int d = 0; d < 3; d++)
+                min_exponent(ctx->xyz[3 * plane[i] + d], &E);
+        } else {
+            const int k = (int)(-1 - plane[i]), axis = k / 2;
+            min_exponent((k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis], &E);
+        }
+    }
+    vc_bigint S[3];
+    for (int d = 0; d < 3; d++)
+        if (to_integer(xs[d], E, &S[d]) != 0)
+            return -1;
+    int_row r[3];
+    for (int i = 0; i < 3; i++)
+        if (make_int_row(ctx, S, E, s, plane[i], 0, &r[i]) != 0)
+            return -1;
+    /* rows [n'_i, last'_i] with n'_i . u = -last'_i and the vertex 2^E u:
+     * u = sum_i (-last'_i) X_i / D, X_i the cross product of the other two
+     * normals in cyclic order, D = n'_0 . X_0 */
+    vc_bigint X[3][3], W[3], D = {0, 0, {0}}, t, q;
+    int rc = 0;
+    for (int i = 0; i < 3; i++) {
+        const vc_bigint *a = r[(i + 1) % 3].n, *b = r[(i + 2) % 3].n;
+        for (int k = 0; k < 3; k++) {
+            const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+            rc |= vc_bigint_mul(&t, &a[k1], &b[k2]);
+            rc |= vc_bigint_mul(&q, &a[k2], &b[k1]);
+            rc |= vc_bigint_sub(&X[i][k], &t, &q);
+        }
+    }
+    for (int k = 0; k < 3 && !rc; k++) {
+        rc |= vc_bigint_mul(&t, &r[0].n[k], &X[0][k]);
+        rc |= vc_bigint_add(&D, &D, &t);
+        W[k] = (vc_bigint){0, 0, {0}};
+        for (int i = 0; i < 3; i++) {
+            rc |= vc_bigint_mul(&t, &r[i].last, &X[i][k]);
+            rc |= vc_bigint_sub(&W[k], &W[k], &t);
+        }
+    }
+    if (rc || D.n == 0)
+        return -1;
+    int eD;
+    const double mD = bigint_to_double(&D, &eD);
+    for (int k = 0; k < 3; k++) {
+        int eW;
+        const double mW = bigint_to_double(&W[k], &eW);
+        y[k] = ldexp(mW / mD, eW - eD + E);
+    }
+    return 0;
+}
+
 static long long n_expansion;
 
 long long vc_power_expansion_count(void)

@@ -53,6 +53,14 @@ int vc_power_side_cached(const vc_power_ctx *ctx, int64_t s, const int64_t plane
  * two planes coincide exactly when either lies on the other's third. */
 int vc_power_on_plane(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t q);
 
+/* The vertex (s; plane[0..2]) relative to s, from the input seeds and
+ * walls: Cramer's rule in integers (util/bigint.h), each coordinate a
+ * quotient of exact integers rounded at most three times (within 4 ulp of
+ * the exact vertex, barring underflow). Returns 0, or -1 when the
+ * integers cannot hold the values (exponents too far apart) or the planes
+ * do not meet in a point. */
+int vc_power_vertex_exact(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], double y[3]);
+
 /* How many tests needed exact arithmetic, and how many of those the
  * expansions (statistics; all threads). Exact tests run in fixed-width
  * integers (util/bigint.h) when the coordinates' exponents are close

@@ -520,11 +520,10 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
     }
 }
 
-/* The finished cells of one chunk of the build order are appended to two
- * per-thread scratch buffers (coordinates; planes and face lists), then
- * copied into one exact-size block each: few allocations, in the spatial
- * order the stitching reads them in, and the coordinates can be released
- * on their own once the points are written. */
+/* The finished cells of one chunk of the build order are appended to a
+ * per-thread scratch buffer (planes and face lists), then copied into one
+ * exact-size block: few allocations, in the spatial order the stitching
+ * reads them in. */
 typedef struct byte_buf {
     char *data;
     size_t len, cap;
@@ -553,15 +552,13 @@ static size_t topo_bytes(int nf, int nfv, int nv)
     return (b + 7) & ~(size_t)7;
 }
 
-/* Appends the finished cell to the scratch buffers (res gets the counts and
- * the scale; its pointers are set when the chunk is stored). Returns 0, or
- * -1 when out of memory. */
-static int store_cell(vc_convex_cell *cell, const double *xs, byte_buf *coord,
-                      byte_buf *topo, vc_cell_result *res)
+/* Appends the finished cell's combinatorics to the scratch buffer (res
+ * gets the counts; its pointers are set when the chunk is stored).
+ * Returns 0, or -1 when out of memory. */
+static int store_cell(vc_convex_cell *cell, byte_buf *topo, vc_cell_result *res)
 {
-    double *v = (double *)byte_buf_grow(coord, (size_t)cell->nv * 4 * sizeof(double));
     char *t = byte_buf_grow(topo, topo_bytes(cell->nf, cell->nfv, cell->nv));
-    if (!v || !t)
+    if (!t)
         return -1;
     res->nv = cell->nv;
     res->nf = cell->nf;
@@ -569,15 +566,6 @@ static int store_cell(vc_convex_cell *cell, const double *xs, byte_buf *coord,
     int32_t *plane = (int32_t *)t;
     uint16_t *fs = (uint16_t *)(plane + cell->nf), *fv = fs + cell->nf + 1;
     uint16_t *vf = fv + cell->nfv;
-    double scale2 = INFINITY, r2 = 0;
-    for (int i = 0; i < cell->nv; i++) {
-        v[3 * i] = xs[0] + cell->px[i];
-        v[3 * i + 1] = xs[1] + cell->py[i];
-        v[3 * i + 2] = xs[2] + cell->pz[i];
-        /* and the rounding of the sum */
-        v[3 * cell->nv + i] = cell->ev[i] + 2.3e-16 * (fabs(v[3 * i]) + fabs(v[3 * i + 1]) +
-                                                       fabs(v[3 * i + 2]));
-    }
     for (int f = 0; f < cell->nf; f++)
         plane[f] = (int32_t)cell->face_plane[f]; /* seed indices < 2^31 (checked) */
     for (int f = 0; f <= cell->nf; f++)
@@ -592,22 +580,6 @@ static int store_cell(vc_convex_cell *cell, const double *xs, byte_buf *coord,
         face_of[cell->face_plane_index[f]] = f;
     for (int i = 0; i < 3 * cell->nv; i++)
         vf[i] = (uint16_t)face_of[cell->tri[i]];
-    /* The local size: distance to the nearest seed that makes a face, or
-     * the cell's diameter when only walls bound it. A seed's plane holds
-     * its position relative to this seed (the same differences as
-     * xyz[t] - xs), which is in cache where the seeds are not. */
-    for (int f = 0; f < cell->nf; f++) {
-        if (cell->face_plane[f] < 0)
-            continue;
-        const double *q = cell->plane + 4 * cell->face_plane_index[f];
-        double d2 = 0;
-        for (int d = 0; d < 3; d++)
-            d2 += q[d] * q[d];
-        if (d2 < scale2)
-            scale2 = d2;
-    }
-    r2 = cell->rmax2;
-    res->scale = isfinite(scale2) ? sqrt(scale2) : 2.0 * sqrt(r2);
     return 0;
 }
 
@@ -839,11 +811,11 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_cell_buf cand_buf = {NULL, 0}, hit_buf = {NULL, 0};
         prune pr;
         memset(&pr, 0, sizeof pr);
-        byte_buf coord = {NULL, 0, 0}, topo = {NULL, 0, 0};
+        byte_buf topo = {NULL, 0, 0};
 #pragma omp for schedule(dynamic, 1)
         for (int64_t ch = 0; ch < n_chunks; ch++) {
             const int64_t m0 = ch * CHUNK, m1 = m0 + CHUNK < n_kept ? m0 + CHUNK : n_kept;
-            coord.len = topo.len = 0;
+            topo.len = 0;
             int chunk_ok = 1;
             for (int64_t m = m0; m < m1; m++) {
                 const int64_t k = build_order[m];
@@ -861,7 +833,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                 if (r == CELL_OK && cell.nfv > 65535)
                     r = CELL_TOO_BIG;
                 if (r == CELL_OK &&
-                    store_cell(&cell, xs, &coord, &topo, &cells[m]) != 0)
+                    store_cell(&cell, &topo, &cells[m]) != 0)
                     r = CELL_NOMEM;
                 if (r != CELL_OK)
                     chunk_ok = 0;
@@ -878,28 +850,21 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             }
             if (!chunk_ok)
                 continue; /* the build fails: the cells are not needed */
-            char *cb, *tb;
+            char *tb;
 #pragma omp critical(vc_cell_store)
-            {
-                cb = vc_region_take(&store.coord, coord.len);
-                tb = vc_region_take(&store.topo, topo.len);
-            }
-            if (!cb || !tb) {
+            tb = vc_region_take(&store.topo, topo.len);
+            if (!tb) {
                 for (int64_t m = m0; m < m1; m++)
                     status[build_order[m]] = CELL_NOMEM;
                 continue;
             }
-            memcpy(cb, coord.data, coord.len);
             memcpy(tb, topo.data, topo.len);
             for (int64_t m = m0; m < m1; m++) {
                 vc_cell_result *c = &cells[m];
-                c->v = (double *)cb;
                 c->plane = (int32_t *)tb;
                 c->face_start = (uint16_t *)(c->plane + c->nf);
                 c->fv = c->face_start + c->nf + 1;
                 c->vf = c->fv + c->nfv;
-                c->ev = c->v + 3 * c->nv;
-                cb += (size_t)c->nv * 4 * sizeof(double);
                 tb += topo_bytes(c->nf, c->nfv, c->nv);
             }
         }
@@ -908,7 +873,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         free(cand_buf.data);
         free(hit_buf.data);
         free(pr.ball.data);
-        free(coord.data);
         free(topo.data);
     }
     vc_seed_grid_free(&grid); /* not needed by the stitching */
@@ -955,7 +919,6 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, &store,
                              MERGE_TOL, threads, opt.log, out, err);
     }
-    vc_region_pool_free(&store.coord);
     vc_region_pool_free(&store.topo);
     free(cells);
     free(kept_seed);
