@@ -1095,6 +1095,18 @@ reclass:
         free(all);
     }
     PHASE("straight");
+    /* What the faces no longer need, freed before the mesh's arrays are
+     * allocated (a lower peak): the vertices' keys, bounds, distances and
+     * the classes' marks. */
+    free(st.gkey);
+    free(st.gev);
+    free(st.grad);
+    free(st.nontrivial);
+    free(st.candidate);
+    free(st.split_point);
+    st.gkey = NULL;
+    st.gev = st.grad = NULL;
+    st.nontrivial = st.candidate = st.split_point = NULL;
 
     /* Counts per cell, and the points used. */
     cnt = calloc((size_t)n_kept + 1, sizeof *cnt);
