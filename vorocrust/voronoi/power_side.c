@@ -417,6 +417,36 @@ static int make_int_row(const vc_power_ctx *ctx, const vc_bigint S[3], int E, in
     return rc ? -1 : 0;
 }
 
+/* The integer rows of the planes ids[0..n) of the cell of s (the last one
+ * the tested bisector when tested_last), the doubles brought to the
+ * smallest exponent *E among s's coordinates, the seeds' and the walls'.
+ * Returns 0, or -1 when they do not fit. */
+static int integer_rows(const vc_power_ctx *ctx, int64_t s, const int64_t *ids, int n,
+                        int tested_last, int_row *r, int *E)
+{
+    const double *xs = ctx->xyz + 3 * s;
+    *E = 1 << 20;
+    for (int d = 0; d < 3; d++)
+        min_exponent(xs[d], E);
+    for (int i = 0; i < n; i++) {
+        if (ids[i] >= 0) {
+            for (int d = 0; d < 3; d++)
+                min_exponent(ctx->xyz[3 * ids[i] + d], E);
+        } else {
+            const int k = (int)(-1 - ids[i]), axis = k / 2;
+            min_exponent((k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis], E);
+        }
+    }
+    vc_bigint S[3];
+    for (int d = 0; d < 3; d++)
+        if (to_integer(xs[d], *E, &S[d]) != 0)
+            return -1;
+    for (int i = 0; i < n; i++)
+        if (make_int_row(ctx, S, *E, s, ids[i], tested_last && i == n - 1, &r[i]) != 0)
+            return -1;
+    return 0;
+}
+
 /* det [a; b; c] of integer rows into r. */
 static int int_det3(const vc_bigint *a, const vc_bigint *b, const vc_bigint *c, vc_bigint *r)
 {
@@ -442,27 +472,10 @@ static int evaluate_integer(const vc_power_ctx *ctx, int64_t s, const int64_t pl
                             int side, int *result)
 {
     const int64_t ids[4] = {plane[0], plane[1], plane[2], q};
-    const double *xs = ctx->xyz + 3 * s;
-    int E = 1 << 20;
-    for (int d = 0; d < 3; d++)
-        min_exponent(xs[d], &E);
-    for (int i = 0; i < 4; i++) {
-        if (ids[i] >= 0) {
-            for (int d = 0; d < 3; d++)
-                min_exponent(ctx->xyz[3 * ids[i] + d], &E);
-        } else {
-            const int k = (int)(-1 - ids[i]), axis = k / 2;
-            min_exponent((k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis], &E);
-        }
-    }
-    vc_bigint S[3];
-    for (int d = 0; d < 3; d++)
-        if (to_integer(xs[d], E, &S[d]) != 0)
-            return -1;
     int_row r[4];
-    for (int i = 0; i < 4; i++)
-        if (make_int_row(ctx, S, E, s, ids[i], i == 3, &r[i]) != 0)
-            return -1;
+    int E;
+    if (integer_rows(ctx, s, ids, 4, 1, r, &E) != 0)
+        return -1;
     vc_bigint C[4], det = {0, 0, {0}}, t;
     for (int i = 0; i < 4; i++) {
         const vc_bigint *m[3];
@@ -513,27 +526,10 @@ static double bigint_to_double(const vc_bigint *a, int *e)
 
 int vc_power_vertex_exact(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], double y[3])
 {
-    const double *xs = ctx->xyz + 3 * s;
-    int E = 1 << 20;
-    for (int d = 0; d < 3; d++)
-        min_exponent(xs[d], &E);
-    for (int i = 0; i < 3; i++) {
-        if (plane[i] >= 0) {
-            for (int d = 0; d < 3; d++)
-                min_exponent(ctx->xyz[3 * plane[i] + d], &E);
-        } else {
-            const int k = (int)(-1 - plane[i]), axis = k / 2;
-            min_exponent((k % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis], &E);
-        }
-    }
-    vc_bigint S[3];
-    for (int d = 0; d < 3; d++)
-        if (to_integer(xs[d], E, &S[d]) != 0)
-            return -1;
     int_row r[3];
-    for (int i = 0; i < 3; i++)
-        if (make_int_row(ctx, S, E, s, plane[i], 0, &r[i]) != 0)
-            return -1;
+    int E;
+    if (integer_rows(ctx, s, plane, 3, 0, r, &E) != 0)
+        return -1;
     /* rows [n'_i, last'_i] with n'_i . u = -last'_i and the vertex 2^E u:
      * u = sum_i (-last'_i) X_i / D, X_i the cross product of the other two
      * normals in cyclic order, D = n'_0 . X_0 */
