@@ -141,9 +141,10 @@ void vc_polysurface_free(vc_polysurface *p);
 /* The reconstructed surface: the Voronoi facets between an inside
  * (label != 0) and an outside (label 0) seed, oriented outward (seen
  * counter-clockwise from the outside seed), with the mesh's global
- * vertices (unused ones dropped). */
-int vc_reconstruct_surface(const vc_seeds *seeds, int threads, vc_polysurface *out,
-                           vc_error *err);
+ * vertices (unused ones dropped). The Voronoi engine's progress and phase
+ * times go to log (may be NULL). */
+int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *log,
+                           vc_polysurface *out, vc_error *err);
 
 /* Topology of a polygonal surface: edges used by exactly two polygons in
  * opposite directions make a closed, consistently oriented surface. */

@@ -336,7 +336,7 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
     }
     if (opt->surface_only) {
         t = now();
-        if (vc_reconstruct_surface(&out->seeds, opt->threads, &out->surface, err) != 0)
+        if (vc_reconstruct_surface(&out->seeds, opt->threads, opt->log, &out->surface, err) != 0)
             return named(err, name, "reconstructing the surface");
     } else {
         /* The volume mesh holds the surface as its boundary faces: one

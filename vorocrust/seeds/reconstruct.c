@@ -21,13 +21,14 @@ void vc_polysurface_free(vc_polysurface *p)
     memset(p, 0, sizeof *p);
 }
 
-int vc_reconstruct_surface(const vc_seeds *seeds, int threads, vc_polysurface *out,
-                           vc_error *err)
+int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *log,
+                           vc_polysurface *out, vc_error *err)
 {
     memset(out, 0, sizeof *out);
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = threads;
+    vo.log = log;
     vc_polymesh m;
     int rc = vc_voronoi_build(seeds, &vo, &m, err);
     if (rc)
