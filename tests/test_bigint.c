@@ -6,20 +6,15 @@
 #include <string.h>
 
 #include "util/bigint.h"
+#include "vorocrust/random.h"
 
 #include "test_check.h"
 
 typedef __int128 i128;
 
-static uint64_t rng_state = 0x853c49e6748fea9bULL;
+static vc_rng rng;
 
-static uint64_t next(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
+static uint64_t next(void) { return vc_rng_next(&rng); }
 
 /* The value of a bigint that fits in 126 bits. */
 static i128 value(const vc_bigint *a)
@@ -37,6 +32,7 @@ static int equal(const vc_bigint *a, const vc_bigint *b)
 
 int main(void)
 {
+    vc_rng_init(&rng, 9, 0);
     /* small values: every operation against __int128 */
     for (int t = 0; t < 20000; t++) {
         const int64_t ma = (int64_t)(next() >> (11 + next() % 40)) * ((next() & 1) ? -1 : 1);

@@ -17,19 +17,14 @@
 
 #include "util/exact_predicates.h"
 #include "vorocrust/polymesh.h"
+#include "vorocrust/random.h"
 #include "voronoi/power_side.h"
 
 #include "test_check.h"
 
-static uint64_t rng_state = 0x2545f4914f6cdd1dULL;
+static vc_rng rng;
 
-static double uniform(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * 0x1.0p-53;
-}
+static double uniform(void) { return vc_rng_uniform(&rng); }
 
 static int n_compared, n_ties, n_declined;
 
@@ -215,6 +210,7 @@ static void test_vertex_exact(double scale, double offset)
 
 int main(void)
 {
+    vc_rng_init(&rng, 5, 0);
     test_vertex_exact(1.0, 0);
     test_vertex_exact(1e-6, 1000);
     test_vertex_exact(0x1.0p30, 0x1.0p40);

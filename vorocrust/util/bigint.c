@@ -128,11 +128,8 @@ int vc_bigint_mul(vc_bigint *r, const vc_bigint *a, const vc_bigint *b)
         return 0;
     }
     const int n = a->n + b->n;
-    if (n > VC_BIGINT_LIMBS) {
-        /* the top limb may still be zero: only the exact length counts */
-        if (n - 1 > VC_BIGINT_LIMBS)
-            return -1;
-    }
+    if (n - 1 > VC_BIGINT_LIMBS) /* the product has n or n - 1 limbs */
+        return -1;
     const int cap = n < VC_BIGINT_LIMBS ? n : VC_BIGINT_LIMBS;
     memset(t.d, 0, (size_t)cap * sizeof t.d[0]);
     uint64_t top = 0; /* limb n - 1 when it falls beyond the capacity */

@@ -980,7 +980,7 @@ reclass:
      * point only non-kept cells need is one: kept cells would show it as a
      * hanging vertex on a straight edge, which floating point cannot keep
      * convex. */
-    if (n_collapsed > 0 || st.n_splits > 0) {
+    if (n_collapsed > 0) { /* splits exist only where edges collapsed */
 #pragma omp parallel num_threads(threads)
         {
             int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0;
