@@ -66,7 +66,9 @@ failures = []
 # The last figure: the largest fatness allowed for a boundary cell (thesis:
 # 13.65 next to smooth surfaces; sharp features make thinner cells).
 EXPECTED = {
-    "bracket.obj": (0.166, 6.8, 8.0, 14),
+    # 0.166 before session 19: the union coverage test draws another sample
+    # (over seeds 1 to 14 the mean is the same: 0.160, before 0.164)
+    "bracket.obj": (0.112, 6.8, 8.0, 14),
     "bumpy-cube.obj": (0.406, 0.6, 5.2, 14),
     "torus.obj": (0.418, 0.9, 5.9, 14),
     # at 60 degrees since session 14 (before: resampled at 20, 0.143)
@@ -80,7 +82,8 @@ EXPECTED = {
 GENERATED = {"coarse-torus": (0.266, 13.5, 10.1, 14),
              # the same torus with --fold-creases: its folds become creases, the
              # surface stays the input's (Hausdorff and volume checked)
-             "coarse-torus-folds": (0.203, 11.9, 9.7, 14)}
+             # (0.203 before session 19; seeds 1 to 8: mean 0.144, before 0.146)
+             "coarse-torus-folds": (0.170, 11.9, 9.7, 14)}
 SANITIZED = os.environ.get("VC_SANITIZED", "0") == "1"
 
 

@@ -29,6 +29,7 @@
 #include "balls/ball_set.h"
 #include "balls/centre_lift.h"
 #include "balls/triplets.h"
+#include "balls/union_cover.h"
 #include "util/reserve.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"
@@ -211,21 +212,62 @@ typedef struct subface_cover_ctx {
     int kind;
     double deep;
     double margin; /* how far the corners may be from S' (0 on the input) */
-    int64_t found; /* the covering ball */
+    const double *centre; /* the corners' centroid */
+    double reach;         /* ... and the largest distance from it to a corner */
+    int64_t found;        /* the covering ball */
+    /* the balls that meet the subface, for the union test (their centres
+     * and radii as the coverage rules count them) */
+    int n_cand, overflow;
+    double cand_c[3 * VC_UNION_COVER_MAX], cand_r[VC_UNION_COVER_MAX];
 } subface_cover_ctx;
 
-static int covers_subface(void *ctx, int64_t i)
+/* The radius ball i covers a point of the stratum with: its own for a
+ * lower stratum, alpha-deeply for the same one, none (negative) for a
+ * higher one. */
+static inline double cover_radius(const vc_balls *b, int64_t i, int kind, double deep)
 {
-    subface_cover_ctx *c = ctx;
-    int k = c->b->kind[i];
-    if (k > c->kind)
-        return 0;
-    double r = c->b->radius[i] * (k < c->kind ? 1.0 : c->deep) + c->margin;
+    const int k = b->kind[i];
+    return k > kind ? -1.0 : b->radius[i] * (k < kind ? 1.0 : deep);
+}
+
+static inline double dist2(const double *a, const double *b)
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
+
+/* Does ball i hold every corner? */
+static int holds_corners(const subface_cover_ctx *c, int64_t i, double r)
+{
     for (int m = 0; m < c->nv; m++)
         if (dist(c->b->center + 3 * i, c->v + 3 * m) > r)
             return 0;
-    c->found = i;
     return 1;
+}
+
+/* Stops at a ball that holds the whole subface; lists the others that
+ * meet it. */
+static int covers_subface(void *ctx, int64_t i)
+{
+    subface_cover_ctx *c = ctx;
+    const double r0 = cover_radius(c->b, i, c->kind, c->deep);
+    if (r0 < 0)
+        return 0;
+    const double r = r0 + c->margin;
+    const double far = r + c->reach;
+    if (dist2(c->b->center + 3 * i, c->centre) >= far * far)
+        return 0; /* misses the subface's bounding ball */
+    if (holds_corners(c, i, r)) {
+        c->found = i;
+        return 1;
+    }
+    if (c->n_cand == VC_UNION_COVER_MAX) {
+        c->overflow = 1;
+        return 0;
+    }
+    memcpy(c->cand_c + 3 * c->n_cand, c->b->center + 3 * i, 3 * sizeof(double));
+    c->cand_r[c->n_cand++] = r;
+    return 0;
 }
 
 /* The corners the coverage tests use (on S' when sampled there), their
@@ -245,7 +287,8 @@ static const double *subface_bound(const subface *sf, const subface_on_smooth *s
     return v;
 }
 
-/* Is the whole subface covered by one ball (balls are convex)? */
+/* Is the whole subface covered: by one ball (balls are convex), or else by
+ * the union of the balls that meet it (union_cover.h)? */
 static int subface_covered(const sampler *S, const subface *sf, const subface_on_smooth *sg,
                            int nv, int kind, int64_t *last_cover)
 {
@@ -255,20 +298,38 @@ static int subface_covered(const sampler *S, const subface *sf, const subface_on
      * they count as covered that much further out, or the darts (on S')
      * and the subfaces would disagree at the edges of the coverage */
     const double margin = sg && sg->interpolated ? sg->sag : 0;
-    subface_cover_ctx cc = {&S->bs.b, v, nv, kind, 1 - S->alpha, margin, -1};
+    subface_cover_ctx cc;
+    cc.b = &S->bs.b;
+    cc.v = v;
+    cc.nv = nv;
+    cc.kind = kind;
+    cc.deep = 1 - S->alpha;
+    cc.margin = margin;
+    cc.centre = c;
+    cc.reach = reach;
+    cc.found = -1;
+    cc.n_cand = cc.overflow = 0;
     /* Subfaces come in runs of neighbours (a face's children, triangles in
      * mesh order): the ball that covered the last one often covers this
      * one too, and trying it first skips most queries. The answer (is
-     * there a covering ball?) does not depend on which ball is found. */
-    if (*last_cover >= 0 && *last_cover < S->bs.b.n && covers_subface(&cc, *last_cover))
-        return 1;
-    /* a ball holding every vertex has a radius of at least reach / 2, and
-     * holds the centroid (their convex combination): its centre is within
-     * its radius (plus the margin) of c */
-    int found = vc_ball_set_query(&S->bs, c, margin, 1.0, 0.5 * reach, covers_subface, &cc);
-    if (found)
+     * the subface covered?) does not depend on which ball is found. */
+    if (*last_cover >= 0 && *last_cover < S->bs.b.n) {
+        const double r = cover_radius(cc.b, *last_cover, kind, cc.deep);
+        if (r >= 0 && holds_corners(&cc, *last_cover, r + margin))
+            return 1;
+    }
+    /* A ball meeting the subface has its centre within its radius (plus
+     * the margin) of the subface's bounding ball. One that holds it has a
+     * radius of at least reach / 2; the union test takes no smaller ones
+     * either (fewer balls can only find less covered: such a subface is
+     * split, and its children see them), which keeps the query to a few
+     * cells per level. */
+    if (vc_ball_set_query(&S->bs, c, reach + margin, 1.0, 0.5 * reach, covers_subface, &cc)) {
         *last_cover = cc.found;
-    return found;
+        return 1;
+    }
+    return !cc.overflow && cc.n_cand >= 2 &&
+           vc_union_covers(v, nv, cc.cand_c, cc.cand_r, cc.n_cand);
 }
 
 /* The midpoint of the cubic through a and b whose tangents there are the

@@ -627,6 +627,7 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))
         return named(err, name, NULL);
     out->has_mesh = 1;
+    const double t_order = now();
     /* the cells in a solver's order (reverse Cuthill-McKee), for every
      * output alike: the engine numbers them by seed, and the surface seeds
      * come before the interior ones */
@@ -642,6 +643,7 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
         out->cell_bandwidth = vc_polymesh_bandwidth(&out->mesh);
     }
     out->time.voronoi = now() - t;
+    vc_log(opt->log, VC_LOG_DEBUG, "  mesh: cell order %.3f s", now() - t_order);
 
     t = now();
     vc_polymesh *m = &out->mesh;
@@ -660,11 +662,14 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
                             "seeds there; try another --seed", name,
                             (long long)out->mesh_problems, out->mesh_problem);
     }
+    const double t_validated = now();
     /* per-cell fatness goes into the .vtu as well */
     m->cell_fatness = malloc(sizeof(double) * (size_t)(m->n_cells ? m->n_cells : 1));
     if (!m->cell_fatness || vc_cell_quality_compute(m, &out->cell_quality, m->cell_fatness, opt->threads))
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory measuring the cells", name);
     out->time.quality = now() - t;
+    vc_log(opt->log, VC_LOG_DEBUG, "  mesh: validation %.3f s, cell quality %.3f s",
+           t_validated - t, now() - t_validated);
     return 0;
 }
 
