@@ -114,13 +114,22 @@ static int measure_cell(const vc_polymesh *m, int64_t c, int64_t **foff, int64_t
 #define SHORT_EDGE 1e-2
 
 /* The percentiles of the measured cells' columns and the interior faces'
- * measures; per holds 5 values per cell (see vc_cell_quality_compute). */
-static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_quality *q)
+ * measures; per holds 5 values per cell (see vc_cell_quality_compute).
+ * The faces are measured in parallel into arrays, then reduced in face
+ * order: the figures do not depend on the thread count. */
+static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_quality *q,
+                           int threads)
 {
     const int64_t n = m->n_cells, nf = m->n_interior_faces;
     double *col = malloc(sizeof(double) * (size_t)((n > nf ? n : nf) + 1));
-    if (!col)
+    double *cosang = malloc(sizeof(double) * (size_t)(nf + 1));
+    double *skew = malloc(sizeof(double) * (size_t)(nf + 1));
+    if (!col || !cosang || !skew) {
+        free(col);
+        free(cosang);
+        free(skew);
         return VC_ENOMEM;
+    }
     vc_stats st;
     int rc = 0;
     for (int64_t c = 0; c < n; c++)
@@ -133,12 +142,9 @@ static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_qual
     q->small_face_rel_min = st.min;
     q->small_face_rel_p1 = st.p1;
     /* interior faces: the seeds' distance against the cells' size, and
-     * checkMesh's angle between the face normal and the centroids' line */
-    double no_sum = 0;
-    int64_t no_n = 0;
-    q->non_orthogonality_max = 0;
-    q->skewness_max = 0;
-    q->n_skew_faces = 0;
+     * checkMesh's angle between the face normal and the centroids' line
+     * (cosine NaN where the centroids coincide) */
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
     for (int64_t f = 0; f < nf; f++) {
         const int64_t o = m->face_owner[f], b = m->face_neighbour[f];
         const double ro = per[5 * o + 4], rb = per[5 * b + 4];
@@ -149,17 +155,25 @@ static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_qual
         const double *fn = m->face_normal + 3 * f;
         const double d[3] = {cb[0] - co[0], cb[1] - co[1], cb[2] - co[2]};
         const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (len > 0) {
-            const double cosang = (d[0] * fn[0] + d[1] * fn[1] + d[2] * fn[2]) / len;
-            const double ang = acos(fmax(-1.0, fmin(1.0, cosang))) * (180.0 / 3.14159265358979323846);
-            q->non_orthogonality_max = fmax(q->non_orthogonality_max, ang);
-            no_sum += fmin(1.0, cosang);
+        cosang[f] = len > 0 ? (d[0] * fn[0] + d[1] * fn[1] + d[2] * fn[2]) / len : NAN;
+        skew[f] = vc_polymesh_face_skewness(m, f);
+    }
+    double no_sum = 0, cos_min = INFINITY;
+    int64_t no_n = 0;
+    q->skewness_max = 0;
+    q->n_skew_faces = 0;
+    for (int64_t f = 0; f < nf; f++) {
+        if (!isnan(cosang[f])) {
+            cos_min = fmin(cos_min, cosang[f]);
+            no_sum += fmin(1.0, cosang[f]);
             no_n++;
         }
-        const double sk = vc_polymesh_face_skewness(m, f);
-        q->skewness_max = fmax(q->skewness_max, sk);
-        q->n_skew_faces += sk > 4;
+        q->skewness_max = fmax(q->skewness_max, skew[f]);
+        q->n_skew_faces += skew[f] > 4;
     }
+    /* the largest angle is that of the least cosine (acos decreases) */
+    q->non_orthogonality_max =
+        no_n ? acos(fmax(-1.0, fmin(1.0, cos_min))) * (180.0 / 3.14159265358979323846) : 0;
     /* checkMesh's "average": the angle of the mean cosine */
     q->non_orthogonality_mean =
         no_n ? acos(fmax(-1.0, fmin(1.0, no_sum / (double)no_n))) * (180.0 / 3.14159265358979323846)
@@ -168,6 +182,8 @@ static int solver_measures(const vc_polymesh *m, const double *per, vc_cell_qual
     q->connection_rel_min = st.min;
     q->connection_rel_p1 = st.p1;
     free(col);
+    free(cosang);
+    free(skew);
     return rc ? VC_ENOMEM : 0;
 }
 
@@ -244,7 +260,7 @@ int vc_cell_quality_compute(const vc_polymesh *m, vc_cell_quality *q, double *fa
     q->fatness_mean = q->n_measured ? fat_sum / (double)q->n_measured : 0;
     q->interior_fatness_mean = q->n_interior ? fat_int_sum / (double)q->n_interior : 0;
     q->short_edge_share = q->n_measured ? (double)n_short / (double)q->n_measured : 0;
-    int rc = solver_measures(m, per, q);
+    int rc = solver_measures(m, per, q, threads);
     free(per);
     free(on_boundary);
     return rc;
