@@ -112,17 +112,38 @@ static inline int worse(const vc_kd_hit *a, const vc_kd_hit *b)
     return a->d2 > b->d2 || (a->d2 == b->d2 && a->seed > b->seed);
 }
 
-/* Inserts h into the sorted hit[0 .. n) (room for k), dropping the last
- * when full; returns the new count. */
-static inline int insert_hit(vc_kd_hit *hit, int n, int k, vc_kd_hit h)
+/* The hits so far are a max-heap by (d2, seed): the worst at hit[0], so
+ * that a nearer point replaces it in log k steps (a sorted array costs k
+ * / 2 moves per insertion, most of a query's time at k = 48). */
+static inline void heap_push(vc_kd_hit *hit, int n, vc_kd_hit h)
 {
-    int i = n < k ? n : k - 1;
-    while (i > 0 && worse(&hit[i - 1], &h)) {
-        hit[i] = hit[i - 1];
-        i--;
+    int i = n;
+    while (i > 0) {
+        const int parent = (i - 1) / 2;
+        if (!worse(&h, &hit[parent]))
+            break;
+        hit[i] = hit[parent];
+        i = parent;
     }
     hit[i] = h;
-    return n < k ? n + 1 : k;
+}
+
+/* Replaces the worst of the n hits by h and restores the heap. */
+static inline void heap_replace_top(vc_kd_hit *hit, int n, vc_kd_hit h)
+{
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && worse(&hit[c + 1], &hit[c]))
+            c++;
+        if (!worse(&hit[c], &h))
+            break;
+        hit[i] = hit[c];
+        i = c;
+    }
+    hit[i] = h;
 }
 
 static double box_dist2(const vc_kd_node *nd, const double x[3])
@@ -152,7 +173,7 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
     while (top > 0) {
         --top;
         const int64_t id = stack[top];
-        if (n == k && stack_d2[top] > hit[k - 1].d2)
+        if (n == k && stack_d2[top] > hit[0].d2)
             continue;
         const vc_kd_node *nd = &t->node[id];
         if (nd->left < 0) {
@@ -163,8 +184,10 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
                 const double *p = t->xyz + 3 * i;
                 const double dx = p[0] - x[0], dy = p[1] - x[1], dz = p[2] - x[2];
                 const vc_kd_hit h = {dx * dx + dy * dy + dz * dz, s};
-                if (n < k || worse(&hit[k - 1], &h))
-                    n = insert_hit(hit, n, k, h);
+                if (n < k)
+                    heap_push(hit, n++, h);
+                else if (worse(&hit[0], &h))
+                    heap_replace_top(hit, n, h);
             }
             continue;
         }
@@ -173,12 +196,18 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
         /* push the farther first, so the nearer is visited next */
         const int64_t a = dl <= dr ? nd->left : nd->right, b = dl <= dr ? nd->right : nd->left;
         const double da = dl <= dr ? dl : dr, db = dl <= dr ? dr : dl;
-        if (!(n == k && db > hit[k - 1].d2)) {
+        if (!(n == k && db > hit[0].d2)) {
             stack[top] = b;
             stack_d2[top++] = db;
         }
         stack[top] = a;
         stack_d2[top++] = da;
+    }
+    /* nearest first: the heap's worst moved to the end, one at a time */
+    for (int m = n - 1; m > 0; m--) {
+        const vc_kd_hit w = hit[0];
+        heap_replace_top(hit, m, hit[m]);
+        hit[m] = w;
     }
     return n;
 }
