@@ -38,6 +38,13 @@
 #include "util/threads.h"
 
 #define MAX_MISSES 100
+/* Darts are drawn in batches of DART_BATCH: drawn in order, their first
+ * coverage test in parallel (against the balls there before the batch),
+ * then taken in order, each also tested against the balls the batch has
+ * added so far. The batch is fixed, not the thread count's: the darts and
+ * the balls are the same for any thread count. A batch is cut short when
+ * MAX_MISSES darts in a row miss (the rest are not used). */
+#define DART_BATCH 256
 #define PARENT_BATCH 16384 /* subfaces split at a time before their children are tested */
 /* A shrunk ball leaves the point it uncovers this far outside (relative to
  * its distance). Cut only to the point (1e-7 before session 14), the four
@@ -559,6 +566,17 @@ static int add_ball(sampler *S, const double x[3], double r, const vc_surface_po
     return 0;
 }
 
+/* Is x covered by one of the balls added since ball n_before (in the
+ * current batch of darts, which its parallel test did not see)? */
+static int covered_by_new(const sampler *S, const double x[3], int kind, int64_t n_before)
+{
+    cover_ctx c = {&S->bs.b, x, kind, 1 - S->alpha};
+    for (int64_t i = n_before; i < S->bs.b.n; i++)
+        if (covers_point(&c, i))
+            return 1;
+    return 0;
+}
+
 /* ---------------------------------------------------------------------
  * Maximal Poisson-disk sampling of one pool (segments: nv = 2, triangles:
  * nv = 3), until every subface is covered. */
@@ -652,6 +670,12 @@ static int mps(sampler *S, pool *P, int nv)
     /* darts since the last progress line, and how many of them fell on
      * covered ground: the share of the pool's area covered, estimated */
     int64_t darts = 0, darts_covered = 0;
+    struct {
+        int64_t sub;  /* the subface */
+        double x[3];  /* the dart on the input */
+        double c[3];  /* ... and where its coverage is tested (on S', or x) */
+    } batch[DART_BATCH];
+    unsigned char batch_covered[DART_BATCH];
     for (int round = 0; P->n > 0 && round < 60; round++) {
         if (P->n > cum_cap) {
             double *q = realloc(cum, sizeof(double) * (size_t)P->n);
@@ -668,88 +692,103 @@ static int mps(sampler *S, pool *P, int nv)
             cum[i] = total;
         }
         int misses = 0;
-        while (misses < MAX_MISSES && total > 0) {
-            /* a line every 2 s: phase, the share of the area (length) covered
-             * (that of the pool left at the start of this round, covered
-             * since, as the recent darts saw it), balls */
-            if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
-                S->t_logged = now();
-                const double left = area0 > 0 ? total / area0 : 0;
-                const double seen = (double)darts_covered / (double)darts;
-                vc_log(S->opt.log, VC_LOG_INFO,
-                       "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
-                       nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
-                       nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
-                darts = darts_covered = 0;
+        while (misses < MAX_MISSES && total > 0 && !rc) {
+            /* a batch of darts, drawn in order (a dart's subface by area,
+             * then its place on it) */
+            for (int b = 0; b < DART_BATCH; b++) {
+                const double t = vc_rng_uniform(&S->rng) * total;
+                int64_t lo = 0, hi = P->n - 1;
+                while (lo < hi) {
+                    int64_t mid = (lo + hi) / 2;
+                    if (cum[mid] <= t)
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                batch[b].sub = lo;
+                random_point(&S->rng, &P->f[lo], P->smooth ? &P->g[lo] : NULL, nv, batch[b].x,
+                             batch[b].c);
+                if (!P->smooth)
+                    memcpy(batch[b].c, batch[b].x, sizeof batch[b].c);
             }
-            double t = vc_rng_uniform(&S->rng) * total;
-            int64_t lo = 0, hi = P->n - 1;
-            while (lo < hi) {
-                int64_t mid = (lo + hi) / 2;
-                if (cum[mid] <= t)
-                    lo = mid + 1;
-                else
-                    hi = mid;
-            }
-            const subface *sf = &P->f[lo];
-            const subface_on_smooth *sg = P->smooth ? &P->g[lo] : NULL;
-            double x[3], c[3], cn[3], rho = INFINITY;
-            const int on_smooth = sg != NULL;
-            /* on S': the dart between the subface's corners there is tested
-             * first (most darts land on covered ground), then its projection */
-            random_point(&S->rng, sf, sg, nv, x, c);
-            if (!on_smooth)
-                memcpy(c, x, sizeof c);
-            if (point_covered(S, c, kind)) {
-                darts_covered++;
-                misses++;
-                continue;
-            }
-            if (on_smooth) {
-                double z[3] = {c[0], c[1], c[2]};
-                /* between interpolated corners, the dart stands for the
-                 * point of S' under it; between projected ones, for the
-                 * projection of x, as the corners do */
-                if (sg->interpolated) {
-                    double nz[3] = {0, 0, 0}, l = 0;
-                    for (int k = 0; k < 9; k++)
-                        nz[k % 3] += sg->pn[k];
-                    for (int d = 0; d < 3; d++)
-                        l += nz[d] * nz[d];
-                    l = sqrt(l);
-                    for (int d = 0; d < 3; d++)
-                        nz[d] = l > 0 ? nz[d] / l : S->z.tri_out_normal[3 * sf->elem + d];
-                    vc_smooth_surface_settle(&S->ss, sf->elem, x, z, nz, c, cn, &rho);
-                } else
-                    vc_smooth_surface_project(&S->ss, sf->elem, x, z, c, cn, &rho);
-                /* on a subface whose corners pin S' down to far below the
-                 * noise sliver elimination tolerates, the dart itself is the
-                 * centre: a projection lands a little aside, and a gap on
-                 * the subface would never get its ball */
-                if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
-                    memcpy(c, z, sizeof z);
-                if (point_covered(S, c, kind)) {
+            /* their first coverage test against the balls there before the
+             * batch, in parallel (most darts land on covered ground) */
+            const int64_t n_before = S->bs.b.n;
+#pragma omp parallel for schedule(static) num_threads(S->threads) if (S->threads > 1)
+            for (int b = 0; b < DART_BATCH; b++)
+                batch_covered[b] = (unsigned char)point_covered(S, batch[b].c, kind);
+            for (int b = 0; b < DART_BATCH && misses < MAX_MISSES; b++) {
+                /* a line every 2 s: phase, the share of the area (length)
+                 * covered (that of the pool left at the start of this
+                 * round, covered since, as the recent darts saw it), balls */
+                if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
+                    S->t_logged = now();
+                    const double left = area0 > 0 ? total / area0 : 0;
+                    const double seen = (double)darts_covered / (double)darts;
+                    vc_log(S->opt.log, VC_LOG_INFO,
+                           "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
+                           nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
+                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
+                    darts = darts_covered = 0;
+                }
+                const subface *sf = &P->f[batch[b].sub];
+                const subface_on_smooth *sg = P->smooth ? &P->g[batch[b].sub] : NULL;
+                double *x = batch[b].x, *c = batch[b].c, cn[3], rho = INFINITY;
+                const int on_smooth = sg != NULL;
+                /* on S': the dart between the subface's corners there is
+                 * tested first, then its projection */
+                if (batch_covered[b] || covered_by_new(S, c, kind, n_before)) {
                     darts_covered++;
                     misses++;
                     continue;
                 }
-                /* the radius bound: the largest principal curvature (four
-                 * fits, so only for darts that make a ball) */
-                const double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
-                if (k > 0)
-                    rho = fmin(rho, 1 / k);
+                if (on_smooth) {
+                    double z[3] = {c[0], c[1], c[2]};
+                    /* between interpolated corners, the dart stands for the
+                     * point of S' under it; between projected ones, for the
+                     * projection of x, as the corners do */
+                    if (sg->interpolated) {
+                        double nz[3] = {0, 0, 0}, l = 0;
+                        for (int k = 0; k < 9; k++)
+                            nz[k % 3] += sg->pn[k];
+                        for (int d = 0; d < 3; d++)
+                            l += nz[d] * nz[d];
+                        l = sqrt(l);
+                        for (int d = 0; d < 3; d++)
+                            nz[d] = l > 0 ? nz[d] / l : S->z.tri_out_normal[3 * sf->elem + d];
+                        vc_smooth_surface_settle(&S->ss, sf->elem, x, z, nz, c, cn, &rho);
+                    } else
+                        vc_smooth_surface_project(&S->ss, sf->elem, x, z, c, cn, &rho);
+                    /* on a subface whose corners pin S' down to far below
+                     * the noise sliver elimination tolerates, the dart
+                     * itself is the centre: a projection lands a little
+                     * aside, and a gap on the subface would never get its
+                     * ball */
+                    if (sg->interpolated && sg->sag <= ACCURATE_SAG * S->ss.width)
+                        memcpy(c, z, sizeof z);
+                    if (point_covered(S, c, kind)) {
+                        darts_covered++;
+                        misses++;
+                        continue;
+                    }
+                    /* the radius bound: the largest principal curvature
+                     * (four fits, so only for darts that make a ball) */
+                    const double k = vc_smooth_surface_max_curvature(&S->ss, sf->elem, c, cn);
+                    if (k > 0)
+                        rho = fmin(rho, 1 / k);
+                }
+                vc_surface_point sp = {kind, sf->elem};
+                double r = new_radius(S, &sp, x, c, rho);
+                if (r <= 0) {
+                    misses++;
+                    continue;
+                }
+                if (add_ball(S, c, r, &sp, on_smooth ? cn : NULL)) {
+                    rc = -1;
+                    break;
+                }
+                misses = 0;
             }
-            vc_surface_point sp = {kind, sf->elem};
-            double r = new_radius(S, &sp, x, c, rho);
-            if (r <= 0) {
-                misses++;
-                continue;
-            }
-            if (add_ball(S, c, r, &sp, on_smooth ? cn : NULL)) {
-                rc = -1;
-                break;
-            }
-            misses = 0;
         }
         if (rc)
             break;
