@@ -3,8 +3,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Points per leaf: a few, so that a query reads few beyond the k it keeps. */
-#define LEAF_SIZE 8
+/* Points per leaf: a few, so that a query reads few beyond the k it keeps
+ * (bunny.off's 153,626 seeds, 48 neighbours: 8.5 us per query with 8 per
+ * leaf, 7.2 with 16, 7.1 with 32). */
+#define LEAF_SIZE 16
 
 static int before(const vc_seed_kdtree *t, int64_t a, int64_t b, int d)
 {
