@@ -44,7 +44,7 @@ void vc_convex_cell_free(vc_convex_cell *c)
                            &c->b_dist,       &c->b_conflict, &c->b_next,     &c->b_edge_tri,
                            &c->b_edge_out,   &c->b_face_plane, &c->b_face_plane_index, &c->b_face_start, &c->b_fv,
                            &c->b_entry,      &c->b_count,    &c->b_edge_mark, &c->b_edge_owner, &c->b_new_pt,
-                           &c->b_new_tri};
+                           &c->b_new_tri,    &c->b_prow,     &c->b_prow_ok};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++)
         free(bufs[i]->data);
     memset(c, 0, sizeof *c);
@@ -104,9 +104,12 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
     c->pc = reserve(&c->b_pc, 8, VC_POWER_CACHE * sizeof(double));
     c->edge_owner = reserve(&c->b_edge_owner, VC_EDGE_OWNER_PLANES * VC_EDGE_OWNER_PLANES,
                             sizeof(uint16_t));
+    c->prow = reserve(&c->b_prow, 6, VC_POWER_ROW * sizeof(double));
+    c->prow_ok = reserve(&c->b_prow_ok, 6, 1);
     if (!c->plane || !c->plane_id || !c->tri || !c->px || !c->py || !c->pz || !c->r2 ||
-        !c->ev || !c->eb || !c->pc || !c->edge_owner)
+        !c->ev || !c->eb || !c->pc || !c->edge_owner || !c->prow || !c->prow_ok)
         return VC_CELL_NOMEM;
+    memset(c->prow_ok, 0, 6);
     /* Plane 2 * axis is the lower wall (normal -e_axis), 2 * axis + 1 the
      * upper one. */
     for (int a = 0; a < 3; a++) {
@@ -266,8 +269,18 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
             const int *tr = c->tri + 3 * t;
             const int64_t pl[3] = {c->plane_id[tr[0]], c->plane_id[tr[1]], c->plane_id[tr[2]]};
             double *cache = c->pc + VC_POWER_CACHE * t;
-            if (cache[13] != 1)
-                vc_power_vertex_prepare(c->ctx, c->seed, pl, cache);
+            if (cache[13] != 1) {
+                const double *rows[3];
+                for (int i = 0; i < 3; i++) {
+                    double *row = c->prow + VC_POWER_ROW * tr[i];
+                    if (!c->prow_ok[tr[i]]) {
+                        vc_power_plane_prepare(c->ctx, c->seed, pl[i], row);
+                        c->prow_ok[tr[i]] = 1;
+                    }
+                    rows[i] = row;
+                }
+                vc_power_vertex_prepare_rows(pl, rows, cache);
+            }
             if (!prow_ready) {
                 vc_power_plane_prepare(c->ctx, c->seed, plane_id, prow);
                 prow_ready = 1;
@@ -423,10 +436,15 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
     const int P = np;
     c->plane = reserve(&c->b_plane, np + 1, 4 * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, np + 1, sizeof(int64_t));
+    c->prow = reserve(&c->b_prow, np + 1, VC_POWER_ROW * sizeof(double));
+    c->prow_ok = reserve(&c->b_prow_ok, np + 1, 1);
     double *new_pt = reserve(&c->b_new_pt, n_boundary, 5 * sizeof(double)); /* x, ev, eb */
     int *new_tri = reserve(&c->b_new_tri, n_boundary, 3 * sizeof(int));
-    if (!c->plane || !c->plane_id || !new_pt || !new_tri)
+    if (!c->plane || !c->plane_id || !new_pt || !new_tri || !c->prow || !c->prow_ok)
         return VC_CELL_NOMEM;
+    c->prow_ok[P] = (unsigned char)prow_ready;
+    if (prow_ready)
+        memcpy(c->prow + VC_POWER_ROW * P, prow, sizeof prow);
     double *q = c->plane + 4 * P;
     q[0] = p[0];
     q[1] = p[1];

@@ -48,6 +48,12 @@ typedef struct vc_convex_cell {
     /* nt * VC_POWER_CACHE: each vertex's part of the side test, prepared
      * the first time the filter cannot decide it (entry 13: prepared). */
     double *pc;
+    /* np * VC_POWER_ROW: each plane's row of the side test as a tested
+     * plane (vc_power_plane_prepare), kept from the cut that added it or
+     * made the first time a vertex on it is prepared; prow_ok[i] says
+     * whether row i is there. A vertex's rows then cost no arithmetic. */
+    double *prow;
+    unsigned char *prow_ok;
     double rmax2;        /* largest (|x| + 2 ev)^2 over the vertices: no
                             seed farther than 2 sqrt(rmax2) can cut */
     /* The seed of the cell and the seeds and box behind its planes: where
@@ -76,6 +82,7 @@ typedef struct vc_convex_cell {
 
     /* Storage and scratch reused by every cut. */
     vc_cell_buf b_plane, b_plane_id, b_tri, b_px, b_py, b_pz, b_r2, b_ev, b_eb, b_out, b_pc;
+    vc_cell_buf b_prow, b_prow_ok;
     vc_cell_buf b_dist, b_conflict, b_next, b_edge_tri, b_edge_out, b_new_pt, b_new_tri;
     vc_cell_buf b_edge_mark; /* np * np bytes, all zero between cuts */
     vc_cell_buf b_edge_owner;

@@ -641,6 +641,8 @@ static int evaluate_expansions(const vc_power_ctx *ctx, int64_t s, const int64_t
  * W (3 double-doubles), C_3, the permanents of W's components and of C_3,
  * whether all of it is exact, 1 (prepared), then X_0, X_1, X_2 (for
  * ties). */
+static void prepare_from_rows(const dd_row r[3], int ex, double cache[VC_POWER_CACHE]);
+
 void vc_power_vertex_prepare(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3],
                              double cache[VC_POWER_CACHE])
 {
@@ -648,6 +650,29 @@ void vc_power_vertex_prepare(const vc_power_ctx *ctx, int64_t s, const int64_t p
     dd_row r[3];
     for (int i = 0; i < 3; i++)
         r[i] = make_dd_row(ctx, s, plane[i], 0, &ex);
+    prepare_from_rows(r, ex, cache);
+}
+
+void vc_power_vertex_prepare_rows(const int64_t plane[3], const double *const row[3],
+                                  double cache[VC_POWER_CACHE])
+{
+    /* A tested plane's row is the negation of the same seed's vertex row
+     * (exactly: only signs change); a wall's is the same. */
+    int ex = 1;
+    dd_row r[3];
+    for (int i = 0; i < 3; i++) {
+        const double sg = plane[i] >= 0 ? -1.0 : 1.0;
+        for (int k = 0; k < 3; k++)
+            r[i].n[k] = (dd){sg * row[i][2 * k], sg * row[i][2 * k + 1]};
+        r[i].last = (dd){sg * row[i][6], sg * row[i][7]};
+        ex &= row[i][8] != 0;
+    }
+    prepare_from_rows(r, ex, cache);
+}
+
+/* The cache from the vertex's three rows (ex: whether they are exact). */
+static void prepare_from_rows(const dd_row r[3], int ex, double cache[VC_POWER_CACHE])
+{
     dd W[3] = {{0, 0}, {0, 0}, {0, 0}};
     double pW[3] = {0, 0, 0};
     for (int i = 0; i < 3; i++) {

@@ -44,6 +44,11 @@ void vc_power_vertex_prepare(const vc_power_ctx *ctx, int64_t s, const int64_t p
 #define VC_POWER_ROW 9
 void vc_power_plane_prepare(const vc_power_ctx *ctx, int64_t s, int64_t x,
                             double row[VC_POWER_ROW]);
+/* vc_power_vertex_prepare from the rows vc_power_plane_prepare made for
+ * the vertex's three planes (a cell keeps them per plane): the same cache,
+ * without recomputing the rows. */
+void vc_power_vertex_prepare_rows(const int64_t plane[3], const double *const row[3],
+                                  double cache[VC_POWER_CACHE]);
 int vc_power_side_cached(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x,
                          const double cache[VC_POWER_CACHE], const double row[VC_POWER_ROW]);
 
