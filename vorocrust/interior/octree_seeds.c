@@ -71,13 +71,75 @@ static void quadrant_cube(const p8est_t *forest, const forest_geometry *g, p4est
     *side = g->tree_side * ldexp(1.0, -(int)q->level);
 }
 
-static int leaf_too_large(p8est_t *forest, p4est_topidx_t tree, p8est_quadrant_t *q)
+static int leaf_too_large(const p8est_t *forest, p4est_topidx_t tree, const p8est_quadrant_t *q)
 {
     const forest_geometry *g = forest->user_pointer;
     double c[3], side;
     quadrant_cube(forest, g, tree, q, c, &side);
     double diagonal = sqrt(3.0) * side;
     return diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, g->lipschitz, g->cap);
+}
+
+/* Each leaf carries its verdict (1: split it, 0: keep it, -1: not yet
+ * decided, for the children a round made). */
+static void leaf_undecided(p8est_t *forest, p4est_topidx_t tree, p8est_quadrant_t *q)
+{
+    (void)forest;
+    (void)tree;
+    *(int *)q->p.user_data = -1;
+}
+
+static int leaf_marked(p8est_t *forest, p4est_topidx_t tree, p8est_quadrant_t *q)
+{
+    (void)forest;
+    (void)tree;
+    return *(int *)q->p.user_data == 1;
+}
+
+/* Refines the forest until no leaf is too large, one level per round: the
+ * sizing queries of a round's new leaves run in parallel (p4est's
+ * recursive refinement calls them one by one), then p4est splits the
+ * marked ones. Each verdict depends on its leaf alone, so the forest is
+ * the recursive refinement's, for any thread count. Returns 0, or -1 when
+ * out of memory. */
+static int refine_by_sizing(p8est_t *forest, int threads)
+{
+    for (;;) {
+        int64_t n = 0;
+        for (p4est_topidx_t t = forest->first_local_tree; t <= forest->last_local_tree; t++)
+            n += (int64_t)p8est_tree_array_index(forest->trees, t)->quadrants.elem_count;
+        p8est_quadrant_t **leaf = malloc(sizeof *leaf * (size_t)(n > 0 ? n : 1));
+        p4est_topidx_t *leaf_tree = malloc(sizeof *leaf_tree * (size_t)(n > 0 ? n : 1));
+        if (!leaf || !leaf_tree) {
+            free(leaf);
+            free(leaf_tree);
+            return -1;
+        }
+        int64_t m = 0;
+        for (p4est_topidx_t t = forest->first_local_tree; t <= forest->last_local_tree; t++) {
+            p8est_tree_t *tr = p8est_tree_array_index(forest->trees, t);
+            for (size_t i = 0; i < tr->quadrants.elem_count; i++) {
+                p8est_quadrant_t *q = p8est_quadrant_array_index(&tr->quadrants, i);
+                if (*(int *)q->p.user_data < 0) {
+                    leaf[m] = q;
+                    leaf_tree[m++] = t;
+                }
+            }
+        }
+        int64_t n_split = 0;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) reduction(+ : n_split)
+        for (int64_t k = 0; k < m; k++) {
+            const int split = leaf[k]->level < P8EST_QMAXLEVEL &&
+                              leaf_too_large(forest, leaf_tree[k], leaf[k]);
+            *(int *)leaf[k]->p.user_data = split;
+            n_split += split;
+        }
+        free(leaf);
+        free(leaf_tree);
+        if (n_split == 0)
+            return 0;
+        p8est_refine_ext(forest, 0, P8EST_QMAXLEVEL, leaf_marked, leaf_undecided, NULL);
+    }
 }
 
 /* Significant bits kept of the trees' side (see snap_to_lattice). */
@@ -197,8 +259,14 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     g.balls = &tree;
 
     p8est_connectivity_t *conn = p8est_connectivity_new_brick(n[0], n[1], n[2], 0, 0, 0);
-    p8est_t *forest = p8est_new_ext(MPI_COMM_SELF, conn, 0, 0, 1, 0, NULL, &g);
-    p8est_refine_ext(forest, 1, P8EST_QMAXLEVEL, leaf_too_large, NULL, NULL);
+    p8est_t *forest = p8est_new_ext(MPI_COMM_SELF, conn, 0, 0, 1, sizeof(int), leaf_undecided, &g);
+    if (refine_by_sizing(forest, vc_threads_or_default(opt->threads))) {
+        p8est_destroy(forest);
+        p8est_connectivity_destroy(conn);
+        vc_seed_kdtree_free(&grid);
+        vc_ball_tree_free(&tree);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the octree interior");
+    }
     st.n_refined_leaves = (int64_t)forest->local_num_quadrants;
     /* Full (face, edge and corner) balance: every pair of leaves that touch,
      * even at a corner, differs by one level at most. Leaf centres become
