@@ -141,10 +141,52 @@ static int cmp_face(const void *p, const void *q)
     return x->old < y->old ? -1 : x->old > y->old;
 }
 
-static int cmp_i64(const void *p, const void *q)
+
+static void insertion_sort_i64(int64_t *a, int64_t n)
 {
-    const int64_t x = *(const int64_t *)p, y = *(const int64_t *)q;
-    return (x > y) - (x < y);
+    for (int64_t i = 1; i < n; i++) {
+        const int64_t x = a[i];
+        int64_t j = i;
+        for (; j > 0 && a[j - 1] > x; j--)
+            a[j] = a[j - 1];
+        a[j] = x;
+    }
+}
+
+/* Sorts the faces in cmp_face's order in linear time: a stable counting
+ * sort by bucket (interior faces by owner, then boundary faces by owner),
+ * the faces listed by increasing old index, then each interior bucket (a
+ * cell's few faces toward higher cells) by neighbour. *fs is replaced;
+ * returns 0, or -1 when out of memory. */
+static int sort_faces(face_sort **fs, int64_t nf, int64_t nc)
+{
+    int64_t *start = calloc((size_t)(2 * nc + 1), sizeof(int64_t));
+    face_sort *out = malloc(sizeof(face_sort) * (size_t)(nf + 1));
+    if (!start || !out) {
+        free(start);
+        free(out);
+        return -1;
+    }
+    const face_sort *in = *fs;
+    for (int64_t f = 0; f < nf; f++)
+        start[(in[f].neighbour < 0 ? nc : 0) + in[f].owner + 1]++;
+    for (int64_t b = 0; b < 2 * nc; b++)
+        start[b + 1] += start[b];
+    for (int64_t f = 0; f < nf; f++)
+        out[start[(in[f].neighbour < 0 ? nc : 0) + in[f].owner]++] = in[f];
+    /* start[b] is now the end of bucket b */
+    for (int64_t b = 0, from = 0; b < nc; from = start[b], b++)
+        for (int64_t i = from + 1; i < start[b]; i++) {
+            const face_sort x = out[i];
+            int64_t j = i;
+            for (; j > from && cmp_face(&out[j - 1], &x) > 0; j--)
+                out[j] = out[j - 1];
+            out[j] = x;
+        }
+    free(start);
+    free(*fs);
+    *fs = out;
+    return 0;
 }
 
 /* Replaces *arr (n records of size bytes) by its records taken in the
@@ -192,7 +234,8 @@ int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old)
         }
         fs[f] = (face_sort){o, b, f};
     }
-    qsort(fs, (size_t)nf, sizeof *fs, cmp_face);
+    if (sort_faces(&fs, nf, nc))
+        goto done;
     for (int64_t g = 0; g < nf; g++) {
         old_face[g] = fs[g].old;
         /* turned when the lower cell was the neighbour */
@@ -269,7 +312,7 @@ int vc_polymesh_renumber_cells(vc_polymesh *m, const int64_t *new_of_old)
         const int64_t old = old_of_new[c], from = q;
         for (int64_t j = m->cell_offsets[old]; j < m->cell_offsets[old + 1]; j++)
             cf[q++] = nfi[m->cell_faces[j]];
-        qsort(cf + from, (size_t)(q - from), sizeof(int64_t), cmp_i64);
+        insertion_sort_i64(cf + from, q - from); /* a cell's dozen faces */
         co[c + 1] = q;
     }
     free(nfi);
