@@ -54,7 +54,7 @@ static void sample(const vc_surface *s, const vc_features *f, double max_error, 
     vc_error err;
     CHECK_MSG(vc_sample_surface(s, f, &opt, &out->balls, &out->st, &err) == 0, err.msg);
     vc_seeds seeds;
-    CHECK_MSG(vc_balls_seeds(&out->balls, &seeds, &out->n_half, &err) == 0, err.msg);
+    CHECK_MSG(vc_balls_seeds(&out->balls, 1, &seeds, &out->n_half, &err) == 0, err.msg);
     vc_polysurface ps;
     CHECK_MSG(vc_reconstruct_surface(&seeds, threads, NULL, &ps, &err) == 0, err.msg);
     vc_polysurface_topology top;

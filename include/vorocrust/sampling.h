@@ -122,8 +122,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
  * surface (the side the ball normals point away from), 0 outside. Points
  * closer than 1e-9 of the smallest radius involved are merged. Counts the
  * half-covered pairs (triplets with exactly one point kept) in
- * *n_half_covered when not NULL. */
-int vc_balls_seeds(const vc_balls *b, vc_seeds *out, int64_t *n_half_covered,
+ * *n_half_covered when not NULL. The triplets are found on threads
+ * threads (<= 0: OpenMP's default); the seeds are the same for any count. */
+int vc_balls_seeds(const vc_balls *b, int threads, vc_seeds *out, int64_t *n_half_covered,
                    vc_error *err);
 
 /* A polygonal surface: polygon k has the vertices

@@ -266,12 +266,6 @@ static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
     return rc;
 }
 
-int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_triplet *t),
-                     void *ctx)
-{
-    return scan(bs, NULL, 1, fn, ctx);
-}
-
 int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
                              void (*fn)(void *ctx, const vc_triplet *t), void *ctx,
                              unsigned char *scanned)

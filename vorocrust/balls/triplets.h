@@ -30,13 +30,9 @@ typedef struct vc_triplet {
     double clear_up, clear_down;
 } vc_triplet;
 
-/* Calls fn(ctx, &t) for every triplet of pairwise overlapping balls whose
- * spheres meet in two points, in increasing (i, j, k) order. Returns 0, or
- * -1 when out of memory. */
-int vc_triplets_scan(const vc_ball_set *bs, void (*fn)(void *ctx, const vc_triplet *t),
-                     void *ctx);
-
-/* The same for the triplets that may have changed since the last call:
+/* Calls fn(ctx, &t) for the triplets of pairwise overlapping balls whose
+ * spheres meet in two points, in increasing (i, j, k) order, that may
+ * have changed since the last call:
  * those of every ball that was added, resized or moved (changed_reach) or
  * that reaches such a ball, computed on threads threads (<= 0: OpenMP's
  * default) and handed to fn in the same order for any thread count. Marks
@@ -48,8 +44,8 @@ int vc_triplets_scan_changed(vc_ball_set *bs, int threads,
                              void (*fn)(void *ctx, const vc_triplet *t), void *ctx,
                              unsigned char *scanned);
 
-/* Every triplet, as vc_triplets_scan, on threads threads; marks the set
- * unchanged. */
+/* Every triplet, on threads threads, in increasing (i, j, k) order; marks
+ * the set unchanged. Returns 0, or -1 when out of memory. */
 int vc_triplets_scan_all(vc_ball_set *bs, int threads,
                          void (*fn)(void *ctx, const vc_triplet *t), void *ctx);
 

@@ -304,7 +304,7 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
     out->has_mesh = 0;
     out->n_inside_seeds = 0;
     double t = now();
-    if (vc_balls_seeds(&out->balls, &out->seeds, &out->n_half_covered, err) != 0)
+    if (vc_balls_seeds(&out->balls, opt->threads, &out->seeds, &out->n_half_covered, err) != 0)
         return named(err, name, NULL);
     out->n_surface_seeds = out->seeds.n;
     if (mm) {

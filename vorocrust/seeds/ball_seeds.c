@@ -89,7 +89,8 @@ static int cmp_order(const void *p, const void *q)
     return (a->i > b->i) - (a->i < b->i);
 }
 
-int vc_balls_seeds(const vc_balls *b, vc_seeds *out, int64_t *n_half_covered, vc_error *err)
+int vc_balls_seeds(const vc_balls *b, int threads, vc_seeds *out, int64_t *n_half_covered,
+                   vc_error *err)
 {
     memset(out, 0, sizeof *out);
     if (b->n == 0)
@@ -98,7 +99,7 @@ int vc_balls_seeds(const vc_balls *b, vc_seeds *out, int64_t *n_half_covered, vc
     if (vc_ball_set_build(&bs, b, NULL))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the seeds");
     seed_acc a = {&bs.b, NULL, NULL, NULL, 0, 0, 0, 0};
-    int rc = vc_triplets_scan(&bs, on_triplet, &a);
+    int rc = vc_triplets_scan_all(&bs, threads, on_triplet, &a);
     if (rc || a.oom) {
         vc_ball_set_free(&bs);
         free(a.xyz);
