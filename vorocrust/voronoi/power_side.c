@@ -206,6 +206,11 @@ static inline dd dd_neg(dd a) { return (dd){-a.hi, -a.lo}; }
 static inline dd dd_mul(dd a, dd b, int *ex)
 {
     const double p = a.hi * b.hi, pe = fma(a.hi, b.hi, -p);
+    /* Two plain doubles (the rows' differences of seed coordinates,
+     * nearly always exact): the product is exactly p + pe, and the general
+     * path below would give (p, pe) with *ex untouched. */
+    if (a.lo == 0 && b.lo == 0)
+        return (dd){p, pe};
     const double c1 = a.hi * b.lo, c2 = a.lo * b.hi;
     const dd e1 = dd_two_sum(pe, c1), e2 = dd_two_sum(e1.hi, c2);
     *ex &= (fma(a.hi, b.lo, -c1) == 0) & (fma(a.lo, b.hi, -c2) == 0) & (a.lo * b.lo == 0) &
