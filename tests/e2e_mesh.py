@@ -289,8 +289,22 @@ if PART == "icosphere":
     # The volume mesh as an OpenFOAM case too (checkMesh itself runs in e2e_foam).
     foam = os.path.join(TMP, "mesh_foam_case")
     vtu = os.path.join(TMP, "mesh_foam.vtu")
-    rc, out, err = run("mesh", ICOSPHERE, "-o", vtu, "--foam", foam, "--quiet")
+    full_surf = os.path.join(TMP, "mesh_foam_surface.obj")
+    rc, out, err = run("mesh", ICOSPHERE, "-o", vtu, "--foam", foam, "--surface", full_surf, "--quiet")
     check(rc == 0 and err == "", "mesh --foam: exit %d %r" % (rc, err))
+    # --surface-only builds the inside surface seeds' cells alone, bounded
+    # by the interior seeds: its surface is the volume mesh's boundary,
+    # polygon for polygon (as sets of points; the numbering may differ)
+    if rc == 0 and os.path.exists(os.path.join(TMP, "mesh_lift.obj")):
+        def polygon_sets(path):
+            pts, polys = read_surface(path)
+            return set(frozenset(tuple(pts[i]) for i in p) for p in polys), len(polys)
+        a, na = polygon_sets(os.path.join(TMP, "mesh_lift.obj"))
+        b, nb = polygon_sets(full_surf)
+        print("icosphere: %d polygons --surface-only, %d in the volume mesh, %d common"
+              % (na, nb, len(a & b)))
+        check(na == nb and a == b, "icosphere: the --surface-only surface (%d polygons) is not the "
+              "volume mesh's boundary (%d, %d in common)" % (na, nb, len(a & b)))
     if rc == 0:
         with open(os.path.join(foam, "constant", "polyMesh", "owner")) as f:
             note = re.search(r"nCells:\s*(\d+)", f.read())

@@ -626,7 +626,7 @@ static int run_mesh(int argc, char **argv)
     }
     opt.name = in_path;
     opt.surface_only = surface_only;
-    if (!surface_only && opt.interior == VC_INTERIOR_OCTREE && vc_cli_mpi_start())
+    if (opt.interior == VC_INTERIOR_OCTREE && vc_cli_mpi_start())
         return 1;
 
     vc_error err = {0, ""};

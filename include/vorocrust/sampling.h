@@ -140,12 +140,16 @@ typedef struct vc_polysurface {
 void vc_polysurface_free(vc_polysurface *p);
 
 /* The reconstructed surface: the Voronoi facets between an inside
- * (label != 0) and an outside (label 0) seed, oriented outward (seen
- * counter-clockwise from the outside seed), with the mesh's global
- * vertices (unused ones dropped). The Voronoi engine's progress and phase
- * times go to log (may be NULL). */
-int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *log,
-                           vc_polysurface *out, vc_error *err);
+ * (label != 0) and an outside (label 0) seed among seeds[0 .. n_surface)
+ * (n_surface <= 0: all of them), oriented outward (seen counter-clockwise
+ * from the outside seed), with the mesh's global vertices (unused ones
+ * dropped). Seeds from n_surface on must have label 0: they only bound
+ * the cells (interior seeds, away from the balls, keep the inside cells
+ * from reaching across the whole solid), and the facets toward them are
+ * not the surface. The Voronoi engine's progress and phase times go to
+ * log (may be NULL). */
+int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface, int threads,
+                           const vc_logger *log, vc_polysurface *out, vc_error *err);
 
 /* Topology of a polygonal surface: edges used by exactly two polygons in
  * opposite directions make a closed, consistently oriented surface. */

@@ -108,7 +108,11 @@ typedef struct vc_mesh_options {
     uint64_t seed;          /* random seed, default 1 */
     int smooth_iterations;  /* rounds of Loop smoothing before sampling, default 0 */
     int resample;           /* VC_RESAMPLE_* flags, default both */
-    /* Stop after the reconstructed surface (no interior, no volume mesh). */
+    /* Stop after the reconstructed surface (no volume mesh). The interior
+     * seeds are still placed: they bound the inside surface seeds' cells,
+     * which are built alone; the surface is the one the volume mesh would
+     * have. Without MPI started, the octree is skipped: the same surface,
+     * slower. */
     int surface_only;
     /* Nested closed shells alternate solid and cavity by the even-odd rule
      * (outermost solid), whatever their orientation: each component is

@@ -4,6 +4,14 @@
 #include <mpi.h>
 #include <p4est_base.h>
 
+int vc_octree_runtime_available(void)
+{
+    int initialized = 0, finalized = 0;
+    MPI_Initialized(&initialized);
+    MPI_Finalized(&finalized);
+    return initialized && !finalized;
+}
+
 int vc_octree_runtime_start(vc_error *err)
 {
     int initialized = 0, finalized = 0;

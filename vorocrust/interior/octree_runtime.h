@@ -1,5 +1,5 @@
 /* The p4est start-up the octree interior needs (p4est is built with MPI).
- * Internal to vorocrust/interior. */
+ * Internal to the library. */
 #ifndef VC_INTERIOR_OCTREE_RUNTIME_H
 #define VC_INTERIOR_OCTREE_RUNTIME_H
 
@@ -10,5 +10,8 @@
  * process. Fails with VC_EPARAM when MPI is not initialised, or already
  * finalised. */
 int vc_octree_runtime_start(vc_error *err);
+
+/* Whether MPI is initialised and not finalised: the octree can run. */
+int vc_octree_runtime_available(void);
 
 #endif

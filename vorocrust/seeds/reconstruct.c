@@ -21,10 +21,25 @@ void vc_polysurface_free(vc_polysurface *p)
     memset(p, 0, sizeof *p);
 }
 
-int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *log,
-                           vc_polysurface *out, vc_error *err)
+/* Is boundary face f of the surface: toward an outside seed among the
+ * first n_surface (not the box, not a bounding seed)? */
+static int on_surface(const vc_polymesh *m, int64_t f, int64_t n_surface)
+{
+    const int64_t o = m->face_other_seed[f];
+    return o >= 0 && o < n_surface;
+}
+
+int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface, int threads,
+                           const vc_logger *log, vc_polysurface *out, vc_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (n_surface <= 0 || n_surface > seeds->n)
+        n_surface = seeds->n;
+    for (int64_t i = n_surface; i < seeds->n; i++)
+        if (seeds->label[i] != 0)
+            return vc_error_set(err, VC_EPARAM,
+                                "bounding seed %lld has label %d: it must be 0 (not kept)",
+                                (long long)i, (int)seeds->label[i]);
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = threads;
@@ -35,7 +50,7 @@ int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *
         return rc;
     int64_t nf = 0, nfv = 0;
     for (int64_t f = m.n_interior_faces; f < m.n_faces; f++)
-        if (m.face_other_seed[f] >= 0) {
+        if (on_surface(&m, f, n_surface)) {
             nf++;
             nfv += m.face_offsets[f + 1] - m.face_offsets[f];
         }
@@ -53,7 +68,7 @@ int vc_reconstruct_surface(const vc_seeds *seeds, int threads, const vc_logger *
     int64_t np = 0, k = 0, q = 0;
     out->poly_offsets[0] = 0;
     for (int64_t f = m.n_interior_faces; f < m.n_faces; f++) {
-        if (m.face_other_seed[f] < 0)
+        if (!on_surface(&m, f, n_surface))
             continue;
         for (int64_t j = m.face_offsets[f]; j < m.face_offsets[f + 1]; j++) {
             int64_t v = m.face_vertices[j];

@@ -403,6 +403,21 @@ static int max_face_len(const vc_cell_result *c)
     return mx;
 }
 
+/* The growing per-thread lists below: {v, n, cap}. PUSH appends x to
+ * the list at b; 0, or -1 when out of memory. */
+#define PUSH(b, x)                                                                                \
+    (vc_reserve(&(b)->v, &(b)->cap, (b)->n + 1, sizeof *(b)->v) != 0 ? -1                         \
+                                                                       : ((b)->v[(b)->n++] = (x), 0))
+
+typedef struct pair64 {
+    int64_t a, b;
+} pair64;
+
+typedef struct pair_buf {
+    pair64 *v;
+    int64_t n, cap;
+} pair_buf;
+
 /* A point of a boundary face, by the hash cell of its position. */
 typedef struct hashed_point {
     int64_t i[3];
@@ -476,46 +491,74 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
     }
     free(on);
     qsort(h, (size_t)nb, sizeof *h, cmp_hashed);
-    int64_t n_unions = 0;
-    for (int64_t a = 0; a < nb; a++) {
-        const int64_t u = h[a].g;
-        const double ru = merge_tol * st->grad[u] + 2 * st->gev[u];
-        (void)ru;
-        const int64_t w = 1;
-        for (int64_t dz = -w; dz <= w; dz++)
-            for (int64_t dy = -w; dy <= w; dy++)
-                for (int64_t dx = -w; dx <= w; dx++) {
-                    hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] + dz}, -1};
-                    /* the first entry of that cell */
-                    int64_t lo = 0, hi = nb;
-                    while (lo < hi) {
-                        const int64_t mid = (lo + hi) / 2;
-                        if (cmp_hashed(&h[mid], &key) < 0)
-                            lo = mid + 1;
-                        else
-                            hi = mid;
-                    }
-                    for (int64_t b = lo; b < nb && h[b].i[0] == key.i[0] && h[b].i[1] == key.i[1] &&
-                                         h[b].i[2] == key.i[2];
-                         b++) {
-                        const int64_t v = h[b].g;
-                        if (v == u)
-                            continue;
-                        if (vc_uf_find(st->root, u) == vc_uf_find(st->root, v))
-                            continue;
-                        const int join = points_coincide(st, u, v, merge_tol);
-                        if (join == VC_PREDICATE_NOMEM) {
-                            free(h);
-                            return -1;
-                        }
-                        if (join) {
-                            vc_uf_unite(st->root, u, v);
-                            n_unions++;
-                        }
-                    }
-                }
+    /* The pairs that coincide, found in parallel against the classes as
+     * they are (a compressed copy: finds in the shared array would write),
+     * then united in one pass. Testing a pair the unions of this pass
+     * would have made redundant changes nothing: the classes are the
+     * closure of the coinciding pairs either way, and the unions made
+     * (the classes merged) are counted alike. */
+    const int64_t ng_all = st->n_gid;
+    int64_t *snap = malloc((size_t)(ng_all + 1) * sizeof *snap);
+    pair_buf *found = calloc((size_t)threads, sizeof *found);
+    if (!snap || !found) {
+        free(snap);
+        free(found);
+        free(h);
+        return -1;
     }
-    (void)threads;
+    for (int64_t g = 0; g < ng_all; g++)
+        snap[g] = vc_uf_find(st->root, g);
+    volatile int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads)
+    for (int64_t a = 0; a < nb; a++) {
+#ifdef _OPENMP
+        pair_buf *pb = &found[omp_get_thread_num()];
+#else
+        pair_buf *pb = &found[0];
+#endif
+        const int64_t u = h[a].g;
+        /* the 3 x 3 columns of neighbouring cells: each column's three
+         * cells (dz) are consecutive in the sorted order */
+        for (int64_t dx = -1; dx <= 1; dx++)
+            for (int64_t dy = -1; dy <= 1; dy++) {
+                const hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] - 1}, -1};
+                int64_t lo = 0, hi = nb;
+                while (lo < hi) {
+                    const int64_t mid = (lo + hi) / 2;
+                    if (cmp_hashed(&h[mid], &key) < 0)
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                for (int64_t b = lo; b < nb && h[b].i[0] == key.i[0] && h[b].i[1] == key.i[1] &&
+                                     h[b].i[2] <= key.i[2] + 2;
+                     b++) {
+                    const int64_t v = h[b].g;
+                    if (v <= u || snap[u] == snap[v])
+                        continue; /* each pair once; already one class */
+                    const int join = points_coincide(st, u, v, merge_tol);
+                    if (join == VC_PREDICATE_NOMEM || (join == 1 && PUSH(pb, ((pair64){u, v}))))
+                        failed = 1;
+                }
+            }
+    }
+    int64_t n_unions = -1;
+    if (!failed) {
+        n_unions = 0;
+        for (int t = 0; t < threads; t++)
+            for (int64_t k = 0; k < found[t].n; k++) {
+                const int64_t ra = vc_uf_find(st->root, found[t].v[k].a);
+                const int64_t rb = vc_uf_find(st->root, found[t].v[k].b);
+                if (ra != rb) {
+                    vc_uf_unite(st->root, ra, rb);
+                    n_unions++;
+                }
+            }
+    }
+    for (int t = 0; t < threads; t++)
+        free(found[t].v);
+    free(found);
+    free(snap);
     free(h);
     return n_unions;
 }
@@ -566,12 +609,6 @@ static int on_segment(const stitch *st, const int64_t *cyc, int n, double merge_
     return 1;
 }
 
-/* The growing per-thread lists below: {v, n, cap}. PUSH appends x to
- * the list at b; 0, or -1 when out of memory. */
-#define PUSH(b, x)                                                                                \
-    (vc_reserve(&(b)->v, &(b)->cap, (b)->n + 1, sizeof *(b)->v) != 0 ? -1                         \
-                                                                       : ((b)->v[(b)->n++] = (x), 0))
-
 typedef struct split_buf {
     split *v;
     int64_t n, cap;
@@ -582,15 +619,6 @@ static int face_buf(const vc_cell_result *c, int64_t **buf, int64_t *cap)
 {
     return vc_reserve(buf, cap, max_face_len(c), sizeof **buf);
 }
-
-typedef struct pair64 {
-    int64_t a, b;
-} pair64;
-
-typedef struct pair_buf {
-    pair64 *v;
-    int64_t n, cap;
-} pair_buf;
 
 typedef struct u64_buf {
     uint64_t *v;
