@@ -1,0 +1,112 @@
+/* The Voronoi engine's k-d tree (voronoi/seed_kdtree.h) against a brute
+ * force: for random points, a lattice (many equal distances: the (d2,
+ * seed) order breaks the ties) and clusters of coincident points, every
+ * query's k nearest other than the skipped seed, in order, for k from 1 to
+ * more than there are points. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "voronoi/seed_kdtree.h"
+#include "vorocrust/random.h"
+
+#include "test_check.h"
+
+static const double *pts;
+
+static int cmp_hit(const void *x, const void *y)
+{
+    const vc_kd_hit *a = x, *b = y;
+    if (a->d2 != b->d2)
+        return a->d2 < b->d2 ? -1 : 1;
+    return (a->seed > b->seed) - (a->seed < b->seed);
+}
+
+/* Every point but skip, by (d2, seed), into all; returns the count. */
+static int brute(const double *q, int64_t n, int64_t skip, vc_kd_hit *all)
+{
+    int m = 0;
+    for (int64_t i = 0; i < n; i++) {
+        if (i == skip)
+            continue;
+        const double *p = pts + 3 * i;
+        const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+        all[m++] = (vc_kd_hit){dx * dx + dy * dy + dz * dz, i};
+    }
+    qsort(all, (size_t)m, sizeof *all, cmp_hit);
+    return m;
+}
+
+static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rng)
+{
+    pts = xyz;
+    vc_seed_kdtree t;
+    CHECK(vc_seed_kdtree_build(&t, xyz, n) == 0);
+    vc_kd_hit *all = malloc(sizeof *all * (size_t)(n + 1));
+    vc_kd_hit *hit = malloc(sizeof *hit * (size_t)(n + 8));
+    const int ks[] = {1, 2, 7, 16, 48, 96, (int)n - 1, (int)n + 5};
+    int bad = 0;
+    for (int q = 0; q < 200 && !bad; q++) {
+        /* a point of the set (skipped) or a free query point (nothing skipped) */
+        const int own = q % 2 == 0;
+        const int64_t skip = own ? (int64_t)(vc_rng_next(rng) % (uint64_t)n) : -1;
+        double x[3];
+        for (int d = 0; d < 3; d++)
+            x[d] = own ? xyz[3 * skip + d] : -0.2 + 1.4 * vc_rng_uniform(rng);
+        const int m = brute(x, n, skip, all);
+        for (size_t j = 0; j < sizeof ks / sizeof ks[0]; j++) {
+            const int k = ks[j];
+            if (k <= 0)
+                continue;
+            const int got = vc_seed_kdtree_knn(&t, x, k, skip, hit);
+            const int want = k < m ? k : m;
+            int same = got == want;
+            for (int i = 0; same && i < got; i++)
+                same = hit[i].seed == all[i].seed && hit[i].d2 == all[i].d2;
+            if (!same) {
+                CHECKF(same, "%s: query %d, k %d: %d hits, want %d (first difference)", name, q, k,
+                       got, want);
+                bad = 1;
+                break;
+            }
+        }
+    }
+    free(all);
+    free(hit);
+    vc_seed_kdtree_free(&t);
+}
+
+int main(void)
+{
+    vc_rng rng;
+    vc_rng_init(&rng, 5, 0);
+    enum { N = 3000 };
+    double *xyz = malloc(sizeof(double) * 3 * N);
+    /* uniform random */
+    for (int i = 0; i < 3 * N; i++)
+        xyz[i] = vc_rng_uniform(&rng);
+    check_set("random", xyz, N, &rng);
+    /* a 14^3 lattice: ties everywhere */
+    int64_t n = 0;
+    for (int a = 0; a < 14; a++)
+        for (int b = 0; b < 14; b++)
+            for (int c = 0; c < 14; c++, n++) {
+                xyz[3 * n] = a / 13.0;
+                xyz[3 * n + 1] = b / 13.0;
+                xyz[3 * n + 2] = c / 13.0;
+            }
+    check_set("lattice", xyz, n, &rng);
+    /* clusters of coincident points (and pairs a sliver apart) */
+    for (int i = 0; i < N; i++) {
+        const int c = i / 10;
+        for (int d = 0; d < 3; d++)
+            xyz[3 * i + d] = (double)((c * 7919 + d * 104729) % 1000) / 1000.0 +
+                             (i % 10 == 9 ? 1e-12 : 0.0);
+    }
+    check_set("clusters", xyz, N, &rng);
+    /* a few points: fewer than k */
+    check_set("tiny", xyz, 5, &rng);
+    free(xyz);
+    return failures != 0;
+}
