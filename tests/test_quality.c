@@ -635,6 +635,12 @@ static void test_hausdorff(void)
     vc_surface_free(&b);
 }
 
+static int cmp_double_test(const void *x, const void *y)
+{
+    const double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
 static void test_stats(void)
 {
     double v[100];
@@ -658,6 +664,26 @@ static void test_stats(void)
     double one = 7;
     CHECK(vc_stats_compute(&one, 1, &st) == 0);
     CHECK(st.min == 7 && st.p1 == 7 && st.p99 == 7 && st.mean == 7);
+    /* signs, zeros, infinities, subnormals: the radix sort's key mapping */
+    double s[8] = {-0.0, 3.5, -INFINITY, 1e-310, -2.25, 0.0, -1e-310, 42};
+    CHECK(vc_stats_compute(s, 8, &st) == 0);
+    CHECK(st.n == 8 && isinf(st.min) && st.min < 0 && st.max == 42);
+    CHECK_NEAR(st.p50, 0.0, 1e-300); /* between the two zeros */
+    /* a large array against qsort's order: every percentile a value of it */
+    enum { M = 100001 };
+    double *big = malloc(sizeof(double) * M), *sorted = malloc(sizeof(double) * M);
+    unsigned u = 12345;
+    for (int i = 0; i < M; i++) {
+        u = u * 1103515245u + 12345u;
+        big[i] = ((double)(u >> 8) / 16777216.0 - 0.5) * ldexp(1.0, (int)(u % 40) - 20);
+        sorted[i] = big[i];
+    }
+    qsort(sorted, M, sizeof(double), cmp_double_test);
+    CHECK(vc_stats_compute(big, M, &st) == 0);
+    CHECK(st.min == sorted[0] && st.max == sorted[M - 1]);
+    CHECK(st.p1 == sorted[1000] && st.p50 == sorted[50000] && st.p99 == sorted[99000]);
+    free(big);
+    free(sorted);
 }
 
 int main(void)
