@@ -6,6 +6,15 @@
 
 #define COORD_BITS 19
 #define COORD_MAX ((int64_t)1 << COORD_BITS) - 1
+/* Each ball is also listed in a coarse cell of its level, 2^COARSE_SHIFT
+ * cells wide: a query reaching many cells of a fine level (the Lipschitz
+ * bound of a large ball looks 4 radii away for small balls) reads the few
+ * coarse cells instead of probing every fine one or reading the whole
+ * level. The key's top bit tells coarse keys apart. */
+#define COARSE_SHIFT 4
+#define COARSE_BIT ((uint64_t)1 << 63)
+/* Fine cells a query probes at most before it takes the coarse ones. */
+#define FINE_PROBES 512
 
 /* 19 bits per cell coordinate (counted from the origin, clamped) and 6 bits
  * of level: distinct cells have distinct keys. */
@@ -86,20 +95,25 @@ void vc_ball_set_free(vc_ball_set *bs)
     memset(bs, 0, sizeof *bs);
 }
 
+/* Entry 2 i is ball i in its cell, entry 2 i + 1 in its coarse cell. */
 static void link_ball(vc_ball_set *bs, int64_t i)
 {
-    int64_t slot = (int64_t)(hash64(bs->key[i]) & (uint64_t)(bs->table_size - 1));
-    bs->next[i] = bs->head[slot];
-    bs->head[slot] = i;
+    for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
+        int64_t slot = (int64_t)(hash64(bs->key[e]) & (uint64_t)(bs->table_size - 1));
+        bs->next[e] = bs->head[slot];
+        bs->head[slot] = e;
+    }
 }
 
 static void unlink_ball(vc_ball_set *bs, int64_t i)
 {
-    int64_t slot = (int64_t)(hash64(bs->key[i]) & (uint64_t)(bs->table_size - 1));
-    int64_t *pp = &bs->head[slot];
-    while (*pp != i)
-        pp = &bs->next[*pp];
-    *pp = bs->next[i];
+    for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
+        int64_t slot = (int64_t)(hash64(bs->key[e]) & (uint64_t)(bs->table_size - 1));
+        int64_t *pp = &bs->head[slot];
+        while (*pp != e)
+            pp = &bs->next[*pp];
+        *pp = bs->next[e];
+    }
 }
 
 static int level_push(vc_ball_set *bs, int l, int64_t i)
@@ -130,8 +144,12 @@ static void set_key(vc_ball_set *bs, int64_t i)
     int l = bs->level[i];
     double h = cell_size(bs, l);
     const double *c = bs->b.center + 3 * i;
-    bs->key[i] = cell_key(l, cell_coord(c[0] - bs->origin[0], h),
-                          cell_coord(c[1] - bs->origin[1], h), cell_coord(c[2] - bs->origin[2], h));
+    int64_t x[3];
+    for (int d = 0; d < 3; d++)
+        x[d] = cell_coord(c[d] - bs->origin[d], h);
+    bs->key[2 * i] = cell_key(l, x[0], x[1], x[2]);
+    bs->key[2 * i + 1] = cell_key(l, x[0] >> COARSE_SHIFT, x[1] >> COARSE_SHIFT,
+                                  x[2] >> COARSE_SHIFT) | COARSE_BIT;
 }
 
 static int grow(vc_ball_set *bs)
@@ -150,17 +168,17 @@ static int grow(vc_ball_set *bs)
     GROW(b->kind, signed char, 1);
     GROW(b->element, int64_t, 1);
     GROW(b->normal, double, 3);
-    GROW(bs->next, int64_t, 1);
-    GROW(bs->key, uint64_t, 1);
+    GROW(bs->next, int64_t, 2);
+    GROW(bs->key, uint64_t, 2);
     GROW(bs->level, int, 1);
     GROW(bs->level_pos, int64_t, 1);
     GROW(bs->changed_reach, double, 1);
 #undef GROW
     bs->cap = c;
-    /* keep the table at least as large as the ball count */
-    if (c > bs->table_size) {
+    /* keep the table at least as large as the entry count (two per ball) */
+    if (2 * c > bs->table_size) {
         int64_t ts = bs->table_size;
-        while (ts < c)
+        while (ts < 2 * c)
             ts *= 2;
         int64_t *h = malloc(sizeof(int64_t) * (size_t)ts);
         if (!h)
@@ -286,6 +304,14 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
             hi[d] = cell_coord(p[d] - bs->origin[d] + R, h);
             cells *= (double)(hi[d] - lo[d] + 1);
         }
+        int coarse = 0;
+        if (cells > FINE_PROBES) {
+            double ccells = 1;
+            for (int d = 0; d < 3; d++)
+                ccells *= (double)((hi[d] >> COARSE_SHIFT) - (lo[d] >> COARSE_SHIFT) + 1);
+            coarse = ccells <= (double)bs->level_n[l];
+            cells = ccells;
+        }
         if (cells > (double)bs->level_n[l]) {
             for (int64_t m = 0; m < bs->level_n[l]; m++) {
                 int r = fn(ctx, bs->level_list[l][m]);
@@ -294,15 +320,43 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
             }
             continue;
         }
+        if (coarse) {
+            /* the coarse cells, and in them the balls whose own cell is
+             * in the range */
+            const int64_t clo[3] = {lo[0] >> COARSE_SHIFT, lo[1] >> COARSE_SHIFT, lo[2] >> COARSE_SHIFT};
+            const int64_t chi[3] = {hi[0] >> COARSE_SHIFT, hi[1] >> COARSE_SHIFT, hi[2] >> COARSE_SHIFT};
+            const uint64_t mask = ((uint64_t)1 << COORD_BITS) - 1;
+            for (int64_t i = clo[0]; i <= chi[0]; i++)
+                for (int64_t j = clo[1]; j <= chi[1]; j++)
+                    for (int64_t k = clo[2]; k <= chi[2]; k++) {
+                        const uint64_t key = cell_key(l, i, j, k) | COARSE_BIT;
+                        int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
+                        for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
+                            if (bs->key[e] != key)
+                                continue;
+                            const uint64_t fine = bs->key[e - 1];
+                            const int64_t x = (int64_t)(fine & mask),
+                                          y = (int64_t)((fine >> COORD_BITS) & mask),
+                                          z = (int64_t)((fine >> (2 * COORD_BITS)) & mask);
+                            if (x < lo[0] || x > hi[0] || y < lo[1] || y > hi[1] || z < lo[2] ||
+                                z > hi[2])
+                                continue;
+                            int r = fn(ctx, e >> 1);
+                            if (r)
+                                return r;
+                        }
+                    }
+            continue;
+        }
         for (int64_t i = lo[0]; i <= hi[0]; i++)
             for (int64_t j = lo[1]; j <= hi[1]; j++)
                 for (int64_t k = lo[2]; k <= hi[2]; k++) {
                     uint64_t key = cell_key(l, i, j, k);
                     int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
-                    for (int64_t b = bs->head[slot]; b >= 0; b = bs->next[b]) {
-                        if (bs->key[b] != key)
+                    for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
+                        if (bs->key[e] != key)
                             continue;
-                        int r = fn(ctx, b);
+                        int r = fn(ctx, e >> 1);
                         if (r)
                             return r;
                     }

@@ -5,8 +5,11 @@
  * indexed in levels by radius, level k holding radii in
  * [unit 2^k, unit 2^(k+1)) in a grid of cell size unit 2^(k+2), so the
  * centre of a ball touching a point always lies in one of the 8 cells
- * nearest to it at its level. A query at a level whose cell range would exceed the number of
- * balls there scans that level's list instead. */
+ * nearest to it at its level. Each ball is also listed in a coarse cell of
+ * its level (16 cells wide): a query whose range covers more than 512
+ * cells of a level reads the coarse cells instead. A query at a level
+ * whose cell range would exceed the number of balls there scans that
+ * level's list instead. */
 #ifndef VC_BALLS_BALL_SET_H
 #define VC_BALLS_BALL_SET_H
 
@@ -23,8 +26,8 @@ typedef struct vc_ball_set {
     /* hash grid: cell key -> first ball, then next[] */
     int64_t table_size;  /* power of two */
     int64_t *head;
-    int64_t *next;
-    uint64_t *key;       /* the ball's cell key */
+    int64_t *next;       /* per entry: 2 i for ball i's cell, 2 i + 1 for its coarse cell */
+    uint64_t *key;       /* per entry: the cell's key */
     int *level;
     /* per-level lists */
     int64_t *level_pos;  /* position of the ball in its level's list */
