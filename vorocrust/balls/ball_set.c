@@ -348,9 +348,24 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                     }
             continue;
         }
+        /* Per axis, the squared gap from p to each cell of the range: a
+         * cell of the box that lies farther than R from p (a corner of the
+         * cube around the sphere) holds no centre near enough. Clamped
+         * cells (at the grid's ends) are never skipped. */
+        double gap2[3][FINE_PROBES];
+        for (int d = 0; d < 3; d++)
+            for (int64_t c = lo[d]; c <= hi[d]; c++) {
+                const double x = p[d] - bs->origin[d], a = (double)c * h, b = a + h;
+                const double g = c == 0 || c == COORD_MAX ? 0 : x < a ? a - x : (x > b ? x - b : 0);
+                gap2[d][c - lo[d]] = g * g;
+            }
+        /* with room for the rounding of the cells' bounds and of p - origin */
+        const double Rs = R * (1 + 1e-9) + 1e-9 * h, R2 = Rs * Rs;
         for (int64_t i = lo[0]; i <= hi[0]; i++)
             for (int64_t j = lo[1]; j <= hi[1]; j++)
                 for (int64_t k = lo[2]; k <= hi[2]; k++) {
+                    if (gap2[0][i - lo[0]] + gap2[1][j - lo[1]] + gap2[2][k - lo[2]] > R2)
+                        continue;
                     uint64_t key = cell_key(l, i, j, k);
                     int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
                     for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
