@@ -433,6 +433,21 @@ static int cmp_hashed(const void *x, const void *y)
     return (a->g > b->g) - (a->g < b->g);
 }
 
+/* Hash cells (of width q) around a boundary point that it must search:
+ * two points coincide within merge_tol of their distance to their seeds
+ * (at most q) or, when exactly the same point, within the sum of their
+ * error bounds, so the point with the larger bound finds the other within
+ * q + 2 gev. Bounds are a few ulp of the point (width 1), up to 1e-6 of
+ * its distance to its seed for an ill-conditioned solve: the width is
+ * capped there (a pair of such points farther apart is not matched; the
+ * validator then reports the open cell). */
+#define MAX_SEARCH_WIDTH 16
+static int64_t search_width(const stitch *st, int64_t g, double q)
+{
+    const double w = ceil((q + 2 * st->gev[g]) / q);
+    return w < MAX_SEARCH_WIDTH ? (w > 1 ? (int64_t)w : 1) : MAX_SEARCH_WIDTH;
+}
+
 /* Kept cells that meet only across non-kept cells or the box (an edge or
  * a corner, as in a checkerboard) share vertices that no edge of a kept
  * cell joins. The points of boundary faces are united with every other
@@ -457,13 +472,11 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
         }
     }
     int64_t nb = 0;
-    double reach = 0, extent = 0;
+    double extent = 0;
     for (int64_t g = 0; g < ng; g++) {
         if (!on[g])
             continue;
         nb++;
-        const double r = merge_tol * st->grad[g] + 2 * st->gev[g];
-        reach = r > reach ? r : reach;
         for (int d = 0; d < 3; d++)
             extent = fabs(st->gp[3 * g + d]) > extent ? fabs(st->gp[3 * g + d]) : extent;
     }
@@ -474,14 +487,14 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
     }
     /* Hash cells as wide as the largest merge distance (merge_tol of the
      * distance to the seeds); a point whose error bound reaches farther
-     * (an ill-conditioned vertex) searches as many cells as it needs. */
+     * (an ill-conditioned vertex) searches as many cells as it needs
+     * (search_width). */
     double q = 0;
     for (int64_t g = 0; g < ng; g++)
         if (on[g] && merge_tol * st->grad[g] > q)
             q = merge_tol * st->grad[g];
     if (!(q > 1e-13 * (extent + 1)))
         q = 1e-13 * (extent + 1);
-    (void)reach;
     for (int64_t g = 0, n = 0; g < ng; g++) {
         if (!on[g])
             continue;
@@ -517,11 +530,12 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
         pair_buf *pb = &found[0];
 #endif
         const int64_t u = h[a].g;
-        /* the 3 x 3 columns of neighbouring cells: each column's three
+        const int64_t w = search_width(st, u, q);
+        /* the (2 w + 1)^2 columns of neighbouring cells: each column's
          * cells (dz) are consecutive in the sorted order */
-        for (int64_t dx = -1; dx <= 1; dx++)
-            for (int64_t dy = -1; dy <= 1; dy++) {
-                const hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] - 1}, -1};
+        for (int64_t dx = -w; dx <= w; dx++)
+            for (int64_t dy = -w; dy <= w; dy++) {
+                const hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] - w}, -1};
                 int64_t lo = 0, hi = nb;
                 while (lo < hi) {
                     const int64_t mid = (lo + hi) / 2;
@@ -531,11 +545,16 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
                         hi = mid;
                 }
                 for (int64_t b = lo; b < nb && h[b].i[0] == key.i[0] && h[b].i[1] == key.i[1] &&
-                                     h[b].i[2] <= key.i[2] + 2;
+                                     h[b].i[2] <= key.i[2] + 2 * w;
                      b++) {
                     const int64_t v = h[b].g;
-                    if (v <= u || snap[u] == snap[v])
-                        continue; /* each pair once; already one class */
+                    if (v == u || snap[u] == snap[v])
+                        continue; /* already one class */
+                    /* each pair once: from the wider search, or the lower
+                     * index at equal widths (both searches reach the other) */
+                    const int64_t wv = search_width(st, v, q);
+                    if (wv > w || (wv == w && v < u))
+                        continue;
                     const int join = points_coincide(st, u, v, merge_tol);
                     if (join == VC_PREDICATE_NOMEM || (join == 1 && PUSH(pb, ((pair64){u, v}))))
                         failed = 1;
