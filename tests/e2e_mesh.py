@@ -297,8 +297,13 @@ if PART == "icosphere":
     # polygon for polygon (as sets of points; the numbering may differ)
     if rc == 0 and os.path.exists(os.path.join(TMP, "mesh_lift.obj")):
         def polygon_sets(path):
+            # a ball centre is one vertex of many co-spherical seeds (the
+            # pole seed among them in the volume mesh, where it may have
+            # moved on its sphere): the same point to rounding, not to the
+            # bit. A polygon: its vertices to 1e-9 (the surface is of size 1)
             pts, polys = read_surface(path)
-            return set(frozenset(tuple(pts[i]) for i in p) for p in polys), len(polys)
+            return set(frozenset(tuple(round(x, 9) + 0.0 for x in pts[i]) for i in p)
+                       for p in polys), len(polys)
         a, na = polygon_sets(os.path.join(TMP, "mesh_lift.obj"))
         b, nb = polygon_sets(full_surf)
         print("icosphere: %d polygons --surface-only, %d in the volume mesh, %d common"

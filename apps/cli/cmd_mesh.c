@@ -64,6 +64,11 @@ static void usage(FILE *f)
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
         "  --lloyd N           N iterations of Lloyd relaxation of the interior seeds, 0 to\n"
         "                      1000 (default 0); the surface seeds stay fixed\n"
+        "  --protect E         no short edges: pole seeds under the balls, and the interior\n"
+        "                      seeds at short Voronoi edges moved a little until every edge\n"
+        "                      at their vertices is at least E times the cell's radius,\n"
+        "                      0 <= E < 0.25 (0.01 recommended; default 0: off; about\n"
+        "                      doubles the volume mesh's time)\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -106,7 +111,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing", "--foam", "--lloyd",
+                                             "--interior-spacing", "--foam", "--lloyd", "--protect",
                                              "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough",
                                              "--patch-type", "--patches"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
@@ -202,15 +207,16 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
         fprintf(stderr,
                 "  interior: octree of %lld leaves (%lld before the 2:1 balance; %lld "
                 "trees, levels %d to %d), %lld interior seeds (leaves left out: %lld in a "
-                "ball, %lld outside, %lld next to a surface seed), %.3f s\n",
+                "ball, %lld outside, %lld next to a surface or pole seed), and %lld pole "
+                "seeds, %.3f s\n",
                 (long long)ost->n_leaves, (long long)ost->n_refined_leaves,
                 (long long)ost->n_trees, ost->min_level, ost->max_level,
                 (long long)ost->n_seeds, (long long)ost->n_covered, (long long)ost->n_outside,
-                (long long)ost->n_near_seed, t->interior);
+                (long long)ost->n_near_seed, (long long)r->n_pole_seeds, t->interior);
     else
-        fprintf(stderr, "  interior: %s, %lld interior seeds, %.3f s\n",
+        fprintf(stderr, "  interior: %s, %lld interior seeds (%lld pole seeds), %.3f s\n",
                 opt->interior == VC_INTERIOR_LATTICE ? "lattice" : "none",
-                (long long)r->n_interior_seeds, t->interior);
+                (long long)r->n_interior_seeds, (long long)r->n_pole_seeds, t->interior);
     const vc_lloyd_stats *lst = &r->lloyd;
     if (opt->lloyd_iterations > 0)
         fprintf(stderr,
@@ -221,6 +227,16 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                 lst->reverted ? " (the next one was undone: its mesh failed the validator)" : "",
                 (long long)lst->n_moved, (long long)lst->n_refused, lst->mean_shift,
                 lst->max_shift, t->lloyd);
+    const vc_protect_stats *pst = &r->protect;
+    if (opt->protect_edge > 0 && r->n_interior_seeds > 0)
+        fprintf(stderr,
+                "  short-edge protection: %lld of %lld interior seeds with an edge below %g of "
+                "their cell's radius, %lld after %lld moves of %lld seeds in %d rounds (%lld "
+                "cells measured); shortest %.3g (before %.3g); %.3f s\n",
+                (long long)pst->n_short_before, (long long)pst->n_checked, opt->protect_edge,
+                (long long)pst->n_short_after, (long long)pst->n_moves, (long long)pst->n_moved,
+                pst->rounds, (long long)pst->n_measures, pst->min_edge_after,
+                pst->min_edge_before, t->protect);
     const vc_polymesh *m = &r->mesh;
     /* several materials: the input's volume is its material regions' */
     double input_volume = r->input.volume;
@@ -456,6 +472,13 @@ static int run_mesh(int argc, char **argv)
                 return 2;
             }
             opt.lloyd_iterations = (int)it;
+            i++;
+        } else if (!strcmp(a, "--protect")) {
+            if (vc_cli_parse_double(v, &opt.protect_edge) ||
+                !(opt.protect_edge >= 0 && opt.protect_edge < 0.25)) {
+                fprintf(stderr, "vorocrust: --protect needs a number in [0, 0.25), got '%s'\n", v);
+                return 2;
+            }
             i++;
         } else if (!strcmp(a, "--interior-spacing")) {
             if (vc_cli_parse_double(v, &opt.interior_spacing) || !(opt.interior_spacing > 0)) {

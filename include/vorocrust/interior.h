@@ -17,7 +17,10 @@
  * from the surface at the rate the Lipschitz constant allows.
  *
  * vc_interior_lloyd relaxes the interior seeds towards the centroids of
- * their Voronoi cells, the surface seeds fixed. */
+ * their Voronoi cells, the surface seeds fixed.
+ *
+ * vc_interior_protect moves the interior seeds that make short Voronoi
+ * edges, a little, so that no five seeds lie nearly on one empty sphere. */
 #ifndef VORO_CRUST_INTERIOR_H
 #define VORO_CRUST_INTERIOR_H
 
@@ -118,6 +121,76 @@ typedef struct vc_lloyd_stats {
 
 int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface, int iterations,
                       int threads, vc_lloyd_stats *stats, vc_error *err);
+
+/* Pole seeds (docs/solver-grade-cells.md): for every surface ball, the two
+ * points of its sphere on its normal (centre +- radius normal) that lie
+ * outside every other ball scaled by sqrt(1 + gap) and whose nearest
+ * surface seed is an inside seed, labelled as that seed (one per side on
+ * an interface between regions), less those within a quarter of the
+ * ball's radius of an earlier one. The surface seeds of a side of a ball
+ * lie nearly on one circle of its sphere; the pole ends the nearly
+ * degenerate fan their cells make below the ball centre at the centre
+ * itself (co-spherical by construction: one vertex), instead of wherever
+ * an interior seed cuts it (short edges). out gets the poles in ball
+ * order (nothing when there are none), *ball_of (malloc'ed, NULL when
+ * none) the ball of each. Fails with VC_EPARAM (gap outside [0, 1)),
+ * VC_ENOMEM. */
+int vc_interior_pole_seeds(const vc_balls *balls, const vc_seeds *surface_seeds, double gap,
+                           vc_seeds *out, int64_t **ball_of, vc_error *err);
+
+/* Short-edge protection of the interior seeds (issue 20;
+ * docs/solver-grade-cells.md). A Voronoi edge is short when five seeds lie
+ * nearly on one empty sphere; every such configuration a seed is part of
+ * shows at a vertex of its own cell: as one of the cell's edges, or as the
+ * edge that leaves the cell there (equidistant to the vertex's three other
+ * seeds), which ends where a fifth seed comes as near. The measure of a
+ * seed is the shortest of these edges over its cell's radius (the largest
+ * distance from the seed to a vertex), edges shorter than 1e-9 of their
+ * vertices' radius being ties (co-spherical seeds, exactly or to rounding:
+ * one vertex for the engine). Every interior seed (index >= n_surface)
+ * whose measure is below opt->min_edge is moved to the first of up to 8
+ * random points (a fixed sequence per seed and round, from
+ * opt->random_seed) within a quarter of the distance from its original
+ * place to its nearest seed whose measure reaches the target, or to the
+ * best of them when it beats the current place (Ghosh's and Li and Teng's
+ * picking regions). A point is eligible only outside every surface ball
+ * scaled by sqrt(1 + 4 min_edge) and with a nearest surface seed of the
+ * seed's own label, so the reconstructed surface and the regions do not
+ * change. In each round the seeds below the target none of whose cell's
+ * neighbours is picked before them (seed order) search at once, and their
+ * moves are taken in seed order, each only when no seed whose cell it
+ * changes has moved in the round; the seeds a move took neighbours from
+ * are measured again when nothing else is left; up to 12 rounds. A pole
+ * seed (opt->n_poles of them, seeds n_surface .. n_surface + n_poles - 1)
+ * moves on its ball's sphere (the point of the sphere nearest each random
+ * point), so the ball centre stays a vertex of its cell. The surface seeds
+ * never move: their own near-ties (two triplets of a near-quartet of
+ * balls) stay. Deterministic, whatever the thread count. */
+typedef struct vc_protect_options {
+    double min_edge;      /* 0 <= min_edge < 0.25 (0: nothing moves); default 0.01 */
+    uint64_t random_seed; /* default 1 */
+    int64_t n_poles;
+    const int64_t *pole_ball; /* n_poles: the ball of each pole seed */
+    int threads;          /* <= 0: OpenMP's default; the result does not depend on it */
+} vc_protect_options;
+
+void vc_protect_options_default(vc_protect_options *opt);
+
+typedef struct vc_protect_stats {
+    int64_t n_checked;            /* interior seeds measured or skipped as lattice seeds */
+    int64_t n_short_before;       /* with a measure below the target, before */
+    int64_t n_short_after;        /* and after */
+    int64_t n_moved;              /* seeds moved (once or more) */
+    int64_t n_moves;              /* moves in all rounds */
+    int64_t n_measures;           /* cells built and measured */
+    int rounds;
+    double min_edge_before, min_edge_after; /* the smallest measure */
+    double seconds;
+} vc_protect_stats;
+
+/* Fails with VC_EPARAM on a bad option or surface seed count, VC_ENOMEM. */
+int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
+                        const vc_protect_options *opt, vc_protect_stats *stats, vc_error *err);
 
 #ifdef __cplusplus
 }

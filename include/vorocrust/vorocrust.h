@@ -123,6 +123,14 @@ typedef struct vc_mesh_options {
     vc_interior_kind interior;
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */
+    /* Short-edge protection (docs/solver-grade-cells.md), 0 <= E < 0.25:
+     * with E > 0, pole seeds (vc_interior_pole_seeds) join the interior
+     * seeds, and the interior seeds at short Voronoi edges are moved a
+     * little (vc_interior_protect) until every edge at their cells'
+     * vertices is at least E times the cell's radius. 0.01 is the
+     * recommended value; default 0: off (it costs about as much again as
+     * the Voronoi cells). */
+    double protect_edge;
     int threads;             /* <= 0: OpenMP's default */
     /* A sampling predicted (from the sizing) to need more balls than this
      * is refused before it starts, and one that reaches it stops, both with
@@ -194,7 +202,7 @@ typedef struct vc_mesh_times {
     double features;        /* detection and smoothing of the kept attempt */
     double sizing, corners, edges, surface, lipschitz, slivers; /* the sampling */
     double failed_sampling; /* the attempt that diverged, when resampled */
-    double seeds, reconstruct, interior, lloyd, voronoi, quality;
+    double seeds, reconstruct, interior, lloyd, protect, voronoi, quality;
     double total;
 } vc_mesh_times;
 
@@ -249,6 +257,9 @@ typedef struct vc_mesh_result {
     vc_cell_quality cell_quality;
     vc_octree_stats octree;     /* with the octree interior */
     vc_lloyd_stats lloyd;       /* with lloyd_iterations > 0 */
+    vc_protect_stats protect;   /* with protect_edge > 0 and interior seeds */
+    int64_t n_pole_seeds;       /* the first of the interior seeds */
+    int64_t *pole_ball;         /* n_pole_seeds: the ball of each */
 
     vc_mesh_times time;
 } vc_mesh_result;

@@ -148,6 +148,17 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lips
 
 int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3])
 {
+    return vc_ball_tree_covers_scaled(t, x, 1.0);
+}
+
+int vc_ball_tree_covers_scaled(const vc_ball_tree *t, const double x[3], double factor)
+{
+    return vc_ball_tree_covers_scaled_except(t, x, factor, -1);
+}
+
+int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], double factor,
+                                      int64_t skip)
+{
     if (t->balls->n == 0)
         return 0;
     int64_t stack[2 * MAX_DEPTH + 2];
@@ -155,16 +166,19 @@ int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3])
     stack[top++] = 0;
     while (top > 0) {
         const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
-        if (box_dist(nd, x) > nd->rmax)
+        if (box_dist(nd, x) > factor * nd->rmax)
             continue;
         if (nd->child < 0) {
             const vc_balls *b = t->balls;
             for (int64_t k = nd->first; k < nd->first + nd->count; k++) {
                 int64_t i = t->order[k];
+                if (i == skip)
+                    continue;
                 const double *p = b->center + 3 * i;
                 double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
                             (x[2] - p[2]) * (x[2] - p[2]);
-                if (d2 <= b->radius[i] * b->radius[i])
+                const double r = factor * b->radius[i];
+                if (d2 <= r * r)
                     return 1;
             }
             continue;

@@ -37,4 +37,10 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lips
 /* 1 when |x - p| <= r_p for some ball (on a sphere counts as inside). */
 int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3]);
 
+/* 1 when |x - p| <= factor r_p for some ball (factor > 0); the second
+ * leaves ball `skip` out. */
+int vc_ball_tree_covers_scaled(const vc_ball_tree *t, const double x[3], double factor);
+int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], double factor,
+                                      int64_t skip);
+
 #endif

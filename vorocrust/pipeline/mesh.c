@@ -86,6 +86,7 @@ void vc_mesh_result_free(vc_mesh_result *r)
     vc_polysurface_free(&r->surface);
     vc_polymesh_free(&r->mesh);
     free(r->region_mesh);
+    free(r->pole_ball);
     memset(r, 0, sizeof *r);
 }
 
@@ -116,6 +117,9 @@ static int check_options(const vc_mesh_options *o, vc_error *err)
     if (o->max_sliver_iterations < 0 || o->max_sliver_iterations > 100000)
         return vc_error_set(err, VC_EPARAM, "%d sliver passes: 0 (the default) to 100000 are "
                             "allowed", o->max_sliver_iterations);
+    if (!(o->protect_edge >= 0 && o->protect_edge < 0.25))
+        return vc_error_set(err, VC_EPARAM, "protect edge %g: needs a number in [0, 0.25)",
+                            o->protect_edge);
     if (o->lloyd_iterations < 0 || o->lloyd_iterations > 1000)
         return vc_error_set(err, VC_EPARAM, "%d Lloyd iterations: 0 to 1000 are allowed",
                             o->lloyd_iterations);
@@ -566,12 +570,42 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
 
 /* The surface seeds followed by the interior seeds of opt->interior
  * (octree or lattice) into *all, their count into *n_interior; nothing
- * for VC_INTERIOR_NONE. */
-static int interior_seeds(const vc_mesh_options *opt, const char *name, const vc_mesh_result *out,
+ * for VC_INTERIOR_NONE. The pole seeds (vc_interior_pole_seeds) come
+ * first among the interior seeds, and the octree or lattice keeps away
+ * from them as from the surface seeds. */
+static int interior_seeds(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
                           vc_seeds *all, int64_t *n_interior, vc_octree_stats *octree,
                           vc_error *err)
 {
     *n_interior = 0;
+    out->n_pole_seeds = 0;
+    free(out->pole_ball);
+    out->pole_ball = NULL;
+    if (opt->interior == VC_INTERIOR_NONE)
+        return 0;
+    /* the surface seeds and the poles: what the interior keeps away from */
+    vc_seeds base = out->seeds, poles = {0, NULL, NULL}, joined = {0, NULL, NULL};
+    if (opt->protect_edge > 0) {
+        /* the balls' empty spheres get 4 times the edge target as a power
+         * gap, as in vc_interior_protect */
+        if (vc_interior_pole_seeds(&out->balls, &out->seeds, 4 * opt->protect_edge, &poles,
+                                   &out->pole_ball, err))
+            return named(err, name, NULL);
+        if (poles.n > 0) {
+            if (vc_seeds_alloc(&joined, out->seeds.n + poles.n, err)) {
+                vc_seeds_free(&poles);
+                return named(err, name, NULL);
+            }
+            memcpy(joined.xyz, out->seeds.xyz, sizeof(double) * 3 * (size_t)out->seeds.n);
+            memcpy(joined.label, out->seeds.label, sizeof(int32_t) * (size_t)out->seeds.n);
+            memcpy(joined.xyz + 3 * out->seeds.n, poles.xyz, sizeof(double) * 3 * (size_t)poles.n);
+            memcpy(joined.label + out->seeds.n, poles.label, sizeof(int32_t) * (size_t)poles.n);
+            base = joined;
+        }
+        out->n_pole_seeds = poles.n;
+        vc_seeds_free(&poles);
+    }
+    int rc = 0;
     if (opt->interior == VC_INTERIOR_OCTREE) {
         vc_octree_options oo;
         vc_octree_options_default(&oo);
@@ -579,16 +613,19 @@ static int interior_seeds(const vc_mesh_options *opt, const char *name, const vc
         oo.max_size = opt->max_size;
         oo.threads = opt->threads;
         vc_log(opt->log, VC_LOG_INFO, "mesh: interior octree");
-        if (vc_interior_octree(&out->balls, &out->seeds, &oo, all, n_interior, octree, NULL, err))
-            return named(err, name, NULL);
+        if (vc_interior_octree(&out->balls, &base, &oo, all, n_interior, octree, NULL, err))
+            rc = named(err, name, NULL);
     } else if (opt->interior == VC_INTERIOR_LATTICE) {
         double h = opt->interior_spacing > 0
                        ? opt->interior_spacing
                        : vc_interior_default_spacing(&out->balls, opt->max_size);
-        if (vc_interior_lattice(&out->balls, &out->seeds, h, all, n_interior, err))
-            return named(err, name, NULL);
+        if (vc_interior_lattice(&out->balls, &base, h, all, n_interior, err))
+            rc = named(err, name, NULL);
     }
-    return 0;
+    vc_seeds_free(&joined);
+    if (!rc)
+        *n_interior += out->n_pole_seeds;
+    return rc;
 }
 
 /* The surface alone (--surface-only): the facets between the inside and
@@ -659,6 +696,23 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
             return named(err, name, NULL);
     }
     out->time.lloyd = now() - t;
+
+    t = now();
+    if (opt->protect_edge > 0 && out->n_interior_seeds > 0) {
+        vc_protect_options po;
+        vc_protect_options_default(&po);
+        po.min_edge = opt->protect_edge;
+        po.random_seed = opt->seed;
+        po.threads = opt->threads;
+        vc_log(opt->log, VC_LOG_INFO, "mesh: protecting %lld interior seeds from short edges",
+               (long long)out->n_interior_seeds);
+        po.n_poles = out->n_pole_seeds;
+        po.pole_ball = out->pole_ball;
+        if (vc_interior_protect(&out->balls, &out->seeds, out->n_surface_seeds, &po,
+                                &out->protect, err))
+            return named(err, name, NULL);
+    }
+    out->time.protect = now() - t;
 
     t = now();
     vc_voronoi_options vo;

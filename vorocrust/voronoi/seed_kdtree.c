@@ -100,6 +100,32 @@ int vc_seed_kdtree_build(vc_seed_kdtree *t, const double *xyz, int64_t n)
     return 0;
 }
 
+void vc_seed_kdtree_refit(vc_seed_kdtree *t, const double *xyz)
+{
+    for (int64_t i = 0; i < t->n; i++)
+        memcpy(t->xyz + 3 * i, xyz + 3 * t->index[i], 3 * sizeof(double));
+    /* children come after their parent: from the last node back */
+    for (int64_t id = t->n_nodes - 1; id >= 0; id--) {
+        vc_kd_node *nd = &t->node[id];
+        if (nd->left < 0) {
+            for (int d = 0; d < 3; d++)
+                nd->lo[d] = nd->hi[d] = t->xyz[3 * nd->begin + d];
+            for (int64_t i = nd->begin + 1; i < nd->end; i++)
+                for (int d = 0; d < 3; d++) {
+                    const double x = t->xyz[3 * i + d];
+                    nd->lo[d] = x < nd->lo[d] ? x : nd->lo[d];
+                    nd->hi[d] = x > nd->hi[d] ? x : nd->hi[d];
+                }
+            continue;
+        }
+        const vc_kd_node *l = &t->node[nd->left], *r = &t->node[nd->right];
+        for (int d = 0; d < 3; d++) {
+            nd->lo[d] = l->lo[d] < r->lo[d] ? l->lo[d] : r->lo[d];
+            nd->hi[d] = l->hi[d] > r->hi[d] ? l->hi[d] : r->hi[d];
+        }
+    }
+}
+
 void vc_seed_kdtree_free(vc_seed_kdtree *t)
 {
     free(t->xyz);

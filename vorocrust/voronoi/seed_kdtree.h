@@ -28,6 +28,11 @@ typedef struct vc_seed_kdtree {
 int vc_seed_kdtree_build(vc_seed_kdtree *t, const double *xyz, int64_t n);
 void vc_seed_kdtree_free(vc_seed_kdtree *t);
 
+/* Moves the points to xyz (3 per seed index, the same seeds), keeping the
+ * tree's shape: O(n), the boxes recomputed. Queries stay exact; they slow
+ * down only when points move far. */
+void vc_seed_kdtree_refit(vc_seed_kdtree *t, const double *xyz);
+
 /* A neighbour found: squared distance, seed index. */
 typedef struct vc_kd_hit {
     double d2;

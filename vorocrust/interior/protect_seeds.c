@@ -1,0 +1,644 @@
+/* Short-edge protection of the interior seeds (see
+ * include/vorocrust/interior.h and docs/solver-grade-cells.md).
+ *
+ * A Voronoi edge is short when five seeds lie nearly on one empty sphere.
+ * The surface seeds are fixed by the balls; the octree's seeds are exact
+ * lattice points whose ties the engine resolves into one vertex; the
+ * near-ties are where the two meet. There each interior seed whose cell
+ * has a short edge at one of its vertices is moved within a small ball
+ * around its original place (a picking region, as in Li and Teng's and
+ * Ghosh's protection): the places that make a given five seeds nearly
+ * co-spherical are a thin shell, so a few random points find one clear of
+ * all of them, unless the near-tie does not involve the seed at all (two
+ * near-coincident surface seeds), which no move mends. */
+#include "vorocrust/interior.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "ball_tree.h"
+#include "nearest_seed.h"
+#include "util/threads.h"
+#include "vorocrust/polymesh.h"
+#include "vorocrust/random.h"
+#include "voronoi/convex_cell.h"
+#include "voronoi/seed_kdtree.h"
+
+/* Neighbours read first, and at most (a cell not closed by K_MAX of them
+ * is measured as it is); neighbours of a seed's original place read once
+ * for all its candidate places. */
+enum { K_FIRST = 64, K_MAX = 512, K_AROUND = 64 };
+/* A seed whose nearest this many are lattice seeds (octree leaf centres,
+ * unmoved) is taken as protected without a measure: a lattice point's
+ * cell is bounded by its 26 lattice neighbours, and every tie among them
+ * is exact. */
+enum { LATTICE_NEIGHBOURS = 32 };
+/* Random points tried per seed and round; rounds of moves. */
+enum { N_CANDIDATES = 8, MAX_ROUNDS = 12 };
+/* Edges no longer than this share of their vertices' distance to their
+ * seeds join vertices that are one for the engine (co-spherical seeds,
+ * exactly or to rounding: lattice corners, ball centres), and seeds whose
+ * power gap at a vertex is below it are co-spherical there. */
+#define TIE 1e-9
+/* The picking region's radius, a share of the distance from the seed's
+ * original place to its nearest neighbour. */
+#define PICK_RADIUS 0.25
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+typedef struct workspace {
+    vc_convex_cell cell;
+    vc_power_ctx ctx;
+    double local[3 * (K_MAX + 1)]; /* the point, then its neighbours (absolute) */
+    vc_kd_hit hit[K_MAX];
+    vc_kd_hit around[K_AROUND];    /* the neighbours of the original place */
+    int n_around;
+    int64_t nb[K_MAX];             /* seeds whose planes bound the cell */
+    int n_nb;
+    unsigned char used[K_MAX + 1];
+    double worst[3];               /* the vertex at the shortest edge */
+} workspace;
+
+/* Cuts the cell of x by the m neighbours in ws->hit (sorted by distance
+ * from x). Returns 1 when no seed beyond them can cut it (all_seeds: they
+ * are all there are), 0 when one might, 2 when x makes no proper cell (on
+ * a seed, or a defect), -1 when out of memory. */
+static int cut_cell(workspace *ws, const double *xyz, const double x[3], int m, int all_seeds)
+{
+    vc_convex_cell *cell = &ws->cell;
+    const double reach = sqrt(ws->hit[m - 1].d2);
+    /* walls far enough that a cell bounded by its neighbours never
+     * meets them */
+    const double wall = 4 * reach + 1e-300;
+    for (int d = 0; d < 3; d++) {
+        ws->local[d] = x[d];
+        ws->ctx.box_lo[d] = x[d] - wall;
+        ws->ctx.box_hi[d] = x[d] + wall;
+    }
+    for (int i = 0; i < m; i++)
+        memcpy(ws->local + 3 * (i + 1), xyz + 3 * ws->hit[i].seed, 3 * sizeof(double));
+    ws->ctx.xyz = ws->local;
+    cell->ctx = &ws->ctx;
+    cell->seed = 0;
+    const double lo[3] = {-wall, -wall, -wall}, hi[3] = {wall, wall, wall};
+    const int64_t walls[6] = {VC_WALL_XMIN - 0, VC_WALL_XMIN - 1, VC_WALL_XMIN - 2,
+                              VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
+    if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
+        return -1;
+    for (int i = 0; i < m; i++) {
+        if (!(ws->hit[i].d2 <= 4.0 * cell->rmax2 * (1.0 + 1e-9)))
+            break; /* sorted: no farther seed can cut */
+        if (ws->hit[i].d2 == 0)
+            return 2;
+        const double *y = ws->local + 3 * (i + 1);
+        const double p[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+        const int r = vc_convex_cell_cut(cell, p, i + 1);
+        if (r == VC_CELL_NOMEM)
+            return -1;
+        if (r < 0)
+            return 2;
+    }
+    return all_seeds || ws->hit[m - 1].d2 > 4.0 * cell->rmax2 * (1.0 + 1e-9);
+}
+
+/* The shortest Voronoi edge at the vertices of the cell just cut (m
+ * neighbours), over the cell's radius: the cell's own edges, and at each
+ * vertex the edge that leaves the cell (equidistant to the vertex's
+ * three other seeds a, b, c), which ends where a fifth seed y comes as
+ * near: along it y's power less a's changes at the rate 2 u.(a - y).
+ * Together they are every edge whose length depends on where the seed
+ * is. Fills ws->nb, and ws->worst with the vertex at the shortest edge
+ * (absolute). Stops at the first edge below beat (its value is then an
+ * upper bound). */
+static double edge_measure(workspace *ws, int m, double beat)
+{
+    vc_convex_cell *cell = &ws->cell;
+    ws->n_nb = 0;
+    memset(ws->used, 0, sizeof ws->used);
+    double rcell2 = 0;
+    for (int t = 0; t < cell->nt; t++) {
+        const int *pl = cell->tri + 3 * t;
+        const int64_t a = cell->plane_id[pl[0]], b = cell->plane_id[pl[1]],
+                      c = cell->plane_id[pl[2]];
+        if (a > 0)
+            ws->used[a] = 1;
+        if (b > 0)
+            ws->used[b] = 1;
+        if (c > 0)
+            ws->used[c] = 1;
+        if (a > 0 && b > 0 && c > 0 && cell->r2[t] > rcell2)
+            rcell2 = cell->r2[t];
+    }
+    for (int i = 1; i <= m; i++)
+        if (ws->used[i])
+            ws->nb[ws->n_nb++] = ws->hit[i - 1].seed;
+    if (!(rcell2 > 0))
+        return INFINITY;
+    const double rcell = sqrt(rcell2);
+    double shortest = INFINITY;
+    /* the cell's own edges: consecutive vertices of its faces */
+    if (vc_convex_cell_faces(cell) != 0)
+        return 0;
+    for (int f = 0; f < cell->nf; f++) {
+        const int f0 = cell->face_start[f], f1 = cell->face_start[f + 1];
+        if (cell->face_plane[f] < 0)
+            continue;
+        for (int k = f0; k < f1; k++) {
+            const int u = cell->fv[k], v = cell->fv[k + 1 < f1 ? k + 1 : f0];
+            const int *pu = cell->tri + 3 * u, *pv = cell->tri + 3 * v;
+            if (cell->plane_id[pu[0]] < 0 || cell->plane_id[pu[1]] < 0 ||
+                cell->plane_id[pu[2]] < 0 || cell->plane_id[pv[0]] < 0 ||
+                cell->plane_id[pv[1]] < 0 || cell->plane_id[pv[2]] < 0)
+                continue;
+            const double dx = cell->px[u] - cell->px[v], dy = cell->py[u] - cell->py[v],
+                         dz = cell->pz[u] - cell->pz[v];
+            const double len = sqrt(dx * dx + dy * dy + dz * dz);
+            if (len > TIE * sqrt(cell->r2[u]) && len < shortest) {
+                shortest = len;
+                ws->worst[0] = ws->local[0] + cell->px[u];
+                ws->worst[1] = ws->local[1] + cell->py[u];
+                ws->worst[2] = ws->local[2] + cell->pz[u];
+                if (shortest < beat * rcell)
+                    return shortest / rcell;
+            }
+        }
+    }
+    /* the edges leaving the cell (coordinates relative to the point) */
+    const double *x = ws->local;
+    for (int t = 0; t < cell->nt; t++) {
+        const int *pl = cell->tri + 3 * t;
+        const int64_t a = cell->plane_id[pl[0]], b = cell->plane_id[pl[1]],
+                      c = cell->plane_id[pl[2]];
+        if (a < 0 || b < 0 || c < 0)
+            continue;
+        double ya[3], yb[3], yc[3];
+        for (int d = 0; d < 3; d++) {
+            ya[d] = ws->local[3 * a + d] - x[d];
+            yb[d] = ws->local[3 * b + d] - x[d];
+            yc[d] = ws->local[3 * c + d] - x[d];
+        }
+        const double e1[3] = {yb[0] - ya[0], yb[1] - ya[1], yb[2] - ya[2]};
+        const double e2[3] = {yc[0] - ya[0], yc[1] - ya[1], yc[2] - ya[2]};
+        double u[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
+        const double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        if (!(lu > 0))
+            continue;
+        /* away from the point: the point's power grows faster than a's */
+        const double sgn = u[0] * ya[0] + u[1] * ya[1] + u[2] * ya[2] > 0 ? 1 / lu : -1 / lu;
+        for (int d = 0; d < 3; d++)
+            u[d] *= sgn;
+        const double w[3] = {cell->px[t], cell->py[t], cell->pz[t]};
+        const double r2 = cell->r2[t];
+        const double ua = u[0] * ya[0] + u[1] * ya[1] + u[2] * ya[2];
+        double len = INFINITY;
+        for (int i = 1; i <= m; i++) {
+            if (i == a || i == b || i == c)
+                continue;
+            const double *yy = ws->local + 3 * i;
+            const double y[3] = {yy[0] - x[0], yy[1] - x[1], yy[2] - x[2]};
+            const double rate = u[0] * y[0] + u[1] * y[1] + u[2] * y[2] - ua;
+            if (!(rate > 0))
+                continue; /* y falls behind along the edge */
+            const double e0 = y[0] - w[0], e1y = y[1] - w[1], e2y = y[2] - w[2];
+            const double fy = e0 * e0 + e1y * e1y + e2y * e2y - r2;
+            if (fy <= TIE * r2)
+                continue; /* co-spherical: the same vertex */
+            const double ty = fy / (2 * rate);
+            if (ty < len)
+                len = ty;
+        }
+        if (len < shortest) {
+            shortest = len;
+            ws->worst[0] = x[0] + w[0];
+            ws->worst[1] = x[1] + w[1];
+            ws->worst[2] = x[2] + w[2];
+            if (shortest < beat * rcell)
+                return shortest / rcell;
+        }
+    }
+    return shortest / rcell;
+}
+
+/* The measure of a point x for seed `self` (edge_measure), its cell's
+ * neighbours into ws->nb: from ws->around when they are enough (use_around),
+ * else from the tree. Returns 0, or -1 when out of memory. */
+static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *xyz,
+                      const double x[3], int64_t self, int use_around, int have_first,
+                      double beat, double *out)
+{
+    *out = INFINITY;
+    ws->n_nb = 0;
+    if (use_around && ws->n_around > 0) {
+        const int m = ws->n_around;
+        for (int i = 0; i < m; i++) {
+            const double *y = xyz + 3 * ws->around[i].seed;
+            const double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2];
+            vc_kd_hit h = {dx * dx + dy * dy + dz * dz, ws->around[i].seed};
+            int j = i; /* insertion sort by (d2, seed) */
+            while (j > 0 && (ws->hit[j - 1].d2 > h.d2 ||
+                             (ws->hit[j - 1].d2 == h.d2 && ws->hit[j - 1].seed > h.seed))) {
+                ws->hit[j] = ws->hit[j - 1];
+                j--;
+            }
+            ws->hit[j] = h;
+        }
+        const int r = cut_cell(ws, xyz, x, m, 0);
+        if (r < 0)
+            return -1;
+        if (r == 2) {
+            *out = 0;
+            return 0;
+        }
+        if (r == 1) {
+            *out = edge_measure(ws, m, beat);
+            return 0;
+        }
+    }
+    for (int k = K_FIRST;; k *= 2) {
+        /* have_first: ws->hit holds the first K_FIRST already */
+        const int m = k == K_FIRST && have_first ? have_first
+                                                 : vc_seed_kdtree_knn(tree, x, k, self, ws->hit);
+        if (m == 0)
+            return 0;
+        const int r = cut_cell(ws, xyz, x, m, m < k);
+        if (r < 0)
+            return -1;
+        if (r == 2) {
+            *out = 0;
+            return 0;
+        }
+        if (r == 1 || 2 * k > K_MAX) {
+            *out = edge_measure(ws, m, beat);
+            return 0;
+        }
+    }
+}
+
+/* A seed's move in one round: where to, and every seed whose cell it
+ * touched at either place (sorted). */
+typedef struct proposal {
+    double to[3];
+    double gap_before, gap_after;
+    int n_old, n;  /* touch[0 .. n_old): the cell's neighbours where it is */
+    int64_t *touch;
+} proposal;
+
+void vc_protect_options_default(vc_protect_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->min_edge = 0.01;
+    opt->random_seed = 1;
+}
+
+int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
+                        const vc_protect_options *opt, vc_protect_stats *stats, vc_error *err)
+{
+    const double t0 = now();
+    vc_protect_stats st;
+    memset(&st, 0, sizeof st);
+    st.min_edge_before = st.min_edge_after = INFINITY;
+    if (stats)
+        *stats = st;
+    if (n_surface < 0 || n_surface > seeds->n || !(opt->min_edge >= 0 && opt->min_edge < 0.25) ||
+        opt->n_poles < 0 || opt->n_poles > seeds->n - n_surface || (opt->n_poles && !opt->pole_ball))
+        return vc_error_set(err, VC_EPARAM, "seed protection: bad shortest edge %g, surface seed "
+                            "count %lld or pole seeds", opt->min_edge, (long long)n_surface);
+    const int64_t n = seeds->n, n_int = n - n_surface;
+    if (n_int == 0 || opt->min_edge == 0)
+        return 0;
+    const double gap = opt->min_edge; /* the target of the measure */
+    const int threads = vc_threads_or_default(opt->threads);
+
+    vc_ball_tree balls_tree;
+    vc_seed_kdtree surface_tree, tree;
+    memset(&surface_tree, 0, sizeof surface_tree);
+    memset(&tree, 0, sizeof tree);
+    int have_balls = 0, rc = 0;
+    double *origin = malloc(sizeof(double) * 3 * (size_t)n_int);
+    double *pick = malloc(sizeof(double) * (size_t)n_int);
+    proposal *prop = calloc((size_t)n_int, sizeof *prop);
+    unsigned char *active = malloc((size_t)n_int), *next = malloc((size_t)n_int);
+    unsigned char *dirty = calloc((size_t)n_int, 1);
+    unsigned char *touched = malloc((size_t)n);
+    int *moved_round = malloc(sizeof(int) * (size_t)n);
+    double *gap_now = malloc(sizeof(double) * (size_t)n_int);
+    int64_t *list = malloc(sizeof(int64_t) * (size_t)n_int);
+    workspace *ws = calloc((size_t)threads, sizeof *ws);
+    const vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
+    if (!origin || !pick || !prop || !active || !next || !dirty || !touched || !moved_round || !gap_now ||
+        !list || !ws || vc_ball_tree_build(&balls_tree, balls) != 0) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory protecting the interior seeds");
+        goto done;
+    }
+    have_balls = 1;
+    if (n_surface > 0 && vc_nearest_seed_index_build(&surface_tree, &surface) != 0) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory protecting the interior seeds");
+        goto done;
+    }
+    for (int t = 0; t < threads; t++)
+        vc_convex_cell_init(&ws[t].cell);
+    memcpy(origin, seeds->xyz + 3 * n_surface, sizeof(double) * 3 * (size_t)n_int);
+    memset(active, 1, (size_t)n_int);
+    for (int64_t i = 0; i < n; i++)
+        moved_round[i] = -1;
+    /* a power gap g at a vertex keeps its edges longer than about g R / 4
+     * (docs/solver-grade-cells.md): the balls' empty spheres (their
+     * centres are vertices) get 4 times the target */
+    const double margin = sqrt(1 + 4 * gap);
+
+    for (int round = 0; round <= MAX_ROUNDS && !rc; round++) {
+        if (round == 0) {
+            if (vc_seed_kdtree_build(&tree, seeds->xyz, n) != 0) {
+                rc = vc_error_set(err, VC_ENOMEM, "out of memory protecting the interior seeds");
+                break;
+            }
+        } else {
+            vc_seed_kdtree_refit(&tree, seeds->xyz); /* moves are small */
+        }
+        int64_t n_list = 0;
+        for (int64_t i = 0; i < n_int; i++)
+            if (active[i])
+                list[n_list++] = i;
+        if (n_list == 0)
+            break;
+        const int propose = round < MAX_ROUNDS;
+        int failed = 0;
+        int64_t measures = 0;
+        /* 1. Measure every listed seed where it is; keep the neighbours of
+         * those below the target. */
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(| : failed) \
+    reduction(+ : measures)
+        for (int64_t l = 0; l < n_list; l++) {
+#ifdef _OPENMP
+            workspace *w = &ws[omp_get_thread_num()];
+#else
+            workspace *w = &ws[0];
+#endif
+            const int64_t i = list[l], s = n_surface + i;
+            proposal *pr = &prop[i];
+            free(pr->touch);
+            pr->touch = NULL;
+            pr->n = pr->n_old = 0;
+            int have_first = 0;
+            if (round == 0) {
+                /* the picking region: a share of the distance to the
+                 * nearest seed from the original place */
+                if ((have_first = vc_seed_kdtree_knn(&tree, origin + 3 * i, K_FIRST, s, w->hit)) < 1) {
+                    pick[i] = 0;
+                    gap_now[i] = INFINITY;
+                    continue;
+                }
+                pick[i] = PICK_RADIUS * sqrt(w->hit[0].d2);
+                /* among lattice seeds only, every tie is exact and every
+                 * edge long: nothing to measure */
+                int lattice = 1;
+                for (int k = 0; k < LATTICE_NEIGHBOURS && k < have_first && lattice; k++)
+                    lattice = w->hit[k].seed >= n_surface + opt->n_poles;
+                if (lattice) {
+                    gap_now[i] = INFINITY;
+                    continue;
+                }
+            }
+            double g;
+            measures++;
+            if (measure_at(w, &tree, seeds->xyz, seeds->xyz + 3 * s, s, 0, have_first, -INFINITY, &g) != 0) {
+                failed = 1;
+                continue;
+            }
+            gap_now[i] = g;
+            if (g >= gap || !propose || pick[i] <= 0)
+                continue;
+            pr->touch = malloc(sizeof(int64_t) * (size_t)(2 * K_MAX));
+            if (!pr->touch) {
+                failed = 1;
+                continue;
+            }
+            memcpy(pr->touch, w->nb, sizeof(int64_t) * (size_t)w->n_nb);
+            pr->n_old = w->n_nb;
+            pr->gap_before = g;
+        }
+        st.n_measures += measures;
+        measures = 0;
+        if (failed) {
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory protecting the interior seeds");
+            break;
+        }
+        int64_t below = 0;
+        for (int64_t l = 0; l < n_list; l++) {
+            const int64_t i = list[l];
+            below += gap_now[i] < gap;
+            if (round == 0) {
+                st.n_checked++;
+                if (gap_now[i] < st.min_edge_before)
+                    st.min_edge_before = gap_now[i];
+            }
+        }
+        if (round == 0)
+            st.n_short_before = below;
+        st.rounds = round;
+        if (!propose)
+            break;
+        /* 2. Pick, in seed order, the seeds below the target none of whose
+         * neighbours is picked: their moves hardly interfere. */
+        memset(touched, 0, (size_t)n);
+        memset(next, 0, (size_t)n_int);
+        int64_t n_pick = 0;
+        for (int64_t l = 0; l < n_list; l++) {
+            const int64_t i = list[l], s = n_surface + i;
+            proposal *pr = &prop[i];
+            if (!pr->touch)
+                continue;
+            if (touched[s]) {
+                next[i] = 1; /* a neighbour goes first */
+                free(pr->touch);
+                pr->touch = NULL;
+                continue;
+            }
+            touched[s] = 1;
+            for (int k = 0; k < pr->n_old; k++)
+                touched[pr->touch[k]] = 1;
+            list[n_pick++] = i;
+        }
+        /* 3. Search their picking regions. */
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 4) reduction(| : failed) \
+    reduction(+ : measures)
+        for (int64_t l = 0; l < n_pick; l++) {
+#ifdef _OPENMP
+            workspace *w = &ws[omp_get_thread_num()];
+#else
+            workspace *w = &ws[0];
+#endif
+            const int64_t i = list[l], s = n_surface + i;
+            proposal *pr = &prop[i];
+            w->n_around = vc_seed_kdtree_knn(&tree, origin + 3 * i, K_AROUND, s, w->around);
+            vc_rng rng;
+            vc_rng_init(&rng, opt->random_seed ^ 0x5EED5AFEull,
+                        (uint64_t)(s * (MAX_ROUNDS + 1) + round));
+            double best = pr->gap_before, best_x[3] = {0, 0, 0};
+            int n_best = -1;
+            for (int c = 0; c < N_CANDIDATES && best < gap; c++) {
+                double u[3], q = 2;
+                while (q > 1) { /* uniform in the unit ball */
+                    for (int d = 0; d < 3; d++)
+                        u[d] = 2 * vc_rng_uniform(&rng) - 1;
+                    q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+                }
+                double x[3];
+                for (int d = 0; d < 3; d++)
+                    x[d] = origin[3 * i + d] + pick[i] * u[d];
+                int64_t own_ball = -1;
+                if (i < opt->n_poles) {
+                    /* a pole: onto its sphere */
+                    own_ball = opt->pole_ball[i];
+                    const double *bc = balls->center + 3 * own_ball;
+                    const double br = balls->radius[own_ball];
+                    const double e[3] = {x[0] - bc[0], x[1] - bc[1], x[2] - bc[2]};
+                    const double le = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+                    if (!(le > 0))
+                        continue;
+                    for (int d = 0; d < 3; d++)
+                        x[d] = bc[d] + br * e[d] / le;
+                }
+                /* away from every ball by the gap (the ball centres are
+                 * vertices of the surface seeds' diagram, their balls the
+                 * empty spheres), and inside the same region: the nearest
+                 * surface seed carries the seed's label */
+                if (vc_ball_tree_covers_scaled_except(&balls_tree, x, margin, own_ball))
+                    continue;
+                double dn;
+                const int64_t ns = n_surface > 0 ? vc_nearest_seed(&surface_tree, x, &dn) : -1;
+                if (ns < 0 || seeds->label[ns] != seeds->label[s])
+                    continue;
+                double gc;
+                measures++;
+                if (measure_at(w, &tree, seeds->xyz, x, s, 1, 0, best, &gc) != 0) {
+                    failed = 1;
+                    break;
+                }
+                if (gc > best && w->n_nb <= K_MAX) {
+                    best = gc;
+                    memcpy(best_x, x, sizeof x);
+                    n_best = w->n_nb;
+                    memcpy(pr->touch + pr->n_old, w->nb, sizeof(int64_t) * (size_t)n_best);
+                }
+            }
+            if (n_best < 0) {
+                free(pr->touch);
+                pr->touch = NULL;
+                continue;
+            }
+            pr->n = pr->n_old + n_best;
+            memcpy(pr->to, best_x, sizeof best_x);
+            pr->gap_after = best;
+        }
+        st.n_measures += measures;
+        if (failed) {
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory protecting the interior seeds");
+            break;
+        }
+        /* 4. Take the moves in seed order, each only if no seed it
+         * touches has moved in this round and no earlier move touched it
+         * (a picked seed may still move next to another). The seeds a
+         * move touched are measured again in the next round. */
+        memset(touched, 0, (size_t)n);
+        int64_t accepted = 0;
+        for (int64_t l = 0; l < n_pick; l++) {
+            const int64_t i = list[l], s = n_surface + i;
+            proposal *pr = &prop[i];
+            if (!pr->touch)
+                continue;
+            int clash = touched[s];
+            for (int k = 0; k < pr->n && !clash; k++)
+                clash = moved_round[pr->touch[k]] == round;
+            if (clash) {
+                next[i] = 1;
+                continue;
+            }
+            memcpy(seeds->xyz + 3 * s, pr->to, sizeof pr->to);
+            moved_round[s] = round;
+            accepted++;
+            for (int k = 0; k < pr->n; k++)
+                touched[pr->touch[k]] = 1;
+            /* its former neighbours may meet where it was: measured again
+             * at the end (the new ones share its vertices) */
+            for (int k = 0; k < pr->n_old; k++)
+                if (pr->touch[k] >= n_surface)
+                    dirty[pr->touch[k] - n_surface] = 1;
+        }
+        /* Next: the seeds that waited, and those that moved but are still
+         * below the target. The seeds a move touched are measured again
+         * once nothing else is left (a move is measured with every edge
+         * at a vertex of its own cell, where its near-ties are). */
+        int64_t n_next = 0;
+        for (int64_t i = 0; i < n_int; i++) {
+            const int64_t s = n_surface + i;
+            if (moved_round[s] == round)
+                gap_now[i] = prop[i].gap_after;
+            if (moved_round[s] == round && gap_now[i] < gap)
+                next[i] = 1;
+            n_next += next[i];
+        }
+        st.n_moves += accepted;
+        if (n_next == 0 || round + 1 == MAX_ROUNDS) {
+            for (int64_t i = 0; i < n_int; i++)
+                if (dirty[i])
+                    next[i] = 1;
+            memset(dirty, 0, (size_t)n_int);
+            n_next = 0;
+            for (int64_t i = 0; i < n_int; i++)
+                n_next += next[i];
+        }
+        memcpy(active, next, (size_t)n_int);
+        if (n_next == 0)
+            break;
+    }
+    if (!rc) {
+        /* the final figures: every seed's last measured gap */
+        st.n_short_after = 0;
+        for (int64_t i = 0; i < n_int; i++) {
+            st.n_short_after += gap_now[i] < gap;
+            if (gap_now[i] < st.min_edge_after)
+                st.min_edge_after = gap_now[i];
+            st.n_moved += moved_round[n_surface + i] >= 0;
+        }
+    }
+
+done:
+    if (ws) {
+        for (int t = 0; t < threads; t++)
+            vc_convex_cell_free(&ws[t].cell);
+        free(ws);
+    }
+    if (prop)
+        for (int64_t i = 0; i < n_int; i++)
+            free(prop[i].touch);
+    free(prop);
+    free(origin);
+    free(pick);
+    free(active);
+    free(next);
+    free(dirty);
+    free(touched);
+    free(moved_round);
+    free(gap_now);
+    free(list);
+    vc_seed_kdtree_free(&tree);
+    vc_seed_kdtree_free(&surface_tree);
+    if (have_balls)
+        vc_ball_tree_free(&balls_tree);
+    st.seconds = now() - t0;
+    if (stats)
+        *stats = st;
+    return rc;
+}
