@@ -171,6 +171,11 @@ typedef struct vc_protect_options {
     uint64_t random_seed; /* default 1 */
     int64_t n_poles;
     const int64_t *pole_ball; /* n_poles: the ball of each pole seed */
+    /* Seeds from this index on are unmoved lattice points (the octree's
+     * leaf centres, or the cubic lattice): one whose 32 nearest seeds all
+     * are is not measured (its cell's ties are exact, its edges long).
+     * < 0 (default): none. */
+    int64_t lattice_begin;
     int threads;          /* <= 0: OpenMP's default; the result does not depend on it */
 } vc_protect_options;
 

@@ -299,6 +299,7 @@ void vc_protect_options_default(vc_protect_options *opt)
     memset(opt, 0, sizeof *opt);
     opt->min_edge = 0.01;
     opt->random_seed = 1;
+    opt->lattice_begin = -1;
 }
 
 int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
@@ -402,9 +403,9 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
                 pick[i] = PICK_RADIUS * sqrt(w->hit[0].d2);
                 /* among lattice seeds only, every tie is exact and every
                  * edge long: nothing to measure */
-                int lattice = 1;
+                int lattice = opt->lattice_begin >= 0 && s >= opt->lattice_begin;
                 for (int k = 0; k < LATTICE_NEIGHBOURS && k < have_first && lattice; k++)
-                    lattice = w->hit[k].seed >= n_surface + opt->n_poles;
+                    lattice = w->hit[k].seed >= opt->lattice_begin;
                 if (lattice) {
                     gap_now[i] = INFINITY;
                     continue;

@@ -708,6 +708,9 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
                (long long)out->n_interior_seeds);
         po.n_poles = out->n_pole_seeds;
         po.pole_ball = out->pole_ball;
+        /* the octree's or lattice's seeds, unless Lloyd moved them */
+        if (opt->lloyd_iterations == 0)
+            po.lattice_begin = out->n_surface_seeds + out->n_pole_seeds;
         if (vc_interior_protect(&out->balls, &out->seeds, out->n_surface_seeds, &po,
                                 &out->protect, err))
             return named(err, name, NULL);

@@ -1,0 +1,160 @@
+"""End-to-end test of `vorocrust mesh --protect E` (short-edge protection,
+issue 20), checked on the files with VTK, independently of the C code:
+
+ - the mesh is sound (tests/vtkcheck.py: every cell a closed convex
+   polyhedron VTK reads back, volumes summing to the boundary's);
+ - per cell, the shortest edge over the largest distance from the cell's
+   seed to its vertices (computed here from the .vtu and the seeds CSV):
+   without --protect more than 10% of the cells have it below 1e-2; with
+   --protect 0.01 at most 2%, and none below the recorded floor;
+ - the reconstructed surface is the one without --protect (the moved seeds
+   stay out of the balls), and so is the volume;
+ - every interior seed outside every ball (a pole seed on its ball's
+   sphere) and its nearest surface seed an inside one;
+ - 1 and 2 threads give the same .vtu byte for byte.
+Usage: e2e_protect.py PART: icosphere (models/icosphere.obj, the
+repository alone) or torus (the shared torus.obj, skipped without the
+shared models). Environment: VC_BIN, VC_MODELS, VC_TMP, VC_SOURCE."""
+import math
+import os
+import re
+import sys
+
+import vtk
+
+sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
+import vtkcheck  # noqa: E402
+import e2eutil  # noqa: E402
+from e2eutil import check, run  # noqa: E402
+from surfacecheck import read_surface  # noqa: E402
+
+BIN = os.environ["VC_BIN"]
+# PART: (model, the floor of the shortest relative edge with --protect 0.01)
+# The floor: the issue's 1e-3 where it is met; torus.obj's shortest edges
+# are at near-quartets of its surface seeds (two near-coincident seeds of
+# one side), which no interior seed can mend (docs/solver-grade-cells.md).
+PARTS = {"icosphere": (os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj"), 1e-3),
+         "torus": (None, 3e-4)}
+if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
+    print("usage: e2e_protect.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
+    sys.exit(2)
+PART = sys.argv[1]
+MODEL, FLOOR = PARTS[PART]
+if MODEL is None:
+    MODEL = os.path.join(e2eutil.models_dir(), "torus.obj")
+TMP = e2eutil.fresh_tmp("e2e_protect_" + PART)
+
+
+def mesh(tag, *extra):
+    out = {k: os.path.join(TMP, "%s%s" % (tag, s)) for k, s in
+           (("vtu", ".vtu"), ("surface", ".obj"), ("seeds", "_seeds.csv"), ("balls", "_balls.csv"))}
+    rc, _, err = run([BIN, "mesh", MODEL, "-o", out["vtu"], "--surface", out["surface"],
+                      "--seeds", out["seeds"], "--balls", out["balls"], *extra], timeout=600)
+    check(rc == 0, "%s: exit %d: %s" % (tag, rc, err[-2000:]))
+    return rc, err, out
+
+
+def rows(path):
+    with open(path) as f:
+        next(f)
+        return [line.strip().split(",") for line in f if line.strip()]
+
+
+def relative_edges(vtu, seeds_csv):
+    """Per cell: shortest edge / largest distance from its seed to a vertex."""
+    seeds = [tuple(map(float, r[:3])) for r in rows(seeds_csv)]
+    grid = vtkcheck.read_vtu(vtu)
+    seed_of = vtkcheck.cell_array(grid, "seed")
+    pts = grid.GetPoints()
+    rel = []
+    for c in range(grid.GetNumberOfCells()):
+        s = seeds[int(seed_of[c])]
+        far, short = 0.0, math.inf
+        for face in vtkcheck.cell_faces(grid, c):
+            for i, a in enumerate(face):
+                pa, pb = pts.GetPoint(a), pts.GetPoint(face[(i + 1) % len(face)])
+                far = max(far, math.dist(pa, s))
+                short = min(short, math.dist(pa, pb))
+        rel.append(short / far)
+    return rel
+
+
+def surface_polygons(path):
+    pts, polys = read_surface(path)
+    return set(frozenset(tuple(round(x, 9) + 0.0 for x in pts[i]) for i in p) for p in polys)
+
+
+base_rc, base_err, base = mesh("plain")
+prot = {}
+for t in ("1", "2"):
+    rc, err, out = mesh("protect_t" + t, "--protect", "0.01", "--threads", t)
+    if rc == 0:
+        prot[t] = (err, out)
+
+if base_rc == 0 and "1" in prot:
+    err, out = prot["1"]
+    m = re.search(r"short-edge protection: (\d+) of (\d+) interior seeds .*?, (\d+) after (\d+) moves",
+                  err)
+    check(m is not None, "no short-edge protection line in the summary:\n%s" % err[-2000:])
+    check("short-edge protection" not in base_err, "a protection line without --protect")
+    info = vtkcheck.check_vtu(out["vtu"])
+    vol = re.search(r"reconstructed surface ([0-9.e+-]+)", base_err)
+    check(vol and abs(info["total_volume"] - float(vol.group(1))) <= 1e-9 * info["total_volume"],
+          "cell volumes %.12g with --protect, the surface without encloses %s"
+          % (info["total_volume"], vol.group(1) if vol else "?"))
+    a, b = surface_polygons(base["surface"]), surface_polygons(out["surface"])
+    check(a == b, "the surface changed with --protect (%d and %d polygons, %d in common)"
+          % (len(a), len(b), len(a & b)))
+
+    r0 = relative_edges(base["vtu"], base["seeds"])
+    r1 = relative_edges(out["vtu"], out["seeds"])
+    s0 = sum(x < 1e-2 for x in r0) / len(r0)
+    s1 = sum(x < 1e-2 for x in r1) / len(r1)
+    print("%s: cells with an edge below 1e-2 of their radius: %.1f%% without, %.2f%% with "
+          "--protect 0.01; shortest %.3g and %.3g; %s" % (PART, 100 * s0, 100 * s1, min(r0), min(r1),
+                                                         m.group(0) if m else ""))
+    check(s0 > 0.10, "only %.1f%% short cells without --protect: the test measures nothing" % (100 * s0))
+    check(s1 <= 0.02, "%.2f%% of the cells have an edge below 1e-2 of their radius" % (100 * s1))
+    check(min(r1) >= FLOOR, "shortest relative edge %.3g, below %g" % (min(r1), FLOOR))
+
+    # the interior seeds: outside the balls (a pole on its sphere), inside
+    balls = [(tuple(map(float, r[:3])), float(r[3])) for r in rows(out["balls"])]
+    seeds = [(tuple(map(float, r[:3])), int(r[3])) for r in rows(out["seeds"])]
+    n_surface = len([1 for r in rows(base["seeds"])]) - int(
+        re.search(r"\((\d+) interior seeds\)", base_err).group(1))
+    loc = vtk.vtkPointLocator()
+    bp = vtk.vtkPolyData()
+    bpts = vtk.vtkPoints()
+    for c, _ in balls:
+        bpts.InsertNextPoint(c)
+    bp.SetPoints(bpts)
+    loc.SetDataSet(bp)
+    loc.BuildLocator()
+    spts = vtk.vtkPoints()
+    for x, _ in seeds[:n_surface]:
+        spts.InsertNextPoint(x)
+    sp = vtk.vtkPolyData()
+    sp.SetPoints(spts)
+    sloc = vtk.vtkPointLocator()
+    sloc.SetDataSet(sp)
+    sloc.BuildLocator()
+    rmax = max(r for _, r in balls)
+    ids = vtk.vtkIdList()
+    inside_ball = outside = 0
+    for x, _ in seeds[n_surface:]:
+        loc.FindPointsWithinRadius(rmax, x, ids)
+        for k in range(ids.GetNumberOfIds()):
+            c, r = balls[ids.GetId(k)]
+            inside_ball += math.dist(c, x) < r * (1 - 1e-9)
+        outside += seeds[sloc.FindClosestPoint(x)][1] != 1
+    check(inside_ball == 0, "%d interior seeds inside a ball" % inside_ball)
+    check(outside == 0, "%d interior seeds outside the surface" % outside)
+
+if "1" in prot and "2" in prot:
+    with open(prot["1"][1]["vtu"], "rb") as f1, open(prot["2"][1]["vtu"], "rb") as f2:
+        check(f1.read() == f2.read(), "the .vtu differs between 1 and 2 threads")
+
+if e2eutil.failures:
+    print("e2e_protect: %d failure(s)" % len(e2eutil.failures), file=sys.stderr)
+    sys.exit(1)
+print("e2e_protect %s: ok" % PART)
