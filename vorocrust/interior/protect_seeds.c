@@ -69,6 +69,16 @@ typedef struct workspace {
     double worst[3];               /* the vertex at the shortest edge */
 } workspace;
 
+/* The calling thread's workspace. */
+static inline workspace *own_workspace(workspace *ws)
+{
+#ifdef _OPENMP
+    return &ws[omp_get_thread_num()];
+#else
+    return &ws[0];
+#endif
+}
+
 /* Cuts the cell of x by the m neighbours in ws->hit (sorted by distance
  * from x). Returns 1 when no seed beyond them can cut it (all_seeds: they
  * are all there are), 0 when one might, 2 when x makes no proper cell (on
@@ -381,11 +391,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(| : failed) \
     reduction(+ : measures)
         for (int64_t l = 0; l < n_list; l++) {
-#ifdef _OPENMP
-            workspace *w = &ws[omp_get_thread_num()];
-#else
-            workspace *w = &ws[0];
-#endif
+            workspace *w = own_workspace(ws);
             const int64_t i = list[l], s = n_surface + i;
             proposal *pr = &prop[i];
             free(pr->touch);
@@ -475,11 +481,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 4) reduction(| : failed) \
     reduction(+ : measures)
         for (int64_t l = 0; l < n_pick; l++) {
-#ifdef _OPENMP
-            workspace *w = &ws[omp_get_thread_num()];
-#else
-            workspace *w = &ws[0];
-#endif
+            workspace *w = own_workspace(ws);
             const int64_t i = list[l], s = n_surface + i;
             proposal *pr = &prop[i];
             w->n_around = vc_seed_kdtree_knn(&tree, origin + 3 * i, K_AROUND, s, w->around);
@@ -550,8 +552,8 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
         }
         /* 4. Take the moves in seed order, each only if no seed it
          * touches has moved in this round and no earlier move touched it
-         * (a picked seed may still move next to another). The seeds a
-         * move touched are measured again in the next round. */
+         * (a picked seed may still move next to another); the others wait
+         * for the next round. */
         memset(touched, 0, (size_t)n);
         int64_t accepted = 0;
         for (int64_t l = 0; l < n_pick; l++) {
