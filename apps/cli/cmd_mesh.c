@@ -69,6 +69,9 @@ static void usage(FILE *f)
         "                      at their vertices is at least E times the cell's radius,\n"
         "                      0 <= E < 0.25 (0.01 recommended; default 0: off; about\n"
         "                      doubles the volume mesh's time)\n"
+        "  --quartet-gap G     experimental: sliver elimination also shrinks a ball whose\n"
+        "                      sphere passes within a power gap G of a seed (a near-quartet\n"
+        "                      of balls: two near-coincident seeds), 0 <= G < 1 (default 0)\n"
         "  --seeds OUT.csv     the seeds (x,y,z,label: 1 inside, 0 outside)\n"
         "  --balls OUT.csv     the balls (x,y,z,radius,kind,element,nx,ny,nz)\n"
         "  --sharp-angle DEG   theta_sharp, 0 < DEG < 180 (default %g)\n"
@@ -111,7 +114,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing", "--foam", "--lloyd", "--protect",
+                                             "--interior-spacing", "--foam", "--lloyd", "--protect", "--quartet-gap",
                                              "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough",
                                              "--patch-type", "--patches"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
@@ -472,6 +475,13 @@ static int run_mesh(int argc, char **argv)
                 return 2;
             }
             opt.lloyd_iterations = (int)it;
+            i++;
+        } else if (!strcmp(a, "--quartet-gap")) {
+            if (vc_cli_parse_double(v, &opt.quartet_gap) ||
+                !(opt.quartet_gap >= 0 && opt.quartet_gap < 1)) {
+                fprintf(stderr, "vorocrust: --quartet-gap needs a number in [0, 1), got '%s'\n", v);
+                return 2;
+            }
             i++;
         } else if (!strcmp(a, "--protect")) {
             if (vc_cli_parse_double(v, &opt.protect_edge) ||

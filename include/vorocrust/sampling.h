@@ -60,6 +60,11 @@ typedef struct vc_sampling_options {
                              facets, and their radii are bounded by curvature_factor
                              times its radius of curvature; 0: on the facets */
     double curvature_factor; /* see smooth_width */
+    double quartet_gap;   /* > 0: sliver elimination also separates near-quartets: a
+                             seed whose power gap to a fourth sphere, d^2 / r^2 - 1, is
+                             below this has that ball shrunk until it is this (two
+                             near-coincident seeds of one side otherwise make short
+                             Voronoi edges); 0 (default): only covered seeds */
     int lift_centres;     /* 1 (default): once sampled, surface ball centres move off the
                              input by the mean sag of their reconstructed facets, so that
                              the reconstruction has no volume bias (balls/centre_lift.h);

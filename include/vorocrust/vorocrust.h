@@ -131,6 +131,7 @@ typedef struct vc_mesh_options {
      * recommended value; default 0: off (it costs about as much again as
      * the Voronoi cells). */
     double protect_edge;
+    double quartet_gap;      /* vc_sampling_options.quartet_gap; default 0 */
     int threads;             /* <= 0: OpenMP's default */
     /* A sampling predicted (from the sizing) to need more balls than this
      * is refused before it starts, and one that reaches it stops, both with

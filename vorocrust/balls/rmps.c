@@ -1083,6 +1083,7 @@ typedef struct half_rec {
 typedef struct sliver_ctx {
     const vc_balls *b;
     double margin;     /* SHRINK_MARGIN */
+    double quartet_gap; /* opt.quartet_gap */
     half_rec *half;    /* n_half of them */
     int64_t n_half, cap;
     int oom;
@@ -1095,6 +1096,29 @@ static void on_triplet(void *ctx, const vc_triplet *t)
     sliver_ctx *c = ctx;
     if (t->cover_up < 0 && t->cover_down < 0)
         collect_facet(c->facets, t);
+    if (t->cover_up < 0 && t->cover_down < 0 && c->quartet_gap > 0 && !c->oom) {
+        /* a near-quartet: a seed nearly on a fourth sphere; that ball
+         * shrinks until the seed's gap is quartet_gap */
+        const int up = t->clear_up <= t->clear_down;
+        const double clear = up ? t->clear_up : t->clear_down;
+        const int64_t f = up ? t->clear_ball_up : t->clear_ball_down;
+        if (clear < c->quartet_gap && f >= 0) {
+            const double *g = up ? t->up : t->down;
+            if (c->n_half == 0)
+                memcpy(c->where, g, sizeof c->where);
+            if (vc_reserve(&c->half, &c->cap, c->n_half + 1, sizeof(half_rec))) {
+                c->oom = 1;
+                return;
+            }
+            half_rec *h = &c->half[c->n_half++];
+            h->v[0] = t->i;
+            h->v[1] = t->j;
+            h->v[2] = t->k;
+            h->cover = f;
+            h->r = dist(c->b->center + 3 * f, g) / sqrt(1 + c->quartet_gap) * (1 - c->margin);
+        }
+        return;
+    }
     if ((t->cover_up < 0) == (t->cover_down < 0) || c->oom)
         return;
     int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
@@ -1180,7 +1204,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
     }
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
     facet_list fresh = {NULL, 0, 0, 0};
-    sliver_ctx c = {b, SHRINK_MARGIN, NULL, 0, 0, 0,
+    sliver_ctx c = {b, SHRINK_MARGIN, S->opt.quartet_gap, NULL, 0, 0, 0,
                     {0, 0, 0}, &fresh};
     double *target = malloc(sizeof(double) * (size_t)n);
     unsigned char *cut = calloc((size_t)n, 1);
@@ -1538,6 +1562,7 @@ void vc_sampling_options_default(vc_sampling_options *opt)
     opt->smooth_width = 0;
     opt->curvature_factor = 0.2;
     opt->lift_centres = 1;
+    opt->quartet_gap = 0;
 }
 
 void vc_balls_free(vc_balls *b)

@@ -112,11 +112,12 @@ static int overlap(const vc_balls *b, int64_t p, int64_t q)
  * is none, *clear is p's clearance from the nearest fourth sphere (see
  * vc_triplet). */
 static int64_t best_cover(const vc_balls *b, const nb_list *L, int64_t j, int64_t k,
-                          const double p[3], double *clear)
+                          const double p[3], double *clear, int64_t *clear_ball)
 {
     int64_t best = -1;
     double best_gap = INFINITY;
     *clear = INFINITY;
+    *clear_ball = -1;
     for (int64_t m = 0; m < L->n; m++) {
         int64_t f = L->ids[m];
         if (f == j || f == k)
@@ -126,8 +127,10 @@ static int64_t best_cover(const vc_balls *b, const nb_list *L, int64_t j, int64_
             double d2 = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
                         (p[2] - c[2]) * (p[2] - c[2]);
             double q = d2 / (b->radius[f] * b->radius[f]) - 1;
-            if (q < *clear)
+            if (q < *clear) {
                 *clear = q;
+                *clear_ball = f;
+            }
             continue;
         }
         const double *c = b->center + 3 * f;
@@ -177,8 +180,8 @@ static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_bu
                                          b->radius[j], b->center + 3 * k, b->radius[k], t.up,
                                          t.down))
                 continue;
-            t.cover_up = best_cover(b, L, j, k, t.up, &t.clear_up);
-            t.cover_down = best_cover(b, L, j, k, t.down, &t.clear_down);
+            t.cover_up = best_cover(b, L, j, k, t.up, &t.clear_up, &t.clear_ball_up);
+            t.cover_down = best_cover(b, L, j, k, t.down, &t.clear_down, &t.clear_ball_down);
             if (vc_reserve(&out->t, &out->cap, out->n + 1, sizeof(vc_triplet))) {
                 out->oom = 1;
                 return;

@@ -28,6 +28,7 @@ typedef struct vc_triplet {
     double up[3], down[3];
     int64_t cover_up, cover_down;
     double clear_up, clear_down;
+    int64_t clear_ball_up, clear_ball_down; /* the nearest fourth sphere's ball, or -1 */
 } vc_triplet;
 
 /* Calls fn(ctx, &t) for the triplets of pairwise overlapping balls whose

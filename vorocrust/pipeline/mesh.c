@@ -416,6 +416,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     so.smooth_width = opt->smooth_width;
     so.curvature_factor = opt->curvature_factor;
     so.lift_centres = !opt->no_lift;
+    so.quartet_gap = opt->quartet_gap;
     if (opt->max_sliver_iterations > 0)
         so.max_sliver_iterations = opt->max_sliver_iterations;
     so.lipschitz = opt->lipschitz;
