@@ -66,7 +66,6 @@ typedef struct workspace {
     int64_t nb[K_MAX];             /* seeds whose planes bound the cell */
     int n_nb;
     unsigned char used[K_MAX + 1];
-    double worst[3];               /* the vertex at the shortest edge */
 } workspace;
 
 /* The calling thread's workspace. */
@@ -127,10 +126,9 @@ static int cut_cell(workspace *ws, const double *xyz, const double x[3], int m, 
  * three other seeds a, b, c), which ends where a fifth seed y comes as
  * near: along it y's power less a's changes at the rate 2 u.(a - y).
  * Together they are every edge whose length depends on where the seed
- * is. Fills ws->nb, and ws->worst with the vertex at the shortest edge
- * (absolute). Stops at the first edge below beat (its value is then an
- * upper bound). */
-static double edge_measure(workspace *ws, int m, double beat)
+ * is; at most cap (longer edges do not matter). Fills ws->nb. Stops at
+ * the first edge below beat (its value is then an upper bound). */
+static double edge_measure(workspace *ws, int m, double beat, double cap)
 {
     vc_convex_cell *cell = &ws->cell;
     ws->n_nb = 0;
@@ -155,7 +153,7 @@ static double edge_measure(workspace *ws, int m, double beat)
     if (!(rcell2 > 0))
         return INFINITY;
     const double rcell = sqrt(rcell2);
-    double shortest = INFINITY;
+    double shortest = cap * rcell;
     /* the cell's own edges: consecutive vertices of its faces */
     if (vc_convex_cell_faces(cell) != 0)
         return 0;
@@ -175,9 +173,6 @@ static double edge_measure(workspace *ws, int m, double beat)
             const double len = sqrt(dx * dx + dy * dy + dz * dz);
             if (len > TIE * sqrt(cell->r2[u]) && len < shortest) {
                 shortest = len;
-                ws->worst[0] = ws->local[0] + cell->px[u];
-                ws->worst[1] = ws->local[1] + cell->py[u];
-                ws->worst[2] = ws->local[2] + cell->pz[u];
                 if (shortest < beat * rcell)
                     return shortest / rcell;
             }
@@ -209,10 +204,16 @@ static double edge_measure(workspace *ws, int m, double beat)
         for (int d = 0; d < 3; d++)
             u[d] *= sgn;
         const double w[3] = {cell->px[t], cell->py[t], cell->pz[t]};
-        const double r2 = cell->r2[t];
+        const double r2 = cell->r2[t], r = sqrt(r2);
         const double ua = u[0] * ya[0] + u[1] * ya[1] + u[2] * ya[2];
-        double len = INFINITY;
+        double len = shortest;
         for (int i = 1; i <= m; i++) {
+            /* y ends the edge before len only if |y - w| < r + 2 len (its
+             * power gap is below 2 len times its rate, at most |y - w| + r),
+             * so |y| < 2 r + 2 len: the neighbours are sorted by |y| */
+            const double reach = 2 * r + 2 * len;
+            if (ws->hit[i - 1].d2 >= reach * reach)
+                break;
             if (i == a || i == b || i == c)
                 continue;
             const double *yy = ws->local + 3 * i;
@@ -230,14 +231,12 @@ static double edge_measure(workspace *ws, int m, double beat)
         }
         if (len < shortest) {
             shortest = len;
-            ws->worst[0] = x[0] + w[0];
-            ws->worst[1] = x[1] + w[1];
-            ws->worst[2] = x[2] + w[2];
             if (shortest < beat * rcell)
                 return shortest / rcell;
         }
     }
-    return shortest / rcell;
+    /* cap itself when nothing is shorter (cap r / r need not be cap) */
+    return shortest < cap * rcell ? shortest / rcell : cap;
 }
 
 /* The measure of a point x for seed `self` (edge_measure), its cell's
@@ -245,7 +244,7 @@ static double edge_measure(workspace *ws, int m, double beat)
  * else from the tree. Returns 0, or -1 when out of memory. */
 static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *xyz,
                       const double x[3], int64_t self, int use_around, int have_first,
-                      double beat, double *out)
+                      double beat, double cap, double *out)
 {
     *out = INFINITY;
     ws->n_nb = 0;
@@ -271,7 +270,7 @@ static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *x
             return 0;
         }
         if (r == 1) {
-            *out = edge_measure(ws, m, beat);
+            *out = edge_measure(ws, m, beat, cap);
             return 0;
         }
     }
@@ -289,7 +288,7 @@ static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *x
             return 0;
         }
         if (r == 1 || 2 * k > K_MAX) {
-            *out = edge_measure(ws, m, beat);
+            *out = edge_measure(ws, m, beat, cap);
             return 0;
         }
     }
@@ -419,7 +418,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
             }
             double g;
             measures++;
-            if (measure_at(w, &tree, seeds->xyz, seeds->xyz + 3 * s, s, 0, have_first, -INFINITY, &g) != 0) {
+            if (measure_at(w, &tree, seeds->xyz, seeds->xyz + 3 * s, s, 0, have_first, -INFINITY, gap, &g) != 0) {
                 failed = 1;
                 continue;
             }
@@ -525,7 +524,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
                     continue;
                 double gc;
                 measures++;
-                if (measure_at(w, &tree, seeds->xyz, x, s, 1, 0, best, &gc) != 0) {
+                if (measure_at(w, &tree, seeds->xyz, x, s, 1, 0, best, gap, &gc) != 0) {
                     failed = 1;
                     break;
                 }
