@@ -64,6 +64,7 @@ typedef struct workspace {
     vc_kd_hit around[K_AROUND];    /* the neighbours of the original place */
     int n_around;
     int64_t nb[K_MAX];             /* seeds whose planes bound the cell */
+    int64_t best_nb[K_MAX];        /* those of the best candidate so far */
     int n_nb;
     unsigned char used[K_MAX + 1];
 } workspace;
@@ -425,7 +426,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
             gap_now[i] = g;
             if (g >= gap || !propose || pick[i] <= 0)
                 continue;
-            pr->touch = malloc(sizeof(int64_t) * (size_t)(2 * K_MAX));
+            pr->touch = malloc(sizeof(int64_t) * (size_t)(w->n_nb > 0 ? w->n_nb : 1));
             if (!pr->touch) {
                 failed = 1;
                 continue;
@@ -532,14 +533,20 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
                     best = gc;
                     memcpy(best_x, x, sizeof x);
                     n_best = w->n_nb;
-                    memcpy(pr->touch + pr->n_old, w->nb, sizeof(int64_t) * (size_t)n_best);
+                    memcpy(w->best_nb, w->nb, sizeof(int64_t) * (size_t)n_best);
                 }
             }
-            if (n_best < 0) {
+            int64_t *grown = n_best < 0 ? NULL
+                                        : realloc(pr->touch, sizeof(int64_t) *
+                                                                 (size_t)(pr->n_old + n_best + 1));
+            if (!grown) {
+                failed |= n_best >= 0; /* out of memory */
                 free(pr->touch);
                 pr->touch = NULL;
                 continue;
             }
+            pr->touch = grown;
+            memcpy(pr->touch + pr->n_old, w->best_nb, sizeof(int64_t) * (size_t)n_best);
             pr->n = pr->n_old + n_best;
             memcpy(pr->to, best_x, sizeof best_x);
             pr->gap_after = best;
