@@ -1091,6 +1091,24 @@ typedef struct sliver_ctx {
     facet_list *facets; /* the triplets with both seeds uncovered */
 } sliver_ctx;
 
+/* Records that ball f must shrink to radius r (less the margin) for the
+ * point g of triplet t. */
+static void push_cut(sliver_ctx *c, const vc_triplet *t, int64_t f, const double g[3], double r)
+{
+    if (c->n_half == 0)
+        memcpy(c->where, g, sizeof c->where);
+    if (vc_reserve(&c->half, &c->cap, c->n_half + 1, sizeof(half_rec))) {
+        c->oom = 1;
+        return;
+    }
+    half_rec *h = &c->half[c->n_half++];
+    h->v[0] = t->i;
+    h->v[1] = t->j;
+    h->v[2] = t->k;
+    h->cover = f;
+    h->r = r * (1 - c->margin);
+}
+
 static void on_triplet(void *ctx, const vc_triplet *t)
 {
     sliver_ctx *c = ctx;
@@ -1104,18 +1122,7 @@ static void on_triplet(void *ctx, const vc_triplet *t)
         const int64_t f = up ? t->clear_ball_up : t->clear_ball_down;
         if (clear < c->quartet_gap && f >= 0) {
             const double *g = up ? t->up : t->down;
-            if (c->n_half == 0)
-                memcpy(c->where, g, sizeof c->where);
-            if (vc_reserve(&c->half, &c->cap, c->n_half + 1, sizeof(half_rec))) {
-                c->oom = 1;
-                return;
-            }
-            half_rec *h = &c->half[c->n_half++];
-            h->v[0] = t->i;
-            h->v[1] = t->j;
-            h->v[2] = t->k;
-            h->cover = f;
-            h->r = dist(c->b->center + 3 * f, g) / sqrt(1 + c->quartet_gap) * (1 - c->margin);
+            push_cut(c, t, f, g, dist(c->b->center + 3 * f, g) / sqrt(1 + c->quartet_gap));
         }
         return;
     }
@@ -1123,18 +1130,7 @@ static void on_triplet(void *ctx, const vc_triplet *t)
         return;
     int64_t f = t->cover_up >= 0 ? t->cover_up : t->cover_down;
     const double *g = t->cover_up >= 0 ? t->up : t->down;
-    if (c->n_half == 0)
-        memcpy(c->where, g, sizeof c->where);
-    if (vc_reserve(&c->half, &c->cap, c->n_half + 1, sizeof(half_rec))) {
-        c->oom = 1;
-        return;
-    }
-    half_rec *h = &c->half[c->n_half++];
-    h->v[0] = t->i;
-    h->v[1] = t->j;
-    h->v[2] = t->k;
-    h->cover = f;
-    h->r = dist(c->b->center + 3 * f, g) * (1 - c->margin);
+    push_cut(c, t, f, g, dist(c->b->center + 3 * f, g));
 }
 
 /* The radius each ball is cut to (thesis 6.2.7: per quartet, the ball
