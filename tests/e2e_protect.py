@@ -22,7 +22,8 @@ issue 20), checked on the files with VTK, independently of the C code:
 Usage: e2e_protect.py PART: icosphere (models/icosphere.obj, the
 repository alone), materials (three stacked boxes, three regions, made
 here: pole seeds on both sides of the interfaces; each region's volume
-unchanged), or torus (the shared torus.obj, skipped without the shared
+unchanged), blobby (the marching-cubes metaball isosurface of
+models/make_hard_surfaces.py: slivers and folds at every vertex), or torus (the shared torus.obj, skipped without the shared
 models). Environment: VC_BIN, VC_MODELS, VC_TMP, VC_SOURCE."""
 import math
 import os
@@ -43,7 +44,7 @@ BIN = os.environ["VC_BIN"]
 # are at near-quartets of its surface seeds (two near-coincident seeds of
 # one side), which no interior seed can mend (docs/solver-grade-cells.md).
 PARTS = {"icosphere": (os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj"), 1e-3),
-         "materials": (None, 3e-4), "torus": (None, 3e-4)}
+         "materials": (None, 3e-4), "blobby": (None, 1e-3), "torus": (None, 3e-4)}
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_protect.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
@@ -52,6 +53,11 @@ MODEL, FLOOR = PARTS[PART]
 TMP = e2eutil.fresh_tmp("e2e_protect_" + PART)
 if PART == "torus":
     MODEL = os.path.join(e2eutil.models_dir(), "torus.obj")
+elif PART == "blobby":
+    gen = os.path.join(os.environ["VC_SOURCE"], "models", "make_hard_surfaces.py")
+    rc, _, gen_err = run(["/usr/bin/python3", gen, TMP, "blobby"], timeout=300)
+    check(rc == 0, "make_hard_surfaces.py blobby: exit %d: %s" % (rc, gen_err[-1000:]))
+    MODEL = os.path.join(TMP, "blobby.obj")
 elif PART == "materials":
     MODEL = os.path.join(TMP, "three_layers.obj")
     e2eutil.voxel_surface(MODEL, (3, 3, 3), lambda i, j, k: k + 1)
