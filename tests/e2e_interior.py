@@ -74,18 +74,6 @@ def read_rows(path):
 
 
 
-def locator(points):
-    P = vtk.vtkPoints()
-    for x in points:
-        P.InsertNextPoint(*x)
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(P)
-    loc = vtk.vtkKdTreePointLocator()
-    loc.SetDataSet(pd)
-    loc.BuildLocator()
-    return loc
-
-
 def summary(err):
     m = re.search(r"interior: octree of (\d+) leaves .*?, (\d+) interior seeds .*?, ([0-9.]+) s", err)
     v = re.search(r"volume mesh: (\d+) cells \((\d+) interior seeds\), volume ([0-9.e+-]+) "
@@ -97,21 +85,7 @@ def summary(err):
 def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls_csv):
     """Every interior seed outside every ball, its nearest surface seed inside."""
     balls = [(tuple(map(float, r[:3])), float(r[3])) for r in read_rows(balls_csv)]
-    rmax = max(r for _, r in balls)
-    ball_loc = locator([c for c, _ in balls])
-    surf_loc = locator([s[0] for s in seeds[:n_surface]])
-    near = vtk.vtkIdList()
-    in_ball = outside = 0
-    for x, _ in seeds[n_surface:]:
-        ball_loc.FindPointsWithinRadius(rmax, x, near)
-        for k in range(near.GetNumberOfIds()):
-            c, r = balls[near.GetId(k)]
-            # on a sphere is allowed: a pole seed (a tie at the ball centre)
-            in_ball += math.dist(c, x) < r * (1 - 1e-9)
-        q = surf_loc.FindClosestPoint(x)
-        outside += seeds[q][1] != 1
-    check(in_ball == 0, "%s: %d interior seeds inside a surface ball" % (tag, in_ball))
-    check(outside == 0, "%s: %d interior seeds whose nearest surface seed is outside" % (tag, outside))
+    e2eutil.seeds_outside_balls_and_inside(tag, seeds, n_surface, balls)
 
 
 def mesh_run(model, tag, *extra):
@@ -148,7 +122,7 @@ if PART in ("graded", "icosphere"):
         check(grid.GetNumberOfCells() == int(v.group(1)), "%s: .vtu cell count" % tag)
         cell_seed = vtkcheck.cell_array(grid, "seed")
         cell_volume = vtkcheck.cell_array(grid, "volume")
-        surf_loc = locator([s[0] for s in seeds[:n_surface]])
+        surf_loc = e2eutil.locator([s[0] for s in seeds[:n_surface]])
         interior = []
         for c, s in enumerate(cell_seed):
             if s >= n_surface:

@@ -163,63 +163,23 @@ if base_rc == 0 and "1" in prot:
     # the interior seeds: outside the balls (a pole on its sphere), inside
     balls = [(tuple(map(float, r[:3])), float(r[3])) for r in rows(out["balls"])]
     seeds = [(tuple(map(float, r[:3])), int(r[3])) for r in rows(out["seeds"])]
-    n_surface = len([1 for r in rows(base["seeds"])]) - int(
+    n_surface = len(rows(base["seeds"])) - int(
         re.search(r"\((\d+) interior seeds\)", base_err).group(1))
-    loc = vtk.vtkPointLocator()
-    bp = vtk.vtkPolyData()
-    bpts = vtk.vtkPoints()
-    for c, _ in balls:
-        bpts.InsertNextPoint(c)
-    bp.SetPoints(bpts)
-    loc.SetDataSet(bp)
-    loc.BuildLocator()
-    spts = vtk.vtkPoints()
-    for x, _ in seeds[:n_surface]:
-        spts.InsertNextPoint(x)
-    sp = vtk.vtkPolyData()
-    sp.SetPoints(spts)
-    sloc = vtk.vtkPointLocator()
-    sloc.SetDataSet(sp)
-    sloc.BuildLocator()
-    rmax = max(r for _, r in balls)
-    ids = vtk.vtkIdList()
-    inside_ball = outside = 0
-    for x, lab in seeds[n_surface:]:
-        loc.FindPointsWithinRadius(rmax, x, ids)
-        for k in range(ids.GetNumberOfIds()):
-            c, r = balls[ids.GetId(k)]
-            inside_ball += math.dist(c, x) < r * (1 - 1e-9)
-        outside += seeds[sloc.FindClosestPoint(x)][1] != lab or lab == 0
-    check(inside_ball == 0, "%d interior seeds inside a ball" % inside_ball)
-    check(outside == 0, "%d interior seeds outside the surface or their region" % outside)
+    e2eutil.seeds_outside_balls_and_inside(PART, seeds, n_surface, balls)
 
 def nearest_same_side(seeds_csv, balls_csv):
     """The smallest distance between two inside surface seeds over the
     radius of the ball nearest them (the surface seeds: those within 1e-9
     of a ball's sphere)."""
     balls = [(tuple(map(float, r[:3])), float(r[3])) for r in rows(balls_csv)]
-    pts = vtk.vtkPoints()
-    for c, _ in balls:
-        pts.InsertNextPoint(c)
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(pts)
-    loc = vtk.vtkPointLocator()
-    loc.SetDataSet(pd)
-    loc.BuildLocator()
+    loc = e2eutil.locator([c for c, _ in balls])
     inside = []
     for r in rows(seeds_csv):
         x = tuple(map(float, r[:3]))
         c, rad = balls[loc.FindClosestPoint(x)]
         if int(r[3]) == 1 and abs(math.dist(c, x) - rad) <= 1e-6 * rad:
             inside.append((x, rad))
-    sp = vtk.vtkPoints()
-    for x, _ in inside:
-        sp.InsertNextPoint(x)
-    spd = vtk.vtkPolyData()
-    spd.SetPoints(sp)
-    sloc = vtk.vtkPointLocator()
-    sloc.SetDataSet(spd)
-    sloc.BuildLocator()
+    sloc = e2eutil.locator([x for x, _ in inside])
     ids = vtk.vtkIdList()
     best = math.inf
     for k, (x, rad) in enumerate(inside):

@@ -212,3 +212,41 @@ def seeds_csv(path):
     with open(path) as f:
         next(f)
         return [tuple(float(x) for x in line.split(",")[:3]) for line in f if line.strip()]
+
+
+def locator(points):
+    """A VTK k-d tree locator over the points (x, y, z tuples)."""
+    import vtk
+    P = vtk.vtkPoints()
+    for x in points:
+        P.InsertNextPoint(*x)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(P)
+    loc = vtk.vtkKdTreePointLocator()
+    loc.SetDataSet(pd)
+    loc.BuildLocator()
+    return loc
+
+
+def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls):
+    """Checks that every interior seed (seeds: ((x, y, z), label), the first
+    n_surface the surface seeds) lies outside every ball (balls: ((x, y, z),
+    radius); on a sphere is allowed: a pole seed, a tie at the ball centre)
+    and that its nearest surface seed is an inside seed of its own label."""
+    import math
+    import vtk
+    rmax = max(r for _, r in balls)
+    ball_loc = locator([c for c, _ in balls])
+    surf_loc = locator([s[0] for s in seeds[:n_surface]])
+    near = vtk.vtkIdList()
+    in_ball = outside = 0
+    for x, lab in seeds[n_surface:]:
+        ball_loc.FindPointsWithinRadius(rmax, x, near)
+        for k in range(near.GetNumberOfIds()):
+            c, r = balls[near.GetId(k)]
+            in_ball += math.dist(c, x) < r * (1 - 1e-9)
+        q = surf_loc.FindClosestPoint(x)
+        outside += seeds[q][1] != lab or lab == 0
+    check(in_ball == 0, "%s: %d interior seeds inside a surface ball" % (tag, in_ball))
+    check(outside == 0, "%s: %d interior seeds whose nearest surface seed is outside or of "
+          "another region" % (tag, outside))

@@ -154,9 +154,9 @@ int vc_interior_pole_seeds(const vc_balls *balls, const vc_seeds *surface_seeds,
  * place to its nearest seed whose measure reaches the target, or to the
  * best of them when it beats the current place (Ghosh's and Li and Teng's
  * picking regions). A point is eligible only outside every surface ball
- * scaled by sqrt(1 + 4 min_edge) and with a nearest surface seed of the
- * seed's own label, so the reconstructed surface and the regions do not
- * change. In each round the seeds below the target none of whose cell's
+ * scaled by sqrt(1 + vc_protect_ball_gap(min_edge)) and with a nearest
+ * surface seed of the seed's own label, so the reconstructed surface and
+ * the regions do not change. In each round the seeds below the target none of whose cell's
  * neighbours is picked before them (seed order) search at once, and their
  * moves are taken in seed order, each only when no seed whose cell it
  * changes has moved in the round; the seeds a move took neighbours from
@@ -180,6 +180,11 @@ typedef struct vc_protect_options {
 } vc_protect_options;
 
 void vc_protect_options_default(vc_protect_options *opt);
+
+/* The power gap, d^2 / r^2 - 1, by which a seed protected to min_edge
+ * keeps outside every surface ball (whose centre is a vertex): 4 min_edge,
+ * a gap of g at a vertex keeping its edges longer than about g R / 4. */
+double vc_protect_ball_gap(double min_edge);
 
 typedef struct vc_protect_stats {
     int64_t n_checked;            /* interior seeds measured or skipped as lattice seeds */

@@ -23,6 +23,10 @@ typedef struct vc_seeds {
 int vc_seeds_alloc(vc_seeds *s, int64_t n, vc_error *err);
 void vc_seeds_free(vc_seeds *s);
 
+/* out = the seeds of a followed by those of b (copies, labels kept).
+ * Returns VC_OK or VC_ENOMEM (out then empty). */
+int vc_seeds_concat(const vc_seeds *a, const vc_seeds *b, vc_seeds *out, vc_error *err);
+
 /* Reads a CSV file with a header line and rows "x,y,z[,label]".
  * A missing label means 1. Errors name the file and line. Rules: the first
  * non-blank line is the header and must not start with a number; every row

@@ -36,6 +36,7 @@
 #include "vorocrust/random.h"
 #include "vorocrust/quality.h"
 #include "util/threads.h"
+#include "util/clock.h"
 
 #define MAX_MISSES 100
 /* Darts are drawn in batches of DART_BATCH: drawn in order, their first
@@ -148,13 +149,6 @@ static int mark_dirty(sampler *S, int64_t i)
     }
     S->dirty[i] = 1;
     return 0;
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static double dist(const double *a, const double *b)
@@ -721,14 +715,14 @@ static int mps(sampler *S, pool *P, int nv)
                 /* a line every 2 s: phase, the share of the area (length)
                  * covered (that of the pool left at the start of this
                  * round, covered since, as the recent darts saw it), balls */
-                if ((++darts & 1023) == 0 && now() - S->t_logged >= 2.0) {
-                    S->t_logged = now();
+                if ((++darts & 1023) == 0 && vc_clock_seconds() - S->t_logged >= 2.0) {
+                    S->t_logged = vc_clock_seconds();
                     const double left = area0 > 0 ? total / area0 : 0;
                     const double seen = (double)darts_covered / (double)darts;
                     vc_log(S->opt.log, VC_LOG_INFO,
                            "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
                            nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
-                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, now() - S->t_start);
+                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, vc_clock_seconds() - S->t_start);
                     darts = darts_covered = 0;
                 }
                 const subface *sf = &P->f[batch[b].sub];
@@ -904,7 +898,7 @@ static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsig
 {
     pool E = {NULL, NULL, 0, 0, 0};
     int rc = 0;
-    double t0 = now();
+    double t0 = vc_clock_seconds();
     for (int64_t e = 0; e < S->f->n_edges && !rc; e++) {
         if (!S->f->edge_sharp[e] || (mark_edge && !mark_edge[e]))
             continue;
@@ -915,7 +909,7 @@ static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsig
     if (!rc)
         rc = mps(S, &E, 2);
     free(E.f);
-    double t1 = now();
+    double t1 = vc_clock_seconds();
     S->st->t_edges += t1 - t0;
     pool T = {NULL, NULL, 0, 0, S->smooth};
     for (int64_t t = 0; t < S->s->n_triangles && !rc; t++) {
@@ -928,7 +922,7 @@ static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsig
     }
     if (!rc)
         rc = mps(S, &T, 3);
-    S->st->t_surface += now() - t1;
+    S->st->t_surface += vc_clock_seconds() - t1;
     free(T.f);
     free(T.g);
     return rc;
@@ -1653,7 +1647,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     S.alpha = opt->alpha;
     S.st = st;
     vc_rng_init(&S.rng, opt->seed, 0);
-    double t0 = now();
+    double t0 = vc_clock_seconds();
     if (vc_sizing_init(&S.z, s, f, opt->sharp_angle, opt->max_error))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the sizing structures");
     S.sz = opt->max_size > 0 ? opt->max_size : S.z.diag;
@@ -1704,7 +1698,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         return vc_error_set(err, VC_ENOMEM, "out of memory for the ball estimate");
     }
     st->n_balls_predicted = est.n_balls;
-    st->t_sizing = now() - t0; /* the sizing structures and the prediction */
+    st->t_sizing = vc_clock_seconds() - t0; /* the sizing structures and the prediction */
     vc_log(opt->log, VC_LOG_INFO,
            "mesh: sampling %lld triangles: about %.3g balls predicted from the sizing "
            "(radius bound %.3g to %.3g)", (long long)s->n_triangles, est.n_balls, est.r_min,
@@ -1729,7 +1723,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     unsigned char *shrunk = NULL;
 
     /* Phase 1: one ball per sharp corner, then C3 among them. */
-    t0 = now();
+    t0 = vc_clock_seconds();
     for (int64_t v = 0; v < s->n_vertices && !rc; v++) {
         if (!f->vertex_corner[v])
             continue;
@@ -1740,7 +1734,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     }
     if (!rc && (rc = grow_scratch(&old_r, &shrunk, S.bs.b.n)) == 0)
         rc = enforce_lipschitz(&S, old_r, shrunk) < 0 ? -1 : 0;
-    st->t_corners = now() - t0;
+    st->t_corners = vc_clock_seconds() - t0;
 
     /* Phases 2 and 3: creases, then patches. */
     S.phase = "first coverage";
@@ -1763,13 +1757,13 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     int iter = 0, flat_passes = 0, pinch_passes = 0;
     facet_list facets = {NULL, 0, 0, 0};
     while (!rc) {
-        double ta = now();
+        double ta = vc_clock_seconds();
         if (grow_scratch(&old_r, &shrunk, S.bs.b.n)) {
             rc = -1;
             break;
         }
         int64_t nl = enforce_lipschitz(&S, old_r, shrunk);
-        st->t_lipschitz += now() - ta;
+        st->t_lipschitz += vc_clock_seconds() - ta;
         if (nl < 0) {
             rc = -1;
             break;
@@ -1779,14 +1773,14 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             rc = resample_around(&S, old_r, shrunk);
             continue;
         }
-        double tb = now();
+        double tb = vc_clock_seconds();
         int64_t n_half = 0;
         /* only the triplets near balls added or resized since the last
          * scan can have changed (the facets of the others are kept); once
          * no pass has anything left to do, every triplet once more: that
          * proves it for all of them */
         int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 0);
-        st->t_slivers += now() - tb;
+        st->t_slivers += vc_clock_seconds() - tb;
         if (ns < 0) {
             rc = -1;
             break;
@@ -1795,9 +1789,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         if (ns == 0 && flat_passes < FLAT_PASSES) {
             /* converged: work on the flat facets, then go round again */
             flat_passes++;
-            double tf = now();
+            double tf = vc_clock_seconds();
             int64_t nf = unflatten_facets(&S, &facets, old_r, shrunk);
-            st->t_slivers += now() - tf;
+            st->t_slivers += vc_clock_seconds() - tf;
             if (nf < 0) {
                 rc = -1;
                 break;
@@ -1826,9 +1820,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             }
         }
         if (ns == 0) {
-            tb = now();
+            tb = vc_clock_seconds();
             ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 1);
-            st->t_slivers += now() - tb;
+            st->t_slivers += vc_clock_seconds() - tb;
             if (ns < 0) {
                 rc = -1;
                 break;
@@ -1901,11 +1895,11 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (diverged && opt->stuck_tri)
         mark_stuck(&S, shrunk, old_r, opt->stuck_tri);
     if (!rc && !diverged && opt->lift_centres && st->n_half_covered == 0 && facets.n > 0) {
-        double tl = now();
+        double tl = vc_clock_seconds();
         vc_lift_result lr;
         rc = vc_lift_centres(&S.bs.b, &facets.f[0].v[0], facets.n, &S.z, S.opt.threads, opt->log,
                              &lr);
-        st->t_lift = now() - tl;
+        st->t_lift = vc_clock_seconds() - tl;
         st->n_lifted = lr.n_lifted;
         st->n_lift_reduced = lr.n_reduced;
         st->lift_rounds = lr.rounds;

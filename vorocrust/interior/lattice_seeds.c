@@ -92,12 +92,8 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
             }
     vc_ball_tree_free(&tree);
     vc_seed_kdtree_free(&g);
-    if (!rc && vc_seeds_alloc(out, ss->n + np, err) == 0) {
-        memcpy(out->xyz, ss->xyz, sizeof(double) * 3 * (size_t)ss->n);
-        memcpy(out->label, ss->label, sizeof(int32_t) * (size_t)ss->n);
-        memcpy(out->xyz + 3 * ss->n, pts, sizeof(double) * 3 * (size_t)np);
-        for (int64_t i = 0; i < np; i++)
-            out->label[ss->n + i] = lab[i];
+    const vc_seeds interior = {np, pts, lab};
+    if (!rc && vc_seeds_concat(ss, &interior, out, err) == 0) {
         *n_interior = np;
         free(pts);
         free(lab);

@@ -15,18 +15,12 @@
 #include "nearest_seed.h"
 #include "vorocrust/voronoi.h"
 #include "util/threads.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "util/clock.h"
 
 int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface, int iterations,
                       int threads, vc_lloyd_stats *stats, vc_error *err)
 {
-    double t0 = now();
+    double t0 = vc_clock_seconds();
     vc_lloyd_stats st, kept;
     memset(&st, 0, sizeof st);
     kept = st;
@@ -156,7 +150,7 @@ done:
     free(cell_of);
     vc_ball_tree_free(&tree);
     vc_seed_kdtree_free(&grid);
-    st.seconds = now() - t0;
+    st.seconds = vc_clock_seconds() - t0;
     if (stats)
         *stats = st;
     return rc;

@@ -22,6 +22,7 @@
 #include "nearest_seed.h"
 #include "octree_runtime.h"
 #include "util/threads.h"
+#include "util/clock.h"
 
 /* Bricks longer than this many trees on their long side are not worth it:
  * refinement reaches every scale anyway. */
@@ -34,13 +35,6 @@ typedef struct forest_geometry {
     double lipschitz, cap, diagonal_factor;
     const vc_ball_tree *balls;
 } forest_geometry;
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 void vc_octree_options_default(vc_octree_options *opt)
 {
@@ -218,7 +212,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
                        vc_seeds *out, int64_t *n_interior, vc_octree_stats *stats,
                        vc_octree_leaves *leaves, vc_error *err)
 {
-    double t0 = now();
+    double t0 = vc_clock_seconds();
     memset(out, 0, sizeof *out);
     *n_interior = 0;
     vc_octree_stats st;
@@ -380,7 +374,7 @@ done:
     free(leaf_label);
     vc_ball_tree_free(&tree);
     vc_seed_kdtree_free(&grid);
-    st.seconds = now() - t0;
+    st.seconds = vc_clock_seconds() - t0;
     if (stats)
         *stats = st;
     return rc;

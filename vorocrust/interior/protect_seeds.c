@@ -28,6 +28,7 @@
 #include "vorocrust/random.h"
 #include "voronoi/convex_cell.h"
 #include "voronoi/seed_kdtree.h"
+#include "util/clock.h"
 
 /* Neighbours read first, and at most (a cell not closed by K_MAX of them
  * is measured as it is); neighbours of a seed's original place read once
@@ -48,13 +49,6 @@ enum { N_CANDIDATES = 8, MAX_ROUNDS = 12 };
 /* The picking region's radius, a share of the distance from the seed's
  * original place to its nearest neighbour. */
 #define PICK_RADIUS 0.25
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 typedef struct workspace {
     vc_convex_cell cell;
@@ -304,6 +298,11 @@ typedef struct proposal {
     int64_t *touch;
 } proposal;
 
+double vc_protect_ball_gap(double min_edge)
+{
+    return 4 * min_edge;
+}
+
 void vc_protect_options_default(vc_protect_options *opt)
 {
     memset(opt, 0, sizeof *opt);
@@ -315,7 +314,7 @@ void vc_protect_options_default(vc_protect_options *opt)
 int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
                         const vc_protect_options *opt, vc_protect_stats *stats, vc_error *err)
 {
-    const double t0 = now();
+    const double t0 = vc_clock_seconds();
     vc_protect_stats st;
     memset(&st, 0, sizeof st);
     st.min_edge_before = st.min_edge_after = INFINITY;
@@ -363,10 +362,7 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
     memset(active, 1, (size_t)n_int);
     for (int64_t i = 0; i < n; i++)
         moved_round[i] = -1;
-    /* a power gap g at a vertex keeps its edges longer than about g R / 4
-     * (docs/solver-grade-cells.md): the balls' empty spheres (their
-     * centres are vertices) get 4 times the target */
-    const double margin = sqrt(1 + 4 * gap);
+    const double margin = sqrt(1 + vc_protect_ball_gap(gap));
 
     for (int round = 0; round <= MAX_ROUNDS && !rc; round++) {
         if (round == 0) {
@@ -646,7 +642,7 @@ done:
     vc_seed_kdtree_free(&surface_tree);
     if (have_balls)
         vc_ball_tree_free(&balls_tree);
-    st.seconds = now() - t0;
+    st.seconds = vc_clock_seconds() - t0;
     if (stats)
         *stats = st;
     return rc;

@@ -39,6 +39,18 @@ int vc_seeds_alloc(vc_seeds *s, int64_t n, vc_error *err)
     return VC_OK;
 }
 
+int vc_seeds_concat(const vc_seeds *a, const vc_seeds *b, vc_seeds *out, vc_error *err)
+{
+    const int rc = vc_seeds_alloc(out, a->n + b->n, err);
+    if (rc)
+        return rc;
+    memcpy(out->xyz, a->xyz, sizeof(double) * 3 * (size_t)a->n);
+    memcpy(out->label, a->label, sizeof(int32_t) * (size_t)a->n);
+    memcpy(out->xyz + 3 * a->n, b->xyz, sizeof(double) * 3 * (size_t)b->n);
+    memcpy(out->label + a->n, b->label, sizeof(int32_t) * (size_t)b->n);
+    return VC_OK;
+}
+
 void vc_seeds_free(vc_seeds *s)
 {
     if (!s)

@@ -587,20 +587,16 @@ static int interior_seeds(const vc_mesh_options *opt, const char *name, vc_mesh_
     /* the surface seeds and the poles: what the interior keeps away from */
     vc_seeds base = out->seeds, poles = {0, NULL, NULL}, joined = {0, NULL, NULL};
     if (opt->protect_edge > 0) {
-        /* the balls' empty spheres get 4 times the edge target as a power
-         * gap, as in vc_interior_protect */
-        if (vc_interior_pole_seeds(&out->balls, &out->seeds, 4 * opt->protect_edge, &poles,
+        /* the poles keep clear of the other balls as the moved seeds do */
+        if (vc_interior_pole_seeds(&out->balls, &out->seeds,
+                                   vc_protect_ball_gap(opt->protect_edge), &poles,
                                    &out->pole_ball, err))
             return named(err, name, NULL);
         if (poles.n > 0) {
-            if (vc_seeds_alloc(&joined, out->seeds.n + poles.n, err)) {
+            if (vc_seeds_concat(&out->seeds, &poles, &joined, err)) {
                 vc_seeds_free(&poles);
                 return named(err, name, NULL);
             }
-            memcpy(joined.xyz, out->seeds.xyz, sizeof(double) * 3 * (size_t)out->seeds.n);
-            memcpy(joined.label, out->seeds.label, sizeof(int32_t) * (size_t)out->seeds.n);
-            memcpy(joined.xyz + 3 * out->seeds.n, poles.xyz, sizeof(double) * 3 * (size_t)poles.n);
-            memcpy(joined.label + out->seeds.n, poles.label, sizeof(int32_t) * (size_t)poles.n);
             base = joined;
         }
         out->n_pole_seeds = poles.n;

@@ -10,15 +10,9 @@
 #include <time.h>
 
 #include "quality_internal.h"
+#include "util/clock.h"
 
 #define DEG_PER_RAD 57.295779513082320876798
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* ---- closed, consistently oriented cells ------------------------------------ */
 
@@ -346,14 +340,14 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     out->cell_fatness = malloc(sizeof *out->cell_fatness * cn);
     int rc = VC_ENOMEM,
         oom = !vol || !rel || !dmin || !dmax || !small || !uses || !twin || !out->cell_fatness;
-    double t0 = now();
+    double t0 = vc_clock_seconds();
     oom = oom || measure_cells(m, out, vol, rel, small, dmin, dmax) != 0;
     oom = oom || vc_stats_compute(vol, nc, &out->volume) || vc_stats_compute(out->cell_fatness,
           nc, &out->fatness) || vc_stats_compute(rel, nc, &out->shortest_edge_rel) ||
           vc_stats_compute(small, nc, &out->small_face_rel) ||
           vc_stats_compute(dmin, nc, &out->dihedral_min) ||
           vc_stats_compute(dmax, nc, &out->dihedral_max);
-    double t1 = now();
+    double t1 = vc_clock_seconds();
     if (!oom) {
         int64_t n_short = 0;
         for (int64_t c = 0; c < nc; c++)
@@ -372,7 +366,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
         }
         oom = measure_boundary(&boundary, out) != 0;
     }
-    double t2 = now();
+    double t2 = vc_clock_seconds();
     if (oom) {
         vc_error_set(err, VC_ENOMEM, "%s: out of memory", mesh_name);
     } else if (input && boundary.n_triangles == 0) {
@@ -387,7 +381,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     } else {
         rc = VC_OK;
     }
-    double t3 = now();
+    double t3 = vc_clock_seconds();
     out->time_cells = t1 - t0;
     out->time_boundary = t2 - t1;
     out->time_hausdorff = t3 - t2;
