@@ -43,6 +43,18 @@ The cases (NAME: what it tests):
                   coarse flat faces (the fandisk kind of input)
   genus3          isosurface of the blend of three tori side by side:
                   genus 3, Euler characteristic -4
+  knot            a tube of radius 0.12 around a trefoil (explicit rings
+                  in a parallel-transported frame): a thin curved tube
+  needle          an ellipsoid 16 x 2 x 2: thin, tips of curvature radius 1/8
+  superellipsoid  vtkParametricSuperEllipsoid, exponents 0.25: flat faces
+                  meeting in tight smooth edges
+  supertoroid     vtkParametricSuperToroid, exponents 0.5
+  csg_plate       marching cubes of a plate minus a cylinder (creases as
+                  staircases, genus 1)
+  box_fin         marching cubes of a box with a fin 0.08 thick on top
+  blobby_200      blobby decimated to 200 triangles
+  noisy_torus     a torus with +-2 % seeded noise along the tube's normal
+  hollow_sphere   a sphere with a spherical cavity (inner surface inward)
 """
 import math
 import os
@@ -308,9 +320,10 @@ def orient_consistently(tris):
     return tris
 
 
-def check(name, pts, tris, euler):
+def check(name, pts, tris, euler, cavities=False):
     """Closed, consistently oriented, edge- and vertex-manifold, no zero-area
-    triangle, positive volume per component, the expected Euler number."""
+    triangle, positive volume per component (with cavities: in all), the
+    expected Euler number."""
     directed = {}
     for t in tris:
         for i in range(3):
@@ -348,7 +361,7 @@ def check(name, pts, tris, euler):
     vol = [0.0] * n_comp
     for t, c in zip(tris, comp):
         vol[c] += dot(pts[t[0]], cross(pts[t[1]], pts[t[2]])) / 6.0
-    if min(vol) <= 0:
+    if (sum(vol) if cavities else min(vol)) <= 0:
         raise SystemExit("%s: a component has volume %g" % (name, min(vol)))
     return n_comp, sum(vol)
 
@@ -522,6 +535,168 @@ def case_genus3():
     return polydata_to_lists(contour(torus_blend_field(14), math.exp(-1.0)))
 
 
+def param_surface(fn, ures, vres, tolerance=1e-9):
+    """A closed vtkParametricFunction sampled on ures x vres, the seam merged."""
+    src = vtk.vtkParametricFunctionSource()
+    src.SetParametricFunction(fn)
+    src.SetUResolution(ures)
+    src.SetVResolution(vres)
+    src.GenerateTextureCoordinatesOff()
+    src.SetScalarModeToNone()
+    src.SetOutputPointsPrecision(vtk.vtkAlgorithm.DOUBLE_PRECISION)
+    src.Update()
+    return polydata_to_lists(src.GetOutput(), tolerance=tolerance)
+
+
+def knot_point(t):
+    """The (2, 3) torus knot on a torus of radii 1 and 0.35."""
+    r = 1.0 + 0.35 * math.cos(3 * t)
+    return (r * math.cos(2 * t), r * math.sin(2 * t), 0.35 * math.sin(3 * t))
+
+
+def case_knot(n_along=240, n_around=12, radius=0.12):
+    """A tube of the given radius around the trefoil: rings of n_around
+    points in a parallel-transported frame, whose closing twist is spread
+    evenly along the curve so that the last ring meets the first."""
+    c = [knot_point(2 * math.pi * i / n_along) for i in range(n_along)]
+
+    def unit(v):
+        n = math.sqrt(dot(v, v))
+        return tuple(x / n for x in v)
+
+    tang = [unit(sub(c[(i + 1) % n_along], c[i - 1])) for i in range(n_along)]
+    seed = (0.0, 0.0, 1.0)
+    u = [unit(sub(seed, tuple(dot(seed, tang[0]) * x for x in tang[0])))]
+    for i in range(1, n_along + 1):
+        t = tang[i % n_along]
+        prev = u[-1]
+        u.append(unit(sub(prev, tuple(dot(prev, t) * x for x in t))))
+    # the transported frame comes back turned by some angle: undo it gradually
+    w0 = cross(tang[0], u[0])
+    twist = math.atan2(dot(u[n_along], w0), dot(u[n_along], u[0]))
+    pts = []
+    for i in range(n_along):
+        t = tang[i]
+        w = cross(t, u[i])
+        for j in range(n_around):
+            a = 2 * math.pi * j / n_around - twist * i / n_along
+            pts.append(tuple(c[i][d] + radius * (math.cos(a) * u[i][d] + math.sin(a) * w[d])
+                             for d in range(3)))
+    tris = []
+    for i in range(n_along):
+        i1 = (i + 1) % n_along
+        for j in range(n_around):
+            j1 = (j + 1) % n_around
+            a, b, cc, d = i * n_around + j, i1 * n_around + j, i1 * n_around + j1, i * n_around + j1
+            tris += [(a, b, cc), (a, cc, d)]
+    return pts, tris
+
+
+def case_needle():
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(40)
+    s.SetPhiResolution(40)
+    s.Update()
+    pts, tris = polydata_to_lists(s.GetOutput())
+    return [(8.0 * x, y, z) for x, y, z in pts], tris
+
+
+def case_superellipsoid():
+    f = vtk.vtkParametricSuperEllipsoid()
+    f.SetN1(0.25)
+    f.SetN2(0.25)
+    f.SetXRadius(1.0)
+    f.SetYRadius(0.7)
+    f.SetZRadius(0.5)
+    return param_surface(f, 64, 64)
+
+
+def case_supertoroid():
+    f = vtk.vtkParametricSuperToroid()
+    f.SetN1(0.5)
+    f.SetN2(0.5)
+    f.SetRingRadius(1.0)
+    f.SetCrossSectionRadius(0.4)
+    return param_surface(f, 80, 40, tolerance=1e-6)
+
+
+def case_csg_plate():
+    box = vtk.vtkBox()
+    box.SetBounds(-1, 1, -0.6, 0.6, -0.25, 0.25)
+    hole = vtk.vtkCylinder()
+    hole.SetRadius(0.3)
+    hole.SetAxis(0, 0, 1)
+    hole.SetCenter(0.3, 0, 0)
+    diff = vtk.vtkImplicitBoolean()
+    diff.SetOperationTypeToDifference()
+    diff.AddFunction(box)
+    diff.AddFunction(hole)
+    return polydata_to_lists(contour(sample(diff, (-1.2, 1.2, -0.8, 0.8, -0.45, 0.45),
+                                            (61, 41, 24)), 0.0))
+
+
+def case_box_fin():
+    base = vtk.vtkBox()
+    base.SetBounds(-1, 1, -1, 1, -1, 0)
+    fin = vtk.vtkBox()
+    fin.SetBounds(-0.8, 0.8, -0.04, 0.04, -0.1, 0.9)
+    union = vtk.vtkImplicitBoolean()
+    union.SetOperationTypeToUnion()
+    union.AddFunction(base)
+    union.AddFunction(fin)
+    return polydata_to_lists(contour(sample(union, (-1.2, 1.2, -1.2, 1.2, -1.2, 1.1),
+                                            (49, 49, 47)), 0.0))
+
+
+def case_blobby_200():
+    pd = lists_to_polydata(*clean(*case_blobby()))
+    d = vtk.vtkQuadricDecimation()
+    d.SetInputData(pd)
+    d.SetTargetReduction(1.0 - 200.0 / pd.GetNumberOfPolys())
+    d.VolumePreservationOn()
+    d.Update()
+    return polydata_to_lists(d.GetOutput())
+
+
+def case_noisy_torus():
+    t = vtk.vtkParametricTorus()
+    t.SetRingRadius(1.0)
+    t.SetCrossSectionRadius(0.35)
+    pts, tris = param_surface(t, 90, 40)
+    rng = random.Random(7)
+    out = []
+    for p in pts:
+        rho = math.hypot(p[0], p[1])
+        n = (p[0] - p[0] / rho, p[1] - p[1] / rho, p[2])  # from the tube's axis
+        ln = math.sqrt(dot(n, n))
+        f = rng.uniform(-0.02, 0.02)
+        out.append(tuple(p[i] + f * n[i] / ln for i in range(3)))
+    return out, tris
+
+
+def case_hollow_sphere():
+    """A sphere of radius 1 with a spherical cavity of radius 0.6: the inner
+    surface oriented inward (flipped after clean, see CAVITIES)."""
+    app = vtk.vtkAppendPolyData()
+    for r, res in ((1.0, 48), (0.6, 32)):
+        s = vtk.vtkSphereSource()
+        s.SetRadius(r)
+        s.SetThetaResolution(res)
+        s.SetPhiResolution(res // 2)
+        app.AddInputConnection(s.GetOutputPort())
+    app.Update()
+    return polydata_to_lists(app.GetOutput())
+
+
+def inner_sphere_inward(pts, tris):
+    return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
+
+
+# cases whose clean surface is changed afterwards (cavities made inward)
+POST_CLEAN = {"hollow_sphere": inner_sphere_inward}
+
+
 # name, builder, what it tests, expected Euler characteristic
 CASES = [
     ("blobby", case_blobby, "marching-cubes metaball isosurface: slivers and folds at every vertex", 2),
@@ -535,6 +710,15 @@ CASES = [
     ("coarse_torus", case_coarse_torus, "200-triangle parametric torus: 36-degree folds at every edge", 0),
     ("fillet_block", case_fillet_block, "1 x 0.7 x 0.5 block, fillets of radius 0.1 in 4 facets per quarter turn (fandisk kind)", 2),
     ("genus3", case_genus3, "blend of three tori: genus 3 marching-cubes isosurface", -4),
+    ("knot", case_knot, "tube of radius 0.12 around a trefoil knot (240 x 12 quads): a thin curved tube", 0),
+    ("needle", case_needle, "ellipsoid 16 x 2 x 2: a long thin part, curvature radius 1/8 at its tips", 2),
+    ("superellipsoid", case_superellipsoid, "superellipsoid of exponent 0.25: flat faces meeting in tight smooth edges", 2),
+    ("supertoroid", case_supertoroid, "supertoroid of exponent 0.5: a torus of nearly square cross-section", 0),
+    ("csg_plate", case_csg_plate, "marching cubes of a plate minus a cylinder: creases as staircases, a hole", 0),
+    ("box_fin", case_box_fin, "marching cubes of a box with a thin fin (0.08 thick) on top", 2),
+    ("blobby_200", case_blobby_200, "blobby decimated to 200 triangles: very coarse facets of a curved shape", 2),
+    ("noisy_torus", case_noisy_torus, "torus with seeded +-2% noise along the tube's normal: kinks everywhere", 0),
+    ("hollow_sphere", case_hollow_sphere, "sphere with a spherical cavity (inner surface inward): 2 components", 4),
 ]
 
 
@@ -554,7 +738,9 @@ def main():
         if only and name not in only:
             continue
         pts, tris = clean(*build())
-        n_comp, vol = check(name, pts, tris, euler)
+        if name in POST_CLEAN:
+            tris = POST_CLEAN[name](pts, tris)
+        n_comp, vol = check(name, pts, tris, euler, cavities=name in POST_CLEAN)
         write_obj(os.path.join(outdir, name + ".obj"), pts, tris, what)
         rows.append((name, len(tris), what, euler))
         print("%-17s %7d triangles %7d vertices  euler %3d  components %d  volume %.6g"

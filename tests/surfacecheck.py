@@ -2,7 +2,8 @@
 polygons, fanning polygons into triangles, the surface quality figures
 (Q = 6S / (sqrt(3) h P), angle percentages), the enclosed volume, and
 the two-sided distance between two surfaces measured by VTK
-(vtkImplicitPolyDataDistance). Independent of vorocrust's own code."""
+(vtkImplicitPolyDataDistance, or for large surfaces a dense point sampling
+and vtkStaticCellLocator). Independent of vorocrust's own code."""
 
 import math
 
@@ -106,3 +107,46 @@ def max_distance(points, surface):
     d = vtk.vtkImplicitPolyDataDistance()
     d.SetInput(surface)
     return max(abs(d.EvaluateFunction(p)) for p in points)
+
+
+def _area(pd):
+    mp = vtk.vtkMassProperties()
+    mp.SetInputData(pd)
+    mp.Update()
+    return mp.GetSurfaceArea()
+
+
+def sampled_points(pd, n_target):
+    """About n_target points spread evenly over a triangle polydata: its
+    vertices, points along its edges and inside its triangles
+    (vtkPolyDataPointSampler)."""
+    s = vtk.vtkPolyDataPointSampler()
+    s.SetInputData(pd)
+    s.SetDistance(max(1e-300, math.sqrt(_area(pd) / n_target)))
+    s.GenerateVertexPointsOn()
+    s.GenerateEdgePointsOn()
+    s.GenerateInteriorPointsOn()
+    s.Update()
+    return s.GetOutput().GetPoints()
+
+
+def one_sided_distance(points, target):
+    """The largest distance from a vtkPoints set to the surface target."""
+    loc = vtk.vtkStaticCellLocator()
+    loc.SetDataSet(target)
+    loc.BuildLocator()
+    cp = [0.0, 0.0, 0.0]
+    cid, sid, d2 = vtk.mutable(0), vtk.mutable(0), vtk.mutable(0.0)
+    worst = 0.0
+    for i in range(points.GetNumberOfPoints()):
+        loc.FindClosestPoint(points.GetPoint(i), cp, cid, sid, d2)
+        worst = max(worst, d2.get())
+    return math.sqrt(worst)
+
+
+def hausdorff_sampled(a, b, n_target=150000):
+    """Two-sided Hausdorff distance between two triangle polydata, each
+    sampled with about n_target points (for surfaces too large for
+    samples() and max_distance())."""
+    return max(one_sided_distance(sampled_points(a, n_target), b),
+               one_sided_distance(sampled_points(b, n_target), a))

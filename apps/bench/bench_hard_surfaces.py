@@ -61,6 +61,8 @@ vtk.vtkObject.GlobalWarningDisplayOff()
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tests"))
+from surfacecheck import hausdorff_sampled  # noqa: E402  (the tests' measure, the same here)
 SUFFIXES = (".obj", ".off", ".stl", ".ply")
 
 
@@ -137,40 +139,8 @@ def volume(pd):
     return mp.GetVolume()
 
 
-def area(pd):
-    mp = vtk.vtkMassProperties()
-    mp.SetInputData(pd)
-    mp.Update()
-    return mp.GetSurfaceArea()
-
-
-def sample_points(pd, n_target):
-    s = vtk.vtkPolyDataPointSampler()
-    s.SetInputData(pd)
-    s.SetDistance(max(1e-300, math.sqrt(area(pd) / n_target)))
-    s.GenerateVertexPointsOn()
-    s.GenerateEdgePointsOn()
-    s.GenerateInteriorPointsOn()
-    s.Update()
-    return s.GetOutput().GetPoints()
-
-
-def one_sided(pts, target):
-    loc = vtk.vtkStaticCellLocator()
-    loc.SetDataSet(target)
-    loc.BuildLocator()
-    cp = [0.0, 0.0, 0.0]
-    cid, sid, d2 = vtk.mutable(0), vtk.mutable(0), vtk.mutable(0.0)
-    worst = 0.0
-    for i in range(pts.GetNumberOfPoints()):
-        loc.FindClosestPoint(pts.GetPoint(i), cp, cid, sid, d2)
-        if d2.get() > worst:
-            worst = d2.get()
-    return math.sqrt(worst)
-
-
 def hausdorff(a, b, n_target=150000):
-    return max(one_sided(sample_points(a, n_target), b), one_sided(sample_points(b, n_target), a))
+    return hausdorff_sampled(a, b, n_target)
 
 
 # ---------------------------------------------------------------- runs

@@ -148,9 +148,9 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                  "the input", st->lift_rounds);
     else
         snprintf(lift_note, sizeof lift_note, "%lld balls moved by %.3f of their radius on "
-                 "average (largest %.3f), %lld lifts reduced, %d checks, %.3f s",
+                 "average (largest %.3f), %lld lifts reduced, %d passes, %d checks, %.3f s",
                  (long long)st->n_lifted, st->lift_mean_rel, st->lift_max_rel,
-                 (long long)st->n_lift_reduced, st->lift_rounds, st->t_lift);
+                 (long long)st->n_lift_reduced, st->lift_passes, st->lift_rounds, st->t_lift);
     fprintf(stderr,
             "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds; sharp angle %g%s)\n"
             "  balls: %lld (corner %lld, edge %lld, surface %lld), %.3g predicted; shrunk for Lipschitz %lld, "

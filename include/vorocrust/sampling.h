@@ -105,11 +105,11 @@ typedef struct vc_sampling_stats {
     int64_t n_balls_diverged;
     /* Seconds per phase, as in the thesis' Table 6.1. */
     double t_features, t_sizing, t_corners, t_edges, t_surface, t_lipschitz, t_slivers;
-    /* The centre lift (lift_centres): balls moved, checks run, balls whose
-     * lift a failed check reduced, 1 when every lift was dropped, the mean
-     * and largest move over the radius, seconds. */
+    /* The centre lift (lift_centres): balls moved, checks run, passes
+     * accepted, balls whose lift a failed check reduced, 1 when every lift
+     * was dropped, the mean and largest move over the radius, seconds. */
     int64_t n_lifted, n_lift_reduced;
-    int lift_rounds, lift_dropped;
+    int lift_rounds, lift_passes, lift_dropped;
     double lift_mean_rel, lift_max_rel, t_lift;
 } vc_sampling_stats;
 

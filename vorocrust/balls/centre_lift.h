@@ -21,7 +21,10 @@
  * a seed much nearer a fourth sphere than before (a short edge). Where the
  * check fails, the lift of the balls involved is halved, then removed with
  * that of their neighbours, and after MAX_ROUNDS all lifts are dropped:
- * the result is never worse than the unlifted sampling. */
+ * the result is never worse than the unlifted sampling. Further passes
+ * measure the lifted facets again and move by what remains (a thin tube's
+ * second-order remainder), each checked against the sampled facets the
+ * same way; a pass that does not hold leaves the last one's centres. */
 #ifndef VC_BALLS_CENTRE_LIFT_H
 #define VC_BALLS_CENTRE_LIFT_H
 
@@ -32,7 +35,8 @@
 
 typedef struct vc_lift_result {
     int64_t n_lifted;      /* balls moved */
-    int rounds;            /* checks run (1 when the first lift held) */
+    int rounds;            /* checks run, over all passes (1 when the first lift held) */
+    int passes;            /* passes accepted (0 when dropped) */
     int64_t n_reduced;     /* balls whose lift was reduced by a failed check */
     int dropped;           /* 1 when every lift was dropped */
     double mean_rel;       /* mean |lift| / radius over the moved balls */

@@ -1903,15 +1903,16 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         st->n_lifted = lr.n_lifted;
         st->n_lift_reduced = lr.n_reduced;
         st->lift_rounds = lr.rounds;
+        st->lift_passes = lr.passes;
         st->lift_dropped = lr.dropped;
         st->lift_mean_rel = lr.mean_rel;
         st->lift_max_rel = lr.max_rel;
         if (!rc)
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: centre lift: %lld balls moved by %.3g of their radius on average "
-                   "(largest %.3g), %lld reduced, %d checks%s, %.2f s",
+                   "(largest %.3g), %lld reduced, %d passes, %d checks%s, %.2f s",
                    (long long)lr.n_lifted, lr.mean_rel, lr.max_rel, (long long)lr.n_reduced,
-                   lr.rounds, lr.dropped ? ", every lift dropped" : "", st->t_lift);
+                   lr.passes, lr.rounds, lr.dropped ? ", every lift dropped" : "", st->t_lift);
     }
     free(old_r);
     free(shrunk);
