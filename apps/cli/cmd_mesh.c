@@ -101,12 +101,14 @@ static void usage(FILE *f)
         "  --verbose           also the phase timings of the Voronoi engine on stderr\n"
         "  --cavities          nested closed shells alternate solid and cavity (the\n"
         "                      outermost solid), whatever their orientation\n"
+        "  --fallback          when sliver elimination diverges, sample again at theta_sharp\n"
+        "                      20 (folds become creases), then after %d rounds of Loop\n"
+        "                      smoothing at 120 (moves the surface); default: an error\n"
         "  --fold-creases      when sliver elimination diverges, make the folds over 10\n"
         "                      degrees where it is stuck creases and sample again (up to 4\n"
-        "                      times, then all such folds), instead of the default second\n"
-        "                      sampling at 20 degrees or after smoothing (experimental)\n",
+        "                      times, then all such folds; experimental)\n",
         FOAM_DEFAULT_MAX_SKEW, d.sharp_angle, VC_SMOOTH_MAX_ITERATIONS, VC_SMOOTH_DEFAULT_ITERATIONS, d.max_error,
-        d.lipschitz, (unsigned long long)d.seed);
+        d.lipschitz, (unsigned long long)d.seed, VC_SMOOTH_DEFAULT_ITERATIONS);
 }
 
 static int takes_value(const char *a)
@@ -361,7 +363,7 @@ static int run_mesh(int argc, char **argv)
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL,
                *tough_path = NULL;
-    int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, sharp_angle_given = 0,
+    int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, fallback = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
     vc_skew_collapse_stats foam_skew;
@@ -387,6 +389,8 @@ static int run_mesh(int argc, char **argv)
             verbose = 1;
         } else if (!strcmp(a, "--fold-creases")) {
             fold_creases = 1;
+        } else if (!strcmp(a, "--fallback")) {
+            fallback = 1;
         } else if (!strcmp(a, "--cavities")) {
             opt.cavities = 1;
         } else if (takes_value(a) && !v) {
@@ -502,7 +506,6 @@ static int run_mesh(int argc, char **argv)
         } else if (!strcmp(a, "--balls")) {
             balls_path = argv[++i];
         } else if (!strcmp(a, "--sharp-angle")) {
-            sharp_angle_given = 1;
             if (vc_cli_parse_double(v, &opt.sharp_angle) ||
                 !(opt.sharp_angle > 0 && opt.sharp_angle < 180)) {
                 fprintf(stderr, "vorocrust: --sharp-angle needs a number of degrees in (0, 180), "
@@ -642,10 +645,10 @@ static int run_mesh(int argc, char **argv)
     free(boundary_out);
     if (fold_creases)
         opt.resample = VC_RESAMPLE_FOLDS;
-    else if (sharp_angle_given)
-        opt.resample = 0;
-    else if (smooth_iterations_given)
-        opt.resample = VC_RESAMPLE_CREASES;
+    else if (fallback)
+        /* smoothing first already: only the creases are left to try */
+        opt.resample = smooth_iterations_given ? VC_RESAMPLE_CREASES
+                                               : VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH;
     vc_logger log;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
     opt.log = &log;

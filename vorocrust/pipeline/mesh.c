@@ -73,7 +73,7 @@ void vc_mesh_options_default(vc_mesh_options *opt)
      * surface off the input (sphere.obj: 0.78% of the diagonal, 3.3% of the
      * volume after 6 rounds), beyond the 0.5% error budget. */
     opt->smooth_iterations = 0;
-    opt->resample = VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH;
+    opt->resample = 0; /* a sampling that diverges is an error (issue 16) */
     opt->interior = VC_INTERIOR_OCTREE;
 }
 
@@ -541,6 +541,14 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         if (plan == 0) {
             *err = why;
+            if (out->sampling.diverged && opt->resample == 0 && !mm) {
+                /* the ladder is the user's choice, never the default */
+                size_t len = strlen(err->msg);
+                snprintf(err->msg + len, sizeof err->msg - len,
+                         ", or --fallback (sample again at theta_sharp %g, then after %d rounds of "
+                         "smoothing, which moves the surface)", FOLD_ANGLE,
+                         VC_SMOOTH_DEFAULT_ITERATIONS);
+            }
             rc = named(err, name, NULL);
             break;
         }
