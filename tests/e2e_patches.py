@@ -143,7 +143,7 @@ def foam(argv, case, log):
     return p.returncode, p.stdout + p.stderr
 
 
-HEADER = "FoamFile\n{\n    version 2.0;\n    format ascii;\n    class %s;\n    object %s;\n}\n"
+HEADER = e2eutil.FOAM_HEADER
 
 
 def laplacian_case(case, patches):
@@ -168,22 +168,10 @@ def laplacian_case(case, patches):
         + "solvers\n{\n    T { solver PCG; preconditioner DIC; tolerance 1e-12; relTol 0; }\n}\n"
         "SIMPLE { nNonOrthogonalCorrectors 4; }\n",
     }
-    for rel, text in files.items():
-        os.makedirs(os.path.dirname(os.path.join(case, rel)), exist_ok=True)
-        with open(os.path.join(case, rel), "w") as f:
-            f.write(text)
+    e2eutil.write_foam_files(case, files)
 
 
-def internal_field(path):
-    with open(path) as f:
-        text = f.read()
-    m = re.search(r"internalField\s+nonuniform\s+List<(\w+)>\s*(\d+)\s*\((.*?)\)\s*;", text, re.S)
-    if not m:
-        return None
-    body = m.group(3)
-    if m.group(1) == "scalar":
-        return [float(x) for x in body.split()]
-    return [tuple(float(x) for x in v.split()) for v in re.findall(r"\(([^()]*)\)", body)]
+internal_field = e2eutil.foam_internal_field
 
 
 # ---- OBJ groups --------------------------------------------------------------

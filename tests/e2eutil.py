@@ -190,6 +190,48 @@ def find_checkmesh():
     return exe, env
 
 
+# The header of an OpenFOAM dictionary file: FOAM_HEADER % (class, object).
+FOAM_HEADER = "FoamFile\n{\n    version 2.0;\n    format ascii;\n    class %s;\n    object %s;\n}\n"
+
+
+def write_foam_files(case, files):
+    """Writes {relative path: text} under the OpenFOAM case directory."""
+    for rel, text in files.items():
+        os.makedirs(os.path.dirname(os.path.join(case, rel)), exist_ok=True)
+        with open(os.path.join(case, rel), "w") as f:
+            f.write(text)
+
+
+def foam_internal_field(path):
+    """The values of an OpenFOAM field file's nonuniform internalField: a list
+    of floats (scalar) or of tuples (vector), or None."""
+    with open(path) as f:
+        text = f.read()
+    m = re.search(r"internalField\s+nonuniform\s+List<(\w+)>\s*(\d+)\s*\((.*?)\)\s*;", text, re.S)
+    if not m:
+        return None
+    body = m.group(3)
+    if m.group(1) == "scalar":
+        return [float(x) for x in body.split()]
+    return [tuple(float(x) for x in v.split()) for v in re.findall(r"\(([^()]*)\)", body)]
+
+
+def foam_patch_sum(path, patch):
+    """The sum of a surface scalar field's values on one patch (e.g. phi: the
+    flux through it), from its boundaryField entry, or None."""
+    with open(path) as f:
+        text = f.read()
+    m = re.search(r"\n\s*%s\s*\{(.*?)\n\s*\}" % re.escape(patch), text, re.S)
+    if not m:
+        return None
+    body = m.group(1)
+    mm = re.search(r"value\s+nonuniform\s+List<scalar>\s*\d+\s*\((.*?)\)\s*;", body, re.S)
+    if mm:
+        return sum(float(x) for x in mm.group(1).split())
+    mm = re.search(r"value\s+uniform\s+([-0-9.eE+]+)\s*;", body)
+    return None if not mm else (0.0 if float(mm.group(1)) == 0 else None)
+
+
 def obj_volume(path):
     """Volume enclosed by an OBJ polygon surface (surfacecheck's reading and volume)."""
     import surfacecheck
