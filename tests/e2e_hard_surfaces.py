@@ -106,14 +106,7 @@ def main():
     dv = v_out / v_in - 1
     print("%s: Hausdorff %.3f%% of the diagonal, volume %+.3f%%, euler %d, %d components"
           % (name, 100 * h / diag, 100 * dv, euler, comps))
-    # box_fin misses 0.5% (0.514%): the chord from the ridge's crease balls
-    # to the fin's side balls cuts the fold between them (38.7 degrees, not
-    # sharp at 60) by about the error bound; the sizing bounds each ball's
-    # reach from its tangent plane, not such chords (the fold chord
-    # defect, docs/hard-surfaces.md). 0.6% is checked there.
-    bound = 0.006 if name == "box_fin" else 0.005
-    check(h <= bound * diag, "%s: Hausdorff %.4g > %g%% of the diagonal %.4g"
-          % (name, h, 100 * bound, diag))
+    check(h <= 0.005 * diag, "%s: Hausdorff %.4g > 0.5%% of the diagonal %.4g" % (name, h, diag))
     check(abs(dv) <= 0.005, "%s: volume %.9g against the input's %.9g (%+.3f%%)"
           % (name, v_out, v_in, 100 * dv))
     m = re.search(r"volume mesh: \d+ cells \(\d+ interior seeds\), volume ([0-9.eE+-]+) "

@@ -156,7 +156,8 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     fprintf(stderr,
             "vorocrust mesh: %s (%lld triangles, %lld after %d smoothing rounds; sharp angle %g%s)\n"
             "  balls: %lld (corner %lld, edge %lld, surface %lld), %.3g predicted; shrunk for Lipschitz %lld, "
-            "for slivers %lld in %d iterations%s, for flat facets %lld, at pinches %lld; half-covered seed pairs %lld\n"
+            "for slivers %lld in %d iterations%s, for flat facets %lld, for facets off the input %lld, at pinches %lld; "
+            "half-covered seed pairs %lld\n"
             "  centre lift: %s\n"
             "  surface seeds: %lld (%lld inside, %lld outside)\n"
             "  surface: %lld vertices, %lld polygons, %lld edges, euler %lld (input %lld), "
@@ -171,7 +172,8 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             (long long)st->n_corner, (long long)st->n_edge, (long long)st->n_surface,
             st->n_balls_predicted, (long long)st->n_shrunk_lipschitz, (long long)st->n_shrunk_sliver,
             st->sliver_iterations, st->safe_mode ? " (safe mode)" : "",
-            (long long)st->n_shrunk_flat, (long long)st->n_shrunk_pinch, (long long)r->n_half_covered,
+            (long long)st->n_shrunk_flat, (long long)st->n_shrunk_deviation, (long long)st->n_shrunk_pinch,
+            (long long)r->n_half_covered,
             lift_note,
             (long long)r->n_surface_seeds, (long long)r->n_inside_seeds,
             (long long)(r->n_surface_seeds - r->n_inside_seeds), (long long)topo->n_vertices,

@@ -94,6 +94,8 @@ typedef struct vc_sampling_stats {
     int64_t n_shrunk_flat;                 /* radius reductions for flat facets */
     int64_t n_shrunk_pinch;                /* radius reductions at edges of more than two
                                               facets (pinches) */
+    int64_t n_shrunk_deviation;            /* radius reductions for facets farther from the
+                                              input than the error bound */
     int sliver_iterations;
     int safe_mode;                         /* 1 when alpha / 2 was accepted */
     int64_t n_half_covered;                /* left at the end (0 on success) */

@@ -1411,6 +1411,110 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
 }
 
 /* ---------------------------------------------------------------------
+ * Facets that stray from the input.
+ *
+ * The sizing bounds each ball's reach from its own tangent plane, not the
+ * facet between three balls: where the input folds by less than
+ * theta_sharp between two balls, the facet cuts the fold by about the
+ * distance of the nearer centre from it times sin(fold / 2), which can
+ * exceed the error bound (a fin's ridge: 1.3 times). After sliver
+ * elimination converges, every facet's edge midpoints and centroid are
+ * measured against the input; the balls of a facet farther than
+ * DEVIATION_BOUND times the error bound are cut to DEVIATION_SHRINK of
+ * their radius, and the sampling runs again around them (new centres
+ * come between, nearer the fold), up to DEVIATION_PASSES times. */
+#define DEVIATION_BOUND 1.0
+#define DEVIATION_SHRINK 0.7
+#define DEVIATION_PASSES 4
+
+typedef struct nearest_input {
+    const vc_sizing *z;
+    const double *p;
+    double best_d2;
+} nearest_input;
+
+static void nearest_triangle(void *ctx, int kind, int64_t id)
+{
+    nearest_input *c = ctx;
+    if (kind != VC_ELEM_TRIANGLE)
+        return;
+    c->best_d2 = fmin(c->best_d2, vc_sizing_element_dist2(c->z, kind, id, c->p));
+}
+
+/* Is the facet of centres v farther than bound from the input at one of
+ * its probes: EDGE_PROBES points along each edge and the centroid with
+ * the points halfway from it to the corners? A chord that cuts a fold is
+ * farthest from the input where it passes the fold, anywhere along it
+ * (a fin's ridge: 0.6 of the way, 1.2 times as far as at the midpoint). */
+#define EDGE_PROBES 7
+static int facet_strays(const sampler *S, const int64_t v[3], double bound)
+{
+    const double *c[3] = {S->bs.b.center + 3 * v[0], S->bs.b.center + 3 * v[1],
+                          S->bs.b.center + 3 * v[2]};
+    double w[3 * EDGE_PROBES + 4][3];
+    int n = 0;
+    for (int e = 0; e < 3; e++)
+        for (int k = 1; k <= EDGE_PROBES; k++, n++) {
+            const double t = (double)k / (EDGE_PROBES + 1);
+            w[n][e] = 1 - t;
+            w[n][(e + 1) % 3] = t;
+            w[n][(e + 2) % 3] = 0;
+        }
+    for (int m = 0; m < 3; m++, n++)
+        for (int d = 0; d < 3; d++)
+            w[n][d] = d == m ? 2.0 / 3 : 1.0 / 6;
+    w[n][0] = w[n][1] = w[n][2] = 1.0 / 3;
+    n++;
+    for (int m = 0; m < n; m++) {
+        double p[3];
+        for (int d = 0; d < 3; d++)
+            p[d] = w[m][0] * c[0][d] + w[m][1] * c[1][d] + w[m][2] * c[2][d];
+        nearest_input q = {&S->z, p, bound * bound};
+        vc_sizing_elements_near(&S->z, p, bound, nearest_triangle, &q);
+        if (!(q.best_d2 < bound * bound))
+            return 1;
+    }
+    return 0;
+}
+
+/* Cuts the balls of the straying facets (not corner balls, each once);
+ * returns the number cut, or -1 when out of memory. */
+static int64_t shrink_straying(sampler *S, const facet_list *facets, double *old_r,
+                               unsigned char *shrunk)
+{
+    const double bound = DEVIATION_BOUND * S->z.eps;
+    if (!isfinite(bound) || facets->n == 0)
+        return 0;
+    unsigned char *strays = malloc((size_t)facets->n);
+    if (!strays)
+        return -1;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(S->threads)
+    for (int64_t f = 0; f < facets->n; f++)
+        strays[f] = (unsigned char)facet_strays(S, facets->f[f].v, bound);
+    vc_balls *B = &S->bs.b;
+    memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
+    memset(shrunk, 0, (size_t)B->n);
+    int64_t changed = 0;
+    for (int64_t f = 0; f < facets->n && changed >= 0; f++) {
+        if (!strays[f])
+            continue;
+        for (int k = 0; k < 3 && changed >= 0; k++) {
+            const int64_t q = facets->f[f].v[k];
+            if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
+                continue;
+            if (vc_ball_set_resize(&S->bs, q, DEVIATION_SHRINK * B->radius[q]) || mark_dirty(S, q))
+                changed = -1;
+            else {
+                shrunk[q] = 1;
+                changed++;
+            }
+        }
+    }
+    free(strays);
+    return changed;
+}
+
+/* ---------------------------------------------------------------------
  * Pinches.
  *
  * With no half-covered pair left, the facets still meet four to an edge at
@@ -1754,7 +1858,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     /* Lipschitz fixes and sliver elimination, sampling again after every
      * shrinking, until nothing changes; then the flat-facet pass and the
      * same again, up to FLAT_PASSES times. */
-    int iter = 0, flat_passes = 0, pinch_passes = 0;
+    int iter = 0, flat_passes = 0, pinch_passes = 0, deviation_passes = 0;
     facet_list facets = {NULL, 0, 0, 0};
     while (!rc) {
         double ta = vc_clock_seconds();
@@ -1800,6 +1904,22 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 st->n_shrunk_flat += nf;
                 vc_log(opt->log, VC_LOG_INFO, "mesh: flat facets %d: %lld balls shrunk",
                        flat_passes, (long long)nf);
+                rc = resample_around(&S, old_r, shrunk);
+                continue;
+            }
+        }
+        if (ns == 0 && deviation_passes < DEVIATION_PASSES) {
+            deviation_passes++;
+            int64_t nd = shrink_straying(&S, &facets, old_r, shrunk);
+            if (nd < 0) {
+                rc = -1;
+                break;
+            }
+            if (nd > 0) {
+                st->n_shrunk_deviation += nd;
+                vc_log(opt->log, VC_LOG_INFO,
+                       "mesh: facets off the input by more than the error bound %d: %lld balls "
+                       "shrunk", deviation_passes, (long long)nd);
                 rc = resample_around(&S, old_r, shrunk);
                 continue;
             }
