@@ -438,12 +438,12 @@ def case_blobby():
     return polydata_to_lists(contour(blob_field(22), math.exp(-1.0)))
 
 
-def decimated_blobby():
+def decimated_blobby(n_target=500):
     pd = lists_to_polydata(*clean(*case_blobby()))
     n = pd.GetNumberOfPolys()
     d = vtk.vtkQuadricDecimation()
     d.SetInputData(pd)
-    d.SetTargetReduction(1.0 - 500.0 / n)
+    d.SetTargetReduction(1.0 - float(n_target) / n)
     d.VolumePreservationOn()
     d.Update()
     return d.GetOutput()
@@ -621,42 +621,38 @@ def case_supertoroid():
     return param_surface(f, 80, 40, tolerance=1e-6)
 
 
+def box(bounds):
+    b = vtk.vtkBox()
+    b.SetBounds(*bounds)
+    return b
+
+
+def csg_contour(op, functions, bounds, dims):
+    """Marching cubes (flying edges) of the zero level of a vtkImplicitBoolean
+    (op: "Union", "Difference", ...) sampled on a grid."""
+    f = vtk.vtkImplicitBoolean()
+    getattr(f, "SetOperationTypeTo" + op)()
+    for g in functions:
+        f.AddFunction(g)
+    return polydata_to_lists(contour(sample(f, bounds, dims), 0.0))
+
+
 def case_csg_plate():
-    box = vtk.vtkBox()
-    box.SetBounds(-1, 1, -0.6, 0.6, -0.25, 0.25)
     hole = vtk.vtkCylinder()
     hole.SetRadius(0.3)
     hole.SetAxis(0, 0, 1)
     hole.SetCenter(0.3, 0, 0)
-    diff = vtk.vtkImplicitBoolean()
-    diff.SetOperationTypeToDifference()
-    diff.AddFunction(box)
-    diff.AddFunction(hole)
-    return polydata_to_lists(contour(sample(diff, (-1.2, 1.2, -0.8, 0.8, -0.45, 0.45),
-                                            (61, 41, 24)), 0.0))
+    return csg_contour("Difference", [box((-1, 1, -0.6, 0.6, -0.25, 0.25)), hole],
+                       (-1.2, 1.2, -0.8, 0.8, -0.45, 0.45), (61, 41, 24))
 
 
 def case_box_fin():
-    base = vtk.vtkBox()
-    base.SetBounds(-1, 1, -1, 1, -1, 0)
-    fin = vtk.vtkBox()
-    fin.SetBounds(-0.8, 0.8, -0.04, 0.04, -0.1, 0.9)
-    union = vtk.vtkImplicitBoolean()
-    union.SetOperationTypeToUnion()
-    union.AddFunction(base)
-    union.AddFunction(fin)
-    return polydata_to_lists(contour(sample(union, (-1.2, 1.2, -1.2, 1.2, -1.2, 1.1),
-                                            (49, 49, 47)), 0.0))
+    return csg_contour("Union", [box((-1, 1, -1, 1, -1, 0)), box((-0.8, 0.8, -0.04, 0.04, -0.1, 0.9))],
+                       (-1.2, 1.2, -1.2, 1.2, -1.2, 1.1), (49, 49, 47))
 
 
 def case_blobby_200():
-    pd = lists_to_polydata(*clean(*case_blobby()))
-    d = vtk.vtkQuadricDecimation()
-    d.SetInputData(pd)
-    d.SetTargetReduction(1.0 - 200.0 / pd.GetNumberOfPolys())
-    d.VolumePreservationOn()
-    d.Update()
-    return polydata_to_lists(d.GetOutput())
+    return polydata_to_lists(decimated_blobby(200))
 
 
 def case_noisy_torus():

@@ -38,10 +38,6 @@ CHECKMESH, FOAM_ENV = e2eutil.find_checkmesh()
 SIMPLEFOAM = os.path.join(os.path.dirname(CHECKMESH), "simpleFoam")
 MAX_ITER = 2000
 
-V = [(0, 0, 0), (4, 0, 0), (4, 1, 0), (0, 1, 0), (0, 0, 1), (4, 0, 1), (4, 1, 1), (0, 1, 1)]
-FACES = {"inlet": [(1, 5, 8), (1, 8, 4)], "outlet": [(2, 3, 7), (2, 7, 6)],
-         "walls": [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (3, 4, 8), (3, 8, 7)]}
-
 CASE_FILES = {
     "0/U": H % ("volVectorField", "U") + "dimensions [0 1 -1 0 0 0 0];\n"
     "internalField uniform (0 0 0);\nboundaryField\n{\n"
@@ -71,14 +67,6 @@ CASE_FILES = {
     "    residualControl { p 1e-6; U 1e-6; }\n}\n"
     "relaxationFactors\n{\n    equations { U 0.9; \".*\" 0.9; }\n}\n",
 }
-
-
-def duct_obj(path):
-    with open(path, "w") as f:
-        f.writelines("v %g %g %g\n" % v for v in V)
-        for name, tris in FACES.items():
-            f.write("g %s\n" % name)
-            f.writelines("f %d %d %d\n" % t for t in tris)
 
 
 def run_case(tag, extra):
@@ -123,7 +111,7 @@ def run_case(tag, extra):
                  max(P)), flush=True)
 
 
-duct_obj(os.path.join(TMP, "duct.obj"))
+e2eutil.duct_obj(os.path.join(TMP, "duct.obj"))
 run_case("exact", ["--foam-max-skew", "0"])
 run_case("collapsed", [])
 if failures:

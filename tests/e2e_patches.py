@@ -33,18 +33,12 @@ os.makedirs(TMP)
 CHECKMESH, FOAM_ENV = e2eutil.find_checkmesh()
 FOAM_BIN = os.path.dirname(CHECKMESH)
 
-V = [(0, 0, 0), (4, 0, 0), (4, 1, 0), (0, 1, 0), (0, 0, 1), (4, 0, 1), (4, 1, 1), (0, 1, 1)]
-FACES = {"inlet": [(1, 5, 8), (1, 8, 4)], "outlet": [(2, 3, 7), (2, 7, 6)],
-         "walls": [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (3, 4, 8), (3, 8, 7)]}
+V = e2eutil.DUCT_V
+FACES = e2eutil.DUCT_FACES
 AREAS = {"inlet": 1.0, "outlet": 1.0, "walls": 16.0}
 
 
-def duct_obj(path):
-    with open(path, "w") as f:
-        f.writelines("v %g %g %g\n" % v for v in V)
-        for name, tris in FACES.items():
-            f.write("g %s\n" % name)
-            f.writelines("f %d %d %d\n" % t for t in tris)
+duct_obj = e2eutil.duct_obj
 
 
 def duct_stl(path):

@@ -190,6 +190,23 @@ def find_checkmesh():
     return exe, env
 
 
+# A 4 x 1 x 1 duct whose inlet (x = 0), outlet (x = 4) and walls are named:
+# its corners (1-based in DUCT_FACES) and each patch's triangles.
+DUCT_V = [(0, 0, 0), (4, 0, 0), (4, 1, 0), (0, 1, 0), (0, 0, 1), (4, 0, 1), (4, 1, 1), (0, 1, 1)]
+DUCT_FACES = {"inlet": [(1, 5, 8), (1, 8, 4)], "outlet": [(2, 3, 7), (2, 7, 6)],
+              "walls": [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (3, 4, 8),
+                        (3, 8, 7)]}
+
+
+def duct_obj(path):
+    """The duct as an OBJ file, one group per patch."""
+    with open(path, "w") as f:
+        f.writelines("v %g %g %g\n" % v for v in DUCT_V)
+        for name, tris in DUCT_FACES.items():
+            f.write("g %s\n" % name)
+            f.writelines("f %d %d %d\n" % t for t in tris)
+
+
 # The header of an OpenFOAM dictionary file: FOAM_HEADER % (class, object).
 FOAM_HEADER = "FoamFile\n{\n    version 2.0;\n    format ascii;\n    class %s;\n    object %s;\n}\n"
 
