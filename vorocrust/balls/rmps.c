@@ -1915,6 +1915,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 rc = -1;
                 break;
             }
+            if (nd == 0)
+                deviation_passes = DEVIATION_PASSES; /* smaller balls only come nearer */
             if (nd > 0) {
                 st->n_shrunk_deviation += nd;
                 vc_log(opt->log, VC_LOG_INFO,
