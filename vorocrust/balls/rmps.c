@@ -1410,6 +1410,20 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
     return changed;
 }
 
+/* Cuts ball q to factor times its radius unless it was cut already in
+ * this pass or is a corner ball; returns changed plus one when cut,
+ * changed when not, -1 when out of memory. */
+static int64_t cut_once(sampler *S, int64_t q, double factor, unsigned char *shrunk,
+                        int64_t changed)
+{
+    if (shrunk[q] || S->bs.b.kind[q] == VC_BALL_CORNER)
+        return changed;
+    if (vc_ball_set_resize(&S->bs, q, factor * S->bs.b.radius[q]) || mark_dirty(S, q))
+        return -1;
+    shrunk[q] = 1;
+    return changed + 1;
+}
+
 /* ---------------------------------------------------------------------
  * Facets that stray from the input.
  *
@@ -1418,11 +1432,11 @@ static int64_t unflatten_facets(sampler *S, const facet_list *facets, double *ol
  * theta_sharp between two balls, the facet cuts the fold by about the
  * distance of the nearer centre from it times sin(fold / 2), which can
  * exceed the error bound (a fin's ridge: 1.3 times). After sliver
- * elimination converges, every facet's edge midpoints and centroid are
- * measured against the input; the balls of a facet farther than
- * DEVIATION_BOUND times the error bound are cut to DEVIATION_SHRINK of
- * their radius, and the sampling runs again around them (new centres
- * come between, nearer the fold), up to DEVIATION_PASSES times. */
+ * elimination converges, every facet is probed against the input
+ * (facet_strays); the balls of a facet farther than DEVIATION_BOUND times
+ * the error bound are cut to DEVIATION_SHRINK of their radius, and the
+ * sampling runs again around them (new centres come between, nearer the
+ * fold), up to DEVIATION_PASSES times. */
 #define DEVIATION_BOUND 1.0
 #define DEVIATION_SHRINK 0.7
 #define DEVIATION_PASSES 4
@@ -1491,25 +1505,11 @@ static int64_t shrink_straying(sampler *S, const facet_list *facets, double *old
 #pragma omp parallel for schedule(dynamic, 256) num_threads(S->threads)
     for (int64_t f = 0; f < facets->n; f++)
         strays[f] = (unsigned char)facet_strays(S, facets->f[f].v, bound);
-    vc_balls *B = &S->bs.b;
-    memcpy(old_r, B->radius, sizeof(double) * (size_t)B->n);
-    memset(shrunk, 0, (size_t)B->n);
+    memcpy(old_r, S->bs.b.radius, sizeof(double) * (size_t)S->bs.b.n);
     int64_t changed = 0;
-    for (int64_t f = 0; f < facets->n && changed >= 0; f++) {
-        if (!strays[f])
-            continue;
-        for (int k = 0; k < 3 && changed >= 0; k++) {
-            const int64_t q = facets->f[f].v[k];
-            if (shrunk[q] || B->kind[q] == VC_BALL_CORNER)
-                continue;
-            if (vc_ball_set_resize(&S->bs, q, DEVIATION_SHRINK * B->radius[q]) || mark_dirty(S, q))
-                changed = -1;
-            else {
-                shrunk[q] = 1;
-                changed++;
-            }
-        }
-    }
+    for (int64_t f = 0; f < facets->n && changed >= 0; f++)
+        for (int k = 0; k < 3 && strays[f] && changed >= 0; k++)
+            changed = cut_once(S, facets->f[f].v[k], DEVIATION_SHRINK, shrunk, changed);
     free(strays);
     return changed;
 }
@@ -1528,18 +1528,6 @@ static int64_t shrink_straying(sampler *S, const facet_list *facets, double *old
 #define PINCH_SHRINK 0.7
 #define PINCH_PASSES 8
 
-/* Cuts ball q to PINCH_SHRINK of its radius unless it was cut already or
- * is a corner ball; returns changed plus one when cut, -1 when out of
- * memory. */
-static int64_t pinch_cut(sampler *S, int64_t q, unsigned char *shrunk, int64_t changed)
-{
-    if (shrunk[q] || S->bs.b.kind[q] == VC_BALL_CORNER)
-        return changed;
-    if (vc_ball_set_resize(&S->bs, q, PINCH_SHRINK * S->bs.b.radius[q]) || mark_dirty(S, q))
-        return -1;
-    shrunk[q] = 1;
-    return changed + 1;
-}
 
 /* Do the n link edges {b, facet} of one ball (undirected: the facets are
  * not oriented) form a single cycle? Reorders them along the walk. */
@@ -1610,7 +1598,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         if (m2 - m != 2 && !(nm[e[m].a] && nm[e[m].b])) {
             const int64_t ends[2] = {e[m].a, e[m].b};
             for (int k = 0; k < 2 && changed >= 0; k++)
-                changed = pinch_cut(S, ends[k], shrunk, changed);
+                changed = cut_once(S, ends[k], PINCH_SHRINK, shrunk, changed);
         }
         m = m2;
     }
@@ -1627,7 +1615,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
         if (!nm[e[m].a] && !one_cycle(e + m, m2 - m)) {
             /* the ball and the balls of its link */
             for (int64_t k = m; k <= m2 && changed >= 0; k++)
-                changed = pinch_cut(S, k == m2 ? e[m].a : e[k].b, shrunk, changed);
+                changed = cut_once(S, k == m2 ? e[m].a : e[k].b, PINCH_SHRINK, shrunk, changed);
         }
         m = m2;
     }
@@ -1915,9 +1903,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 rc = -1;
                 break;
             }
-            if (nd == 0)
+            if (nd == 0) {
                 deviation_passes = DEVIATION_PASSES; /* smaller balls only come nearer */
-            if (nd > 0) {
+            } else {
                 st->n_shrunk_deviation += nd;
                 vc_log(opt->log, VC_LOG_INFO,
                        "mesh: facets off the input by more than the error bound %d: %lld balls "
