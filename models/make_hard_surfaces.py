@@ -55,6 +55,8 @@ The cases (NAME: what it tests):
   blobby_200      blobby decimated to 200 triangles
   noisy_torus     a torus with +-2 % seeded noise along the tube's normal
   hollow_sphere   a sphere with a spherical cavity (inner surface inward)
+  box_speck       a box of side 10 and, apart, a sphere of radius 0.01:
+                  two components 1000 times apart in size
 """
 import math
 import os
@@ -685,6 +687,26 @@ def case_hollow_sphere():
     return polydata_to_lists(app.GetOutput())
 
 
+def case_box_speck():
+    """A cube of side 10 (two triangles per face) and a sphere of radius
+    0.01 (16 x 8) at (7, 0, 0), outside it: the sampling's darts go by
+    area, and the speck's share is 1e-6 of it."""
+    app = vtk.vtkAppendPolyData()
+    cube = vtk.vtkCubeSource()
+    cube.SetXLength(10)
+    cube.SetYLength(10)
+    cube.SetZLength(10)
+    speck = vtk.vtkSphereSource()
+    speck.SetRadius(0.01)
+    speck.SetCenter(7, 0, 0)
+    speck.SetThetaResolution(16)
+    speck.SetPhiResolution(8)
+    app.AddInputConnection(cube.GetOutputPort())
+    app.AddInputConnection(speck.GetOutputPort())
+    app.Update()
+    return polydata_to_lists(app.GetOutput())
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -715,6 +737,7 @@ CASES = [
     ("blobby_200", case_blobby_200, "blobby decimated to 200 triangles: very coarse facets of a curved shape", 2),
     ("noisy_torus", case_noisy_torus, "torus with seeded +-2% noise along the tube's normal: kinks everywhere", 0),
     ("hollow_sphere", case_hollow_sphere, "sphere with a spherical cavity (inner surface inward): 2 components", 4),
+    ("box_speck", case_box_speck, "box of side 10 and apart a sphere of radius 0.01: 2 components 1000 times apart in size", 4),
 ]
 
 

@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -306,10 +305,7 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                 (long long)foam_skew->n_made_room, foam_skew->max_move,
                 foam_skew->max_skew_before, foam_skew->max_skew_after,
                 (long long)foam_skew->n_skew_left, foam_max_skew);
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    fprintf(stderr, "  total: %.3f s, peak memory %.1f MiB\n", t_total,
-            (double)ru.ru_maxrss / 1024.0);
+    fprintf(stderr, "  total: %.3f s, peak memory %.1f MiB\n", t_total, vc_cli_peak_mib());
 }
 
 /* OUT.vtu -> OUT_boundary.vtu (malloc'd). */
