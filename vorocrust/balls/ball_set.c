@@ -86,6 +86,7 @@ void vc_ball_set_free(vc_ball_set *bs)
     vc_balls_free(&bs->b);
     free(bs->head);
     free(bs->next);
+    free(bs->prev);
     free(bs->key);
     free(bs->level);
     free(bs->level_pos);
@@ -95,12 +96,21 @@ void vc_ball_set_free(vc_ball_set *bs)
     memset(bs, 0, sizeof *bs);
 }
 
-/* Entry 2 i is ball i in its cell, entry 2 i + 1 in its coarse cell. */
+/* Entry 2 i is ball i in its cell, entry 2 i + 1 in its coarse cell. The
+ * chains are doubly linked (prev: the entry before, or -2 - slot at the
+ * head): a coarse cell holds thousands of balls where the surface is
+ * dense (a thin shell: 240,000 balls of one size), and unlinking by
+ * walking its chain took 15% of the run when the centre lift moved
+ * 160,000 of them. */
 static void link_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
         int64_t slot = (int64_t)(hash64(bs->key[e]) & (uint64_t)(bs->table_size - 1));
-        bs->next[e] = bs->head[slot];
+        const int64_t first = bs->head[slot];
+        bs->next[e] = first;
+        bs->prev[e] = -2 - slot;
+        if (first >= 0)
+            bs->prev[first] = e;
         bs->head[slot] = e;
     }
 }
@@ -108,11 +118,13 @@ static void link_ball(vc_ball_set *bs, int64_t i)
 static void unlink_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        int64_t slot = (int64_t)(hash64(bs->key[e]) & (uint64_t)(bs->table_size - 1));
-        int64_t *pp = &bs->head[slot];
-        while (*pp != e)
-            pp = &bs->next[*pp];
-        *pp = bs->next[e];
+        const int64_t before = bs->prev[e], after = bs->next[e];
+        if (before >= 0)
+            bs->next[before] = after;
+        else
+            bs->head[-2 - before] = after;
+        if (after >= 0)
+            bs->prev[after] = before;
     }
 }
 
@@ -169,6 +181,7 @@ static int grow(vc_ball_set *bs)
     GROW(b->element, int64_t, 1);
     GROW(b->normal, double, 3);
     GROW(bs->next, int64_t, 2);
+    GROW(bs->prev, int64_t, 2);
     GROW(bs->key, uint64_t, 2);
     GROW(bs->level, int, 1);
     GROW(bs->level_pos, int64_t, 1);

@@ -27,6 +27,7 @@ typedef struct vc_ball_set {
     int64_t table_size;  /* power of two */
     int64_t *head;
     int64_t *next;       /* per entry: 2 i for ball i's cell, 2 i + 1 for its coarse cell */
+    int64_t *prev;       /* per entry: the entry before it in its chain, or -2 - slot */
     uint64_t *key;       /* per entry: the cell's key */
     int *level;
     /* per-level lists */
