@@ -275,6 +275,19 @@ for enc in ("zlib", "raw"):
     if check(isinstance(rel, dict), "%s: no shortest relative edge line" % name):
         check(0 < rel["min"] <= rel["max"] <= 2, "%s: shortest relative edge %r" % (name, rel))
     check("dihedral angle min" not in rep, "%s: dihedral angles printed for polyhedra" % name)
+    # every cell's seed, as VTK reads it, is its row of the seeds CSV
+    sp = grid.GetCellData().GetArray("seed_point")
+    sid = grid.GetCellData().GetArray("seed")
+    if check(sp is not None and sp.GetNumberOfComponents() == 3 and sid is not None,
+             "%s: no 3-component seed_point array" % name):
+        with open(seeds) as f:
+            rows = [tuple(map(float, r.split(","))) for r in f.read().splitlines()[1:]]
+        bad = [c for c in range(grid.GetNumberOfCells())
+               if sp.GetTuple3(c) != rows[int(sid.GetTuple1(c))]]
+        check(not bad, "%s: seed_point differs from the seeds CSV in %d cells" % (name, len(bad)))
+    conn = rep.get("seed distance / mean enclosing radius")
+    if check(isinstance(conn, dict), "%s: no seed distance line" % name):
+        check(0 < conn["min"] <= conn["p50"] <= conn["max"] < 4, "%s: seed distance %r" % (name, conn))
     check_boundary(name, rep, grid)
     if enc == "zlib":
         random_zlib_report = rep
@@ -300,8 +313,10 @@ rep = quality("lattice", mesh, "--input", cube_obj("cube_same.obj", 0.0, 1.0))
 if rep:
     h = 1.0 / n
     # smallest face h^2 over the enclosing radius squared 3 h^2 / 4
+    # seeds h apart, enclosing radii sqrt(3) h / 2
     exact = {"fatness": math.sqrt(3), "shortest relative edge": 2 / math.sqrt(3), "volume": h ** 3,
-             "smallest face / enclosing radius^2": 4.0 / 3.0}
+             "smallest face / enclosing radius^2": 4.0 / 3.0,
+             "seed distance / mean enclosing radius": 2 / math.sqrt(3)}
     for key, val in exact.items():
         check_stats("lattice", key, rep.get(key), {k: val for k in STAT_KEYS}, 1e-5)
     check(rep.get("cells with a shortest relative edge below 1e-2") == "0.00%",
@@ -462,6 +477,35 @@ if reports:
     check(abs(float(got_share) - short_share) < 0.006 if got_share != "?" else False,
           "tets: short-edge share %r%%, expected %.4f%%" % (got_share, short_share))
     check_boundary("tets", rep, tets)
+    check("seed distance / mean enclosing radius" not in rep,
+          "tets: a seed distance line without seeds in the file")
+
+# the tets with each one's centroid as its seed (CellData "seed_point", written
+# by VTK, zlib appended): the connections of the tets sharing a face, their
+# seeds' distance over the mean of the two minimum enclosing radii
+centroids = vtk.vtkDoubleArray()
+centroids.SetName("seed_point")
+centroids.SetNumberOfComponents(3)
+for t in T:
+    centroids.InsertNextTuple3(*[sum(P[i][d] for i in t) / 4 for d in range(3)])
+tets.GetCellData().AddArray(centroids)
+w = vtk.vtkXMLUnstructuredGridWriter()
+w.SetFileName(path("tets_seeds.vtu"))
+w.SetInputData(tets)
+w.SetCompressorTypeToZLib()
+check(w.Write() == 1, "VTK could not write tets_seeds.vtu")
+by_face = {}
+for c, t in enumerate(T):
+    for f in itertools.combinations(sorted(t), 3):
+        by_face.setdefault(f, []).append(c)
+radius = [min_ball_radius([P[i] for i in t]) for t in T]
+seed = [centroids.GetTuple3(c) for c in range(len(T))]
+expected_conn = [norm(vsub(seed[a], seed[b])) / (0.5 * (radius[a] + radius[b]))
+                 for cells in by_face.values() if len(cells) == 2 for a, b in [cells]]
+rep = quality("tets_seeds", path("tets_seeds.vtu"))
+if rep:
+    check_stats("tets_seeds", "seed distance / mean enclosing radius",
+                rep.get("seed distance / mean enclosing radius"), stats(expected_conn), 2e-5)
 
 # ---- (d) mixed cells ------------------------------------------------------------------
 

@@ -28,8 +28,11 @@ static void usage(FILE *f)
         "  --threads N       threads (default: all cores); the report does not depend on it\n"
         "Prints cell counts, total volume and, as min, max, mean and percentiles p1, p5,\n"
         "p50, p95, p99: cell volume, fatness (minimum enclosing ball radius / maximum\n"
-        "inscribed ball radius), shortest edge / enclosing radius, and for tetrahedra the\n"
-        "smallest and largest dihedral angle per cell. The boundary (faces of one cell,\n"
+        "inscribed ball radius), shortest edge / enclosing radius, smallest face /\n"
+        "enclosing radius^2, and for tetrahedra the smallest and largest dihedral angle\n"
+        "per cell; checkMesh's non-orthogonality and skewness of the faces between two\n"
+        "cells and, when the file holds each cell's seed (vorocrust's 'seed_point'), the\n"
+        "seeds' distance over the two cells' mean enclosing radius. The boundary (faces of one cell,\n"
         "polygons fanned from their centroid) gives the triangle quality\n"
         "Q = 6 S / (sqrt(3) h P) and the percentages of angles below 30 and above 90 degrees.\n");
 }
@@ -151,6 +154,8 @@ int vc_cmd_quality(int argc, char **argv)
         printf("checkMesh measures: non-orthogonality max %.6g average %.6g degrees, skewness max "
                "%.6g (%" PRId64 " faces above 4)\n", r.non_orthogonality_max,
                r.non_orthogonality_mean, r.skewness_max, r.n_skew_faces);
+    if (r.connection_rel.n)
+        print_stats("seed distance / mean enclosing radius", &r.connection_rel);
     if (r.n_tetrahedra) {
         print_stats("dihedral angle min", &r.dihedral_min);
         print_stats("dihedral angle max", &r.dihedral_max);

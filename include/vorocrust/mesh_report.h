@@ -46,6 +46,11 @@ typedef struct vc_mesh_report {
      * mean cosine), skewness (max, and the faces above checkMesh's 4). */
     double non_orthogonality_max, non_orthogonality_mean, skewness_max;
     int64_t n_skew_faces;
+    /* Per face between two cells, when the file carries each cell's seed
+     * (vorocrust's "seed_point"; n = 0 without): the two-point-flux
+     * connection, the seeds' distance over the mean of the two cells'
+     * enclosing radii. */
+    vc_stats connection_rel;
 
     /* The boundary faces as triangles (polygons fanned from their vertex
      * average). */

@@ -8,7 +8,8 @@
  * points; polyhedron faces in the VTK 9.0-9.3 layout (faces, faceoffsets)
  * or the VTK 9.4 layout (face_connectivity, face_offsets,
  * polyhedron_to_faces, polyhedron_offsets). Cells of other types are
- * skipped and counted. One Piece; LittleEndian files only. */
+ * skipped and counted. Of the cell data, only the seeds ("seed_point", 3
+ * components) are read. One Piece; LittleEndian files only. */
 #ifndef VORO_CRUST_VTU_READER_H
 #define VORO_CRUST_VTU_READER_H
 
@@ -43,6 +44,9 @@ typedef struct vc_vtu_mesh {
     int64_t n_file_cells;    /* cells in the file */
     int64_t n_skipped;       /* cells of other types (not kept) */
     int first_skipped_type;  /* VTK type of the first skipped cell, or -1 */
+    /* 3 * n_cells: each kept cell's seed, from the optional CellData array
+     * "seed_point" (written by vorocrust), or NULL when the file has none. */
+    double *cell_seed_point;
 } vc_vtu_mesh;
 
 /* Reads path into out (zeroed on failure). Errors, one line starting with

@@ -164,11 +164,14 @@ static int tag_attr(const xml_tag *t, const char *key, char *buf, size_t cap)
 
 enum {
     ARR_POINTS, ARR_CONN, ARR_OFFSETS, ARR_TYPES, ARR_FACES, ARR_FACEOFFSETS,
-    ARR_FACE_CONN, ARR_FACE_OFFSETS, ARR_POLY_TO_FACES, ARR_POLY_OFFSETS, ARR_COUNT
+    ARR_FACE_CONN, ARR_FACE_OFFSETS, ARR_POLY_TO_FACES, ARR_POLY_OFFSETS,
+    ARR_SEED_POINT, /* CellData, optional: each cell's seed (vorocrust's meshes) */
+    ARR_COUNT
 };
 static const char *const array_names[ARR_COUNT] = {
     "Points", "connectivity", "offsets", "types", "faces", "faceoffsets",
-    "face_connectivity", "face_offsets", "polyhedron_to_faces", "polyhedron_offsets"};
+    "face_connectivity", "face_offsets", "polyhedron_to_faces", "polyhedron_offsets",
+    "seed_point"};
 
 typedef enum { FMT_ASCII, FMT_BINARY, FMT_APPENDED } array_format;
 
@@ -603,7 +606,7 @@ static int parse_count(const char *s, int64_t *out)
 static int scan_xml(vtu_file *f, vc_error *err)
 {
     const char *p = f->buf, *e = f->buf + f->size;
-    int seen_vtkfile = 0, n_pieces = 0, in_points = 0, in_cells = 0, in_piece = 0;
+    int seen_vtkfile = 0, n_pieces = 0, in_points = 0, in_cells = 0, in_piece = 0, in_celldata = 0;
     char val[128];
     while (p < e) {
         p = find_char(p, e, '<');
@@ -626,6 +629,8 @@ static int scan_xml(vtu_file *f, vc_error *err)
                 in_points = 0;
             else if (tag_is(&t, "Cells"))
                 in_cells = 0;
+            else if (tag_is(&t, "CellData"))
+                in_celldata = 0;
             else if (tag_is(&t, "Piece"))
                 in_piece = 0;
             continue;
@@ -672,12 +677,17 @@ static int scan_xml(vtu_file *f, vc_error *err)
             in_points = in_piece;
         } else if (tag_is(&t, "Cells") && !t.self_closing) {
             in_cells = in_piece;
-        } else if (tag_is(&t, "DataArray") && (in_points || in_cells)) {
+        } else if (tag_is(&t, "CellData") && !t.self_closing) {
+            in_celldata = in_piece;
+        } else if (tag_is(&t, "DataArray") && (in_points || in_cells || in_celldata)) {
             int k = -1;
             if (in_points) {
                 k = ARR_POINTS;
+            } else if (in_celldata) {
+                if (tag_attr(&t, "Name", val, sizeof val) && !strcmp(val, "seed_point"))
+                    k = ARR_SEED_POINT;
             } else if (tag_attr(&t, "Name", val, sizeof val)) {
-                for (int i = 1; i < ARR_COUNT; i++)
+                for (int i = 1; i < ARR_SEED_POINT; i++)
                     if (!strcmp(val, array_names[i]))
                         k = i;
             }
@@ -793,6 +803,7 @@ void vc_vtu_mesh_free(vc_vtu_mesh *m)
     free(m->cell_faces);
     free(m->face_offsets);
     free(m->face_vertices);
+    free(m->cell_seed_point);
     memset(m, 0, sizeof *m);
 }
 
@@ -1019,6 +1030,38 @@ static int build_mesh(const vtu_file *f, vc_vtu_mesh *m, vc_error *err)
     m->face_offsets = fo.v;
     m->face_vertices = fv.v;
     cf.v = fo.v = fv.v = NULL;
+    if (f->arr[ARR_SEED_POINT].present) {
+        values sp = {0};
+        if (f->arr[ARR_SEED_POINT].ncomp != 3) {
+            rc = FAIL(VC_EFORMAT, f->path, "'seed_point' has %d components, not 3",
+                      f->arr[ARR_SEED_POINT].ncomp);
+            goto out;
+        }
+        if ((rc = read_array(f, ARR_SEED_POINT, 1, &sp, err)))
+            goto out;
+        if (sp.n != 3 * nc) {
+            values_free(&sp);
+            rc = FAIL(VC_EFORMAT, f->path, "'seed_point' holds %" PRId64 " values, expected 3 x %"
+                      PRId64, sp.n, nc);
+            goto out;
+        }
+        m->cell_seed_point = malloc(sizeof(double) * 3 * (size_t)m->n_cells);
+        if (!m->cell_seed_point) {
+            values_free(&sp);
+            rc = FAIL(VC_ENOMEM, f->path, "out of memory");
+            goto out;
+        }
+        for (int64_t c = 0; c < m->n_cells; c++)
+            for (int d = 0; d < 3; d++)
+                m->cell_seed_point[3 * c + d] = sp.d[3 * m->cell_file_index[c] + d];
+        values_free(&sp);
+        for (int64_t i = 0; i < 3 * m->n_cells; i++)
+            if (!isfinite(m->cell_seed_point[i])) {
+                rc = FAIL(VC_EFORMAT, f->path, "cell %" PRId64 ": a non-finite 'seed_point'",
+                          m->cell_file_index[i / 3]);
+                goto out;
+            }
+    }
     rc = VC_OK;
 out:
     values_free(&pts);

@@ -243,7 +243,7 @@ static int vtu_end(vtu_stream *s)
 /* ---- XML header ------------------------------------------------------ */
 
 enum {
-    A_REGION, A_SEED, A_VOLUME, A_FATNESS, A_POINTS, A_CONN, A_OFFSETS, A_TYPES,
+    A_REGION, A_SEED, A_VOLUME, A_FATNESS, A_SEED_POINT, A_POINTS, A_CONN, A_OFFSETS, A_TYPES,
     A_FACES, A_FACEOFFSETS, A_COUNT
 };
 
@@ -359,6 +359,11 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     opos[A_FATNESS] = -1; /* optional: only when the mesh carries it */
     if (m->cell_fatness)
         xml_array(fp, in8, "Float64", "fatness", 1, &opos[A_FATNESS]);
+    /* each cell's seed: the two-point-flux connection runs between them */
+    const int seed_points = m->seed_xyz && m->cell_seed;
+    opos[A_SEED_POINT] = -1;
+    if (seed_points)
+        xml_array(fp, in8, "Float64", "seed_point", 3, &opos[A_SEED_POINT]);
     fputs("      </CellData>\n", fp);
     fputs("      <Points>\n", fp);
     xml_array(fp, in8, "Float64", "Points", 3, &opos[A_POINTS]);
@@ -425,6 +430,14 @@ int vc_write_vtu(const vc_polymesh *m, const char *path, vc_vtu_encoding enc,
     if (m->cell_fatness) {
         off[A_FATNESS] = vtu_begin(&s, 8 * unc);
         vtu_put(&s, m->cell_fatness, 8 * (size_t)nc);
+        if (!src) src = vtu_end(&s);
+    }
+
+    off[A_SEED_POINT] = 0;
+    if (seed_points) {
+        off[A_SEED_POINT] = vtu_begin(&s, 24 * unc);
+        for (int64_t c = 0; c < nc; ++c)
+            vtu_put(&s, m->seed_xyz + 3 * m->cell_seed[c], 24);
         if (!src) src = vtu_end(&s);
     }
 

@@ -111,7 +111,7 @@ static vc_cell cell_of_mesh(const vc_vtu_mesh *m, int64_t c)
 }
 
 static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, double *rel,
-                         double *small, double *dmin, double *dmax)
+                         double *small, double *rad, double *dmin, double *dmax)
 {
     const int64_t nc = m->n_cells;
     double *fat = r->cell_fatness;
@@ -150,9 +150,10 @@ static int measure_cells(const vc_vtu_mesh *m, vc_mesh_report *r, double *vol, d
                 a = fmin(a, face_area(m, f));
             const double rr = cm.enclosing.radius;
             small[c] = rr > 0 ? a / (rr * rr) : NAN;
+            rad[c] = rr;
         } else {
             signed_volume = vc_cell_volume(&cell, NULL);
-            fat[c] = rel[c] = small[c] = NAN; /* left out of the statistics, counted */
+            fat[c] = rel[c] = small[c] = rad[c] = NAN; /* left out of the statistics, counted */
             n_failed++;
         }
         n_inverted += signed_volume < 0;
@@ -257,14 +258,19 @@ static void face_geometry(const vc_vtu_mesh *m, int64_t f, double c[3], double s
  * cosine) and skewness (the distance from the face centroid to where that
  * line crosses the face's plane, over the larger of a fifth of the
  * centroids' distance and the face's extent that way). */
-static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, vc_mesh_report *r)
+static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, const double *rad,
+                           vc_mesh_report *r)
 {
     const int64_t nc = m->n_cells, nf = m->n_faces;
     double *centre = malloc(sizeof(double) * 3 * (size_t)(nc + 1));
     int64_t *cell_of = malloc(sizeof(int64_t) * (size_t)(nf + 1));
-    if (!centre || !cell_of) {
+    /* per face: the connection's length over the cells' size (NaN but on
+     * one copy of each face between two cells, and without the seeds) */
+    double *conn = m->cell_seed_point ? malloc(sizeof(double) * (size_t)(nf + 1)) : NULL;
+    if (!centre || !cell_of || (m->cell_seed_point && !conn)) {
         free(centre);
         free(cell_of);
+        free(conn);
         return -1;
     }
 #pragma omp parallel for schedule(dynamic, 256)
@@ -280,8 +286,18 @@ static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, vc_mesh_re
     reduction(+ : sum_cos, n, n_skew)
     for (int64_t f = 0; f < nf; f++) {
         const int64_t g = twin[f];
+        if (conn)
+            conn[f] = NAN;
         if (g < 0 || g < f)
             continue; /* boundary, or the pair seen from its other copy */
+        if (conn) {
+            const double *sa = m->cell_seed_point + 3 * cell_of[f],
+                         *sb = m->cell_seed_point + 3 * cell_of[g];
+            const double mean_r = 0.5 * (rad[cell_of[f]] + rad[cell_of[g]]);
+            const double ds[3] = {sb[0] - sa[0], sb[1] - sa[1], sb[2] - sa[2]};
+            conn[f] = mean_r > 0 ? sqrt(ds[0] * ds[0] + ds[1] * ds[1] + ds[2] * ds[2]) / mean_r
+                                 : NAN;
+        }
         const double *co = centre + 3 * cell_of[f], *cn = centre + 3 * cell_of[g];
         double fc[3], sv[3];
         face_geometry(m, f, fc, sv); /* outward of cell_of[f]: towards cn */
@@ -319,9 +335,11 @@ static int solver_measures(const vc_vtu_mesh *m, const int64_t *twin, vc_mesh_re
     r->non_orthogonality_mean = n ? acos(fmin(1, sum_cos / (double)n)) * DEG_PER_RAD : NAN;
     r->skewness_max = n ? max_skew : NAN;
     r->n_skew_faces = n_skew;
+    int rc = conn ? vc_stats_compute(conn, nf, &r->connection_rel) : 0;
     free(centre);
     free(cell_of);
-    return 0;
+    free(conn);
+    return rc ? -1 : 0;
 }
 
 int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
@@ -334,14 +352,14 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     vc_surface boundary = {0, NULL, 0, NULL, NULL, 0, NULL};
     double *vol = malloc(sizeof *vol * cn), *rel = malloc(sizeof *rel * cn);
     double *dmin = malloc(sizeof *dmin * cn), *dmax = malloc(sizeof *dmax * cn);
-    double *small = malloc(sizeof *small * cn);
+    double *small = malloc(sizeof *small * cn), *rad = malloc(sizeof *rad * cn);
     int64_t *uses = malloc(sizeof *uses * (size_t)(m->n_faces ? m->n_faces : 1));
     int64_t *twin = malloc(sizeof *twin * (size_t)(m->n_faces ? m->n_faces : 1));
     out->cell_fatness = malloc(sizeof *out->cell_fatness * cn);
     int rc = VC_ENOMEM,
-        oom = !vol || !rel || !dmin || !dmax || !small || !uses || !twin || !out->cell_fatness;
+        oom = !vol || !rel || !dmin || !dmax || !small || !rad || !uses || !twin || !out->cell_fatness;
     double t0 = vc_clock_seconds();
-    oom = oom || measure_cells(m, out, vol, rel, small, dmin, dmax) != 0;
+    oom = oom || measure_cells(m, out, vol, rel, small, rad, dmin, dmax) != 0;
     oom = oom || vc_stats_compute(vol, nc, &out->volume) || vc_stats_compute(out->cell_fatness,
           nc, &out->fatness) || vc_stats_compute(rel, nc, &out->shortest_edge_rel) ||
           vc_stats_compute(small, nc, &out->small_face_rel) ||
@@ -357,7 +375,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
         out->n_points = m->n_points;
         out->n_faces = vc_mesh_face_uses(m, uses, twin);
         oom = out->n_faces < 0 || vc_mesh_boundary_surface(m, uses, &boundary) != 0 ||
-              solver_measures(m, twin, out) != 0;
+              solver_measures(m, twin, rad, out) != 0;
     }
     if (!oom) {
         for (int64_t f = 0; f < m->n_faces; f++) {
@@ -390,6 +408,7 @@ int vc_mesh_report_compute(const vc_vtu_mesh *m, const char *mesh_name,
     free(dmin);
     free(dmax);
     free(small);
+    free(rad);
     free(uses);
     free(twin);
     vc_surface_free(&boundary);
