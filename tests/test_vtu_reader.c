@@ -1,8 +1,11 @@
 /* Tests of the .vtu reader (vorocrust/io/vtu_reader.c):
  *   - files written by our own writer (raw and zlib) read back to exactly
- *     the mesh written: points, and every cell's faces outward in order;
+ *     the mesh written: points, every cell's faces outward in order, and
+ *     each cell's seed (seed_point);
  *   - a hand-written ascii file in the VTK 9.4 polyhedron layout, with a
- *     tetrahedron and a skipped hexahedron;
+ *     tetrahedron and a skipped hexahedron, with and without seed_point
+ *     (its values mapped to the kept cells; wrong components, counts and
+ *     non-finite values refused);
  *   - malformed files: one error line naming the file;
  *   - mutation fuzzing (flipped bytes, truncation) of small raw, zlib and
  *     base64 files: every outcome is a clean success or a clean error (the
@@ -95,6 +98,11 @@ static void test_own_writer(void)
             }
         }
         CHECK(same);
+        /* each cell's seed, exactly */
+        CHECK(m.cell_seed_point != NULL);
+        for (int64_t c = 0; m.cell_seed_point && c < mesh.n_cells; c++)
+            CHECK(memcmp(m.cell_seed_point + 3 * c, seeds.xyz + 3 * mesh.cell_seed[c],
+                         sizeof(double) * 3) == 0);
         vc_vtu_mesh_free(&m);
         free(p);
     }
@@ -143,6 +151,50 @@ static void test_vtk94_layout(void)
         vc_vtu_mesh_free(&m);
     } else {
         fprintf(stderr, "%s\n", err.msg);
+    }
+    free(p);
+}
+
+/* vtk94 with a CellData block holding seed_point's DataArray (its
+ * components and values as given), and a scalar array before it, which the
+ * reader skips. */
+static char *with_seed_points(const char *ncomp, const char *values)
+{
+    char block[512];
+    snprintf(block, sizeof block,
+             "<CellData><DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">1 1 1"
+             "</DataArray><DataArray type=\"Float64\" Name=\"seed_point\" NumberOfComponents="
+             "\"%s\" format=\"ascii\">%s</DataArray></CellData><Points>", ncomp, values);
+    const char *at = strstr(vtk94, "<Points>");
+    size_t n = sizeof vtk94 + strlen(block);
+    char *s = malloc(n);
+    snprintf(s, n, "%.*s%s%s", (int)(at - vtk94), vtk94, block, at + strlen("<Points>"));
+    return s;
+}
+
+static void test_seed_points(void)
+{
+    char *text = with_seed_points("3", "0.5 0.5 0.5 1 0 0 9 9 9");
+    char *p = tmp_path("vtu_reader_seed_points.vtu");
+    write_file(p, text, strlen(text));
+    vc_vtu_mesh m;
+    vc_error err;
+    int rc = vc_vtu_read(p, &m, &err);
+    CHECK(rc == 0);
+    if (rc == 0) {
+        /* the kept cells: the cube (file cell 0) and the tetrahedron (1) */
+        const double want[6] = {0.5, 0.5, 0.5, 1, 0, 0};
+        CHECK(m.cell_seed_point && memcmp(m.cell_seed_point, want, sizeof want) == 0);
+        vc_vtu_mesh_free(&m);
+    }
+    free(text);
+    free(p);
+    /* the file without: NULL */
+    p = tmp_path("vtu_reader_no_seed_points.vtu");
+    write_file(p, vtk94, sizeof vtk94 - 1);
+    if (vc_vtu_read(p, &m, &err) == 0) {
+        CHECK(m.cell_seed_point == NULL);
+        vc_vtu_mesh_free(&m);
     }
     free(p);
 }
@@ -217,6 +269,15 @@ static void test_errors(void)
         expect_error(name, text, cases[i].code, cases[i].needle);
         free(text);
     }
+    char *sp = with_seed_points("2", "0 0 1 1 2 2");
+    expect_error("vtu_reader_seed_2.vtu", sp, VC_EFORMAT, "'seed_point' has 2 components");
+    free(sp);
+    sp = with_seed_points("3", "0 0 0 1 1 1");
+    expect_error("vtu_reader_seed_short.vtu", sp, VC_EFORMAT, "expected 3 x 3");
+    free(sp);
+    sp = with_seed_points("3", "0 0 0 1 nan 1 2 2 2");
+    expect_error("vtu_reader_seed_nan.vtu", sp, VC_EFORMAT, "non-finite 'seed_point'");
+    free(sp);
     expect_error("vtu_reader_empty.vtu", "", VC_EFORMAT, "empty file");
     expect_error("vtu_reader_text.vtu", "just text", VC_EFORMAT, "not a VTK XML file");
     expect_error("vtu_reader_other.vtu", "<foo/>", VC_EFORMAT, "not a VTK XML file");
@@ -352,6 +413,7 @@ int main(void)
         tmpdir = t;
     test_own_writer();
     test_vtk94_layout();
+    test_seed_points();
     test_base64();
     test_errors();
     write_small();
