@@ -836,6 +836,10 @@ static int mps(sampler *S, pool *P, int nv)
             const subface *sf = &P->f[i];
             subface ch[4];
             int nch;
+            /* a thin triangle is halved across its longest edge (see
+             * thin_apex; not on S', whose split keeps its children's
+             * corners there) */
+            const int o = nv == 3 && !P->smooth ? thin_apex(sf) : -1;
             if (nv == 2) {
                 double m[3];
                 for (int d = 0; d < 3; d++)
@@ -845,10 +849,7 @@ static int mps(sampler *S, pool *P, int nv)
                 memcpy(ch[1].v, m, sizeof m);
                 memcpy(ch[1].v + 3, sf->v + 3, sizeof(double) * 3);
                 nch = 2;
-            } else if (!P->smooth && thin_apex(sf) >= 0) {
-                /* a thin subface is halved across its longest edge (see
-                 * thin_apex) */
-                const int o = thin_apex(sf);
+            } else if (o >= 0) {
                 const double *apex = sf->v + 3 * o, *p0 = sf->v + 3 * ((o + 1) % 3),
                              *p1 = sf->v + 3 * ((o + 2) % 3);
                 double m[3];
