@@ -34,6 +34,47 @@ static uint64_t hash64(uint64_t x)
     return x;
 }
 
+/* The occupancy filter: one bit per cell key hash (FILTER_BITS per table
+ * slot, from the hash's high bits), set when a ball is linked there. A
+ * probe of a cell whose bit is clear skips the table: most cells a query
+ * probes are empty (balls lie on a surface, the probes fill a box), and
+ * the table's head and key loads were most of the sampler's time (memory
+ * latency). Unlinking leaves bits set (another key may share them); the
+ * filter is rebuilt once as many entries were unlinked as the table has
+ * slots. */
+#define FILTER_BITS 8
+static uint64_t filter_bit(const vc_ball_set *bs, uint64_t h)
+{
+    return (h >> 24) & (uint64_t)(FILTER_BITS * bs->table_size - 1);
+}
+
+static int filter_has(const vc_ball_set *bs, uint64_t h)
+{
+    const uint64_t b = filter_bit(bs, h);
+    return (int)((bs->filter[b >> 6] >> (b & 63)) & 1);
+}
+
+static void filter_set(vc_ball_set *bs, uint64_t h)
+{
+    const uint64_t b = filter_bit(bs, h);
+    bs->filter[b >> 6] |= (uint64_t)1 << (b & 63);
+}
+
+/* Allocates a clear filter for the current table size (keeping the old
+ * one when out of memory: it stays a superset only if the table did not
+ * change, so callers rebuild only at a size it was made for). */
+static int filter_reset(vc_ball_set *bs)
+{
+    const size_t words = (size_t)(FILTER_BITS * bs->table_size / 64);
+    uint64_t *f = calloc(words, sizeof(uint64_t));
+    if (!f)
+        return -1;
+    free(bs->filter);
+    bs->filter = f;
+    bs->n_unlinked = 0;
+    return 0;
+}
+
 static int level_of(const vc_ball_set *bs, double r)
 {
     if (!(r > bs->unit))
@@ -74,7 +115,7 @@ int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag)
         bs->origin[d] = lo[d] - (diag > 0 ? diag : 1.0);
     bs->table_size = 1 << 12;
     bs->head = malloc(sizeof(int64_t) * (size_t)bs->table_size);
-    if (!bs->head)
+    if (!bs->head || filter_reset(bs))
         return -1;
     for (int64_t i = 0; i < bs->table_size; i++)
         bs->head[i] = -1;
@@ -85,6 +126,7 @@ void vc_ball_set_free(vc_ball_set *bs)
 {
     vc_balls_free(&bs->b);
     free(bs->head);
+    free(bs->filter);
     free(bs->next);
     free(bs->prev);
     free(bs->key);
@@ -105,7 +147,9 @@ void vc_ball_set_free(vc_ball_set *bs)
 static void link_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        int64_t slot = (int64_t)(hash64(bs->key[e]) & (uint64_t)(bs->table_size - 1));
+        const uint64_t h = hash64(bs->key[e]);
+        int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
+        filter_set(bs, h);
         const int64_t first = bs->head[slot];
         bs->next[e] = first;
         bs->prev[e] = -2 - slot;
@@ -126,6 +170,19 @@ static void unlink_ball(vc_ball_set *bs, int64_t i)
         if (after >= 0)
             bs->prev[after] = before;
     }
+    bs->n_unlinked += 2;
+}
+
+/* After many unlinks, the filter again from the linked entries only
+ * (every ball but skip, which the caller links next). */
+static void filter_refresh(vc_ball_set *bs, int64_t skip)
+{
+    if (bs->n_unlinked < bs->table_size || filter_reset(bs))
+        return;
+    for (int64_t i = 0; i < bs->b.n; i++)
+        if (i != skip)
+            for (int64_t e = 2 * i; e <= 2 * i + 1; e++)
+                filter_set(bs, hash64(bs->key[e]));
 }
 
 static int level_push(vc_ball_set *bs, int l, int64_t i)
@@ -194,10 +251,17 @@ static int grow(vc_ball_set *bs)
         while (ts < 2 * c)
             ts *= 2;
         int64_t *h = malloc(sizeof(int64_t) * (size_t)ts);
-        if (!h)
+        uint64_t *f = calloc((size_t)(FILTER_BITS * ts / 64), sizeof(uint64_t));
+        if (!h || !f) {
+            free(h);
+            free(f);
             return -1;
+        }
         free(bs->head);
+        free(bs->filter);
         bs->head = h;
+        bs->filter = f;
+        bs->n_unlinked = 0;
         bs->table_size = ts;
         for (int64_t i = 0; i < ts; i++)
             h[i] = -1;
@@ -271,6 +335,7 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
     if (l == bs->level[i])
         return 0;
     unlink_ball(bs, i);
+    filter_refresh(bs, i);
     level_remove(bs, bs->level[i], i);
     bs->level[i] = l;
     set_key(bs, i);
@@ -289,6 +354,7 @@ int vc_ball_set_move(vc_ball_set *bs, int64_t i, const double c[3])
      * where it is now */
     bs->changed_reach[i] = fmax(bs->changed_reach[i], bs->b.radius[i] + d);
     unlink_ball(bs, i);
+    filter_refresh(bs, i);
     memcpy(p, c, sizeof(double) * 3);
     set_key(bs, i);
     link_ball(bs, i);
@@ -343,7 +409,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                 for (int64_t j = clo[1]; j <= chi[1]; j++)
                     for (int64_t k = clo[2]; k <= chi[2]; k++) {
                         const uint64_t key = cell_key(l, i, j, k) | COARSE_BIT;
-                        int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
+                        const uint64_t h = hash64(key);
+                        if (!filter_has(bs, h))
+                            continue;
+                        int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
                         for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
                             if (bs->key[e] != key)
                                 continue;
@@ -380,7 +449,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                     if (gap2[0][i - lo[0]] + gap2[1][j - lo[1]] + gap2[2][k - lo[2]] > R2)
                         continue;
                     uint64_t key = cell_key(l, i, j, k);
-                    int64_t slot = (int64_t)(hash64(key) & (uint64_t)(bs->table_size - 1));
+                    const uint64_t h = hash64(key);
+                    if (!filter_has(bs, h))
+                        continue;
+                    int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
                     for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
                         if (bs->key[e] != key)
                             continue;

@@ -26,6 +26,8 @@ typedef struct vc_ball_set {
     /* hash grid: cell key -> first ball, then next[] */
     int64_t table_size;  /* power of two */
     int64_t *head;
+    uint64_t *filter;    /* occupancy bits of the cell keys (ball_set.c) */
+    int64_t n_unlinked;  /* entries unlinked since the filter was made */
     int64_t *next;       /* per entry: 2 i for ball i's cell, 2 i + 1 for its coarse cell */
     int64_t *prev;       /* per entry: the entry before it in its chain, or -2 - slot */
     uint64_t *key;       /* per entry: the cell's key */
