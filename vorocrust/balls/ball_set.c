@@ -60,13 +60,17 @@ static void filter_set(vc_ball_set *bs, uint64_t h)
     bs->filter[b >> 6] |= (uint64_t)1 << (b & 63);
 }
 
-/* Allocates a clear filter for the current table size (keeping the old
- * one when out of memory: it stays a superset only if the table did not
- * change, so callers rebuild only at a size it was made for). */
+/* A clear filter for a table of table_size slots, or NULL. */
+static uint64_t *filter_alloc(int64_t table_size)
+{
+    return calloc((size_t)(FILTER_BITS * table_size / 64), sizeof(uint64_t));
+}
+
+/* Replaces the filter by a clear one for the current table size (keeping
+ * the old one when out of memory: a superset still). */
 static int filter_reset(vc_ball_set *bs)
 {
-    const size_t words = (size_t)(FILTER_BITS * bs->table_size / 64);
-    uint64_t *f = calloc(words, sizeof(uint64_t));
+    uint64_t *f = filter_alloc(bs->table_size);
     if (!f)
         return -1;
     free(bs->filter);
@@ -251,7 +255,7 @@ static int grow(vc_ball_set *bs)
         while (ts < 2 * c)
             ts *= 2;
         int64_t *h = malloc(sizeof(int64_t) * (size_t)ts);
-        uint64_t *f = calloc((size_t)(FILTER_BITS * ts / 64), sizeof(uint64_t));
+        uint64_t *f = filter_alloc(ts);
         if (!h || !f) {
             free(h);
             free(f);

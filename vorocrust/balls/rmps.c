@@ -840,8 +840,8 @@ static int mps(sampler *S, pool *P, int nv)
              * biased the darts towards small triangles: fertility.off's
              * surface Q min fell from 0.15-0.20 to 0.09-0.16 over four
              * random seeds.) */
-            if (KEEP_WHOLE * measure(sf, nv) * (double)P->n < total &&
-                (double)thrown * measure(sf, nv) < total) {
+            const double a = measure(sf, nv);
+            if (KEEP_WHOLE * a * (double)P->n < total && (double)thrown * a < total) {
                 if (pool_push(&next, sf, P->smooth ? &P->g[i] : NULL))
                     rc = -1;
                 continue;
@@ -1764,6 +1764,15 @@ static int grow_scratch(double **old_r, unsigned char **shrunk, int64_t n)
     return 0;
 }
 
+/* The thesis' safe mode (6.2.8): deep coverage at alpha / 2, under which
+ * sliver elimination terminates. Returns the pass it began at. */
+static int enter_safe_mode(sampler *S, int iter)
+{
+    S->st->safe_mode = 1;
+    S->alpha = S->opt.alpha / 2;
+    return iter;
+}
+
 int vc_sample_surface(const vc_surface *s, const vc_features *f,
                       const vc_sampling_options *opt, vc_balls *out,
                       vc_sampling_stats *stats, vc_error *err)
@@ -2043,9 +2052,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
              * passes with another random seed. Only a struggle in the safe
              * mode, or a global one, stops. */
             if (!st->safe_mode && !runaway && 50 * n_half < S.bs.b.n) {
-                st->safe_mode = 1;
-                S.alpha = opt->alpha / 2;
-                safe_from = iter;
+                safe_from = enter_safe_mode(&S, iter);
                 rising = 0;
                 vc_log(opt->log, VC_LOG_INFO, "mesh: sliver elimination %d: %lld half-covered "
                        "pairs left rising: safe mode (alpha / 2)", iter, (long long)n_half);
@@ -2070,9 +2077,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         added_1 = added;
         balls_1 = S.bs.b.n;
         if (iter == opt->max_sliver_iterations && !st->safe_mode) {
-            st->safe_mode = 1;
-            S.alpha = opt->alpha / 2;
-            safe_from = iter;
+            safe_from = enter_safe_mode(&S, iter);
         } else if (iter >= safe_from + opt->max_sliver_iterations) {
             /* the safe mode did not end it either: not converging */
             diverged = 1;
