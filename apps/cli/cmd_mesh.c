@@ -100,6 +100,9 @@ static void usage(FILE *f)
         "  --verbose           also the phase timings of the Voronoi engine on stderr\n"
         "  --cavities          nested closed shells alternate solid and cavity (the\n"
         "                      outermost solid), whatever their orientation\n"
+        "  --union             mesh a surface that intersects itself as the union of its\n"
+        "                      parts (the region it winds around at least once);\n"
+        "                      default: refuse it\n"
         "  --fallback          when sliver elimination diverges, sample again at theta_sharp\n"
         "                      20 (folds become creases), then after %d rounds of Loop\n"
         "                      smoothing at 120 (moves the surface); default: an error\n"
@@ -391,6 +394,8 @@ static int run_mesh(int argc, char **argv)
             fallback = 1;
         } else if (!strcmp(a, "--cavities")) {
             opt.cavities = 1;
+        } else if (!strcmp(a, "--union")) {
+            opt.self_union = 1;
         } else if (takes_value(a) && !v) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust mesh --help')\n", a);
             return 2;

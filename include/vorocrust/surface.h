@@ -187,6 +187,34 @@ typedef struct vc_solid_report {
 int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc_solid_report *out,
                            vc_error *err);
 
+/* What vc_surface_self_union did. */
+typedef struct vc_self_union_report {
+    int64_t n_pairs;           /* pairs of triangles that intersect */
+    int64_t n_segments;        /* segments of the intersection curves */
+    int64_t n_split;           /* input triangles cut along them */
+    int64_t n_patches;         /* pieces of surface between the curves */
+    int64_t n_patches_dropped; /* those inside another part (or outside all) */
+    int64_t n_pieces_dropped;  /* triangles (after the cuts) dropped with them */
+    double volume;             /* the volume the union encloses */
+} vc_self_union_report;
+
+/* The union of a closed, consistently oriented surface that intersects
+ * itself (vc_surface_check_solid's self-intersections): out receives the
+ * boundary of the region s winds around at least once, as triangles. The
+ * triangles of s are cut along the intersection curves (new vertices where
+ * an edge pierces a triangle), and the pieces whose outer side has winding
+ * number 0 are kept with their orientation and group; the curves become
+ * edges of the result (creases where the parts meet at an angle). A
+ * surface without self-intersections comes back as a copy. Fails with
+ * VC_EINPUT, one line "NAME: ..." naming the triangles, when the contact is
+ * degenerate (a vertex or edge in another triangle's plane within rounding,
+ * coplanar overlaps, three sheets through one point, a curve closed inside
+ * one triangle) or the winding numbers are not whole; VC_ENOMEM. O(n log n)
+ * for the pairs, plus the surface's size for each patch's winding number.
+ * rep may be NULL. */
+int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out, vc_self_union_report *rep,
+                          vc_error *err);
+
 /* Adds a warning line to rep (printf-style); extra lines beyond
  * VC_SURFACE_MAX_WARNINGS are dropped. */
 void vc_surface_report_warn(vc_surface_report *rep, const char *fmt, ...)

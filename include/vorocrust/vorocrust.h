@@ -121,6 +121,10 @@ typedef struct vc_mesh_options {
      * reoriented before sampling. Without it the orientation decides, and
      * nested shells of the same orientation (an inclusion) are refused. */
     int cavities;
+    /* 1: a surface that intersects itself is meshed as the region it winds
+     * around at least once (vc_surface_self_union), with a warning; 0
+     * (default): it is refused. */
+    int self_union;
     vc_patch_source patches; /* default VC_PATCHES_GROUPS */
     vc_interior_kind interior;
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
@@ -213,6 +217,10 @@ typedef struct vc_mesh_result {
     /* The input as vc_mesh checked it (topology, Euler characteristic,
      * enclosed volume). */
     vc_surface_report input;
+    /* 1 when the input intersected itself and its union was meshed; input
+     * then describes the union. */
+    int unioned;
+    vc_self_union_report self_union;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries

@@ -935,6 +935,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&mm, 0, sizeof mm);
     vc_surface centred;  /* a model far from the origin, moved to it */
     memset(&centred, 0, sizeof centred);
+    vc_surface unioned;  /* a self-intersecting input's union */
+    memset(&unioned, 0, sizeof unioned);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -966,8 +968,54 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     }
     /* And it can bound a volume: no repeated or zero-area triangle, no
      * self-intersection, a volume (before sampling, which would not end). */
-    if ((rc = vc_surface_check_solid(s, &out->input, NULL, err)) != 0)
-        goto fail;
+    {
+        vc_solid_report solid;
+        rc = vc_surface_check_solid(s, &out->input, &solid, err);
+        /* A surface whose only fault is that it runs through itself (a box
+         * through a box) bounds the region it winds around at least once:
+         * with opt.self_union, that union is meshed. Not the default: where
+         * the parts also nearly touch (cow.off's tail along its rump) the
+         * union has gaps far below the error budget, and the sampling
+         * follows them with 3e5 balls (docs/input-checks.md). */
+        if (rc == VC_EINPUT && opt.self_union && solid.n_self_intersections > 0 && solid.n_zero_area == 0 &&
+            solid.n_repeated_same == 0 && !(solid.coordinate_ratio > VC_SOLID_MAX_COORDINATE_RATIO)) {
+            const double volume_before = out->input.volume;
+            if ((rc = vc_surface_self_union(s, name, &unioned, &out->self_union, err)) != 0)
+                goto fail;
+            s = &unioned;
+            s_input = &unioned;
+            out->unioned = 1;
+            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+                goto fail;
+            /* Its cut points are rounded off their triangles' planes by an
+             * ulp: pieces of one triangle, or along a curve, may then touch
+             * within rounding, which the strict test reports; the other
+             * checks must pass. */
+            vc_solid_report after;
+            rc = vc_surface_check_solid(s, &out->input, &after, err);
+            if (rc == VC_EINPUT && after.n_self_intersections > 0 && after.n_zero_area == 0 &&
+                after.n_repeated_same == 0 && after.volume_ratio > VC_SOLID_MIN_VOLUME_RATIO)
+                rc = 0;
+            if (rc == VC_EINPUT) {
+                char why[VC_ERROR_LEN];
+                snprintf(why, sizeof why, "%s", err->msg);
+                rc = vc_error_set(err, VC_EINPUT, "%s: the union of the self-intersecting surface is not a "
+                                  "valid solid (%s); repair the input (a boolean union, or remesh)",
+                                  name, why);
+            }
+            if (rc)
+                goto fail;
+            vc_log(opt.log, VC_LOG_WARNING,
+                   "mesh: %s intersects itself (%lld pairs of triangles): meshing the union of its "
+                   "parts (%lld triangles cut, %lld of %lld patches inside another part dropped; "
+                   "volume %.6g, the signed sum was %.6g)",
+                   name, (long long)out->self_union.n_pairs, (long long)out->self_union.n_split,
+                   (long long)out->self_union.n_patches_dropped, (long long)out->self_union.n_patches,
+                   out->self_union.volume, volume_before);
+        }
+        if (rc)
+            goto fail;
+    }
     /* A size the sampling and the engine handle in double precision: their
      * squared distances and volumes (a size cubed) must stay normal
      * numbers, as vc_voronoi_build requires of the seeds' extent. */
@@ -1106,11 +1154,13 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
     free_centred(&centred);
+    vc_surface_free(&unioned);
     return 0;
 fail:
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
     free_centred(&centred);
+    vc_surface_free(&unioned);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }

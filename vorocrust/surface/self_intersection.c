@@ -301,8 +301,32 @@ static int radix_sort(uint64_t *key, int64_t *idx, int64_t n)
     return 0;
 }
 
-int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, const unsigned char *skip,
-                          int64_t *count, int64_t first[2])
+static int cmp_pair(const void *a, const void *b)
+{
+    const int64_t *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : x[1] < y[1] ? -1 : x[1] > y[1];
+}
+
+/* Appends the pair (lo, hi) to a growing array; -1 when out of memory. */
+static int push_pair(int64_t **v, int64_t *n, int64_t *cap, int64_t lo, int64_t hi)
+{
+    if (*n == *cap) {
+        int64_t c = *cap ? 2 * *cap : 64;
+        int64_t *g = realloc(*v, (size_t)c * 2 * sizeof *g);
+        if (!g)
+            return -1;
+        *v = g;
+        *cap = c;
+    }
+    (*v)[2 * *n] = lo;
+    (*v)[2 * *n + 1] = hi;
+    ++*n;
+    return 0;
+}
+
+/* Counts the intersecting pairs and, with pairs != NULL, lists them. */
+static int scan(const double *xyz, const int64_t *tri, int64_t nt, const unsigned char *skip,
+                int64_t *count, int64_t first[2], int64_t **pairs)
 {
     *count = 0;
     first[0] = first[1] = -1;
@@ -401,10 +425,12 @@ int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, con
         nd->lo[1] = nd->hi[1] = m;
     }
 
-    int64_t total = 0, best0 = -1, best1 = -1;
+    int64_t total = 0, best0 = -1, best1 = -1, *all_pairs = NULL, n_all = 0;
+    int oom = 0;
 #pragma omp parallel
     {
-        int64_t local = 0, b0 = -1, b1 = -1;
+        int64_t local = 0, b0 = -1, b1 = -1, *mine = NULL, n_mine = 0, cap = 0;
+        int my_oom = 0;
         int64_t stack[128];
 #pragma omp for schedule(dynamic, 256) nowait
         for (int64_t p = 0; p < m; p++) {
@@ -429,6 +455,8 @@ int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, con
                             continue;
                         local++;
                         int64_t lo = t < u ? t : u, hi = t < u ? u : t;
+                        if (pairs && !my_oom && push_pair(&mine, &n_mine, &cap, lo, hi))
+                            my_oom = 1;
                         if (b0 < 0 || lo < b0 || (lo == b0 && hi < b1)) {
                             b0 = lo;
                             b1 = hi;
@@ -440,11 +468,23 @@ int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, con
 #pragma omp critical(vc_self_intersections)
         {
             total += local;
+            if (pairs && !oom) {
+                int64_t *g = my_oom ? NULL : realloc(all_pairs, (size_t)(n_all + n_mine + 1) * 2 * sizeof *g);
+                if (!g) {
+                    oom = 1;
+                } else {
+                    all_pairs = g;
+                    if (n_mine)
+                        memcpy(all_pairs + 2 * n_all, mine, (size_t)n_mine * 2 * sizeof *mine);
+                    n_all += n_mine;
+                }
+            }
             if (b0 >= 0 && (best0 < 0 || b0 < best0 || (b0 == best0 && b1 < best1))) {
                 best0 = b0;
                 best1 = b1;
             }
         }
+        free(mine);
     }
     free(pos_tri);
     free(items);
@@ -452,5 +492,29 @@ int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, con
     *count = total;
     first[0] = best0;
     first[1] = best1;
+    if (pairs) {
+        if (oom) {
+            free(all_pairs);
+            return -1;
+        }
+        /* the threads' order varies: sorted, the list does not */
+        if (n_all > 1)
+            qsort(all_pairs, (size_t)n_all, 2 * sizeof *all_pairs, cmp_pair);
+        *pairs = all_pairs;
+    }
     return 0;
+}
+
+int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, const unsigned char *skip,
+                          int64_t *count, int64_t first[2])
+{
+    return scan(xyz, tri, nt, skip, count, first, NULL);
+}
+
+int vc_self_intersection_pairs(const double *xyz, const int64_t *tri, int64_t nt, int64_t **pairs,
+                               int64_t *count)
+{
+    int64_t first[2];
+    *pairs = NULL;
+    return scan(xyz, tri, nt, NULL, count, first, pairs);
 }

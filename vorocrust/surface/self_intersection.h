@@ -28,4 +28,10 @@
 int vc_self_intersections(const double *xyz, const int64_t *tri, int64_t nt, const unsigned char *skip,
                           int64_t *count, int64_t first[2]);
 
+/* The same pairs, listed: *pairs receives 2 * *count triangle indices
+ * (lo < hi; sorted by lo, then hi; NULL when there are none; free() it).
+ * Returns 0, or -1 when out of memory. */
+int vc_self_intersection_pairs(const double *xyz, const int64_t *tri, int64_t nt, int64_t **pairs,
+                               int64_t *count);
+
 #endif

@@ -1,0 +1,928 @@
+/* The union of a closed surface that intersects itself
+ * (vc_surface_self_union): a cow whose tail runs through its rump, two
+ * overlapping boxes given as one file. The region such a surface bounds is
+ * the set of points it winds around at least once; its boundary is made of
+ * the parts of the input that have winding number 0 on their outer side.
+ *
+ * 1. The intersecting pairs of triangles (the self-intersection test's
+ *    hierarchy) each give a segment of an intersection curve. In general
+ *    position its two ends are points where an edge of one triangle pierces
+ *    the other (or the vertex two triangles share). Such a point is named by
+ *    its edge (two vertex ids) and the pierced triangle, and computed from
+ *    them in one fixed order, so the triangles around an edge agree on it
+ *    by construction, not by a distance.
+ * 2. Each cut triangle is split along its segments: the planar graph of
+ *    its border (corners and the points on its edges) and the segments,
+ *    its faces traced by angle, each face triangulated by ear clipping.
+ * 3. The pieces, joined across every edge that is not on a curve, form
+ *    patches; one point of each patch gets the winding number of the rest
+ *    of the surface (solid angles): w + 1/2 where w is the number on the
+ *    patch's outer side. Patches with w == 0 bound the union; the others lie
+ *    inside another part (w >= 1) or outside everything (w < 0) and go.
+ *
+ * Degenerate contacts (a vertex or edge in another triangle's plane within
+ * rounding, coplanar overlaps, three sheets through one point, a curve
+ * closed inside one triangle) are refused with the triangles named: their
+ * union needs exact constructions this file does not make. The decisions use
+ * the filtered predicates of predicates.h on coordinates scaled by a power
+ * of two (exact), as in the self-intersection test. */
+#include "vorocrust/surface.h"
+#include "surface/predicates.h"
+#include "surface/self_intersection.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef DEBUG_UNION
+#include <stdio.h>
+#endif
+
+/* A point of an intersection curve: edge (a < b) piercing triangle t. */
+typedef struct cut_point {
+    int64_t a, b, t;
+} cut_point;
+
+/* A segment of a curve: triangles x and y, end ids (vertex ids: < nv the
+ * input's, else nv + a cut point). */
+typedef struct segment {
+    int64_t x, y, e[2];
+} segment;
+
+typedef struct builder {
+    const vc_surface *s;
+    const double *xyz; /* scaled */
+    int64_t nv;
+    cut_point *pts;
+    double *pxyz; /* scaled coordinates of the cut points */
+    int64_t n_pts, cap_pts;
+    int64_t *slot; /* open addressing: index into pts, -1 empty */
+    int64_t n_slots;
+} builder;
+
+static const double *vertex_of(const builder *u, int64_t id)
+{
+    return id < u->nv ? u->xyz + 3 * id : u->pxyz + 3 * (id - u->nv);
+}
+
+/* det[a - d; b - d; c - d], the value whose sign vc_orient3d filters. */
+static double det3(const double *a, const double *b, const double *c, const double *d)
+{
+    double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
+    double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
+    double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
+    return adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
+}
+
+static uint64_t hash_point(int64_t a, int64_t b, int64_t t)
+{
+    uint64_t h = (uint64_t)a * 0x9e3779b97f4a7c15ULL;
+    h ^= (uint64_t)b * 0xc2b2ae3d27d4eb4fULL + (h << 6) + (h >> 2);
+    h ^= (uint64_t)t * 0x165667b19e3779f9ULL + (h << 6) + (h >> 2);
+    h ^= h >> 29;
+    return h;
+}
+
+/* The id of the point where edge (a, b) (a < b) pierces triangle t, made
+ * on first use; -1 when out of memory. */
+static int64_t point_id(builder *u, int64_t a, int64_t b, int64_t t)
+{
+    uint64_t mask = (uint64_t)u->n_slots - 1;
+    for (uint64_t h = hash_point(a, b, t) & mask;; h = (h + 1) & mask) {
+        int64_t k = u->slot[h];
+        if (k < 0) {
+            if (u->n_pts == u->cap_pts) {
+                int64_t c = 2 * u->cap_pts;
+                cut_point *p = realloc(u->pts, (size_t)c * sizeof *p);
+                if (p)
+                    u->pts = p;
+                double *x = realloc(u->pxyz, (size_t)c * 3 * sizeof *x);
+                if (x)
+                    u->pxyz = x;
+                if (!p || !x)
+                    return -1;
+                u->cap_pts = c;
+            }
+            k = u->n_pts++;
+            u->pts[k] = (cut_point){a, b, t};
+            const int64_t *vt = u->s->tri + 3 * t;
+            const double *A = u->xyz + 3 * a, *B = u->xyz + 3 * b;
+            const double *T0 = u->xyz + 3 * vt[0], *T1 = u->xyz + 3 * vt[1], *T2 = u->xyz + 3 * vt[2];
+            double da = det3(T0, T1, T2, A), db = det3(T0, T1, T2, B), f = da / (da - db);
+            for (int c = 0; c < 3; c++)
+                u->pxyz[3 * k + c] = A[c] + f * (B[c] - A[c]);
+            u->slot[h] = k;
+            return u->nv + k;
+        }
+        if (u->pts[k].a == a && u->pts[k].b == b && u->pts[k].t == t)
+            return u->nv + k;
+    }
+}
+
+/* Whether edge (a, b) of one triangle, whose ends lie strictly on both
+ * sides of triangle t's plane, passes through t: 1 yes, 0 no, -1 through
+ * an edge or vertex of t within rounding. The same decision from every
+ * triangle around the edge: a < b and t's corners in their order. */
+static int pierces(const builder *u, int64_t a, int64_t b, int64_t t)
+{
+    if (a > b) {
+        int64_t c = a;
+        a = b;
+        b = c;
+    }
+    const int64_t *vt = u->s->tri + 3 * t;
+    const double *A = u->xyz + 3 * a, *B = u->xyz + 3 * b;
+    int o[3], pos = 0, neg = 0, zero = 0;
+    for (int k = 0; k < 3; k++) {
+        o[k] = vc_orient3d(A, B, u->xyz + 3 * vt[k], u->xyz + 3 * vt[(k + 1) % 3]);
+        pos += o[k] > 0;
+        neg += o[k] < 0;
+        zero += o[k] == 0;
+    }
+    if (pos && neg)
+        return 0;
+    return zero ? -1 : 1;
+}
+
+/* The segment of pair (x, y): 1 with its ends, 0 when they only touch at
+ * a shared vertex, -1 when degenerate. */
+static int pair_segment(builder *u, int64_t x, int64_t y, int64_t ends[2], int *oom)
+{
+    const int64_t *vx = u->s->tri + 3 * x, *vy = u->s->tri + 3 * y;
+    int64_t shared = -1;
+    int n_shared = 0, sx[3], sy[3];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++)
+            if (vx[k] == vy[l]) {
+                shared = vx[k];
+                n_shared++;
+            }
+    if (n_shared >= 2)
+        return -1; /* folded onto each other across their edge */
+    const double *X[3], *Y[3];
+    for (int k = 0; k < 3; k++) {
+        X[k] = u->xyz + 3 * vx[k];
+        Y[k] = u->xyz + 3 * vy[k];
+    }
+    int xpos = 0, xneg = 0, ypos = 0, yneg = 0;
+    for (int k = 0; k < 3; k++) {
+        sx[k] = vx[k] == shared ? 0 : vc_orient3d(Y[0], Y[1], Y[2], X[k]);
+        sy[k] = vy[k] == shared ? 0 : vc_orient3d(X[0], X[1], X[2], Y[k]);
+        if ((vx[k] != shared && sx[k] == 0) || (vy[k] != shared && sy[k] == 0))
+            return -1; /* a vertex in the other's plane */
+        xpos += sx[k] > 0;
+        xneg += sx[k] < 0;
+        ypos += sy[k] > 0;
+        yneg += sy[k] < 0;
+    }
+    if (!(xpos && xneg) || !(ypos && yneg))
+        return 0;
+    int n = 0;
+    if (n_shared)
+        ends[n++] = shared;
+    for (int side = 0; side < 2; side++) {
+        const int64_t *v = side ? vy : vx, other = side ? x : y;
+        const int *sg = side ? sy : sx;
+        for (int k = 0; k < 3; k++) {
+            int l = (k + 1) % 3;
+            if (sg[k] * sg[l] >= 0)
+                continue;
+            int r = pierces(u, v[k], v[l], other);
+            if (r < 0)
+                return -1;
+            if (!r)
+                continue;
+            if (n == 2)
+                return -1;
+            int64_t id = point_id(u, v[k] < v[l] ? v[k] : v[l], v[k] < v[l] ? v[l] : v[k], other);
+            if (id < 0) {
+                *oom = 1;
+                return 0;
+            }
+            ends[n++] = id;
+        }
+    }
+    if (n_shared && n == 1)
+        return 0;
+    return n == 2 ? 1 : -1;
+}
+
+/* ---- Splitting one triangle along its segments ---- */
+
+typedef struct growing {
+    int64_t *v;
+    int64_t n, cap;
+} growing;
+
+static int grow_push(growing *g, int64_t a, int64_t b, int64_t c, int64_t d)
+{
+    if (g->n + 4 > g->cap) {
+        int64_t c2 = g->cap ? 2 * g->cap : 256;
+        while (c2 < g->n + 4)
+            c2 *= 2;
+        int64_t *p = realloc(g->v, (size_t)c2 * sizeof *p);
+        if (!p)
+            return -1;
+        g->v = p;
+        g->cap = c2;
+    }
+    g->v[g->n++] = a;
+    g->v[g->n++] = b;
+    g->v[g->n++] = c;
+    g->v[g->n++] = d;
+    return 0;
+}
+
+typedef struct local_vertex {
+    int64_t id;
+    int side;     /* edge of the triangle it lies on (0..2), 3 inside, -1 - k corner k */
+    double param; /* along that edge */
+} local_vertex;
+
+/* Whether the vertex lies on edge k (corners k and k + 1 included). */
+static int on_edge(const local_vertex *v, int k)
+{
+    return v->side == k || v->side == -1 - k || v->side == -1 - (k + 1) % 3;
+}
+
+/* Whether three vertices lie on one edge of the triangle: collinear by
+ * construction, whatever the rounded coordinates say. */
+static int on_one_edge(const local_vertex *a, const local_vertex *b, const local_vertex *c)
+{
+    for (int k = 0; k < 3; k++)
+        if (on_edge(a, k) && on_edge(b, k) && on_edge(c, k))
+            return 1;
+    return 0;
+}
+
+/* Orientation of (a, b, c) on axes i, j, with the cut points' rounding
+ * taken as collinear: |det| <= tol is 0. Chains of cut points from
+ * coplanar triangles (a box face given as two) are straight, and the ulp
+ * their construction rounds off would otherwise decide. */
+static int orient_tol(const double *a, const double *b, const double *c, int i, int j, double tol)
+{
+    double det = (a[i] - c[i]) * (b[j] - c[j]) - (a[j] - c[j]) * (b[i] - c[i]);
+    return det > tol ? 1 : det < -tol ? -1 : 0;
+}
+
+typedef struct halfedge_ref {
+    int64_t h;
+    double angle;
+} halfedge_ref;
+
+static int cmp_angle(const void *pa, const void *pb)
+{
+    const halfedge_ref *a = pa, *b = pb;
+    return a->angle < b->angle ? -1 : a->angle > b->angle;
+}
+
+/* Splits triangle x along segments seg[list[0..n)]: appends (a, b, c, x)
+ * for each piece to out (the input's orientation). Returns 0, -1 when the
+ * split is degenerate, -2 when out of memory. */
+static int split_triangle(const builder *u, int64_t x, const segment *seg, const int64_t *list, int64_t n,
+                          growing *out)
+{
+    const int64_t *c = u->s->tri + 3 * x;
+    const double *C[3] = {u->xyz + 3 * c[0], u->xyz + 3 * c[1], u->xyz + 3 * c[2]};
+    /* projection axes that keep the triangle counter-clockwise */
+    double e1[3], e2[3], nrm[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = C[1][k] - C[0][k];
+        e2[k] = C[2][k] - C[0][k];
+    }
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    int kz = fabs(nrm[0]) > fabs(nrm[1]) ? (fabs(nrm[0]) > fabs(nrm[2]) ? 0 : 2) : (fabs(nrm[1]) > fabs(nrm[2]) ? 1 : 2);
+    int ai = (kz + 1) % 3, aj = (kz + 2) % 3;
+    if (nrm[kz] < 0) {
+        int t = ai;
+        ai = aj;
+        aj = t;
+    }
+
+    double longest2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double d2 = 0;
+        for (int l = 0; l < 3; l++)
+            d2 += (C[(k + 1) % 3][l] - C[k][l]) * (C[(k + 1) % 3][l] - C[k][l]);
+        longest2 = d2 > longest2 ? d2 : longest2;
+    }
+    const double tol = 1e-13 * longest2; /* twice an area: a height of 1e-13 edges */
+    int64_t m_cap = 3 + 2 * n, e_cap = 3 + 2 * n + n;
+    local_vertex *lv = malloc((size_t)m_cap * sizeof *lv);
+    int64_t *order = malloc((size_t)m_cap * sizeof *order);
+    int64_t *edge = malloc((size_t)e_cap * 2 * sizeof *edge);
+    int64_t *face = malloc((size_t)(2 * e_cap + 1) * sizeof *face);
+    halfedge_ref *ref = malloc((size_t)2 * e_cap * sizeof *ref);
+    int64_t *first = malloc((size_t)(m_cap + 1) * sizeof *first);
+    int64_t *pos_of = malloc((size_t)2 * e_cap * sizeof *pos_of);
+    unsigned char *seen = calloc((size_t)2 * e_cap, 1);
+    int rc = 0;
+    if (!lv || !order || !edge || !face || !ref || !first || !pos_of || !seen) {
+        rc = -2;
+        goto done;
+    }
+    /* the vertices: corners, then every segment end once */
+    int64_t m = 0;
+    for (int k = 0; k < 3; k++)
+        lv[m++] = (local_vertex){c[k], -1 - k, 0};
+    for (int64_t q = 0; q < n; q++)
+        for (int j = 0; j < 2; j++) {
+            int64_t id = seg[list[q]].e[j];
+            int dup = 0;
+            for (int64_t r = 0; r < m && !dup; r++)
+                dup = lv[r].id == id;
+            if (dup)
+                continue;
+            if (id < u->nv) {
+                rc = -1; /* a vertex id that is not a corner */
+                goto done;
+            }
+            const cut_point *p = &u->pts[id - u->nv];
+            const double *P = u->pxyz + 3 * (id - u->nv);
+            local_vertex v = {id, 3, 0};
+            if (p->t != x) {
+                v.side = -9;
+                for (int k = 0; k < 3; k++) {
+                    int64_t a = c[k], b = c[(k + 1) % 3];
+                    if ((p->a == a && p->b == b) || (p->a == b && p->b == a)) {
+                        v.side = k;
+                        double d2 = 0, dp = 0;
+                        for (int l = 0; l < 3; l++) {
+                            double dl = C[(k + 1) % 3][l] - C[k][l];
+                            d2 += dl * dl;
+                            dp += (P[l] - C[k][l]) * dl;
+                        }
+                        v.param = dp / d2;
+                    }
+                }
+                if (v.side < 0) {
+                    rc = -1;
+                    goto done;
+                }
+            }
+            lv[m++] = v;
+        }
+#ifdef DEBUG_UNION
+    if (x == DEBUG_UNION) {
+        for (int64_t r = 0; r < m; r++) {
+            const double *P = vertex_of(u, lv[r].id);
+            fprintf(stderr, "lv %lld id %lld side %d param %.17g  (%.17g %.17g)", (long long)r, (long long)lv[r].id, lv[r].side, lv[r].param, P[ai], P[aj]);
+            if (lv[r].id >= u->nv) fprintf(stderr, " key %lld %lld %lld", (long long)u->pts[lv[r].id - u->nv].a, (long long)u->pts[lv[r].id - u->nv].b, (long long)u->pts[lv[r].id - u->nv].t);
+            fprintf(stderr, "\n");
+        }
+        for (int64_t q = 0; q < n; q++) fprintf(stderr, "seg %lld-%lld pair %lld %lld\n", (long long)seg[list[q]].e[0], (long long)seg[list[q]].e[1], (long long)seg[list[q]].x, (long long)seg[list[q]].y);
+    }
+#endif
+    /* the border cycle: corner k, then the points on edge k by parameter */
+    int64_t nb = 0;
+    for (int k = 0; k < 3; k++) {
+        order[nb++] = k;
+        int64_t from = nb;
+        for (int64_t r = 3; r < m; r++)
+            if (lv[r].side == k)
+                order[nb++] = r;
+        /* sort the indices order[from..nb) by parameter (few: insertion) */
+        for (int64_t i = from + 1; i < nb; i++)
+            for (int64_t j = i; j > from && lv[order[j]].param < lv[order[j - 1]].param; j--) {
+                int64_t t = order[j];
+                order[j] = order[j - 1];
+                order[j - 1] = t;
+            }
+        for (int64_t i = from + 1; i < nb; i++)
+            if (!(lv[order[i]].param > lv[order[i - 1]].param)) {
+                rc = -1;
+                goto done;
+            }
+    }
+    int64_t ne = 0;
+    for (int64_t i = 0; i < nb; i++) {
+        edge[2 * ne] = order[i];
+        edge[2 * ne + 1] = order[(i + 1) % nb];
+        ne++;
+    }
+    for (int64_t q = 0; q < n; q++) {
+        int64_t a = -1, b = -1;
+        for (int64_t r = 0; r < m; r++) {
+            if (lv[r].id == seg[list[q]].e[0])
+                a = r;
+            if (lv[r].id == seg[list[q]].e[1])
+                b = r;
+        }
+        int dup = a == b;
+        for (int64_t i = 0; i < ne && !dup; i++)
+            dup = (edge[2 * i] == a && edge[2 * i + 1] == b) || (edge[2 * i] == b && edge[2 * i + 1] == a);
+        if (dup) {
+            rc = -1; /* a segment along the border, or twice: not general position */
+            goto done;
+        }
+        edge[2 * ne] = a;
+        edge[2 * ne + 1] = b;
+        ne++;
+    }
+#define LP(r) vertex_of(u, lv[r].id)
+    /* no two edges may cross or touch away from a shared end (three sheets
+     * through one point) */
+    for (int64_t i = nb; i < ne; i++)
+        for (int64_t j = 0; j < i; j++) {
+            int64_t a = edge[2 * i], b = edge[2 * i + 1], p = edge[2 * j], q = edge[2 * j + 1];
+            if (a == p || a == q || b == p || b == q)
+                continue;
+            int o1 = orient_tol(LP(a), LP(b), LP(p), ai, aj, tol), o2 = orient_tol(LP(a), LP(b), LP(q), ai, aj, tol);
+            int o3 = orient_tol(LP(p), LP(q), LP(a), ai, aj, tol), o4 = orient_tol(LP(p), LP(q), LP(b), ai, aj, tol);
+            if (o1 * o2 <= 0 && o3 * o4 <= 0) {
+                rc = -1;
+                goto done;
+            }
+        }
+    /* outgoing half-edges of each vertex by angle (h = 2e: a -> b, 2e + 1:
+     * b -> a) */
+    for (int64_t r = 0; r <= m; r++)
+        first[r] = 0;
+    for (int64_t e = 0; e < ne; e++) {
+        first[edge[2 * e] + 1]++;
+        first[edge[2 * e + 1] + 1]++;
+    }
+    for (int64_t r = 0; r < m; r++) {
+        if (first[r + 1] < 2) {
+            rc = -1; /* a curve that ends inside the triangle */
+            goto done;
+        }
+        first[r + 1] += first[r];
+    }
+    {
+        int64_t *fill = order; /* reused: nb <= m */
+        for (int64_t r = 0; r < m; r++)
+            fill[r] = first[r];
+        for (int64_t h = 0; h < 2 * ne; h++) {
+            int64_t from = edge[2 * (h >> 1) + (h & 1)], to = edge[2 * (h >> 1) + !(h & 1)];
+            const double *A = LP(from), *B = LP(to);
+            ref[fill[from]++] = (halfedge_ref){h, atan2(B[aj] - A[aj], B[ai] - A[ai])};
+        }
+    }
+    for (int64_t r = 0; r < m; r++) {
+        qsort(ref + first[r], (size_t)(first[r + 1] - first[r]), sizeof *ref, cmp_angle);
+        for (int64_t k = first[r]; k < first[r + 1]; k++)
+            pos_of[ref[k].h] = k;
+    }
+    /* the faces: next(a -> b) is the half-edge before b -> a around b */
+    int n_outer = 0;
+    for (int64_t h0 = 0; h0 < 2 * ne && !rc; h0++) {
+        if (seen[h0])
+            continue;
+        int64_t nf = 0, h = h0;
+        double area2 = 0;
+        do {
+            seen[h] = 1;
+            int64_t from = edge[2 * (h >> 1) + (h & 1)], to = edge[2 * (h >> 1) + !(h & 1)];
+            if (nf > 2 * ne) {
+                rc = -1;
+                break;
+            }
+            face[nf++] = from;
+            const double *A = LP(from), *B = LP(to);
+            area2 += A[ai] * B[aj] - A[aj] * B[ai];
+            int64_t twin = h ^ 1, k = pos_of[twin];
+            int64_t prev = k == first[to] ? first[to + 1] - 1 : k - 1;
+            h = ref[prev].h;
+        } while (h != h0);
+        if (rc)
+            break;
+        if (area2 <= 0) {
+            n_outer++;
+            continue;
+        }
+        for (int64_t i = 0; i < nf; i++)
+            for (int64_t j = 0; j < i; j++)
+                if (face[i] == face[j])
+                    rc = -1; /* a vertex twice on one face: a bridge */
+        /* ear clipping, the fattest ear first: a long thin triangle would
+         * run along the curve within rounding of its vertices */
+        while (nf > 3 && !rc) {
+            int64_t ear = -1;
+            double best = -1;
+            for (int64_t i = 0; i < nf; i++) {
+                int64_t p = face[(i + nf - 1) % nf], q = face[i], r = face[(i + 1) % nf];
+                if (on_one_edge(&lv[p], &lv[q], &lv[r]) || orient_tol(LP(p), LP(q), LP(r), ai, aj, tol) <= 0)
+                    continue;
+                int inside = 0;
+                for (int64_t j = 0; j < nf && !inside; j++) {
+                    int64_t w = face[j];
+                    if (w == p || w == q || w == r)
+                        continue;
+                    inside = orient_tol(LP(p), LP(q), LP(w), ai, aj, tol) >= 0 &&
+                             orient_tol(LP(q), LP(r), LP(w), ai, aj, tol) >= 0 &&
+                             orient_tol(LP(r), LP(p), LP(w), ai, aj, tol) >= 0;
+                }
+                if (inside)
+                    continue;
+                const double *P = LP(p), *Q = LP(q), *R = LP(r);
+                double ux = Q[ai] - P[ai], uy = Q[aj] - P[aj], vx = R[ai] - P[ai], vy = R[aj] - P[aj];
+                double wx = R[ai] - Q[ai], wy = R[aj] - Q[aj];
+                double fat = (ux * vy - uy * vx) / (ux * ux + uy * uy + vx * vx + vy * vy + wx * wx + wy * wy);
+                if (fat > best) {
+                    best = fat;
+                    ear = i;
+                }
+            }
+            if (ear < 0) {
+                rc = -1;
+                break;
+            }
+            int64_t p = face[(ear + nf - 1) % nf], q = face[ear], r = face[(ear + 1) % nf];
+#ifdef DEBUG_UNION
+            if (x == DEBUG_UNION) fprintf(stderr, "tri %lld %lld %lld\n", (long long)lv[p].id, (long long)lv[q].id, (long long)lv[r].id);
+#endif
+            if (grow_push(out, lv[p].id, lv[q].id, lv[r].id, x)) {
+                rc = -2;
+                break;
+            }
+            memmove(face + ear, face + ear + 1, (size_t)(nf - ear - 1) * sizeof *face);
+            nf--;
+        }
+        if (rc)
+            break;
+        if (on_one_edge(&lv[face[0]], &lv[face[1]], &lv[face[2]]) ||
+            orient_tol(LP(face[0]), LP(face[1]), LP(face[2]), ai, aj, tol) <= 0)
+            rc = -1;
+        else if (grow_push(out, lv[face[0]].id, lv[face[1]].id, lv[face[2]].id, x))
+            rc = -2;
+    }
+#undef LP
+    if (!rc && n_outer != 1)
+        rc = -1; /* a curve closed inside the triangle (a second component) */
+done:
+    free(lv);
+    free(order);
+    free(edge);
+    free(face);
+    free(ref);
+    free(first);
+    free(pos_of);
+    free(seen);
+    return rc;
+}
+
+/* ---- Patches and their winding numbers ---- */
+
+static int64_t find_root(int64_t *parent, int64_t a)
+{
+    while (parent[a] != a) {
+        parent[a] = parent[parent[a]];
+        a = parent[a];
+    }
+    return a;
+}
+
+typedef struct edge_entry {
+    int64_t lo, hi, piece;
+} edge_entry;
+
+static int cmp_edge_entry(const void *pa, const void *pb)
+{
+    const edge_entry *a = pa, *b = pb;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi)
+        return a->hi < b->hi ? -1 : 1;
+    return a->piece < b->piece ? -1 : a->piece > b->piece;
+}
+
+/* The solid angle of triangle (a, b, c) seen from p (Van Oosterom and
+ * Strackee), signed by the triangle's orientation. */
+static double solid_angle(const double *a, const double *b, const double *c, const double *p)
+{
+    double A[3], B[3], C[3];
+    for (int k = 0; k < 3; k++) {
+        A[k] = a[k] - p[k];
+        B[k] = b[k] - p[k];
+        C[k] = c[k] - p[k];
+    }
+    double la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
+    double lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
+    double lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
+    double det = A[0] * (B[1] * C[2] - B[2] * C[1]) - A[1] * (B[0] * C[2] - B[2] * C[0]) +
+                 A[2] * (B[0] * C[1] - B[1] * C[0]);
+    double ab = A[0] * B[0] + A[1] * B[1] + A[2] * B[2];
+    double bc = B[0] * C[0] + B[1] * C[1] + B[2] * C[2];
+    double ca = C[0] * A[0] + C[1] * A[1] + C[2] * A[2];
+    return 2 * atan2(det, la * lb * lc + ab * lc + bc * la + ca * lb);
+}
+
+int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out, vc_self_union_report *rep,
+                          vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    vc_self_union_report r_local, *r = rep ? rep : &r_local;
+    memset(r, 0, sizeof *r);
+    name = name && name[0] ? name : "surface";
+    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    if (nv <= 0 || nt <= 0)
+        return vc_error_set(err, VC_EINPUT, "%s: no triangles", name);
+
+    /* coordinates scaled by a power of two: the diagonal in [0.5, 1) */
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = hi[k] = s->xyz[k];
+    for (int64_t i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++) {
+            double v = s->xyz[3 * i + k];
+            lo[k] = v < lo[k] ? v : lo[k];
+            hi[k] = v > hi[k] ? v : hi[k];
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (!(diag > 0) || !isfinite(diag))
+        return vc_error_set(err, VC_EINPUT, "%s: the surface has no extent", name);
+    int ed;
+    frexp(diag, &ed);
+    builder u;
+    memset(&u, 0, sizeof u);
+    u.s = s;
+    u.nv = nv;
+    double *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
+    int64_t *pairs = NULL, n_pairs = 0;
+    segment *seg = NULL;
+    growing pieces = {0};
+    int64_t *parent = NULL, *count = NULL, *list = NULL, *start = NULL, *rep_piece = NULL;
+    edge_entry *ent = NULL;
+    double *winding = NULL;
+    int rc = 0;
+    if (!xyz)
+        goto oom;
+    for (int64_t i = 0; i < 3 * nv; i++)
+        xyz[i] = ldexp(s->xyz[i], -ed);
+    u.xyz = xyz;
+    if (vc_self_intersection_pairs(xyz, s->tri, nt, &pairs, &n_pairs))
+        goto oom;
+    r->n_pairs = n_pairs;
+
+    /* 1. the segments */
+    u.cap_pts = 64;
+    for (u.n_slots = 64; u.n_slots < 8 * n_pairs + 64; u.n_slots *= 2)
+        ;
+    u.pts = malloc((size_t)u.cap_pts * sizeof *u.pts);
+    u.pxyz = malloc((size_t)u.cap_pts * 3 * sizeof *u.pxyz);
+    u.slot = malloc((size_t)u.n_slots * sizeof *u.slot);
+    seg = malloc((size_t)(n_pairs + 1) * sizeof *seg);
+    if (!u.pts || !u.pxyz || !u.slot || !seg)
+        goto oom;
+    for (int64_t i = 0; i < u.n_slots; i++)
+        u.slot[i] = -1;
+    int64_t n_seg = 0;
+    for (int64_t k = 0; k < n_pairs; k++) {
+        int64_t x = pairs[2 * k], y = pairs[2 * k + 1], ends[2];
+        int oom_flag = 0;
+        int res = pair_segment(&u, x, y, ends, &oom_flag);
+        if (oom_flag)
+            goto oom;
+        if (res < 0) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the surface intersects itself (%lld pairs of triangles) and triangles "
+                              "%lld and %lld touch in a degenerate way (a vertex or an edge in the other's "
+                              "plane, or coplanar): the union of its parts cannot be formed; repair it "
+                              "(a boolean union, or remesh)",
+                              name, (long long)n_pairs, (long long)x + 1, (long long)y + 1);
+            goto done;
+        }
+        if (res == 1)
+            seg[n_seg++] = (segment){x, y, {ends[0], ends[1]}};
+    }
+    r->n_segments = n_seg;
+
+    /* 2. the segments of each triangle (counting sort), each cut triangle
+     * split */
+    count = calloc((size_t)nt + 1, sizeof *count);
+    list = malloc((size_t)(2 * n_seg + 1) * sizeof *list);
+    if (!count || !list)
+        goto oom;
+    for (int64_t q = 0; q < n_seg; q++) {
+        count[seg[q].x + 1]++;
+        count[seg[q].y + 1]++;
+    }
+    for (int64_t t = 0; t < nt; t++)
+        count[t + 1] += count[t];
+    start = malloc((size_t)(nt + 1) * sizeof *start);
+    if (!start)
+        goto oom;
+    memcpy(start, count, (size_t)(nt + 1) * sizeof *start);
+    for (int64_t q = 0; q < n_seg; q++) {
+        list[start[seg[q].x]++] = q;
+        list[start[seg[q].y]++] = q;
+    }
+    for (int64_t t = 0; t < nt; t++) {
+        const int64_t *v = s->tri + 3 * t;
+        if (count[t + 1] == count[t]) {
+            if (grow_push(&pieces, v[0], v[1], v[2], t))
+                goto oom;
+            continue;
+        }
+        r->n_split++;
+        int res = split_triangle(&u, t, seg, list + count[t], count[t + 1] - count[t], &pieces);
+        if (res == -2)
+            goto oom;
+        if (res < 0) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the surface intersects itself (%lld pairs of triangles) and the curves "
+                              "cross triangle %lld in a degenerate way (three sheets through one point, or "
+                              "a curve closed inside it): the union of its parts cannot be formed; repair "
+                              "it (a boolean union, or remesh)",
+                              name, (long long)n_pairs, (long long)t + 1);
+            goto done;
+        }
+    }
+    const int64_t np = pieces.n / 4;
+
+    /* 3. patches: pieces joined across the edges that are not on a curve */
+    ent = malloc((size_t)(3 * np + 2 * n_seg + 1) * sizeof *ent);
+    parent = malloc((size_t)(np + 1) * sizeof *parent);
+    if (!ent || !parent)
+        goto oom;
+    int64_t n_ent = 0;
+    for (int64_t q = 0; q < n_seg; q++) {
+        int64_t a = seg[q].e[0], b = seg[q].e[1];
+        ent[n_ent++] = (edge_entry){a < b ? a : b, a < b ? b : a, -1}; /* a curve edge */
+    }
+    for (int64_t p = 0; p < np; p++) {
+        parent[p] = p;
+        for (int k = 0; k < 3; k++) {
+            int64_t a = pieces.v[4 * p + k], b = pieces.v[4 * p + (k + 1) % 3];
+            ent[n_ent++] = (edge_entry){a < b ? a : b, a < b ? b : a, p};
+        }
+    }
+    qsort(ent, (size_t)n_ent, sizeof *ent, cmp_edge_entry);
+    for (int64_t i = 0; i < n_ent;) {
+        int64_t j = i + 1;
+        while (j < n_ent && ent[j].lo == ent[i].lo && ent[j].hi == ent[i].hi)
+            j++;
+        /* curve edges sort first (piece -1) and join nothing; neither
+         * does an edge of more than two pieces (sheets that touch there) */
+        if (ent[i].piece >= 0 && j == i + 2)
+            parent[find_root(parent, ent[i + 1].piece)] = find_root(parent, ent[i].piece);
+        i = j;
+    }
+    /* one representative per patch: its largest piece (deterministic) */
+    rep_piece = malloc((size_t)(np + 1) * sizeof *rep_piece);
+    winding = malloc((size_t)(np + 1) * sizeof *winding);
+    if (!rep_piece || !winding)
+        goto oom;
+    double *area = winding; /* reused before the winding numbers */
+    int64_t n_patches = 0;
+    for (int64_t p = 0; p < np; p++)
+        rep_piece[p] = -1;
+    for (int64_t p = 0; p < np; p++) {
+        const double *A = vertex_of(&u, pieces.v[4 * p]), *B = vertex_of(&u, pieces.v[4 * p + 1]),
+                     *C = vertex_of(&u, pieces.v[4 * p + 2]);
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = B[k] - A[k];
+            e2[k] = C[k] - A[k];
+        }
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+        area[p] = cx * cx + cy * cy + cz * cz;
+        int64_t root = find_root(parent, p);
+        if (rep_piece[root] < 0)
+            n_patches++;
+        if (rep_piece[root] < 0 || area[p] > area[rep_piece[root]])
+            rep_piece[root] = p;
+    }
+    /* the roots' representatives, in order */
+    int64_t *roots = malloc((size_t)(n_patches + 1) * sizeof *roots);
+    double *w_patch = malloc((size_t)(n_patches + 1) * sizeof *w_patch);
+    if (!roots || !w_patch) {
+        free(roots);
+        free(w_patch);
+        goto oom;
+    }
+    int64_t nr = 0;
+    for (int64_t p = 0; p < np; p++)
+        if (find_root(parent, p) == p)
+            roots[nr++] = p;
+    r->n_patches = n_patches;
+    int bad = 0;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int64_t i = 0; i < nr; i++) {
+        int64_t p = rep_piece[roots[i]], src = pieces.v[4 * p + 3];
+        double P[3];
+        for (int k = 0; k < 3; k++)
+            P[k] = (vertex_of(&u, pieces.v[4 * p])[k] + vertex_of(&u, pieces.v[4 * p + 1])[k] +
+                    vertex_of(&u, pieces.v[4 * p + 2])[k]) / 3;
+        double sum = 0;
+        for (int64_t t = 0; t < nt; t++)
+            if (t != src)
+                sum += solid_angle(xyz + 3 * s->tri[3 * t], xyz + 3 * s->tri[3 * t + 1],
+                                   xyz + 3 * s->tri[3 * t + 2], P);
+        w_patch[i] = sum / (4 * 3.14159265358979323846) - 0.5; /* the winding number on the outer side */
+    }
+    for (int64_t i = 0; i < nr; i++) {
+        double w = w_patch[i], wr = floor(w + 0.5);
+        if (fabs(w - wr) > 0.25)
+            bad = 1;
+        winding[roots[i]] = wr;
+    }
+    free(roots);
+    free(w_patch);
+    if (bad) {
+        rc = vc_error_set(err, VC_EINPUT,
+                          "%s: the surface intersects itself (%lld pairs of triangles) and the winding "
+                          "numbers of its parts are not whole numbers: it is not closed and oriented "
+                          "around each part; repair it (a boolean union, or remesh)",
+                          name, (long long)n_pairs);
+        goto done;
+    }
+
+    /* 4. the kept pieces (outer winding number 0), vertices renumbered in
+     * id order */
+    int64_t n_ids = nv + u.n_pts, n_keep = 0;
+    int64_t *new_id = malloc((size_t)n_ids * sizeof *new_id);
+    if (!new_id)
+        goto oom;
+    for (int64_t i = 0; i < n_ids; i++)
+        new_id[i] = -1;
+    for (int64_t p = 0; p < np; p++) {
+        if (winding[find_root(parent, p)] != 0)
+            continue;
+        n_keep++;
+        for (int k = 0; k < 3; k++)
+            new_id[pieces.v[4 * p + k]] = 0;
+    }
+    int64_t n_out_v = 0;
+    for (int64_t i = 0; i < n_ids; i++)
+        if (new_id[i] == 0)
+            new_id[i] = n_out_v++;
+    out->xyz = malloc((size_t)(n_out_v + 1) * 3 * sizeof *out->xyz);
+    out->tri = malloc((size_t)(n_keep + 1) * 3 * sizeof *out->tri);
+    if (s->tri_group && s->n_groups > 0) {
+        out->tri_group = malloc((size_t)(n_keep + 1) * sizeof *out->tri_group);
+        out->group_name = malloc((size_t)s->n_groups * sizeof *out->group_name);
+    }
+    if (!out->xyz || !out->tri || (s->tri_group && s->n_groups > 0 && (!out->tri_group || !out->group_name))) {
+        free(new_id);
+        goto oom;
+    }
+    for (int64_t i = 0; i < n_ids; i++)
+        if (new_id[i] >= 0) {
+            if (i < nv)
+                memcpy(out->xyz + 3 * new_id[i], s->xyz + 3 * i, 3 * sizeof *out->xyz);
+            else
+                for (int k = 0; k < 3; k++)
+                    out->xyz[3 * new_id[i] + k] = ldexp(u.pxyz[3 * (i - nv) + k], ed);
+        }
+    int64_t q = 0;
+    double vol6 = 0;
+    for (int64_t p = 0; p < np; p++) {
+        if (winding[find_root(parent, p)] != 0)
+            continue;
+        for (int k = 0; k < 3; k++)
+            out->tri[3 * q + k] = new_id[pieces.v[4 * p + k]];
+        if (out->tri_group)
+            out->tri_group[q] = s->tri_group[pieces.v[4 * p + 3]];
+        const double *A = out->xyz + 3 * out->tri[3 * q], *B = out->xyz + 3 * out->tri[3 * q + 1],
+                     *C = out->xyz + 3 * out->tri[3 * q + 2];
+        vol6 += A[0] * (B[1] * C[2] - B[2] * C[1]) - A[1] * (B[0] * C[2] - B[2] * C[0]) +
+                A[2] * (B[0] * C[1] - B[1] * C[0]);
+        q++;
+    }
+    free(new_id);
+    out->n_vertices = n_out_v;
+    out->n_triangles = n_keep;
+    if (out->tri_group) {
+        out->n_groups = s->n_groups;
+        memcpy(out->group_name, s->group_name, (size_t)s->n_groups * sizeof *out->group_name);
+    }
+    for (int64_t p = 0; p < np; p++) {
+        int64_t root = find_root(parent, p);
+        if (p == root && winding[p] != 0)
+            r->n_patches_dropped++;
+    }
+    r->n_pieces_dropped = np - n_keep;
+    r->volume = vol6 / 6;
+    if (n_keep == 0) {
+        rc = vc_error_set(err, VC_EINPUT, "%s: the surface intersects itself and no part of it bounds "
+                          "the region it winds around", name);
+        goto done;
+    }
+    goto done;
+oom:
+    rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory forming the union of the self-intersecting surface",
+                      name);
+done:
+    if (rc)
+        vc_surface_free(out);
+    free(xyz);
+    free(pairs);
+    free(seg);
+    free(u.pts);
+    free(u.pxyz);
+    free(u.slot);
+    free(pieces.v);
+    free(parent);
+    free(count);
+    free(list);
+    free(start);
+    free(rep_piece);
+    free(ent);
+    free(winding);
+    return rc;
+}
