@@ -275,6 +275,136 @@ static int cmp_angle(const void *pa, const void *pb)
     return a->angle < b->angle ? -1 : a->angle > b->angle;
 }
 
+/* Twice the area over the sum of the squared edges: 0 flat, largest for
+ * an equilateral triangle. */
+static double fatness(const double *P, const double *Q, const double *R, int ai, int aj)
+{
+    double ux = Q[ai] - P[ai], uy = Q[aj] - P[aj], vx = R[ai] - P[ai], vy = R[aj] - P[aj];
+    double wx = R[ai] - Q[ai], wy = R[aj] - Q[aj];
+    return (ux * vy - uy * vx) / (ux * ux + uy * uy + vx * vx + vy * vy + wx * wx + wy * wy);
+}
+
+/* Whether the closed segments ab and cd meet (tolerant orientations). */
+static int segments_meet(const double *a, const double *b, const double *c, const double *d, int ai, int aj,
+                         double tol)
+{
+    int o1 = orient_tol(a, b, c, ai, aj, tol), o2 = orient_tol(a, b, d, ai, aj, tol);
+    int o3 = orient_tol(c, d, a, ai, aj, tol), o4 = orient_tol(c, d, b, ai, aj, tol);
+    if (o1 * o2 < 0 && o3 * o4 < 0)
+        return 1;
+    /* a point on the other segment (collinear and within its box) */
+    const double *pt[4] = {c, d, a, b}, *s0[4] = {a, a, c, c}, *s1[4] = {b, b, d, d};
+    int o[4] = {o1, o2, o3, o4};
+    for (int k = 0; k < 4; k++)
+        if (o[k] == 0) {
+            double lo_i = s0[k][ai] < s1[k][ai] ? s0[k][ai] : s1[k][ai];
+            double hi_i = s0[k][ai] < s1[k][ai] ? s1[k][ai] : s0[k][ai];
+            double lo_j = s0[k][aj] < s1[k][aj] ? s0[k][aj] : s1[k][aj];
+            double hi_j = s0[k][aj] < s1[k][aj] ? s1[k][aj] : s0[k][aj];
+            if (pt[k][ai] >= lo_i && pt[k][ai] <= hi_i && pt[k][aj] >= lo_j && pt[k][aj] <= hi_j)
+                return 1;
+        }
+    return 0;
+}
+
+/* Triangulates the counter-clockwise simple polygon face[0..nf) (local
+ * vertex indices) so that its thinnest triangle is as fat as possible
+ * (dynamic programming over the valid diagonals, O(nf^3)): a greedy ear
+ * clipping can leave three nearly collinear curve points for the last
+ * triangle, a sliver whose normal the sizing then trusts. Appends the
+ * triangles to out; 0, -1 when no triangulation without a flat triangle
+ * exists, -2 out of memory. */
+static int triangulate_face(const builder *u, const local_vertex *lv, const int64_t *face, int64_t nf, int ai,
+                            int aj, double tol, int64_t x, growing *out)
+{
+#define FP(i) vertex_of(u, lv[face[i]].id)
+    unsigned char *ok = malloc((size_t)(nf * nf));
+    double *best = malloc((size_t)(nf * nf) * sizeof *best);
+    int64_t *pick = malloc((size_t)(nf * nf) * sizeof *pick);
+    int64_t *stack = malloc((size_t)(4 * nf + 4) * sizeof *stack);
+    int rc = 0;
+    if (!ok || !best || !pick || !stack) {
+        rc = -2;
+        goto done;
+    }
+    /* valid chords: polygon edges, and diagonals inside the polygon that
+     * meet no edge away from their ends */
+    for (int64_t i = 0; i < nf; i++)
+        for (int64_t j = 0; j < nf; j++) {
+            int64_t d = (j - i + nf) % nf;
+            ok[i * nf + j] = d == 1 || d == nf - 1;
+        }
+    for (int64_t i = 0; i < nf; i++)
+        for (int64_t j = i + 2; j < nf; j++) {
+            if (i == 0 && j == nf - 1)
+                continue;
+            int good = 1;
+            for (int side = 0; side < 2 && good; side++) {
+                int64_t a = side ? j : i, b = side ? i : j;
+                const double *A = FP(a), *B = FP(b), *A0 = FP((a + nf - 1) % nf), *A1 = FP((a + 1) % nf);
+                if (orient_tol(A0, A, A1, ai, aj, tol) > 0)
+                    good = orient_tol(A, B, A0, ai, aj, tol) > 0 && orient_tol(B, A, A1, ai, aj, tol) > 0;
+                else
+                    good = !(orient_tol(A, B, A1, ai, aj, tol) >= 0 && orient_tol(B, A, A0, ai, aj, tol) >= 0);
+            }
+            for (int64_t k = 0; k < nf && good; k++) {
+                int64_t l = (k + 1) % nf;
+                if (k == i || k == j || l == i || l == j)
+                    continue;
+                good = !segments_meet(FP(i), FP(j), FP(k), FP(l), ai, aj, tol);
+            }
+            ok[i * nf + j] = ok[j * nf + i] = (unsigned char)good;
+        }
+    /* best[i][j]: the fattest thinnest triangle of the part i, i+1, ..., j */
+    for (int64_t len = 1; len < nf; len++)
+        for (int64_t i = 0; i + len < nf; i++) {
+            int64_t j = i + len;
+            best[i * nf + j] = len == 1 ? INFINITY : -INFINITY;
+            pick[i * nf + j] = -1;
+            if (len == 1 || !ok[i * nf + j])
+                continue;
+            for (int64_t k = i + 1; k < j; k++) {
+                double b1 = best[i * nf + k], b2 = best[k * nf + j];
+                if (b1 == -INFINITY || b2 == -INFINITY || on_one_edge(&lv[face[i]], &lv[face[k]], &lv[face[j]]) ||
+                    orient_tol(FP(i), FP(k), FP(j), ai, aj, tol) <= 0)
+                    continue;
+                double f = fatness(FP(i), FP(k), FP(j), ai, aj);
+                f = f < b1 ? f : b1;
+                f = f < b2 ? f : b2;
+                if (f > best[i * nf + j]) {
+                    best[i * nf + j] = f;
+                    pick[i * nf + j] = k;
+                }
+            }
+        }
+    if (pick[nf - 1] < 0) {
+        rc = -1;
+        goto done;
+    }
+    int64_t sp = 0;
+    stack[sp++] = 0;
+    stack[sp++] = nf - 1;
+    while (sp > 0 && !rc) {
+        int64_t j = stack[--sp], i = stack[--sp];
+        if (j - i < 2)
+            continue;
+        int64_t k = pick[i * nf + j];
+        if (grow_push(out, lv[face[i]].id, lv[face[k]].id, lv[face[j]].id, x))
+            rc = -2;
+        stack[sp++] = i;
+        stack[sp++] = k;
+        stack[sp++] = k;
+        stack[sp++] = j;
+    }
+done:
+    free(ok);
+    free(best);
+    free(pick);
+    free(stack);
+    return rc;
+#undef FP
+}
+
 /* Splits triangle x along segments seg[list[0..n)]: appends (a, b, c, x)
  * for each piece to out (the input's orientation). Returns 0, -1 when the
  * split is degenerate, -2 when out of memory. */
@@ -496,57 +626,7 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
             for (int64_t j = 0; j < i; j++)
                 if (face[i] == face[j])
                     rc = -1; /* a vertex twice on one face: a bridge */
-        /* ear clipping, the fattest ear first: a long thin triangle would
-         * run along the curve within rounding of its vertices */
-        while (nf > 3 && !rc) {
-            int64_t ear = -1;
-            double best = -1;
-            for (int64_t i = 0; i < nf; i++) {
-                int64_t p = face[(i + nf - 1) % nf], q = face[i], r = face[(i + 1) % nf];
-                if (on_one_edge(&lv[p], &lv[q], &lv[r]) || orient_tol(LP(p), LP(q), LP(r), ai, aj, tol) <= 0)
-                    continue;
-                int inside = 0;
-                for (int64_t j = 0; j < nf && !inside; j++) {
-                    int64_t w = face[j];
-                    if (w == p || w == q || w == r)
-                        continue;
-                    inside = orient_tol(LP(p), LP(q), LP(w), ai, aj, tol) >= 0 &&
-                             orient_tol(LP(q), LP(r), LP(w), ai, aj, tol) >= 0 &&
-                             orient_tol(LP(r), LP(p), LP(w), ai, aj, tol) >= 0;
-                }
-                if (inside)
-                    continue;
-                const double *P = LP(p), *Q = LP(q), *R = LP(r);
-                double ux = Q[ai] - P[ai], uy = Q[aj] - P[aj], vx = R[ai] - P[ai], vy = R[aj] - P[aj];
-                double wx = R[ai] - Q[ai], wy = R[aj] - Q[aj];
-                double fat = (ux * vy - uy * vx) / (ux * ux + uy * uy + vx * vx + vy * vy + wx * wx + wy * wy);
-                if (fat > best) {
-                    best = fat;
-                    ear = i;
-                }
-            }
-            if (ear < 0) {
-                rc = -1;
-                break;
-            }
-            int64_t p = face[(ear + nf - 1) % nf], q = face[ear], r = face[(ear + 1) % nf];
-#ifdef DEBUG_UNION
-            if (x == DEBUG_UNION) fprintf(stderr, "tri %lld %lld %lld\n", (long long)lv[p].id, (long long)lv[q].id, (long long)lv[r].id);
-#endif
-            if (grow_push(out, lv[p].id, lv[q].id, lv[r].id, x)) {
-                rc = -2;
-                break;
-            }
-            memmove(face + ear, face + ear + 1, (size_t)(nf - ear - 1) * sizeof *face);
-            nf--;
-        }
-        if (rc)
-            break;
-        if (on_one_edge(&lv[face[0]], &lv[face[1]], &lv[face[2]]) ||
-            orient_tol(LP(face[0]), LP(face[1]), LP(face[2]), ai, aj, tol) <= 0)
-            rc = -1;
-        else if (grow_push(out, lv[face[0]].id, lv[face[1]].id, lv[face[2]].id, x))
-            rc = -2;
+        rc = triangulate_face(u, lv, face, nf, ai, aj, tol, x, out);
     }
 #undef LP
     if (!rc && n_outer != 1)
