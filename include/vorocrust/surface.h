@@ -195,6 +195,7 @@ typedef struct vc_self_union_report {
     int64_t n_patches;         /* pieces of surface between the curves */
     int64_t n_patches_dropped; /* those inside another part (or outside all) */
     int64_t n_pieces_dropped;  /* triangles (after the cuts) dropped with them */
+    int64_t n_collapsed;       /* edges at cut points shorter than 1e-4 of the diagonal, collapsed */
     double volume;             /* the volume the union encloses */
 } vc_self_union_report;
 
