@@ -1007,10 +1007,11 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                 goto fail;
             vc_log(opt.log, VC_LOG_WARNING,
                    "mesh: %s intersects itself (%lld pairs of triangles): meshing the union of its "
-                   "parts (%lld triangles cut, %lld of %lld patches inside another part dropped; "
-                   "volume %.6g, the signed sum was %.6g)",
+                   "parts (%lld triangles cut, %lld of %lld patches inside another part dropped, %lld "
+                   "short edges collapsed; volume %.6g, the signed sum was %.6g)",
                    name, (long long)out->self_union.n_pairs, (long long)out->self_union.n_split,
                    (long long)out->self_union.n_patches_dropped, (long long)out->self_union.n_patches,
+                   (long long)out->self_union.n_collapsed,
                    out->self_union.volume, volume_before);
         }
         if (rc)
