@@ -24,8 +24,8 @@
  * rounding, coplanar overlaps, three sheets through one point, a curve
  * closed inside one triangle) are refused with the triangles named: their
  * union needs exact constructions this file does not make. The decisions use
- * the filtered predicates of predicates.h on coordinates scaled by a power
- * of two (exact), as in the self-intersection test. */
+ * the filtered predicates of predicates.h on coordinates centred and scaled
+ * by a power of two, as in the self-intersection test. */
 #include "vorocrust/surface.h"
 #include "surface/predicates.h"
 #include "surface/self_intersection.h"
@@ -260,12 +260,17 @@ static int on_one_edge(const local_vertex *a, const local_vertex *b, const local
 }
 
 /* Orientation of (a, b, c) on axes i, j, with the cut points' rounding
- * taken as collinear: |det| <= tol is 0. Chains of cut points from
- * coplanar triangles (a box face given as two) are straight, and the ulp
- * their construction rounds off would otherwise decide. */
-static int orient_tol(const double *a, const double *b, const double *c, int i, int j, double tol)
+ * taken as collinear: |det| within a tolerance of the three points' own
+ * extent L (1e-13 L^2, and 1e-15 L for the absolute rounding of a cut
+ * point, about an ulp of the scaled coordinates) is 0. Chains of cut points
+ * from coplanar triangles (a box face given as two) are straight, and the
+ * ulp their construction rounds off would otherwise decide. */
+static int orient_tol(const double *a, const double *b, const double *c, int i, int j)
 {
-    double det = (a[i] - c[i]) * (b[j] - c[j]) - (a[j] - c[j]) * (b[i] - c[i]);
+    double ax = a[i] - c[i], ay = a[j] - c[j], bx = b[i] - c[i], by = b[j] - c[j];
+    double det = ax * by - ay * bx;
+    double l2 = fmax(ax * ax + ay * ay, bx * bx + by * by);
+    double tol = 1e-13 * l2 + 1e-15 * sqrt(l2);
     return det > tol ? 1 : det < -tol ? -1 : 0;
 }
 
@@ -290,11 +295,10 @@ static double fatness(const double *P, const double *Q, const double *R, int ai,
 }
 
 /* Whether the closed segments ab and cd meet (tolerant orientations). */
-static int segments_meet(const double *a, const double *b, const double *c, const double *d, int ai, int aj,
-                         double tol)
+static int segments_meet(const double *a, const double *b, const double *c, const double *d, int ai, int aj)
 {
-    int o1 = orient_tol(a, b, c, ai, aj, tol), o2 = orient_tol(a, b, d, ai, aj, tol);
-    int o3 = orient_tol(c, d, a, ai, aj, tol), o4 = orient_tol(c, d, b, ai, aj, tol);
+    int o1 = orient_tol(a, b, c, ai, aj), o2 = orient_tol(a, b, d, ai, aj);
+    int o3 = orient_tol(c, d, a, ai, aj), o4 = orient_tol(c, d, b, ai, aj);
     if (o1 * o2 < 0 && o3 * o4 < 0)
         return 1;
     /* a point on the other segment (collinear and within its box) */
@@ -312,6 +316,32 @@ static int segments_meet(const double *a, const double *b, const double *c, cons
     return 0;
 }
 
+/* Whether the chord between polygon vertices i and j (not neighbours) of
+ * the counter-clockwise polygon face[0..nf) runs inside it and meets no
+ * edge away from its ends. O(nf). */
+static int diagonal_ok(const builder *u, const local_vertex *lv, const int64_t *face, int64_t nf, int64_t i,
+                       int64_t j, int ai, int aj)
+{
+#define FP(i) vertex_of(u, lv[face[i]].id)
+    int good = 1;
+    for (int side = 0; side < 2 && good; side++) {
+        int64_t a = side ? j : i, b = side ? i : j;
+        const double *A = FP(a), *B = FP(b), *A0 = FP((a + nf - 1) % nf), *A1 = FP((a + 1) % nf);
+        if (orient_tol(A0, A, A1, ai, aj) > 0)
+            good = orient_tol(A, B, A0, ai, aj) > 0 && orient_tol(B, A, A1, ai, aj) > 0;
+        else
+            good = !(orient_tol(A, B, A1, ai, aj) >= 0 && orient_tol(B, A, A0, ai, aj) >= 0);
+    }
+    for (int64_t k = 0; k < nf && good; k++) {
+        int64_t l = (k + 1) % nf;
+        if (k == i || k == j || l == i || l == j)
+            continue;
+        good = !segments_meet(FP(i), FP(j), FP(k), FP(l), ai, aj);
+    }
+    return good;
+#undef FP
+}
+
 /* Triangulates the counter-clockwise simple polygon face[0..nf) (local
  * vertex indices) so that its thinnest triangle is as fat as possible
  * (dynamic programming over the valid diagonals, O(nf^3)): a greedy ear
@@ -320,7 +350,7 @@ static int segments_meet(const double *a, const double *b, const double *c, cons
  * triangles to out; 0, -1 when no triangulation without a flat triangle
  * exists, -2 out of memory. */
 static int triangulate_face(const builder *u, const local_vertex *lv, const int64_t *face, int64_t nf, int ai,
-                            int aj, double tol, int64_t x, growing *out)
+                            int aj, int64_t x, growing *out)
 {
 #define FP(i) vertex_of(u, lv[face[i]].id)
     unsigned char *ok = malloc((size_t)(nf * nf));
@@ -343,21 +373,7 @@ static int triangulate_face(const builder *u, const local_vertex *lv, const int6
         for (int64_t j = i + 2; j < nf; j++) {
             if (i == 0 && j == nf - 1)
                 continue;
-            int good = 1;
-            for (int side = 0; side < 2 && good; side++) {
-                int64_t a = side ? j : i, b = side ? i : j;
-                const double *A = FP(a), *B = FP(b), *A0 = FP((a + nf - 1) % nf), *A1 = FP((a + 1) % nf);
-                if (orient_tol(A0, A, A1, ai, aj, tol) > 0)
-                    good = orient_tol(A, B, A0, ai, aj, tol) > 0 && orient_tol(B, A, A1, ai, aj, tol) > 0;
-                else
-                    good = !(orient_tol(A, B, A1, ai, aj, tol) >= 0 && orient_tol(B, A, A0, ai, aj, tol) >= 0);
-            }
-            for (int64_t k = 0; k < nf && good; k++) {
-                int64_t l = (k + 1) % nf;
-                if (k == i || k == j || l == i || l == j)
-                    continue;
-                good = !segments_meet(FP(i), FP(j), FP(k), FP(l), ai, aj, tol);
-            }
+            int good = diagonal_ok(u, lv, face, nf, i, j, ai, aj);
             ok[i * nf + j] = ok[j * nf + i] = (unsigned char)good;
         }
     /* best[i][j]: the fattest thinnest triangle of the part i, i+1, ..., j */
@@ -371,7 +387,7 @@ static int triangulate_face(const builder *u, const local_vertex *lv, const int6
             for (int64_t k = i + 1; k < j; k++) {
                 double b1 = best[i * nf + k], b2 = best[k * nf + j];
                 if (b1 == -INFINITY || b2 == -INFINITY || on_one_edge(&lv[face[i]], &lv[face[k]], &lv[face[j]]) ||
-                    orient_tol(FP(i), FP(k), FP(j), ai, aj, tol) <= 0)
+                    orient_tol(FP(i), FP(k), FP(j), ai, aj) <= 0)
                     continue;
                 double f = fatness(FP(i), FP(k), FP(j), ai, aj);
                 f = f < b1 ? f : b1;
@@ -410,6 +426,61 @@ done:
 #undef FP
 }
 
+/* Faces up to this many vertices are triangulated by the O(n^3) dynamic
+ * programme; larger ones (a coarse triangle crossed by a fine part's
+ * curve: thousands of points) are first halved by short diagonals. */
+#define DP_MAX_VERTICES 48
+
+/* Triangulates a face of any size: halves it by the shortest valid
+ * diagonal between opposite vertices (O(nf^2) candidates tested in O(nf)
+ * each, any valid diagonal when none of those is) until the parts are
+ * small enough for triangulate_face. */
+static int triangulate_large_face(const builder *u, const local_vertex *lv, const int64_t *face, int64_t nf,
+                                  int ai, int aj, int64_t x, growing *out)
+{
+    if (nf <= DP_MAX_VERTICES)
+        return triangulate_face(u, lv, face, nf, ai, aj, x, out);
+    int64_t bi = -1, bj = -1;
+    double best = INFINITY;
+    for (int pass = 0; pass < 2 && bi < 0; pass++)
+        for (int64_t i = 0; i < nf; i++)
+            for (int64_t d = pass ? 2 : nf / 2; pass ? d <= nf - 2 : d == nf / 2; d++) {
+                int64_t j = (i + d) % nf;
+                if (!diagonal_ok(u, lv, face, nf, i, j, ai, aj))
+                    continue;
+                const double *A = vertex_of(u, lv[face[i]].id), *B = vertex_of(u, lv[face[j]].id);
+                double l2 = (A[ai] - B[ai]) * (A[ai] - B[ai]) + (A[aj] - B[aj]) * (A[aj] - B[aj]);
+                if (l2 < best) {
+                    best = l2;
+                    bi = i;
+                    bj = j;
+                }
+                if (pass)
+                    break; /* any valid one will do */
+            }
+    if (bi < 0)
+        return -1;
+    if (bi > bj) {
+        int64_t t = bi;
+        bi = bj;
+        bj = t;
+    }
+    int64_t n1 = bj - bi + 1, n2 = nf - (bj - bi) + 1;
+    int64_t *part = malloc((size_t)(n1 > n2 ? n1 : n2) * sizeof *part);
+    if (!part)
+        return -2;
+    for (int64_t k = 0; k < n1; k++)
+        part[k] = face[bi + k];
+    int rc = triangulate_large_face(u, lv, part, n1, ai, aj, x, out);
+    if (!rc) {
+        for (int64_t k = 0; k < n2; k++)
+            part[k] = face[(bj + k) % nf];
+        rc = triangulate_large_face(u, lv, part, n2, ai, aj, x, out);
+    }
+    free(part);
+    return rc;
+}
+
 /* Splits triangle x along segments seg[list[0..n)]: appends (a, b, c, x)
  * for each piece to out (the input's orientation). Returns 0, -1 when the
  * split is degenerate, -2 when out of memory. */
@@ -435,14 +506,6 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
         aj = t;
     }
 
-    double longest2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double d2 = 0;
-        for (int l = 0; l < 3; l++)
-            d2 += (C[(k + 1) % 3][l] - C[k][l]) * (C[(k + 1) % 3][l] - C[k][l]);
-        longest2 = d2 > longest2 ? d2 : longest2;
-    }
-    const double tol = 1e-13 * longest2; /* twice an area: a height of 1e-13 edges */
     int64_t m_cap = 3 + 2 * n, e_cap = 3 + 2 * n + n;
     local_vertex *lv = malloc((size_t)m_cap * sizeof *lv);
     int64_t *order = malloc((size_t)m_cap * sizeof *order);
@@ -563,9 +626,7 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
             int64_t a = edge[2 * i], b = edge[2 * i + 1], p = edge[2 * j], q = edge[2 * j + 1];
             if (a == p || a == q || b == p || b == q)
                 continue;
-            int o1 = orient_tol(LP(a), LP(b), LP(p), ai, aj, tol), o2 = orient_tol(LP(a), LP(b), LP(q), ai, aj, tol);
-            int o3 = orient_tol(LP(p), LP(q), LP(a), ai, aj, tol), o4 = orient_tol(LP(p), LP(q), LP(b), ai, aj, tol);
-            if (o1 * o2 <= 0 && o3 * o4 <= 0) {
+            if (segments_meet(LP(a), LP(b), LP(p), LP(q), ai, aj)) {
                 rc = -1;
                 goto done;
             }
@@ -631,7 +692,7 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
             for (int64_t j = 0; j < i; j++)
                 if (face[i] == face[j])
                     rc = -1; /* a vertex twice on one face: a bridge */
-        rc = triangulate_face(u, lv, face, nf, ai, aj, tol, x, out);
+        rc = triangulate_large_face(u, lv, face, nf, ai, aj, x, out);
     }
 #undef LP
     if (!rc && n_outer != 1)
@@ -911,8 +972,13 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
     int rc = 0;
     if (!xyz)
         goto oom;
+    /* about the box's centre: the cut points' rounding is then an ulp of
+     * the model's size, not of its distance from the origin */
+    double centre[3];
+    for (int k = 0; k < 3; k++)
+        centre[k] = 0.5 * lo[k] + 0.5 * hi[k];
     for (int64_t i = 0; i < 3 * nv; i++)
-        xyz[i] = ldexp(s->xyz[i], -ed);
+        xyz[i] = ldexp(s->xyz[i] - centre[i % 3], -ed);
     u.xyz = xyz;
     if (vc_self_intersection_pairs(xyz, s->tri, nt, &pairs, &n_pairs))
         goto oom;
@@ -1128,7 +1194,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
                 memcpy(out->xyz + 3 * new_id[i], s->xyz + 3 * i, 3 * sizeof *out->xyz);
             else
                 for (int k = 0; k < 3; k++)
-                    out->xyz[3 * new_id[i] + k] = ldexp(u.pxyz[3 * (i - nv) + k], ed);
+                    out->xyz[3 * new_id[i] + k] = centre[k] + ldexp(u.pxyz[3 * (i - nv) + k], ed);
         }
     int64_t q = 0;
     double vol6 = 0;
