@@ -1,5 +1,6 @@
 /* The regions of a closed surface's arrangement (see
  * include/vorocrust/regions.h). */
+#include "surface/solid_angle.h"
 #include "vorocrust/regions.h"
 
 #include <math.h>
@@ -85,21 +86,6 @@ static int cmp_around(const void *a, const void *b)
     if (x->angle != y->angle)
         return x->angle < y->angle ? -1 : 1;
     return (x->tri > y->tri) - (x->tri < y->tri);
-}
-
-/* The solid angle of triangle (a, b, c) seen from p (Van Oosterom and
- * Strackee), signed by the triangle's orientation. */
-static double solid_angle(const double *p, const double *a, const double *b, const double *c)
-{
-    double x[3], y[3], z[3], yz[3];
-    sub3(a, p, x);
-    sub3(b, p, y);
-    sub3(c, p, z);
-    const double lx = sqrt(dot3(x, x)), ly = sqrt(dot3(y, y)), lz = sqrt(dot3(z, z));
-    cross3(y, z, yz);
-    const double num = dot3(x, yz);
-    const double den = lx * ly * lz + dot3(x, y) * lz + dot3(x, z) * ly + dot3(y, z) * lx;
-    return 2 * atan2(num, den);
 }
 
 int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
@@ -398,7 +384,7 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
                         continue;
                     const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                                  *c = s->xyz + 3 * s->tri[3 * t + 2];
-                    const double om = solid_angle(p, a, b, c);
+                    const double om = vc_solid_angle(p, a, b, c);
                     w += f == 0 ? -om : om;
                 }
             }

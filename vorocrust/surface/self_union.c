@@ -29,13 +29,12 @@
 #include "vorocrust/surface.h"
 #include "surface/predicates.h"
 #include "surface/self_intersection.h"
+#include "surface/solid_angle.h"
+#include "util/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef DEBUG_UNION
-#include <stdio.h>
-#endif
 
 /* Edges shorter than this share of the bounding-box diagonal that end at a
  * cut point are collapsed (collapse_short_edges): far below any error bound
@@ -561,17 +560,6 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
             }
             lv[m++] = v;
         }
-#ifdef DEBUG_UNION
-    if (x == DEBUG_UNION) {
-        for (int64_t r = 0; r < m; r++) {
-            const double *P = vertex_of(u, lv[r].id);
-            fprintf(stderr, "lv %lld id %lld side %d param %.17g  (%.17g %.17g)", (long long)r, (long long)lv[r].id, lv[r].side, lv[r].param, P[ai], P[aj]);
-            if (lv[r].id >= u->nv) fprintf(stderr, " key %lld %lld %lld", (long long)u->pts[lv[r].id - u->nv].a, (long long)u->pts[lv[r].id - u->nv].b, (long long)u->pts[lv[r].id - u->nv].t);
-            fprintf(stderr, "\n");
-        }
-        for (int64_t q = 0; q < n; q++) fprintf(stderr, "seg %lld-%lld pair %lld %lld\n", (long long)seg[list[q]].e[0], (long long)seg[list[q]].e[1], (long long)seg[list[q]].x, (long long)seg[list[q]].y);
-    }
-#endif
     /* the border cycle: corner k, then the points on edge k by parameter */
     int64_t nb = 0;
     for (int k = 0; k < 3; k++) {
@@ -711,15 +699,6 @@ done:
 
 /* ---- Patches and their winding numbers ---- */
 
-static int64_t find_root(int64_t *parent, int64_t a)
-{
-    while (parent[a] != a) {
-        parent[a] = parent[parent[a]];
-        a = parent[a];
-    }
-    return a;
-}
-
 typedef struct edge_entry {
     int64_t lo, hi, piece;
 } edge_entry;
@@ -732,27 +711,6 @@ static int cmp_edge_entry(const void *pa, const void *pb)
     if (a->hi != b->hi)
         return a->hi < b->hi ? -1 : 1;
     return a->piece < b->piece ? -1 : a->piece > b->piece;
-}
-
-/* The solid angle of triangle (a, b, c) seen from p (Van Oosterom and
- * Strackee), signed by the triangle's orientation. */
-static double solid_angle(const double *a, const double *b, const double *c, const double *p)
-{
-    double A[3], B[3], C[3];
-    for (int k = 0; k < 3; k++) {
-        A[k] = a[k] - p[k];
-        B[k] = b[k] - p[k];
-        C[k] = c[k] - p[k];
-    }
-    double la = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
-    double lb = sqrt(B[0] * B[0] + B[1] * B[1] + B[2] * B[2]);
-    double lc = sqrt(C[0] * C[0] + C[1] * C[1] + C[2] * C[2]);
-    double det = A[0] * (B[1] * C[2] - B[2] * C[1]) - A[1] * (B[0] * C[2] - B[2] * C[0]) +
-                 A[2] * (B[0] * C[1] - B[1] * C[0]);
-    double ab = A[0] * B[0] + A[1] * B[1] + A[2] * B[2];
-    double bc = B[0] * C[0] + B[1] * C[1] + B[2] * C[2];
-    double ca = C[0] * A[0] + C[1] * A[1] + C[2] * A[2];
-    return 2 * atan2(det, la * lb * lc + ab * lc + bc * la + ca * lb);
 }
 
 /* ---- Short curve edges collapsed ---- */
@@ -1085,7 +1043,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         /* curve edges sort first (piece -1) and join nothing; neither
          * does an edge of more than two pieces (sheets that touch there) */
         if (ent[i].piece >= 0 && j == i + 2)
-            parent[find_root(parent, ent[i + 1].piece)] = find_root(parent, ent[i].piece);
+            vc_uf_unite(parent, ent[i + 1].piece, ent[i].piece);
         i = j;
     }
     /* one representative per patch: its largest piece (deterministic) */
@@ -1108,7 +1066,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
                cz = e1[0] * e2[1] - e1[1] * e2[0];
         area[p] = cx * cx + cy * cy + cz * cz;
-        int64_t root = find_root(parent, p);
+        int64_t root = vc_uf_find(parent, p);
         if (rep_piece[root] < 0)
             n_patches++;
         if (rep_piece[root] < 0 || area[p] > area[rep_piece[root]])
@@ -1124,7 +1082,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
     }
     int64_t nr = 0;
     for (int64_t p = 0; p < np; p++)
-        if (find_root(parent, p) == p)
+        if (vc_uf_find(parent, p) == p)
             roots[nr++] = p;
     r->n_patches = n_patches;
     int bad = 0;
@@ -1138,8 +1096,8 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         double sum = 0;
         for (int64_t t = 0; t < nt; t++)
             if (t != src)
-                sum += solid_angle(xyz + 3 * s->tri[3 * t], xyz + 3 * s->tri[3 * t + 1],
-                                   xyz + 3 * s->tri[3 * t + 2], P);
+                sum += vc_solid_angle(P, xyz + 3 * s->tri[3 * t], xyz + 3 * s->tri[3 * t + 1],
+                                      xyz + 3 * s->tri[3 * t + 2]);
         w_patch[i] = sum / (4 * 3.14159265358979323846) - 0.5; /* the winding number on the outer side */
     }
     for (int64_t i = 0; i < nr; i++) {
@@ -1168,7 +1126,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
     for (int64_t i = 0; i < n_ids; i++)
         new_id[i] = -1;
     for (int64_t p = 0; p < np; p++) {
-        if (winding[find_root(parent, p)] != 0)
+        if (winding[vc_uf_find(parent, p)] != 0)
             continue;
         n_keep++;
         for (int k = 0; k < 3; k++)
@@ -1199,7 +1157,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
     int64_t q = 0;
     double vol6 = 0;
     for (int64_t p = 0; p < np; p++) {
-        if (winding[find_root(parent, p)] != 0)
+        if (winding[vc_uf_find(parent, p)] != 0)
             continue;
         for (int k = 0; k < 3; k++)
             out->tri[3 * q + k] = new_id[pieces.v[4 * p + k]];
@@ -1222,7 +1180,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         memcpy(out->group_name, s->group_name, (size_t)s->n_groups * sizeof *out->group_name);
     }
     for (int64_t p = 0; p < np; p++) {
-        int64_t root = find_root(parent, p);
+        int64_t root = vc_uf_find(parent, p);
         if (p == root && winding[p] != 0)
             r->n_patches_dropped++;
     }
