@@ -205,8 +205,10 @@ typedef struct vc_self_union_report {
  * triangles of s are cut along the intersection curves (new vertices where
  * an edge pierces a triangle), and the pieces whose outer side has winding
  * number 0 are kept with their orientation and group; the curves become
- * edges of the result (creases where the parts meet at an angle). A
- * surface without self-intersections comes back as a copy. Fails with
+ * edges of the result (creases where the parts meet at an angle); edges
+ * shorter than 1e-4 of the diagonal at a cut point are collapsed. A surface
+ * without self-intersections comes back as it is, except that a shell
+ * inside another of the same orientation is dropped. Fails with
  * VC_EINPUT, one line "NAME: ..." naming the triangles, when the contact is
  * degenerate (a vertex or edge in another triangle's plane within rounding,
  * coplanar overlaps, three sheets through one point, a curve closed inside
