@@ -164,6 +164,24 @@ int vc_cmd_info(int argc, char **argv)
                (long long)solid.n_repeated_opposite);
     printf("\n");
     printf("self-intersections: %lld\n", (long long)solid.n_self_intersections);
+    /* what `mesh --union` would mesh instead */
+    if (solid.n_self_intersections > 0 && closed && rep.n_inconsistent_edges == 0 && solid.n_zero_area == 0 &&
+        solid.n_repeated_same == 0) {
+        vc_surface u;
+        vc_self_union_report ur;
+        vc_error uerr = {0, ""};
+        int urc = vc_surface_self_union(&s, rep.name, &u, &ur, &uerr);
+        if (urc == 0) {
+            printf("union: %lld triangles, volume %.9g (%lld of %lld patches inside another part dropped): "
+                   "what vorocrust mesh --union samples\n",
+                   (long long)u.n_triangles, ur.volume, (long long)ur.n_patches_dropped, (long long)ur.n_patches);
+        } else {
+            const size_t skip = strlen(rep.name) + 2; /* the message's "NAME: " */
+            printf("union: cannot be formed: %s\n",
+                   strncmp(uerr.msg, rep.name, strlen(rep.name)) == 0 ? uerr.msg + skip : uerr.msg);
+        }
+        vc_surface_free(&u);
+    }
     printf("components: %lld\n", (long long)rep.n_components);
     printf("euler characteristic: %lld\n", (long long)rep.euler);
     if (rep.genus >= 0)
