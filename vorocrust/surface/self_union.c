@@ -1155,7 +1155,6 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
                     out->xyz[3 * new_id[i] + k] = centre[k] + ldexp(u.pxyz[3 * (i - nv) + k], ed);
         }
     int64_t q = 0;
-    double vol6 = 0;
     for (int64_t p = 0; p < np; p++) {
         if (winding[vc_uf_find(parent, p)] != 0)
             continue;
@@ -1163,10 +1162,6 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
             out->tri[3 * q + k] = new_id[pieces.v[4 * p + k]];
         if (out->tri_group)
             out->tri_group[q] = s->tri_group[pieces.v[4 * p + 3]];
-        const double *A = out->xyz + 3 * out->tri[3 * q], *B = out->xyz + 3 * out->tri[3 * q + 1],
-                     *C = out->xyz + 3 * out->tri[3 * q + 2];
-        vol6 += A[0] * (B[1] * C[2] - B[2] * C[1]) - A[1] * (B[0] * C[2] - B[2] * C[0]) +
-                A[2] * (B[0] * C[1] - B[1] * C[0]);
         q++;
     }
     int64_t first_cut = 0; /* the input's vertices come first */
@@ -1190,15 +1185,15 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         if (nc < 0)
             goto oom;
         r->n_collapsed = nc;
-        vol6 = 0;
+        double vol6 = 0;
         for (int64_t t = 0; t < out->n_triangles; t++) {
             const double *A = out->xyz + 3 * out->tri[3 * t], *B = out->xyz + 3 * out->tri[3 * t + 1],
                          *C = out->xyz + 3 * out->tri[3 * t + 2];
             vol6 += A[0] * (B[1] * C[2] - B[2] * C[1]) - A[1] * (B[0] * C[2] - B[2] * C[0]) +
                     A[2] * (B[0] * C[1] - B[1] * C[0]);
         }
+        r->volume = vol6 / 6;
     }
-    r->volume = vol6 / 6;
     if (n_keep == 0) {
         rc = vc_error_set(err, VC_EINPUT, "%s: the surface intersects itself and no part of it bounds "
                           "the region it winds around", name);
