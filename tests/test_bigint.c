@@ -77,12 +77,26 @@ int main(void)
         for (int i = 0; i < 16; i++)
             CHECK(s.d[i] == 0);
     }
-    /* overflow at the capacity is reported */
+    /* overflow at the capacity is reported and leaves the result 0, so a
+     * chain of operations tested once at its end reads no garbage (an unset
+     * result crashed the exact power side in Release) */
     {
-        vc_bigint a, r;
+        vc_bigint a, r, s;
+        memset(&r, 0x5a, sizeof r);
         CHECK(vc_bigint_set(&a, 3, 64 * (VC_BIGINT_LIMBS / 2)) == 0);
         CHECK(vc_bigint_mul(&r, &a, &a) == -1);
-        CHECK(vc_bigint_set(&a, 1, 64 * VC_BIGINT_LIMBS) == -1);
+        CHECK(r.n == 0 && r.neg == 0);
+        memset(&r, 0x5a, sizeof r);
+        CHECK(vc_bigint_set(&r, 1, 64 * VC_BIGINT_LIMBS) == -1);
+        CHECK(r.n == 0 && r.neg == 0);
+        CHECK(vc_bigint_set(&r, 1, -1) == -1 && r.n == 0);
+        CHECK(vc_bigint_set(&a, 1, 0) == 0);
+        for (int i = 0; i < VC_BIGINT_LIMBS; i++)
+            a.d[i] = ~(uint64_t)0;
+        a.n = VC_BIGINT_LIMBS;
+        memset(&s, 0x5a, sizeof s);
+        CHECK(vc_bigint_add(&s, &a, &a) == -1);
+        CHECK(s.n == 0 && s.neg == 0);
     }
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);

@@ -12,6 +12,16 @@ static void trim(vc_bigint *r)
         r->neg = 0;
 }
 
+/* An overflow leaves r zero, a defined value: callers chain operations and
+ * test the or of their results once, so a failed step must not leave
+ * garbage for the next one to read (an unset limb count overran the stack). */
+static int overflow(vc_bigint *r)
+{
+    r->n = 0;
+    r->neg = 0;
+    return -1;
+}
+
 int vc_bigint_set(vc_bigint *r, int64_t m, int shift)
 {
     r->n = 0;
@@ -23,8 +33,8 @@ int vc_bigint_set(vc_bigint *r, int64_t m, int shift)
     /* the magnitude (2^63 as well) without overflow */
     const uint64_t mag = m < 0 ? (uint64_t)0 - (uint64_t)m : (uint64_t)m;
     const int limb = shift / 64, bit = shift % 64;
-    if (limb + 2 > VC_BIGINT_LIMBS)
-        return -1;
+    if (shift < 0 || limb + 2 > VC_BIGINT_LIMBS)
+        return overflow(r);
     memset(r->d, 0, (size_t)(limb + 2) * sizeof r->d[0]);
     r->d[limb] = mag << bit;
     r->d[limb + 1] = bit ? mag >> (64 - bit) : 0;
@@ -59,7 +69,7 @@ static int add_mag(vc_bigint *r, const vc_bigint *a, const vc_bigint *b, int neg
     t.n = n;
     if (carry) {
         if (n >= VC_BIGINT_LIMBS)
-            return -1;
+            return overflow(r);
         t.d[t.n++] = 1;
     }
     t.neg = neg;
@@ -129,7 +139,7 @@ int vc_bigint_mul(vc_bigint *r, const vc_bigint *a, const vc_bigint *b)
     }
     const int n = a->n + b->n;
     if (n - 1 > VC_BIGINT_LIMBS) /* the product has n or n - 1 limbs */
-        return -1;
+        return overflow(r);
     const int cap = n < VC_BIGINT_LIMBS ? n : VC_BIGINT_LIMBS;
     memset(t.d, 0, (size_t)cap * sizeof t.d[0]);
     uint64_t top = 0; /* limb n - 1 when it falls beyond the capacity */
@@ -149,7 +159,7 @@ int vc_bigint_mul(vc_bigint *r, const vc_bigint *a, const vc_bigint *b)
         }
     }
     if (top)
-        return -1;
+        return overflow(r);
     t.n = cap;
     t.neg = a->neg ^ b->neg;
     trim(&t);

@@ -3,7 +3,8 @@
  * brought to one binary exponent (the Voronoi engine's exact ties,
  * voronoi/power_side.c). Small and on the stack: faster than floating-point
  * expansions for the same determinant. Every operation reports an
- * overflow of the capacity (the caller then takes another path). */
+ * overflow of the capacity (the caller then takes another path) and then
+ * leaves its result 0. */
 #ifndef VC_UTIL_BIGINT_H
 #define VC_UTIL_BIGINT_H
 
