@@ -15,7 +15,7 @@ For each case, from the .vtu (read by VTK) and the OpenFOAM case:
   - checkMesh prints "Mesh OK.", splitMeshRegions -cellZones splits the
     case into one mesh per region, and checkMesh passes each.
 The basin part also meshes a layer that pinches out at 14 degrees.
-Parts (one ctest test each): boxes, spheres, basin, non_manifold_box
+Parts (one ctest test each): boxes, spheres, basin, pinch_out, non_manifold_box
 (skipped without the shared models). Environment: VC_BIN, VC_TMP, VC_SOURCE,
 VC_MODELS."""
 import csv
@@ -33,7 +33,7 @@ import e2eutil  # noqa: E402
 from e2eutil import check, failures  # noqa: E402
 
 # one part per ctest test (tests/CMakeLists.txt), each a group of cases
-PARTS = ("boxes", "spheres", "basin", "non_manifold_box")
+PARTS = ("boxes", "spheres", "basin", "pinch_out", "non_manifold_box")
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_materials.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
@@ -246,6 +246,7 @@ elif PART == "basin":
     vols = [float(v) for v in re.findall(r"^region \d+: volume ([-0-9.e+]+)", out, re.M)]
     check(len(vols) == 3, "basin: info lists %d regions, expected 3" % len(vols))
     cases["basin"] = ([basin], {k + 1: (v, 2) for k, v in enumerate(vols)})
+elif PART == "pinch_out":
     # a layer pinching out at 14 degrees: a wedge region, a non-manifold
     # edge where three sheets meet at a small angle
     pinch = os.path.join(TMP, "pinch_out.obj")

@@ -219,15 +219,19 @@ def divergence_volume(grid, c, ids=None):
     stream: independent of both vorocrust and VTK's volume filter."""
     faces = cell_faces(grid, c, ids)
     pts = {p: grid.GetPoint(p) for f in faces for p in f}
-    o = [sum(x[k] for x in pts.values()) / len(pts) for k in range(3)]
+    m = len(pts)
+    ox = sum(x[0] for x in pts.values()) / m
+    oy = sum(x[1] for x in pts.values()) / m
+    oz = sum(x[2] for x in pts.values()) / m
+    rel = {p: (x[0] - ox, x[1] - oy, x[2] - oz) for p, x in pts.items()}
     vol = 0.0
     for f in faces:
-        a = [pts[f[0]][k] - o[k] for k in range(3)]
-        for i in range(1, len(f) - 1):
-            b = [pts[f[i]][k] - o[k] for k in range(3)]
-            d = [pts[f[i + 1]][k] - o[k] for k in range(3)]
-            vol += (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0])
-                    + a[2] * (b[0] * d[1] - b[1] * d[0]))
+        ax, ay, az = rel[f[0]]
+        bx, by, bz = rel[f[1]]
+        for q in f[2:]:
+            dx, dy, dz = rel[q]
+            vol += ax * (by * dz - bz * dy) - ay * (bx * dz - bz * dx) + az * (bx * dy - by * dx)
+            bx, by, bz = dx, dy, dz
     return vol / 6.0
 
 
@@ -318,28 +322,52 @@ def convexity_problems(grid, rel_tol=1e-8):
     (cell, text). The default tolerance is the engine's: copies of a vertex
     computed in different cells are merged within 1e-8 of the cell size, so
     a face is planar to that (fertility.off's volume mesh has a quad 1.2e-9
-    of its cell's extent off its plane)."""
+    of its cell's extent off its plane). The arithmetic is written out per
+    coordinate: generator sums made this test most of the suite's time."""
     out = []
     ids = vtk.vtkIdList()
+    get_point = grid.GetPoint
+    sqrt = math.sqrt
     for c in range(grid.GetNumberOfCells()):
         faces = cell_faces(grid, c, ids)
-        pts = {p: grid.GetPoint(p) for f in faces for p in f}
+        pts = {p: get_point(p) for f in faces for p in f}
         xs = list(pts.values())
-        ext = max(max(x[k] for x in xs) - min(x[k] for x in xs) for k in range(3))
-        mid = [sum(x[k] for x in xs) / len(xs) for k in range(3)]
+        X = [x[0] for x in xs]
+        Y = [x[1] for x in xs]
+        Z = [x[2] for x in xs]
+        ext = max(max(X) - min(X), max(Y) - min(Y), max(Z) - min(Z))
+        m = len(xs)
+        mx, my, mz = sum(X) / m, sum(Y) / m, sum(Z) / m
+        # relative to the cell's centre: the plane test keeps its digits far
+        # from the origin
+        pts = {p: (x[0] - mx, x[1] - my, x[2] - mz) for p, x in pts.items()}
+        xs = list(pts.values())
         for f in faces:
-            n = newell_normal(pts, f)
-            ln = math.sqrt(sum(v * v for v in n))
+            nx = ny = nz = 0.0
+            cx = cy = cz = 0.0
+            pb = pts[f[-1]]
+            for q in f:
+                pa = pb
+                pb = pts[q]
+                nx += (pa[1] - pb[1]) * (pa[2] + pb[2])
+                ny += (pa[2] - pb[2]) * (pa[0] + pb[0])
+                nz += (pa[0] - pb[0]) * (pa[1] + pb[1])
+                cx += pb[0]
+                cy += pb[1]
+                cz += pb[2]
+            ln = sqrt(nx * nx + ny * ny + nz * nz)
             if ln == 0.0:
                 out.append((c, "face %s has no area" % f))
                 break
-            n = [v / ln for v in n]
-            fc = [sum(pts[p][k] for p in f) / len(f) for k in range(3)]
-            above = max(sum((x[k] - fc[k]) * n[k] for k in range(3)) for x in xs)
+            nx, ny, nz = nx / ln, ny / ln, nz / ln
+            k = len(f)
+            cx, cy, cz = cx / k, cy / k, cz / k
+            d = nx * cx + ny * cy + nz * cz
+            above = max(nx * x + ny * y + nz * z for x, y, z in xs) - d
             if above > rel_tol * ext:
                 out.append((c, "a point is %.3g above face %s" % (above, f)))
                 break
-            if sum((fc[k] - mid[k]) * n[k] for k in range(3)) <= 0.0:
+            if cx * nx + cy * ny + cz * nz <= 0.0:
                 out.append((c, "face %s points inward" % f))
                 break
     return out
