@@ -2,7 +2,9 @@
  * force: for random points, a lattice (many equal distances: the (d2,
  * seed) order breaks the ties) and clusters of coincident points, every
  * query's k nearest other than the skipped seed, in order, for k from 1 to
- * more than there are points. */
+ * more than there are points; and the range query after a k-nearest
+ * answer (vc_seed_kdtree_within): exactly the brute force's hits after the
+ * k-th within the radius, in order, and -1 past its capacity. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,6 +72,27 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
                 bad = 1;
                 break;
             }
+            /* the range after the k-th hit, to the distance of a later one
+             * (ties at the radius included) */
+            if (got < 1 || got >= m)
+                continue;
+            const int far = got + (m - got) / 3;
+            const double r2 = all[far].d2;
+            int expect = 0;
+            while (got + expect < m && all[got + expect].d2 <= r2)
+                expect++;
+            const int in = vc_seed_kdtree_within(&t, x, r2, hit[got - 1], skip, hit, (int)n + 8);
+            same = in == expect;
+            for (int i = 0; same && i < in; i++)
+                same = hit[i].seed == all[got + i].seed && hit[i].d2 == all[got + i].d2;
+            if (!same) {
+                CHECKF(same, "%s: query %d, range after %d: %d hits, want %d", name, q, k, in,
+                       expect);
+                bad = 1;
+                break;
+            }
+            if (expect > 1)
+                CHECK(vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, hit, expect - 1) == -1);
         }
     }
     free(all);

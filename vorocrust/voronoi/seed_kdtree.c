@@ -184,6 +184,18 @@ static double box_dist2(const vc_kd_node *nd, const double x[3])
     return s;
 }
 
+/* The squared distance from x to the farthest point of the node's box. */
+static double box_dist2_far(const vc_kd_node *nd, const double x[3])
+{
+    double s = 0;
+    for (int d = 0; d < 3; d++) {
+        const double a = x[d] - nd->lo[d], b = nd->hi[d] - x[d];
+        const double e = a > b ? a : b;
+        s += e * e;
+    }
+    return s;
+}
+
 int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
                        vc_kd_hit *hit)
 {
@@ -237,5 +249,45 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
         heap_replace_top(hit, m, hit[m]);
         hit[m] = w;
     }
+    return n;
+}
+
+static int cmp_hit(const void *a, const void *b)
+{
+    const vc_kd_hit *p = a, *q = b;
+    return worse(p, q) ? 1 : (worse(q, p) ? -1 : 0);
+}
+
+int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
+                          int64_t skip, vc_kd_hit *hit, int cap)
+{
+    if (t->n == 0)
+        return 0;
+    int n = 0;
+    int64_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_kd_node *nd = &t->node[stack[--top]];
+        if (box_dist2(nd, x) > r2 || box_dist2_far(nd, x) < after.d2)
+            continue;
+        if (nd->left >= 0) {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+            continue;
+        }
+        for (int64_t i = nd->begin; i < nd->end; i++) {
+            const int64_t s = t->index[i];
+            const double *p = t->xyz + 3 * i;
+            const double dx = p[0] - x[0], dy = p[1] - x[1], dz = p[2] - x[2];
+            const vc_kd_hit h = {dx * dx + dy * dy + dz * dz, s};
+            if (h.d2 > r2 || s == skip || !worse(&h, &after))
+                continue;
+            if (n == cap)
+                return -1;
+            hit[n++] = h;
+        }
+    }
+    qsort(hit, (size_t)n, sizeof *hit, cmp_hit);
     return n;
 }

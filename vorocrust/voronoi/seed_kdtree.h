@@ -46,4 +46,13 @@ typedef struct vc_kd_hit {
 int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
                        vc_kd_hit *hit);
 
+/* The seeds other than `skip` within squared distance r2 of x that come
+ * after `after` in (d2, seed) order (what a k-nearest query returned
+ * last), in increasing (d2, seed) order, into hit (room for cap); returns
+ * how many, or -1 when there are more than cap. One range query instead of
+ * asking for ever more neighbours: a cell whose reach is known after its
+ * nearest neighbours reads each further candidate once. */
+int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
+                          int64_t skip, vc_kd_hit *hit, int cap);
+
 #endif

@@ -465,13 +465,16 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
     return CELL_OK;
 }
 
-/* Neighbours asked of the tree at first; doubled while the cell can still
- * reach beyond the last one (about 15 of them cut an ordinary cell), up to
- * KNN_MAX: a cell that still reaches farther (on the hull of the seeds,
- * open to the clipping box) is built by the grid's rings instead, which
- * prune the far bins by the vertices' clearance balls. */
+/* Neighbours asked of the tree at first; when the cell still reaches
+ * beyond the last of them, every seed within twice its radius comes from
+ * one range query (about 15 neighbours cut an ordinary cell, but a
+ * VoroCrust surface cell reaches 60 to 200 seeds: asking for 2k, 4k, ...
+ * nearest repeated the whole search). More than RANGE_MAX candidates (a
+ * big cell on the hull of the seeds, open to the clipping box) are read
+ * from the grid's rings instead, which prune the far bins by the
+ * vertices' clearance balls. */
 #define KNN_FIRST 48
-#define KNN_MAX 256
+#define RANGE_MAX 4096
 
 /* Does the cell still reach the clipping box (a wall plane in a vertex)? */
 static int on_box(const vc_convex_cell *cell)
@@ -482,6 +485,37 @@ static int on_box(const vc_convex_cell *cell)
     return 0;
 }
 
+static int reserve_hits(vc_cell_buf *b, int k)
+{
+    if (b->cap >= k)
+        return 0;
+    void *q = realloc(b->data, sizeof(vc_kd_hit) * (size_t)k);
+    if (!q)
+        return -1;
+    b->data = q;
+    b->cap = k;
+    return 0;
+}
+
+/* Cuts the cell by hit[0..n) in order while they can reach it; returns
+ * CELL_*, and *more = 1 when the last one could still cut. */
+static int cut_with_hits(const cell_job *job, vc_convex_cell *cell, prune *pr, const double *xs,
+                         const vc_kd_hit *hit, int n, int *more, int64_t *other)
+{
+    *more = 0;
+    for (int m = 0; m < n; m++) {
+        if (!may_cut(cell, hit[m].d2))
+            return CELL_OK; /* the rest are farther still */
+        const double *xt = job->seed_xyz + 3 * hit[m].seed;
+        double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
+        int r = cut_with_seed(job, cell, pr, hit[m].seed, p, hit[m].d2, other);
+        if (r != CELL_OK)
+            return r;
+    }
+    *more = n > 0 && may_cut(cell, hit[n - 1].d2);
+    return CELL_OK;
+}
+
 /* Builds the cell of seed s (at xs) into cell; returns CELL_*. Its
  * neighbours are cut nearest first (from the k-d tree), until the next
  * one is farther than twice the cell's radius: no seed beyond can cut. */
@@ -489,35 +523,28 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
                             vc_cell_buf *cand_buf, prune *pr, int64_t s, const double *xs,
                             int64_t *other)
 {
-    if (reset_to_box(job, cell, s, xs) != 0)
+    if (reset_to_box(job, cell, s, xs) != 0 || reserve_hits(hit_buf, KNN_FIRST) != 0)
         return CELL_NOMEM;
     const vc_seed_kdtree *t = job->tree;
-    int done = 0;
-    for (int k = KNN_FIRST;; k *= 2) {
-        if (hit_buf->cap < k) {
-            void *q = realloc(hit_buf->data, sizeof(vc_kd_hit) * (size_t)k);
-            if (!q)
-                return CELL_NOMEM;
-            hit_buf->data = q;
-            hit_buf->cap = k;
-        }
-        vc_kd_hit *hit = hit_buf->data;
-        const int got = vc_seed_kdtree_knn(t, xs, k, s, hit);
-        for (int m = done; m < got; m++) {
-            if (!may_cut(cell, hit[m].d2))
-                return CELL_OK; /* the rest are farther still */
-            const double *xt = job->seed_xyz + 3 * hit[m].seed;
-            double p[3] = {xt[0] - xs[0], xt[1] - xs[1], xt[2] - xs[2]};
-            int r = cut_with_seed(job, cell, pr, hit[m].seed, p, hit[m].d2, other);
-            if (r != CELL_OK)
-                return r;
-        }
-        if (got < k || (got > 0 && !may_cut(cell, hit[got - 1].d2)))
-            return CELL_OK;
-        if ((2 * k > KNN_MAX || on_box(cell)))
-            return compute_cell(job, cell, cand_buf, pr, s, xs, other);
-        done = got;
-    }
+    vc_kd_hit *hit = hit_buf->data;
+    const int got = vc_seed_kdtree_knn(t, xs, KNN_FIRST, s, hit);
+    int more, r = cut_with_hits(job, cell, pr, xs, hit, got, &more, other);
+    if (r != CELL_OK || got < KNN_FIRST || !more)
+        return r;
+    if (on_box(cell))
+        return compute_cell(job, cell, cand_buf, pr, s, xs, other);
+    /* every further seed that can still cut: within twice the radius the
+     * cell has now (it only shrinks) */
+    const vc_kd_hit last = hit[got - 1];
+    if (reserve_hits(hit_buf, RANGE_MAX) != 0)
+        return CELL_NOMEM;
+    hit = hit_buf->data;
+    const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s, hit,
+                                        RANGE_MAX);
+    if (n < 0)
+        return compute_cell(job, cell, cand_buf, pr, s, xs, other);
+    r = cut_with_hits(job, cell, pr, xs, hit, n, &more, other);
+    return r;
 }
 
 /* The finished cells of one chunk of the build order are appended to a
