@@ -617,10 +617,12 @@ static int store_cell(vc_convex_cell *cell, byte_buf *topo, vc_cell_result *res)
  * are 5 to 15% slower). */
 #define SEEDS_PER_BIN 3.0
 /* Bins this many times SEEDS_PER_BIN full where the seeds are: the tree.
- * Measured (cells on 1 thread, tree / grid; the figure is the mean count
- * of a seed's bin): 6.7: 2.44 / 1.72 s, 13: 0.20 / 0.13, 35: 1.14 / 0.69,
- * 100: 2.09 / 1.87, 333 (bunny.off): 4.46 / 7.51. */
-#define CROWDED_BINS 50.0
+ * Measured with the range query after the 48 nearest (cells on 1 thread,
+ * tree / grid; the figure is the mean count of a seed's bin): uniform
+ * random 4.0: 4.28 / 2.40 s; torus.obj's seeds 6.8: 1.00 / 1.09; bracket
+ * 36.5: 2.46 / 2.71; fertility 105.9: 3.52 / 5.39; bunny 1299: the grid
+ * far slower. (Before the range query the tree lost up to 100.) */
+#define CROWDED_BINS 2.0
 
 /* The seeds' (or the box's) span: cell volumes go as its cube, the
  * duplicate distance as its square; outside these bounds either leaves the
