@@ -40,6 +40,15 @@ static int brute(const double *q, int64_t n, int64_t skip, vc_kd_hit *all)
     return m;
 }
 
+/* A node filter for the half-space x >= 0.5: a box wholly below it is
+ * rejected. */
+static int right_half(void *ctx, const double lo[3], const double hi[3])
+{
+    (void)ctx;
+    (void)lo;
+    return hi[0] >= 0.5;
+}
+
 static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rng)
 {
     pts = xyz;
@@ -81,7 +90,7 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
             int expect = 0;
             while (got + expect < m && all[got + expect].d2 <= r2)
                 expect++;
-            const int in = vc_seed_kdtree_within(&t, x, r2, hit[got - 1], skip, hit, (int)n + 8);
+            const int in = vc_seed_kdtree_within(&t, x, r2, hit[got - 1], skip, NULL, NULL, hit, (int)n + 8);
             same = in == expect;
             for (int i = 0; same && i < in; i++)
                 same = hit[i].seed == all[got + i].seed && hit[i].d2 == all[got + i].d2;
@@ -92,7 +101,24 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
                 break;
             }
             if (expect > 1)
-                CHECK(vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, hit, expect - 1) == -1);
+                CHECK(vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, NULL, NULL, hit, expect - 1) == -1);
+            /* with a node filter: every hit in the half-space it keeps is
+             * still found, in order, and nothing outside the plain answer */
+            const int inh = vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, right_half, NULL, hit,
+                                                  (int)n + 8);
+            int j = 0, ok = inh >= 0;
+            for (int i = 0; ok && i < expect; i++) {
+                const vc_kd_hit *w = &all[got + i];
+                if (j < inh && hit[j].seed == w->seed && hit[j].d2 == w->d2)
+                    j++;
+                else if (pts[3 * w->seed] >= 0.5)
+                    ok = 0; /* a hit in the kept half-space went missing */
+            }
+            if (!(ok && j == inh)) {
+                CHECKF(0, "%s: query %d, filtered range after %d: %d hits", name, q, k, inh);
+                bad = 1;
+                break;
+            }
         }
     }
     free(all);

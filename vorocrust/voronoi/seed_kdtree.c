@@ -259,7 +259,8 @@ static int cmp_hit(const void *a, const void *b)
 }
 
 int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
-                          int64_t skip, vc_kd_hit *hit, int cap)
+                          int64_t skip, int (*reach)(void *ctx, const double lo[3], const double hi[3]),
+                          void *ctx, vc_kd_hit *hit, int cap)
 {
     if (t->n == 0)
         return 0;
@@ -269,7 +270,8 @@ int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2,
     stack[top++] = 0;
     while (top > 0) {
         const vc_kd_node *nd = &t->node[stack[--top]];
-        if (box_dist2(nd, x) > r2 || box_dist2_far(nd, x) < after.d2)
+        if (box_dist2(nd, x) > r2 || box_dist2_far(nd, x) < after.d2 ||
+            (reach && !reach(ctx, nd->lo, nd->hi)))
             continue;
         if (nd->left >= 0) {
             stack[top++] = nd->left;

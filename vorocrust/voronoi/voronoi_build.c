@@ -516,6 +516,61 @@ static int cut_with_hits(const cell_job *job, vc_convex_cell *cell, prune *pr, c
     return CELL_OK;
 }
 
+/* The clearance balls of a cell's vertices (relative to its seed, grown by
+ * the vertices' error), for the range query: a seed outside all of them
+ * leaves the cell as it is, and so does it any smaller cell (a half-space
+ * that meets a convex cell holds one of its vertices), so the balls of the
+ * cell at the query stay valid while the candidates cut it. */
+typedef struct clearance {
+    const double *ball; /* 4 per vertex: x, y, z, squared radius */
+    int n;
+    const double *xs;
+    double slack;
+} clearance;
+
+static int clearance_reaches(void *ctx, const double lo[3], const double hi[3])
+{
+    const clearance *c = ctx;
+    double l[3], h[3];
+    for (int d = 0; d < 3; d++) {
+        l[d] = lo[d] - c->xs[d] - c->slack;
+        h[d] = hi[d] - c->xs[d] + c->slack;
+    }
+    const double *x = c->ball;
+    for (int v = 0; v < c->n; v++, x += 4) {
+        double e2 = 0;
+        for (int d = 0; d < 3; d++) {
+            const double e = x[d] < l[d] ? l[d] - x[d] : (x[d] > h[d] ? x[d] - h[d] : 0);
+            e2 += e * e;
+        }
+        if (e2 <= x[3])
+            return 1;
+    }
+    return 0;
+}
+
+/* The clearance balls of every vertex of the cell into b (4 doubles each). */
+static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b)
+{
+    if (b->cap < cell->nt) {
+        void *q = realloc(b->data, sizeof(double) * 4 * (size_t)(cell->nt + 64));
+        if (!q)
+            return -1;
+        b->data = q;
+        b->cap = cell->nt + 64;
+    }
+    double *x = b->data;
+    for (int t = 0; t < cell->nt; t++, x += 4) {
+        x[0] = cell->px[t];
+        x[1] = cell->py[t];
+        x[2] = cell->pz[t];
+        /* the exact vertex is within ev of x: its ball within 2 ev of x's */
+        const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
+        x[3] = rr * rr * BALL_GROW;
+    }
+    return 0;
+}
+
 /* Builds the cell of seed s (at xs) into cell; returns CELL_*. Its
  * neighbours are cut nearest first (from the k-d tree), until the next
  * one is farther than twice the cell's radius: no seed beyond can cut. */
@@ -536,11 +591,13 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
     /* every further seed that can still cut: within twice the radius the
      * cell has now (it only shrinks) */
     const vc_kd_hit last = hit[got - 1];
-    if (reserve_hits(hit_buf, RANGE_MAX) != 0)
+    if (reserve_hits(hit_buf, RANGE_MAX) != 0 || clearance_balls(cell, &pr->ball) != 0)
         return CELL_NOMEM;
+    pr->dirty = 1; /* the grid's pruning lists its balls again */
     hit = hit_buf->data;
-    const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s, hit,
-                                        RANGE_MAX);
+    clearance cl = {pr->ball.data, cell->nt, xs, job->slack};
+    const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s,
+                                        clearance_reaches, &cl, hit, RANGE_MAX);
     if (n < 0)
         return compute_cell(job, cell, cand_buf, pr, s, xs, other);
     r = cut_with_hits(job, cell, pr, xs, hit, n, &more, other);
@@ -617,12 +674,15 @@ static int store_cell(vc_convex_cell *cell, byte_buf *topo, vc_cell_result *res)
  * are 5 to 15% slower). */
 #define SEEDS_PER_BIN 3.0
 /* Bins this many times SEEDS_PER_BIN full where the seeds are: the tree.
- * Measured with the range query after the 48 nearest (cells on 1 thread,
- * tree / grid; the figure is the mean count of a seed's bin): uniform
- * random 4.0: 4.28 / 2.40 s; torus.obj's seeds 6.8: 1.00 / 1.09; bracket
- * 36.5: 2.46 / 2.71; fertility 105.9: 3.52 / 5.39; bunny 1299: the grid
- * far slower. (Before the range query the tree lost up to 100.) */
-#define CROWDED_BINS 2.0
+ * Measured with the range query after the 48 nearest, pruned by the
+ * clearance balls (1 thread, cells and stitching, grid / tree; the figure
+ * is the mean count of a seed's bin; the mesh pipeline's seed sets, whose
+ * outside seeds are not built, and the same with every seed kept): torus.obj
+ * 6.8: 1.16 / 1.36 s, all kept 2.53 / 2.66; bracket 36.5: 3.36 / 3.34,
+ * all kept 5.42 / 5.97; fertility 105.9: 6.02 / 5.14, all kept 9.76 /
+ * 10.39; bunny 1299: 14.1 / 10.8. Uniform random seeds (4.0) are far
+ * faster on the grid. */
+#define CROWDED_BINS 20.0
 
 /* The seeds' (or the box's) span: cell volumes go as its cube, the
  * duplicate distance as its square; outside these bounds either leaves the
