@@ -550,13 +550,7 @@ def cube_grid(face_lists):
     g = vtk.vtkUnstructuredGrid()
     g.SetPoints(pts)
     for fs in face_lists:
-        ids = vtk.vtkIdList()
-        ids.InsertNextId(len(fs))
-        for f in fs:
-            ids.InsertNextId(len(f))
-            for i in f:
-                ids.InsertNextId(i)
-        g.InsertNextCell(42, ids)
+        g.InsertNextCell(vtkcheck.VTK_POLYHEDRON, vtkcheck.face_stream(fs))
     w = vtk.vtkXMLUnstructuredGridWriter()
     w.SetFileName(path("cubes.vtu"))
     w.SetInputData(g)

@@ -19,13 +19,7 @@ def one_cell(points, faces):
     for p in points:
         pts.InsertNextPoint(p)
     grid.SetPoints(pts)
-    ids = vtk.vtkIdList()
-    ids.InsertNextId(len(faces))
-    for f in faces:
-        ids.InsertNextId(len(f))
-        for q in f:
-            ids.InsertNextId(q)
-    grid.InsertNextCell(vtkcheck.VTK_POLYHEDRON, ids)
+    grid.InsertNextCell(vtkcheck.VTK_POLYHEDRON, vtkcheck.face_stream(faces))
     return grid
 
 

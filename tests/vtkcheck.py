@@ -85,6 +85,18 @@ def cell_faces(grid, cell_id, ids=None):
     return out
 
 
+def face_stream(faces):
+    """A polyhedron's faces (lists of point ids) as the vtkIdList face stream
+    vtkUnstructuredGrid.InsertNextCell(VTK_POLYHEDRON, ...) takes."""
+    ids = vtk.vtkIdList()
+    ids.InsertNextId(len(faces))
+    for f in faces:
+        ids.InsertNextId(len(f))
+        for i in f:
+            ids.InsertNextId(i)
+    return ids
+
+
 def vtk_volumes(grid):
     """Per-cell volumes computed by VTK's vtkCellSizeFilter."""
     f = vtk.vtkCellSizeFilter()
