@@ -536,22 +536,34 @@ static void test_neighbour_sources(void)
     }
 }
 
-int main(void)
+/* Parts (one ctest test each, so that they run side by side): "cells"
+ * (every test but the near-degenerate sets) and "near_degenerate"; no
+ * argument runs both. */
+int main(int argc, char **argv)
 {
-    test_single_and_duplicates();
-    test_lattice(6);
-    test_checkerboard();
-    test_cube_corners();
-    test_random(2000, 42);
-    test_random(20000, 43);
-    test_cospherical();
-    test_vorocrust_seeds();
-    test_no_box();
-    test_neighbour_sources();
-    for (int shifted = 0; shifted < 2; shifted++)
-        for (int e = 0; e < 7; e++)
-            for (uint64_t seed = 1; seed <= 2; seed++)
-                test_near_degenerate(shifted, 1e-9 * pow(10.0, 0.5 * e), seed);
+    const char *part = argc > 1 ? argv[1] : "";
+    const int all = part[0] == 0;
+    if (!all && strcmp(part, "cells") != 0 && strcmp(part, "near_degenerate") != 0) {
+        fprintf(stderr, "usage: test_voronoi [cells|near_degenerate]\n");
+        return 2;
+    }
+    if (all || strcmp(part, "cells") == 0) {
+        test_single_and_duplicates();
+        test_lattice(6);
+        test_checkerboard();
+        test_cube_corners();
+        test_random(2000, 42);
+        test_random(20000, 43);
+        test_cospherical();
+        test_vorocrust_seeds();
+        test_no_box();
+        test_neighbour_sources();
+    }
+    if (all || strcmp(part, "near_degenerate") == 0)
+        for (int shifted = 0; shifted < 2; shifted++)
+            for (int e = 0; e < 7; e++)
+                for (uint64_t seed = 1; seed <= 2; seed++)
+                    test_near_degenerate(shifted, 1e-9 * pow(10.0, 0.5 * e), seed);
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
