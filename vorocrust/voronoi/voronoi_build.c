@@ -85,6 +85,15 @@ typedef struct prune {
  * ball test in the first rings of bins too. */
 #define BIG_CELL 2.25
 
+/* The squared radius of vertex t's clearance ball (centre: the vertex
+ * relative to the seed, x): the exact vertex is within ev of x, its ball
+ * within 2 ev of x's, grown for rounding. */
+static inline double clearance_r2(const vc_convex_cell *cell, int t, const double x[3])
+{
+    const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
+    return rr * rr * BALL_GROW;
+}
+
 static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune *pr)
 {
     if (!pr->dirty)
@@ -109,9 +118,7 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
     int n = 0;
     for (int t = 0; t < cell->nt; t++) {
         const double x[3] = {cell->px[t], cell->py[t], cell->pz[t]};
-        /* the exact vertex is within ev of x: its ball within 2 ev of x's */
-        const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
-        const double r2 = rr * rr * BALL_GROW;
+        const double r2 = clearance_r2(cell, t, x);
         if (4.0 * r2 < 0.9 * h2)
             continue;
         /* Insertion by decreasing radius: a bin test stops at the first
@@ -564,9 +571,7 @@ static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b)
         x[0] = cell->px[t];
         x[1] = cell->py[t];
         x[2] = cell->pz[t];
-        /* the exact vertex is within ev of x: its ball within 2 ev of x's */
-        const double rr = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) + 2 * cell->ev[t];
-        x[3] = rr * rr * BALL_GROW;
+        x[3] = clearance_r2(cell, t, x);
     }
     return 0;
 }
