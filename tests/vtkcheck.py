@@ -18,6 +18,9 @@ import vtk
 
 VTK_POLYHEDRON = 42
 
+# Set by tests/CMakeLists.txt for the sanitizer build (see check_vtu).
+SANITIZED = os.environ.get("VC_SANITIZED", "0") in ("1", "ON", "TRUE", "true")
+
 
 class CheckError(AssertionError):
     pass
@@ -424,7 +427,12 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9, pla
         if t != VTK_POLYHEDRON:
             _fail(path, "cell %d has type %d, expected VTK_POLYHEDRON (42)" % (c, t))
 
-    bad, flagged = validator_verdict(grid)
+    # Under the sanitizers VTK's own validator and cell-size filter are left
+    # out: they judge the file's bytes, which the Release run of the same test
+    # writes identically, and took a third of a sanitized test's time
+    # (e2e_materials basin: 28 of 75 s). Every check computed here still runs.
+    vtk_judges = not SANITIZED
+    bad, flagged = validator_verdict(grid) if vtk_judges else ([], 0)
     # What VTK still rejects must be a cell with a tiny feature (an edge
     # shorter than 2e-3 of the cell's extent: VTK's convexity test on
     # projected silhouettes and its FLT_EPSILON thresholds cannot resolve it;
@@ -485,7 +493,7 @@ def check_vtu(path, expected_cells=None, expected_volume=None, rel_tol=1e-9, pla
     # own triangulated faces must then agree. vtkMassProperties computes
     # triangle areas by Heron's formula, which loses about 1e-7 on needle
     # triangles (next to the short edges of co-spherical cells): hence 1e-6.
-    vtk_vols = vtk_volumes(grid)
+    vtk_vols = vtk_volumes(grid) if vtk_judges else vols
     vtk_off = 0
     for c, (a, b) in enumerate(zip(vtk_vols, vols)):
         if abs(a - b) <= 1e-6 * b:
