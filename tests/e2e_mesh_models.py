@@ -226,9 +226,9 @@ for model in sys.argv[1:]:
               and max(fat) <= fat_bnd,
               "%s: fatness array: %d values, range %r..%r, interior cells up to %r"
               % (model, len(fat), min(fat), max(fat), worst_inner))
-        print("%s: %d cells, volume %.12g (surface %.12g, input %.12g); VTK flagged %d cells "
+        print("%s: %d cells, volume %.12g (surface %.12g, input %.12g); VTK flagged %d of %d cells judged "
               "(%d with tiny edges after rotation), fatness max %.2f"
-              % (model, fig["n_cells"], fig["total_volume"], sv, iv, fig["vtk_flagged"],
+              % (model, fig["n_cells"], fig["total_volume"], sv, iv, fig["vtk_flagged"], fig["vtk_judged"],
                  fig["vtk_rejected_tiny"], max(fat)))
         check(moved or abs(fig["total_volume"] - iv) <= 0.01 * iv,
               "%s: mesh volume %.9g vs input %.9g" % (model, fig["total_volume"], iv))
