@@ -39,6 +39,13 @@ typedef struct vc_bvh_node {
     double lo[3], hi[3];
     int64_t start, count; /* leaf: elements [start, start + count); inner: count = 0 */
     int64_t left, right;  /* children (inner nodes) */
+    /* When every element below is a triangle of one patch: that patch, and
+     * a cone holding their outward normals (axis, unit): every one of them
+     * is co-smooth by normal with a unit vector n when n . axis >= cos_need
+     * (2: never). Otherwise patch = -1. Lets the radius bound skip whole
+     * subtrees of a fine, smooth patch (see vc_sizing_radius_bound). */
+    int64_t patch;
+    double axis[3], cos_need;
 } vc_bvh_node;
 
 typedef struct vc_sizing {
@@ -84,6 +91,11 @@ double vc_sizing_conflict_distance(const vc_sizing *z, const vc_surface_point *s
  * the distance to non-co-smooth elements and the error criterion. */
 double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, const double p[3],
                               double bound);
+
+/* The same bound from every element in turn, without the tree: what the
+ * tree walk must return to the bit (tests). */
+double vc_sizing_radius_bound_all(const vc_sizing *z, const vc_surface_point *sp, const double p[3],
+                                  double bound);
 
 /* Squared distance from p to element (kind, id). */
 double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const double p[3]);

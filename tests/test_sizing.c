@@ -1,0 +1,121 @@
+/* The radius bound's tree walk (sizing/sizing.h): it skips whole subtrees
+ * (by box distance, and the subtrees of one smooth patch by their normal
+ * cone and the slab about the point's tangent plane), so it must return,
+ * to the bit, what the same rules give element by element over the whole
+ * surface (vc_sizing_radius_bound_all): at triangle centroids, sharp edge
+ * midpoints and corners, with the error bound and without it, on fine and
+ * coarse smooth surfaces and on surfaces with creases and corners. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sizing/sizing.h"
+#include "vorocrust/features.h"
+#include "vorocrust/surface.h"
+
+#include "test_check.h"
+#include "test_surface_util.h"
+
+/* A torus (radii 1 and 0.35) whose tube radius waves with the angle
+ * around: curvature that varies, nu x nv, outward. */
+static void make_wavy_torus(builder *b, int nu, int nv)
+{
+    int64_t first = b->s.n_vertices;
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+            double r = 0.35 * (1 + 0.3 * sin(5 * u));
+            add_v(b, (1 + r * cos(v)) * cos(u), (1 + r * cos(v)) * sin(u), r * sin(v));
+        }
+#define V(i, j) (first + (int64_t)((i) % nu) * nv + ((j) % nv))
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++)
+            add_q(b, V(i, j), V(i + 1, j), V(i + 1, j + 1), V(i, j + 1));
+#undef V
+}
+
+typedef struct tally {
+    long points, below; /* bounds compared, of them below the cap */
+} tally;
+
+static void compare_at(const vc_sizing *z, const vc_surface_point *sp, const double x[3],
+                       double cap, const char *what, tally *t)
+{
+    const double tree = vc_sizing_radius_bound(z, sp, x, cap);
+    const double all = vc_sizing_radius_bound_all(z, sp, x, cap);
+    CHECKF(memcmp(&tree, &all, sizeof tree) == 0,
+           "%s: element %lld (kind %d): tree %.17g, every element %.17g", what, (long long)sp->id,
+           sp->kind, tree, all);
+    t->points++;
+    t->below += tree < cap;
+}
+
+static void compare_surface(const vc_surface *s, double max_error, const char *what)
+{
+    vc_features f;
+    vc_sizing z;
+    vc_error err;
+    CHECK(vc_features_detect(s, 60, &f, &err) == 0);
+    CHECK(vc_sizing_init(&z, s, &f, 60, max_error) == 0);
+    tally t = {0, 0};
+    for (int c = 0; c < 2; c++) {
+        const double cap = c == 0 ? z.diag : 0.1 * z.diag;
+        for (int64_t tr = 0; tr < s->n_triangles; tr++) {
+            double x[3] = {0, 0, 0};
+            for (int k = 0; k < 3; k++)
+                for (int d = 0; d < 3; d++)
+                    x[d] += s->xyz[3 * s->tri[3 * tr + k] + d] / 3;
+            vc_surface_point sp = {VC_ELEM_TRIANGLE, tr};
+            compare_at(&z, &sp, x, cap, what, &t);
+        }
+        for (int64_t e = 0; e < f.n_edges; e++) {
+            if (!f.edge_sharp[e])
+                continue;
+            const double *a = s->xyz + 3 * f.edge_vertex[2 * e], *b = s->xyz + 3 * f.edge_vertex[2 * e + 1];
+            const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+            vc_surface_point sp = {VC_ELEM_EDGE, e};
+            compare_at(&z, &sp, x, cap, what, &t);
+        }
+        for (int64_t v = 0; v < s->n_vertices; v++) {
+            if (!f.vertex_corner[v])
+                continue;
+            vc_surface_point sp = {VC_ELEM_CORNER, v};
+            compare_at(&z, &sp, s->xyz + 3 * v, cap, what, &t);
+        }
+    }
+    /* not vacuous: many bounds come from the surface, not the cap */
+    CHECKF(t.below * 4 > t.points, "%s: only %ld of %ld bounds below the cap", what, t.below, t.points);
+    printf("%s (max error %g): %ld bounds equal, %ld below the cap; %lld sharp edges, %lld corners\n",
+           what, max_error, t.points, t.below, (long long)f.n_sharp_edges, (long long)f.n_corners);
+    vc_sizing_free(&z);
+    vc_features_free(&f);
+}
+
+int main(void)
+{
+    const double errors[2] = {0.004, 0};
+    for (int k = 0; k < 2; k++) {
+        builder b = {0};
+        make_sphere(&b, 48, 24); /* fine and smooth: the subtrees skipped by cone and slab */
+        compare_surface(&b.s, errors[k], "UV sphere 48 x 24");
+        vc_surface_free(&b.s);
+
+        builder w = {0};
+        make_wavy_torus(&w, 60, 24);
+        compare_surface(&w.s, errors[k], "wavy torus 60 x 24");
+        vc_surface_free(&w.s);
+
+        builder c = {0};
+        make_prism(&c, 40, 1.5); /* two creased rims, flat caps: several patches */
+        compare_surface(&c.s, errors[k], "40-gon prism");
+        vc_surface_free(&c.s);
+
+        builder q = {0};
+        make_cube(&q); /* corners and creases only */
+        compare_surface(&q.s, errors[k], "cube");
+        vc_surface_free(&q.s);
+    }
+    return failures ? 1 : 0;
+}
