@@ -81,6 +81,49 @@ static int cmp_x(const void *a, const void *b) { return cmp_along(a, b, 0); }
 static int cmp_y(const void *a, const void *b) { return cmp_along(a, b, 1); }
 static int cmp_z(const void *a, const void *b) { return cmp_along(a, b, 2); }
 
+static void swap_elem(build_elem *a, build_elem *b)
+{
+    build_elem t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* Reorders e[0 .. n) so that its k smallest (cmp_along on axis, a strict
+ * total order) come first: what sorting does to the two halves' sets, in
+ * linear expected time (sorting every node's range was most of the tree's
+ * build: 190k triangles, 0.5 s). Quickselect with a median-of-three pivot;
+ * after 64 rounds (adversarial input) it sorts what is left. */
+static void select_first(build_elem *e, int64_t n, int64_t k, int axis)
+{
+    int64_t lo = 0, hi = n - 1;
+    for (int round = 0; hi > lo; round++) {
+        if (round == 64) {
+            qsort(e + lo, (size_t)(hi - lo + 1), sizeof *e, axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
+            return;
+        }
+        const int64_t mid = lo + (hi - lo) / 2;
+        if (cmp_along(&e[mid], &e[lo], axis) < 0)
+            swap_elem(&e[mid], &e[lo]);
+        if (cmp_along(&e[hi], &e[lo], axis) < 0)
+            swap_elem(&e[hi], &e[lo]);
+        if (cmp_along(&e[hi], &e[mid], axis) < 0)
+            swap_elem(&e[hi], &e[mid]);
+        /* the median of the three to hi; partition e[lo .. hi) about it */
+        swap_elem(&e[mid], &e[hi]);
+        int64_t store = lo;
+        for (int64_t i = lo; i < hi; i++)
+            if (cmp_along(&e[i], &e[hi], axis) < 0)
+                swap_elem(&e[i], &e[store++]);
+        swap_elem(&e[store], &e[hi]);
+        if (store == k)
+            return;
+        if (store < k)
+            lo = store + 1;
+        else
+            hi = store - 1;
+    }
+}
+
 static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t count)
 {
     int64_t me = z->n_nodes++;
@@ -107,9 +150,14 @@ static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t co
     for (int d = 1; d < 3; d++)
         if (chi[d] - clo[d] > chi[axis] - clo[axis])
             axis = d;
-    qsort(e + start, (size_t)count, sizeof(build_elem),
-          axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
     int64_t half = count / 2;
+    /* A child with more than LEAF_SIZE elements orders its own range
+     * again, so only the two sets matter there; a leaf keeps this order. */
+    if (half <= LEAF_SIZE || count - half <= LEAF_SIZE)
+        qsort(e + start, (size_t)count, sizeof(build_elem),
+              axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
+    else
+        select_first(e + start, count, half, axis);
     nd->start = start;
     nd->count = 0;
     int64_t l = build_node(z, e, start, half);
