@@ -1500,20 +1500,6 @@ static int64_t cut_once(sampler *S, int64_t q, double factor, unsigned char *shr
 #define DEVIATION_SHRINK 0.7
 #define DEVIATION_PASSES 4
 
-typedef struct nearest_input {
-    const vc_sizing *z;
-    const double *p;
-    double best_d2;
-} nearest_input;
-
-static void nearest_triangle(void *ctx, int kind, int64_t id)
-{
-    nearest_input *c = ctx;
-    if (kind != VC_ELEM_TRIANGLE)
-        return;
-    c->best_d2 = fmin(c->best_d2, vc_sizing_element_dist2(c->z, kind, id, c->p));
-}
-
 /* Is the facet of centres v farther than bound from the input at one of
  * its probes: EDGE_PROBES points along each edge and the centroid with
  * the points halfway from it to the corners? A chord that cuts a fold is
@@ -1542,9 +1528,7 @@ static int facet_strays(const sampler *S, const int64_t v[3], double bound)
         double p[3];
         for (int d = 0; d < 3; d++)
             p[d] = w[m][0] * c[0][d] + w[m][1] * c[1][d] + w[m][2] * c[2][d];
-        nearest_input q = {&S->z, p, bound * bound};
-        vc_sizing_elements_near(&S->z, p, bound, nearest_triangle, &q);
-        if (!(q.best_d2 < bound * bound))
+        if (!vc_sizing_triangle_within(&S->z, p, bound))
             return 1;
     }
     return 0;

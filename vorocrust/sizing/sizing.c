@@ -544,6 +544,39 @@ void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
     }
 }
 
+int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r)
+{
+    if (z->n_elems == 0)
+        return 0;
+    const double r2 = r * r;
+    int64_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_bvh_node *nd = &z->nodes[stack[--top]];
+        if (box_dist2(nd, p) >= r2)
+            continue;
+        if (nd->count > 0) {
+            for (int64_t i = nd->start; i < nd->start + nd->count; i++)
+                if (z->elem_kind[i] == VC_ELEM_TRIANGLE &&
+                    vc_sizing_element_dist2(z, VC_ELEM_TRIANGLE, z->elem_id[i], p) < r2)
+                    return 1;
+            continue;
+        }
+        if (top + 2 > 128)
+            continue;
+        /* nearer child last, so it is popped first */
+        if (box_dist2(&z->nodes[nd->left], p) < box_dist2(&z->nodes[nd->right], p)) {
+            stack[top++] = nd->right;
+            stack[top++] = nd->left;
+        } else {
+            stack[top++] = nd->left;
+            stack[top++] = nd->right;
+        }
+    }
+    return 0;
+}
+
 void vc_sizing_point_normal(const vc_sizing *z, const vc_surface_point *sp, double n[3])
 {
     const int64_t *tris;

@@ -105,6 +105,10 @@ double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const d
 void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
                              void (*fn)(void *ctx, int kind, int64_t id), void *ctx);
 
+/* Is some triangle closer to p than r (vc_sizing_element_dist2 < r^2)?
+ * Stops at the first one found, nearest boxes first. */
+int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r);
+
 /* Outward normal at the point (for an edge or corner: the normalised mean
  * of its triangles' normals). */
 void vc_sizing_point_normal(const vc_sizing *z, const vc_surface_point *sp, double n[3]);
