@@ -130,7 +130,8 @@ static int facet_sag(const vc_balls *b, const vc_sizing *z, const int64_t v[3], 
         const double *a = c[m], *e = c[(m + 1) % 3];
         double p[3] = {(a[0] + e[0]) / 2, (a[1] + e[1]) / 2, (a[2] + e[2]) / 2};
         nearest_ctx q = {z, p, n, INFINITY, {0, 0, 0}, 0};
-        vc_sizing_elements_near(z, p, reach * rmin, consider, &q);
+        /* boxes farther than the nearest so far cannot hold a nearer one */
+        vc_sizing_elements_near_within(z, p, reach * rmin, consider, &q, &q.best_d2);
         if (!q.found || q.best_d2 > reach * reach * rmin * rmin)
             return 0;
         double dq[3] = {q.q[0] - p[0], q.q[1] - p[1], q.q[2] - p[2]};

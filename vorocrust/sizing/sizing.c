@@ -522,6 +522,13 @@ double vc_sizing_conflict_distance(const vc_sizing *z, const vc_surface_point *s
 void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
                              void (*fn)(void *ctx, int kind, int64_t id), void *ctx)
 {
+    vc_sizing_elements_near_within(z, p, r, fn, ctx, NULL);
+}
+
+void vc_sizing_elements_near_within(const vc_sizing *z, const double p[3], double r,
+                                    void (*fn)(void *ctx, int kind, int64_t id), void *ctx,
+                                    const double *within2)
+{
     if (z->n_elems == 0)
         return;
     double r2 = r * r;
@@ -530,7 +537,8 @@ void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
     stack[top++] = 0;
     while (top > 0) {
         const vc_bvh_node *nd = &z->nodes[stack[--top]];
-        if (box_dist2(nd, p) > r2)
+        const double b2 = box_dist2(nd, p);
+        if (b2 > r2 || (within2 && b2 > *within2))
             continue;
         if (nd->count > 0) {
             for (int64_t i = nd->start; i < nd->start + nd->count; i++)

@@ -105,6 +105,13 @@ double vc_sizing_element_dist2(const vc_sizing *z, int kind, int64_t id, const d
 void vc_sizing_elements_near(const vc_sizing *z, const double p[3], double r,
                              void (*fn)(void *ctx, int kind, int64_t id), void *ctx);
 
+/* As vc_sizing_elements_near, in the same order, but a box farther than
+ * *within2 (a squared distance fn may lower as it goes: a nearest-element
+ * search) is skipped too. */
+void vc_sizing_elements_near_within(const vc_sizing *z, const double p[3], double r,
+                                    void (*fn)(void *ctx, int kind, int64_t id), void *ctx,
+                                    const double *within2);
+
 /* Is some triangle closer to p than r (vc_sizing_element_dist2 < r^2)?
  * Stops at the first one found, nearest boxes first. */
 int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r);
