@@ -291,9 +291,6 @@ static void foam_plan_free(foam_plan *pl)
     memset(pl, 0, sizeof *pl);
 }
 
-static const vc_polymesh *foam_sort_mesh; /* qsort has no context argument */
-static const unsigned char *foam_sort_flip;
-
 static void foam_face_cells(const vc_polymesh *m, const unsigned char *flip, int64_t f,
                             int64_t *own, int64_t *nei)
 {
@@ -307,17 +304,21 @@ static void foam_face_cells(const vc_polymesh *m, const unsigned char *flip, int
     }
 }
 
+/* An interior face with its owner and neighbour as written: sorting these
+ * needs no state outside the comparator (file-scope pointers for it made
+ * two meshes written at once race). */
+typedef struct foam_face_key {
+    int64_t own, nei, f;
+} foam_face_key;
+
 static int foam_cmp_interior(const void *pa, const void *pb)
 {
-    int64_t fa = *(const int64_t *)pa, fb = *(const int64_t *)pb;
-    int64_t oa, na, ob, nb;
-    foam_face_cells(foam_sort_mesh, foam_sort_flip, fa, &oa, &na);
-    foam_face_cells(foam_sort_mesh, foam_sort_flip, fb, &ob, &nb);
-    if (oa != ob)
-        return oa < ob ? -1 : 1;
-    if (na != nb)
-        return na < nb ? -1 : 1;
-    return fa < fb ? -1 : fa > fb;
+    const foam_face_key *a = pa, *b = pb;
+    if (a->own != b->own)
+        return a->own < b->own ? -1 : 1;
+    if (a->nei != b->nei)
+        return a->nei < b->nei ? -1 : 1;
+    return (a->f > b->f) - (a->f < b->f);
 }
 
 typedef struct foam_zone_face {
@@ -529,10 +530,19 @@ static int foam_plan_build(const vc_polymesh *m, const char *path, const vc_foam
         pn = n;
     }
     if (!sorted) {
-        foam_sort_mesh = m;
-        foam_sort_flip = pl->flip;
-        qsort(pl->order, (size_t)ni, sizeof *pl->order, foam_cmp_interior);
-        for (int64_t f = 1; f < ni; f++) {
+        foam_face_key *key = malloc(sizeof *key * (size_t)(ni ? ni : 1));
+        if (!key)
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", path);
+        for (int64_t f = 0; key && f < ni; f++) {
+            foam_face_cells(m, pl->flip, f, &key[f].own, &key[f].nei);
+            key[f].f = f;
+        }
+        if (key)
+            qsort(key, (size_t)ni, sizeof *key, foam_cmp_interior);
+        for (int64_t f = 0; key && f < ni; f++)
+            pl->order[f] = key[f].f;
+        free(key);
+        for (int64_t f = 1; rc == VC_OK && f < ni; f++) {
             int64_t oa, na, ob, nb;
             foam_face_cells(m, pl->flip, pl->order[f - 1], &oa, &na);
             foam_face_cells(m, pl->flip, pl->order[f], &ob, &nb);

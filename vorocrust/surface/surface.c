@@ -274,16 +274,20 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
 
 /* ---- Merging equal vertices. ---- */
 
-static const double *g_sort_xyz; /* qsort has no context argument in C11 */
+/* A vertex's position and index: sorting these needs no state outside
+ * the comparator (a file-scope pointer for it made concurrent reads race). */
+typedef struct pos_rec {
+    double x[3];
+    int64_t i;
+} pos_rec;
 
 static int cmp_pos(const void *a, const void *b)
 {
-    int64_t i = *(const int64_t *)a, j = *(const int64_t *)b;
-    const double *p = g_sort_xyz + 3 * i, *q = g_sort_xyz + 3 * j;
+    const pos_rec *p = a, *q = b;
     for (int k = 0; k < 3; k++)
-        if (p[k] != q[k])
-            return p[k] < q[k] ? -1 : 1;
-    return (i > j) - (i < j);
+        if (p->x[k] != q->x[k])
+            return p->x[k] < q->x[k] ? -1 : 1;
+    return (p->i > q->i) - (p->i < q->i);
 }
 
 int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unused,
@@ -292,16 +296,21 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unuse
     int64_t nv = s->n_vertices;
     int64_t *order = malloc((size_t)(nv ? nv : 1) * sizeof *order);
     int64_t *map = malloc((size_t)(nv ? nv : 1) * sizeof *map);
-    if (!order || !map) {
+    pos_rec *rec = malloc((size_t)(nv ? nv : 1) * sizeof *rec);
+    if (!order || !map || !rec) {
         free(order);
         free(map);
+        free(rec);
         return vc_error_set(err, VC_ENOMEM, "out of memory merging vertices");
     }
+    for (int64_t i = 0; i < nv; i++) {
+        memcpy(rec[i].x, s->xyz + 3 * i, sizeof rec[i].x);
+        rec[i].i = i;
+    }
+    qsort(rec, (size_t)nv, sizeof *rec, cmp_pos);
     for (int64_t i = 0; i < nv; i++)
-        order[i] = i;
-    g_sort_xyz = s->xyz;
-    qsort(order, (size_t)nv, sizeof *order, cmp_pos);
-    g_sort_xyz = NULL;
+        order[i] = rec[i].i;
+    free(rec);
     /* map[i] = the first vertex (lowest index) with i's position. */
     int64_t merged = 0;
     for (int64_t k = 0; k < nv;) {
