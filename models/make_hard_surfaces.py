@@ -57,6 +57,12 @@ The cases (NAME: what it tests):
   hollow_sphere   a sphere with a spherical cavity (inner surface inward)
   box_speck       a box of side 10 and, apart, a sphere of radius 0.01:
                   two components 1000 times apart in size
+  cone            vtkConeSource, 32 sides, capped: an apex of valence 32
+  prism12         a capped 12-sided cylinder: 30-degree folds along it
+  text            the letters VC extruded (vtkVectorText): 2 components,
+                  many corners, narrow strokes
+  noise_blob      sphere plus Perlin noise, marching cubes on 200^3 (about
+                  170k triangles): a bumpy scan-like surface
 """
 import math
 import os
@@ -707,6 +713,64 @@ def case_box_speck():
     return polydata_to_lists(app.GetOutput())
 
 
+def case_cone():
+    """vtkConeSource, 32 sides, capped: an apex where 32 creases-to-be meet
+    at a point (a corner of high valence) and a sharp rim."""
+    c = vtk.vtkConeSource()
+    c.SetResolution(32)
+    c.SetHeight(2.0)
+    c.SetRadius(0.7)
+    c.CappingOn()
+    c.Update()
+    return polydata_to_lists(c.GetOutput(), tolerance=1e-9)
+
+
+def case_prism12():
+    """vtkCylinderSource with 12 sides, 3 long: 30-degree folds along the
+    whole length (coarse tessellation of a cylinder), sharp rims, caps of
+    long thin triangles."""
+    c = vtk.vtkCylinderSource()
+    c.SetResolution(12)
+    c.SetHeight(3.0)
+    c.SetRadius(0.5)
+    c.CappingOn()
+    c.Update()
+    return polydata_to_lists(c.GetOutput(), tolerance=1e-9)
+
+
+def case_text():
+    """The letters "VC" (vtkVectorText) extruded by 0.3: two components,
+    many corners and creases, narrow strokes, caps of long thin triangles."""
+    t = vtk.vtkVectorText()
+    t.SetText("VC")
+    e = vtk.vtkLinearExtrusionFilter()
+    e.SetInputConnection(t.GetOutputPort())
+    e.SetExtrusionTypeToVectorExtrusion()
+    e.SetVector(0, 0, 0.3)
+    e.CappingOn()
+    e.Update()
+    return polydata_to_lists(e.GetOutput(), tolerance=1e-9)
+
+
+def case_noise_blob():
+    """The unit sphere's quadric plus vtkPerlinNoise (frequency 6, amplitude
+    0.2) contoured on a 200^3 grid, the largest component: a bumpy,
+    scan-like marching-cubes surface of about 170k triangles."""
+    q = quadric((1, 1, 1, 0, 0, 0, 0, 0, 0, -1))
+    n = vtk.vtkPerlinNoise()
+    n.SetFrequency(6, 6, 6)
+    n.SetAmplitude(0.2)
+    f = vtk.vtkImplicitSum()
+    f.AddFunction(q)
+    f.AddFunction(n)
+    surf = contour(sample(f, (-1.6, 1.6, -1.6, 1.6, -1.6, 1.6), (200, 200, 200)), 0.0)
+    conn = vtk.vtkPolyDataConnectivityFilter()
+    conn.SetInputData(surf)
+    conn.SetExtractionModeToLargestRegion()
+    conn.Update()
+    return polydata_to_lists(conn.GetOutput())
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -738,6 +802,10 @@ CASES = [
     ("noisy_torus", case_noisy_torus, "torus with seeded +-2% noise along the tube's normal: kinks everywhere", 0),
     ("hollow_sphere", case_hollow_sphere, "sphere with a spherical cavity (inner surface inward): 2 components", 4),
     ("box_speck", case_box_speck, "box of side 10 and apart a sphere of radius 0.01: 2 components 1000 times apart in size", 4),
+    ("cone", case_cone, "capped 32-sided cone: an apex of valence 32 and a sharp rim", 2),
+    ("prism12", case_prism12, "capped 12-sided cylinder 3 long: 30-degree folds along its length, sharp rims", 2),
+    ("text", case_text, "the letters VC extruded: 2 components, many corners, narrow strokes", 4),
+    ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
 ]
 
 
