@@ -46,6 +46,11 @@ Q_ZERO_KNOWN = {"noisy_sphere": "a near-quartet's vertex 5e-7 from a ball centre
 # only): the speck beside the box had 10 million subfaces split without a
 # dart (1.1 GB; 18 MB since the darts' floor in rmps.c's mps).
 PEAK_MIB = {"box_speck": 100}
+# Within the error bound itself (0.4% of the diagonal, not the 0.5% asked):
+# the 12-sided prism's rim turns by 30 degrees at every vertex, where the
+# facets cut the cap's corners on its own plane (0.488% before the sampler
+# measured the input's vertices against the facets, session 25).
+WITHIN_ERROR_BOUND = {"prism12"}
 
 
 def topology(pts, polys):
@@ -116,6 +121,9 @@ def main():
     print("%s: Hausdorff %.3f%% of the diagonal, volume %+.3f%%, euler %d, %d components"
           % (name, 100 * h / diag, 100 * dv, euler, comps))
     check(h <= 0.005 * diag, "%s: Hausdorff %.4g > 0.5%% of the diagonal %.4g" % (name, h, diag))
+    if name in WITHIN_ERROR_BOUND:
+        check(h <= 0.004 * diag, "%s: Hausdorff %.4g > the error bound, 0.4%% of the diagonal %.4g"
+              % (name, h, diag))
     check(abs(dv) <= 0.005, "%s: volume %.9g against the input's %.9g (%+.3f%%)"
           % (name, v_out, v_in, 100 * dv))
     m = re.search(r"volume mesh: \d+ cells \(\d+ interior seeds\), volume ([0-9.eE+-]+) "

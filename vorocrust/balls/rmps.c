@@ -30,6 +30,7 @@
 #include "balls/centre_lift.h"
 #include "balls/triplets.h"
 #include "balls/union_cover.h"
+#include "sizing/closest_point.h"
 #include "util/reserve.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"
@@ -1557,6 +1558,105 @@ static int64_t shrink_straying(sampler *S, const facet_list *facets, double *old
     return changed;
 }
 
+/* The other direction: an input vertex farther than the bound from every
+ * facet of the balls that hold it. Where a crease or fold turns at a
+ * vertex the facets cut the corner off, on the input's own plane (a cap's
+ * rim of a coarse prism: 1.2 times the error bound), which no probe of a
+ * facet sees. The balls holding such a vertex are cut like those of a
+ * straying facet. Facets per ball: CSR from the facet list. */
+typedef struct holding_ctx {
+    const vc_balls *b;
+    const double *x;
+    int64_t *ids;
+    int n, cap;
+} holding_ctx;
+
+static int collect_holding(void *ctx, int64_t i)
+{
+    holding_ctx *h = ctx;
+    if (dist(h->b->center + 3 * i, h->x) <= h->b->radius[i] && h->n < h->cap)
+        h->ids[h->n++] = i;
+    return 0;
+}
+
+#define HOLDING_MAX 64
+
+static int64_t shrink_far_vertices(sampler *S, const facet_list *facets, double *old_r,
+                                   unsigned char *shrunk)
+{
+    const double bound = DEVIATION_BOUND * S->z.eps;
+    const vc_surface *s = S->s;
+    const int64_t nb = S->bs.b.n, nv = s->n_vertices;
+    if (!isfinite(bound) || facets->n == 0 || nv == 0)
+        return 0;
+    int64_t *start = calloc((size_t)nb + 1, sizeof *start);
+    int64_t *of = malloc(sizeof *of * (size_t)(3 * facets->n));
+    unsigned char *far = calloc((size_t)nv, 1);
+    if (!start || !of || !far) {
+        free(start);
+        free(of);
+        free(far);
+        return -1;
+    }
+    for (int64_t f = 0; f < facets->n; f++)
+        for (int k = 0; k < 3; k++)
+            start[facets->f[f].v[k] + 1]++;
+    for (int64_t i = 0; i < nb; i++)
+        start[i + 1] += start[i];
+    {
+        int64_t *fill = malloc(sizeof *fill * (size_t)(nb ? nb : 1));
+        if (!fill) {
+            free(start);
+            free(of);
+            free(far);
+            return -1;
+        }
+        memcpy(fill, start, sizeof *fill * (size_t)nb);
+        for (int64_t f = 0; f < facets->n; f++)
+            for (int k = 0; k < 3; k++)
+                of[fill[facets->f[f].v[k]]++] = f;
+        free(fill);
+    }
+    const vc_balls *b = &S->bs.b;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(S->threads)
+    for (int64_t v = 0; v < nv; v++) {
+        const double *x = s->xyz + 3 * v;
+        int64_t ids[HOLDING_MAX];
+        holding_ctx h = {b, x, ids, 0, HOLDING_MAX};
+        vc_ball_set_query(&S->bs, x, 0, 1.0, 0.0, collect_holding, &h);
+        double best2 = INFINITY;
+        for (int m = 0; m < h.n && best2 > bound * bound; m++)
+            for (int64_t q = start[ids[m]]; q < start[ids[m] + 1] && best2 > bound * bound; q++) {
+                const int64_t *t = facets->f[of[q]].v;
+                best2 = fmin(best2, vc_closest_on_triangle(x, b->center + 3 * t[0], b->center + 3 * t[1],
+                                                           b->center + 3 * t[2], NULL));
+            }
+        far[v] = h.n > 0 && best2 > bound * bound;
+    }
+    free(start);
+    free(of);
+    memcpy(old_r, S->bs.b.radius, sizeof(double) * (size_t)nb);
+    int64_t changed = 0;
+    for (int64_t v = 0; v < nv && changed >= 0; v++) {
+        if (!far[v])
+            continue;
+        int64_t ids[HOLDING_MAX];
+        holding_ctx h = {b, s->xyz + 3 * v, ids, 0, HOLDING_MAX};
+        vc_ball_set_query(&S->bs, s->xyz + 3 * v, 0, 1.0, 0.0, collect_holding, &h);
+        /* the query's order is the index's: cut in ball order */
+        for (int m = 1; m < h.n; m++)
+            for (int j = m; j > 0 && ids[j - 1] > ids[j]; j--) {
+                const int64_t t = ids[j];
+                ids[j] = ids[j - 1];
+                ids[j - 1] = t;
+            }
+        for (int m = 0; m < h.n && changed >= 0; m++)
+            changed = cut_once(S, ids[m], DEVIATION_SHRINK, shrunk, changed);
+    }
+    free(far);
+    return changed;
+}
+
 /* ---------------------------------------------------------------------
  * Pinches.
  *
@@ -1952,6 +2052,8 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         if (ns == 0 && deviation_passes < DEVIATION_PASSES) {
             deviation_passes++;
             int64_t nd = shrink_straying(&S, &facets, old_r, shrunk);
+            if (nd == 0)
+                nd = shrink_far_vertices(&S, &facets, old_r, shrunk);
             if (nd < 0) {
                 rc = -1;
                 break;
@@ -1961,7 +2063,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             } else {
                 st->n_shrunk_deviation += nd;
                 vc_log(opt->log, VC_LOG_INFO,
-                       "mesh: facets off the input by more than the error bound %d: %lld balls "
+                       "mesh: facets and input farther apart than the error bound %d: %lld balls "
                        "shrunk", deviation_passes, (long long)nd);
                 rc = resample_around(&S, old_r, shrunk);
                 continue;
