@@ -63,6 +63,9 @@ The cases (NAME: what it tests):
                   many corners, narrow strokes
   noise_blob      sphere plus Perlin noise, marching cubes on 200^3 (about
                   170k triangles): a bumpy scan-like surface
+  scan_sphere     marching cubes of a sphere (80^3), every vertex moved
+                  along the normal by +-0.002 (1/7 of the error bound):
+                  slivers folding by more than 60 degrees that are noise
 """
 import math
 import os
@@ -771,6 +774,28 @@ def case_noise_blob():
     return polydata_to_lists(conn.GetOutput())
 
 
+def jitter(pts, amplitude, seed):
+    """Every point of the unit sphere's surface moved along its normal by
+    seeded uniform noise of +-amplitude."""
+    rng = random.Random(seed)
+    out = []
+    for p in pts:
+        n = math.sqrt(dot(p, p))
+        t = rng.uniform(-amplitude, amplitude)
+        out.append(tuple(x + t * x / n for x in p))
+    return out
+
+
+def case_scan_sphere():
+    """Marching cubes of the unit sphere (80^3 samples), every vertex moved
+    along the normal by +-0.002: 1/7 of the default error bound, but the
+    slivers' normals swing by more than 60 degrees."""
+    s = vtk.vtkSphere()
+    s.SetRadius(1.0)
+    pts, tris = polydata_to_lists(contour(sample(s, (-1.3, 1.3, -1.3, 1.3, -1.3, 1.3), (80, 80, 80)), 0.0))
+    return jitter(pts, 0.002, 23), tris
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -805,6 +830,7 @@ CASES = [
     ("cone", case_cone, "capped 32-sided cone: an apex of valence 32 and a sharp rim", 2),
     ("prism12", case_prism12, "capped 12-sided cylinder 3 long: 30-degree folds along its length, sharp rims", 2),
     ("text", case_text, "the letters VC extruded: 2 components, many corners, narrow strokes", 4),
+    ("scan_sphere", case_scan_sphere, "marching-cubes sphere, +-0.002 noise along the normal: folds over 60 degrees that are noise", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
 ]
 

@@ -662,6 +662,99 @@ static void test_bad_input(void)
     vc_surface_free(&b.s);
 }
 
+/* A box [0,1]^2 x [0,0.3] whose top is a 100 x 100 grid (the other faces
+ * fans to the bottom corners), the top's middle (grid lines 30 to 70)
+ * moved up and down by seeded noise of +-amp: folds over 60 degrees there
+ * (slopes up to 2 amp / 0.01), and the box's own 90-degree edges. */
+enum { TRAY_N = 100 };
+static void make_noisy_tray(builder *b, double amp)
+{
+    const int n = TRAY_N;
+    const double h = 0.3;
+    uint64_t state = 12345;
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            double z = h;
+            if (i >= 30 && i <= 70 && j >= 30 && j <= 70) {
+                state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+                z += amp * (2.0 * (double)(state >> 11) / 9007199254740992.0 - 1.0);
+            }
+            add_v(b, (double)i / n, (double)j / n, z);
+        }
+#define T(i, j) ((int64_t)(j) * (n + 1) + (i))
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++)
+            add_q(b, T(i, j), T(i + 1, j), T(i + 1, j + 1), T(i, j + 1));
+    const int64_t b00 = add_v(b, 0, 0, 0), b10 = add_v(b, 1, 0, 0), b11 = add_v(b, 1, 1, 0),
+                  b01 = add_v(b, 0, 1, 0);
+    add_q(b, b00, b01, b11, b10);
+    /* each side: a fan from its first bottom corner over the loop (first
+     * corner, second corner, the top row back), counter-clockwise seen
+     * from outside */
+    int64_t loop[TRAY_N + 3];
+    for (int side = 0; side < 4; side++) {
+        int m = 0;
+        const int64_t c0 = side == 0 ? b00 : side == 1 ? b10 : side == 2 ? b11 : b01;
+        const int64_t c1 = side == 0 ? b10 : side == 1 ? b11 : side == 2 ? b01 : b00;
+        loop[m++] = c0;
+        loop[m++] = c1;
+        for (int k = n; k >= 0; k--)
+            loop[m++] = side == 0 ? T(k, 0) : side == 1 ? T(n, k) : side == 2 ? T(n - k, n) : T(0, n - k);
+        for (int k = 1; k + 1 < m; k++)
+            add_t(b, loop[0], loop[k], loop[k + 1]);
+    }
+#undef T
+}
+
+static void test_noise_at_scale(void)
+{
+    builder b = {0};
+    make_noisy_tray(&b, 0.006);
+    const int n = TRAY_N;
+    vc_features raw, at;
+    vc_error err;
+    CHECK(vc_features_detect(&b.s, 60, &raw, &err) == 0);
+    CHECK(vc_features_detect_scaled(&b.s, 60, NULL, 0.03, &at, &err) == 0);
+    check_invariants("noisy tray at 0.03", &b.s, &at);
+    /* the top's inside edges: sharp by angle in the raw features, none at
+     * the scale; the rims (4 n + 4 edges at 90 degrees) sharp in both */
+    int64_t inside_raw = 0, inside_at = 0, rim_at = 0;
+    for (int64_t e = 0; e < raw.n_edges; e++) {
+        const int64_t u = raw.edge_vertex[2 * e], v = raw.edge_vertex[2 * e + 1];
+        const int in = u < (n + 1) * (n + 1) && v < (n + 1) * (n + 1) && u % (n + 1) != 0 &&
+                       u % (n + 1) != n && v % (n + 1) != 0 && v % (n + 1) != n && u / (n + 1) != 0 &&
+                       u / (n + 1) != n && v / (n + 1) != 0 && v / (n + 1) != n;
+        inside_raw += in && raw.edge_sharp[e];
+        inside_at += in && at.edge_sharp[e];
+        rim_at += !in && at.edge_sharp[e];
+    }
+    CHECKF(inside_raw > 20, "noisy tray: %lld folds over 60 degrees (the test needs them)", (long long)inside_raw);
+    CHECKF(inside_at == 0 && at.n_sharp_noise == inside_raw, "noisy tray: %lld sharp inside at the scale, %lld noise, of %lld",
+           (long long)inside_at, (long long)at.n_sharp_noise, (long long)inside_raw);
+    CHECKF(rim_at == 4 * n + 8 && at.n_corners == 8 && at.n_patches == 6,
+           "noisy tray: %lld rim edges (want %d), %lld corners, %lld patches", (long long)rim_at, 4 * n + 8,
+           (long long)at.n_corners, (long long)at.n_patches);
+    /* the smoothed normals of the noisy middle point up, where the raw
+     * ones swing by more than 60 degrees */
+    CHECK(at.tri_smooth_normal != NULL);
+    int64_t tilted_raw = 0, tilted_smooth = 0;
+    for (int64_t t = 0; at.tri_smooth_normal && t < 2 * n * n; t++) {
+        tilted_raw += at.tri_normal[3 * t + 2] < cos(30 * M_PI / 180);
+        tilted_smooth += at.tri_smooth_normal[3 * t + 2] < cos(30 * M_PI / 180);
+    }
+    CHECKF(tilted_raw > 20 && tilted_smooth == 0, "noisy tray: %lld raw normals over 30 degrees from up, %lld smoothed",
+           (long long)tilted_raw, (long long)tilted_smooth);
+    vc_features_free(&at);
+    /* the same at a scale too small for the noise: nothing judged noise */
+    CHECK(vc_features_detect_scaled(&b.s, 60, NULL, 0.002, &at, &err) == 0);
+    CHECKF(at.n_sharp_edges == raw.n_sharp_edges && at.n_sharp_noise == 0 && at.tri_smooth_normal == NULL,
+           "noisy tray at 0.002: %lld sharp (raw %lld), %lld noise", (long long)at.n_sharp_edges,
+           (long long)raw.n_sharp_edges, (long long)at.n_sharp_noise);
+    vc_features_free(&at);
+    vc_features_free(&raw);
+    vc_surface_free(&b.s);
+}
+
 int main(void)
 {
     const char *models = getenv("VC_MODELS");
@@ -675,6 +768,7 @@ int main(void)
     test_turn_and_sector();
     test_open_and_moebius();
     test_bad_input();
+    test_noise_at_scale();
     if (failures) {
         fprintf(stderr, "test_features: %d failures\n", failures);
         return 1;

@@ -105,6 +105,13 @@ typedef struct vc_features {
                                    vertex order; -1: reversed */
     double *tri_normal;         /* 3 * n_triangles: unit normal in the patch
                                    orientation; (0,0,0) for zero area */
+    /* NULL unless vc_features_detect_scaled judged folds or corners to be
+     * noise: then 3 * n_triangles, the normals smoothed at the error bound
+     * next to them (the area-weighted mean of the patch's normals within
+     * a few error bounds), tri_normal elsewhere. The sizing takes two
+     * triangles of a patch as co-smooth when either their normals or
+     * these agree. */
+    double *tri_smooth_normal;
 
     /* ---- Counts ---- */
     int64_t n_sharp_edges;
@@ -113,6 +120,10 @@ typedef struct vc_features {
     int64_t n_nonmanifold_edges;
     int64_t n_corners;
     int64_t n_degenerate;       /* zero-area triangles */
+    double noise_scale;         /* the error bound features were judged at (0: none) */
+    int64_t n_sharp_noise;      /* folds above theta_sharp left inside a patch: flat
+                                   ground at noise_scale */
+    int64_t n_corner_noise;     /* sector corners dropped for the same reason */
 
     /* ---- Creases ----
      * Crease c has k = crease_start[c+1] - crease_start[c] edges,
@@ -159,6 +170,19 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
  * not depend on the angle). */
 int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
                             const unsigned char *extra_sharp, vc_features *out, vc_error *err);
+
+/* The same, with the sharp features judged at the scale of the
+ * approximation error: scale (an absolute length; 0 or not finite:
+ * none, as vc_features_detect_with) is the error bound the mesh is asked
+ * to keep. A fold above theta_sharp, or a sector corner, where the surface
+ * within 4 * scale lies within scale / 2 of one plane is not a feature
+ * there but noise (a scan's, marching cubes' slivers), and stays inside
+ * its patch (n_sharp_noise, n_corner_noise, tri_smooth_normal). Folds of
+ * coarse tessellations and true creases stay sharp: their own triangles,
+ * or their two sides, spread wider than that. */
+int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
+                              const unsigned char *extra_sharp, double scale, vc_features *out,
+                              vc_error *err);
 
 /* The cosine of the fold at edge e: of the angle between the normals of
  * its two triangles; 1 for an edge that is sharp or does not have exactly

@@ -381,6 +381,23 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
     return 0;
 }
 
+/* The absolute error bound of the sampling: max_error times the
+ * bounding-box diagonal of s (0 when max_error is 0). The sharp features
+ * are judged at it (vc_features_detect_scaled). */
+static double error_bound_of(const vc_surface *s, double max_error)
+{
+    if (!(max_error > 0) || s->n_vertices == 0)
+        return 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    return max_error * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
 /* The sampling, with more attempts when it diverges (resample_plan,
  * promote_folds). Fills out's sampling fields and balls. */
 /* *extra (allocated, per edge of vc_features_detect's numbering, which is
@@ -452,10 +469,17 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     for (int attempt = 0;; attempt++) {
         const double t1 = now();
         const vc_surface *sampled = s;
-        if (vc_features_detect_with(s, so.sharp_angle, extra, &f, err)) {
+        if (vc_features_detect_scaled(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error), &f,
+                                      err)) {
             rc = named(err, name, NULL);
             break;
         }
+        if (attempt == 0 && f.n_sharp_noise + f.n_corner_noise > 0)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %lld folds over %g degrees and %lld corners lie on ground flat at the "
+                   "error bound (%g): noise, not features; left inside the patches",
+                   (long long)f.n_sharp_noise, so.sharp_angle, (long long)f.n_corner_noise,
+                   f.noise_scale);
         if (smooth > 0) {
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %d rounds of Loop smoothing of the patches (%lld triangles, about %lld "
@@ -902,7 +926,8 @@ static int boundary_patches(const vc_surface *s, const vc_mesh_options *opt, con
     }
     vc_features f;
     memset(&f, 0, sizeof f);
-    int rc = vc_features_detect(s, opt->sharp_angle, &f, err);
+    int rc = vc_features_detect_scaled(s, opt->sharp_angle, NULL, error_bound_of(s, opt->max_error), &f,
+                                       err);
     if (rc)
         return named(err, name, NULL);
     int32_t *group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));

@@ -386,13 +386,23 @@ void vc_sizing_free(vc_sizing *z)
 
 /* Is triangle t co-smooth with an edge or corner point whose adjacent
  * triangles are given? */
+/* Triangles u and t of one patch are co-smooth when their normals agree
+ * within theta_sharp, or their normals smoothed at the error bound do
+ * (noise judged by the features: vc_features.tri_smooth_normal). */
+static int normals_agree(const vc_sizing *z, int64_t u, int64_t t)
+{
+    if (dot3(z->tri_out_normal + 3 * u, z->tri_out_normal + 3 * t) >= z->cos_smooth)
+        return 1;
+    const double *m = z->f->tri_smooth_normal;
+    return m && dot3(m + 3 * u, m + 3 * t) >= z->cos_smooth;
+}
+
 static int tri_cosmooth_with_list(const vc_sizing *z, const int64_t *tris, int64_t n, int64_t t)
 {
     int64_t pt = z->f->tri_patch[t];
-    const double *nt = z->tri_out_normal + 3 * t;
     for (int64_t i = 0; i < n; i++) {
         int64_t u = tris[i];
-        if (z->f->tri_patch[u] == pt && dot3(z->tri_out_normal + 3 * u, nt) >= z->cos_smooth)
+        if (z->f->tri_patch[u] == pt && normals_agree(z, u, t))
             return 1;
     }
     return 0;
@@ -449,8 +459,7 @@ int vc_sizing_cosmooth(const vc_sizing *z, const vc_surface_point *sp, int kind,
     }
     /* a triangle */
     if (sp->kind == VC_ELEM_TRIANGLE)
-        return f->tri_patch[sp->id] == f->tri_patch[id] &&
-               dot3(z->tri_out_normal + 3 * sp->id, z->tri_out_normal + 3 * id) >= z->cos_smooth;
+        return f->tri_patch[sp->id] == f->tri_patch[id] && normals_agree(z, sp->id, id);
     if (sp->kind == VC_ELEM_EDGE)
         return tri_cosmooth_with_list(z, f->edge_tri + f->edge_tri_start[sp->id],
                                       f->edge_tri_start[sp->id + 1] - f->edge_tri_start[sp->id],

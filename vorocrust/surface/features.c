@@ -16,6 +16,7 @@
  *  5. patches: breadth-first flood across non-sharp edges, orienting each
  *     new triangle against the one it was reached from. */
 #include "vorocrust/features.h"
+#include "feature_scale.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -42,6 +43,7 @@ void vc_features_free(vc_features *f)
     free(f->tri_patch);
     free(f->tri_orient);
     free(f->tri_normal);
+    free(f->tri_smooth_normal);
     free(f->crease_start);
     free(f->crease_edge);
     free(f->crease_vertex);
@@ -537,7 +539,8 @@ static int sharp_adjacency(vc_features *f, int64_t **adj_start, int64_t **adj, v
 }
 
 static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_start,
-                        const int64_t *adj, double cos_theta, vc_error *err)
+                        const int64_t *adj, double cos_theta, double scale, unsigned char *near,
+                        vc_error *err)
 {
     int64_t nv = s->n_vertices, nt = s->n_triangles, nh = 3 * nt;
     double cos_half = cos(0.5 * acos(cos_theta));
@@ -588,7 +591,11 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
         vstart[v] = vstart[v - 1];
     vstart[0] = 0;
     recs = xalloc(kmax, sizeof *recs);
-    if (!recs) {
+    int64_t *vtri = xalloc(kmax, sizeof *vtri);
+    vc_flat_probe probe = {0};
+    if (!recs || !vtri || (scale > 0 && vc_flat_probe_init(&probe, nt))) {
+        free(recs);
+        free(vtri);
         free(parent);
         free(par);
         free(vstart);
@@ -632,6 +639,15 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
                 why |= VC_CORNER_SECTOR;
             i = j;
         }
+        if (why == VC_CORNER_SECTOR && scale > 0) {
+            /* flat ground at the error bound: noise, not a corner */
+            for (int64_t i = 0; i < k; i++)
+                vtri[i] = r[i].slot / 3;
+            if (vc_features_vertex_flat(s, f, &probe, v, vtri, k, scale, near)) {
+                why = 0;
+                f->n_corner_noise++;
+            }
+        }
         if (deg == 0 && n_sectors > 1)
             why |= VC_CORNER_PINCH;
         f->vertex_corner[v] = why;
@@ -643,6 +659,8 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     free(vstart);
     free(vslot);
     free(recs);
+    free(vtri);
+    vc_flat_probe_free(&probe);
     return 0;
 }
 
@@ -729,6 +747,13 @@ int vc_features_detect(const vc_surface *s, double theta_sharp_deg, vc_features 
 int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
                             const unsigned char *extra_sharp, vc_features *out, vc_error *err)
 {
+    return vc_features_detect_scaled(s, theta_sharp_deg, extra_sharp, 0, out, err);
+}
+
+int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
+                              const unsigned char *extra_sharp, double scale, vc_features *out,
+                              vc_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!(theta_sharp_deg > 0 && theta_sharp_deg < 180))
         return vc_error_set(err, VC_EPARAM, "sharp angle %g degrees: must be in (0, 180)",
@@ -750,6 +775,8 @@ int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
     f->sharp_angle = theta_sharp_deg;
     f->n_vertices = nv;
     f->n_triangles = nt;
+    f->noise_scale = scale > 0 && isfinite(scale) ? scale : 0;
+    unsigned char *near = NULL;
     double cos_theta = cos(theta_sharp_deg * M_PI / 180.0);
 
     int rc = build_edges(s, f, err);
@@ -767,10 +794,14 @@ int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
     if (!rc) {
         compute_normals(s, f);
         find_sharp_edges(s, f, cos_theta, extra_sharp);
-        rc = sharp_adjacency(f, &adj_start, &adj, err);
+        if (f->noise_scale > 0 && (!(near = xcalloc(nt, 1)) ||
+                                   vc_features_unmark_noise_folds(s, f, f->noise_scale, near)))
+            rc = vc_error_set(err, VC_ENOMEM, "out of memory detecting features");
     }
     if (!rc)
-        rc = find_corners(s, f, adj_start, adj, cos_theta, err);
+        rc = sharp_adjacency(f, &adj_start, &adj, err);
+    if (!rc)
+        rc = find_corners(s, f, adj_start, adj, cos_theta, f->noise_scale, near, err);
     /* The arrays of the later steps are allocated after the corner step's
      * scratch memory is freed, to lower the peak. */
     if (!rc) {
@@ -800,6 +831,10 @@ int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
                 for (int k = 0; k < 3; k++)
                     f->tri_normal[3 * t + k] = -f->tri_normal[3 * t + k];
     }
+    if (!rc && f->n_sharp_noise + f->n_corner_noise > 0 &&
+        vc_features_smooth_normals(s, f, f->noise_scale, near))
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory smoothing normals");
+    free(near);
     free(adj_start);
     free(adj);
     if (rc)

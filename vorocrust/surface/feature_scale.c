@@ -1,0 +1,300 @@
+/* Sharp features at the scale of the approximation error.
+ *
+ * A fold between two triangles is a kink at every scale, and the sampler
+ * treats a fold above theta_sharp as a crease (its own balls, its corners).
+ * On a scan or a marching-cubes isosurface with a little noise, the
+ * slivers' normals swing by more than theta_sharp wherever a vertex moves
+ * by a fraction of a sliver's width: thousands of creases a few triangles
+ * long, corners at their ends, and radius bounds that collapse to the
+ * slivers' size (a marching-cubes sphere with noise 1/7 of the error bound:
+ * 3e5 balls predicted, against 1.5e3 for the same sphere without
+ * features). Yet nothing there is a feature at the scale the mesh is asked
+ * to resolve: the surface within a few error bounds of such a fold lies
+ * within half an error bound of one plane, and a reconstruction through it
+ * stays within the bound.
+ *
+ * So a fold is sharp only if the surface around it is not flat at the
+ * error bound: the triangles reached from the fold's two triangles within
+ * VC_FLAT_REACH error bounds (always the two themselves) must stray from
+ * their mean plane by more than VC_FLAT_SLAB error bounds. A true crease
+ * of angle theta spreads its two sides about R sin(theta / 2) / 2 from
+ * that plane at reach R (about one error bound at 60 degrees), and a coarse
+ * tessellation's fold spreads its own triangles by their size: both stay
+ * sharp. The same test drops sector corners (a vertex whose triangles
+ * differ by theta_sharp) on flat ground.
+ *
+ * The sizing compares normals to decide which parts of a patch may share a
+ * ball; for the triangles next to a fold judged noise it also compares
+ * their smoothed normals: the mean over the same reach, within the patch
+ * (vc_features.tri_smooth_normal). */
+#include "feature_scale.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles)
+{
+    size_t n = (size_t)(n_triangles > 0 ? n_triangles : 1);
+    p->stamp = calloc(n, sizeof *p->stamp);
+    p->queue = malloc(n * sizeof *p->queue);
+    p->sign = malloc(n);
+    p->walk = 0;
+    if (!p->stamp || !p->queue || !p->sign) {
+        vc_flat_probe_free(p);
+        return -1;
+    }
+    return 0;
+}
+
+void vc_flat_probe_free(vc_flat_probe *p)
+{
+    free(p->stamp);
+    free(p->queue);
+    free(p->sign);
+    memset(p, 0, sizeof *p);
+}
+
+/* +1 when triangle t walks edge e from edge_vertex[2e] to edge_vertex[2e+1]
+ * in its input order, -1 otherwise. */
+static int walks_forward(const vc_features *f, const vc_surface *s, int64_t t, int64_t e)
+{
+    const int j = f->tri_edge[3 * t] == e ? 0 : f->tri_edge[3 * t + 1] == e ? 1 : 2;
+    return s->tri[3 * t + j] == f->edge_vertex[2 * e] ? 1 : -1;
+}
+
+static void centroid(const vc_surface *s, int64_t t, double c[3])
+{
+    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                 *d = s->xyz + 3 * s->tri[3 * t + 2];
+    for (int k = 0; k < 3; k++)
+        c[k] = (a[k] + b[k] + d[k]) / 3.0;
+}
+
+static double twice_area(const vc_surface *s, int64_t t)
+{
+    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                 *d = s->xyz + 3 * s->tri[3 * t + 2];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
+                 int n_seeds, const double x[3], double reach, double slab, int within_patch,
+                 double mean[3])
+{
+    const int64_t walk = ++p->walk;
+    int64_t head = 0, tail = 0;
+    for (int i = 0; i < n_seeds; i++) {
+        const int64_t t = seeds[i];
+        if (p->stamp[t] == walk)
+            continue;
+        p->stamp[t] = walk;
+        /* the seeds of a fold: its two triangles, turned consistently */
+        p->sign[t] = 1;
+        if (i > 0 && !within_patch) {
+            for (int j = 0; j < 3; j++) {
+                const int64_t e = f->tri_edge[3 * t + j];
+                for (int64_t k = f->edge_tri_start[e]; k < f->edge_tri_start[e + 1]; k++)
+                    if (f->edge_tri[k] == seeds[0] && f->edge_tri_start[e + 1] - f->edge_tri_start[e] == 2)
+                        p->sign[t] = (signed char)(walks_forward(f, s, t, e) == walks_forward(f, s, seeds[0], e)
+                                                       ? -1
+                                                       : 1);
+            }
+        }
+        p->queue[tail++] = t;
+    }
+    const double reach2 = reach * reach;
+    double m[3] = {0, 0, 0}, c[3] = {0, 0, 0}, area = 0;
+    while (head < tail) {
+        const int64_t t = p->queue[head++];
+        const double w = twice_area(s, t);
+        double ct[3];
+        centroid(s, t, ct);
+        for (int k = 0; k < 3; k++) {
+            m[k] += p->sign[t] * w * f->tri_normal[3 * t + k];
+            c[k] += w * ct[k];
+        }
+        area += w;
+        for (int j = 0; j < 3; j++) {
+            const int64_t e = f->tri_edge[3 * t + j];
+            if (f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2 || (within_patch && f->edge_sharp[e]))
+                continue;
+            const int64_t u = f->edge_tri[f->edge_tri_start[e]] == t ? f->edge_tri[f->edge_tri_start[e] + 1]
+                                                                      : f->edge_tri[f->edge_tri_start[e]];
+            if (p->stamp[u] == walk)
+                continue;
+            double cu[3];
+            centroid(s, u, cu);
+            const double d2 = (cu[0] - x[0]) * (cu[0] - x[0]) + (cu[1] - x[1]) * (cu[1] - x[1]) +
+                              (cu[2] - x[2]) * (cu[2] - x[2]);
+            if (d2 > reach2)
+                continue;
+            p->stamp[u] = walk;
+            p->sign[u] = within_patch ? 1
+                                      : (signed char)(walks_forward(f, s, t, e) == walks_forward(f, s, u, e)
+                                                          ? -p->sign[t]
+                                                          : p->sign[t]);
+            p->queue[tail++] = u;
+        }
+    }
+    p->n_reached = tail;
+    const double len = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    if (mean)
+        for (int k = 0; k < 3; k++)
+            mean[k] = len > 0 ? m[k] / len : 0;
+    /* the normals must mostly agree: a surface, not a speck folded up
+     * within the reach (whose mean normal nearly vanishes) */
+    if (!(len > 0) || !(area > 0) || len < VC_FLAT_COHERENCE * area)
+        return 0;
+    for (int k = 0; k < 3; k++) {
+        m[k] /= len;
+        c[k] /= area;
+    }
+    for (int64_t i = 0; i < tail; i++) {
+        const int64_t *v = s->tri + 3 * p->queue[i];
+        for (int j = 0; j < 3; j++) {
+            const double *q = s->xyz + 3 * v[j];
+            const double h = m[0] * (q[0] - c[0]) + m[1] * (q[1] - c[1]) + m[2] * (q[2] - c[2]);
+            if (!(fabs(h) <= slab))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+static int64_t root_of(int64_t *parent, int64_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
+                                   unsigned char *near)
+{
+    f->n_sharp_noise = 0;
+    if (!(scale > 0) || !isfinite(scale))
+        return 0;
+    const int64_t nv = s->n_vertices;
+    vc_flat_probe p;
+    int64_t *parent = malloc(sizeof(int64_t) * (size_t)(nv > 0 ? nv : 1));
+    unsigned char *kept = calloc((size_t)(nv > 0 ? nv : 1), 1);
+    unsigned char *flat = calloc((size_t)(f->n_edges > 0 ? f->n_edges : 1), 1);
+    if (!parent || !kept || !flat || vc_flat_probe_init(&p, s->n_triangles)) {
+        free(parent);
+        free(kept);
+        free(flat);
+        return -1;
+    }
+    /* The sharp edges joined at their vertices form networks; a network is
+     * noise only when every edge of it lies on flat ground (a short
+     * chamfer of a true crease network is flat at the error bound, but
+     * unmarking it alone would leave the crease's 90-degree turns inside a
+     * patch). */
+    for (int64_t v = 0; v < nv; v++)
+        parent[v] = v;
+    for (int64_t e = 0; e < f->n_edges; e++)
+        if (f->edge_sharp[e]) {
+            const int64_t a = root_of(parent, f->edge_vertex[2 * e]), b = root_of(parent, f->edge_vertex[2 * e + 1]);
+            if (a != b)
+                parent[a < b ? b : a] = a < b ? a : b;
+        }
+    for (int64_t e = 0; e < f->n_edges; e++) {
+        if (!f->edge_sharp[e])
+            continue;
+        const int64_t r = root_of(parent, f->edge_vertex[2 * e]);
+        if (kept[r])
+            continue;
+        int is_flat = 0;
+        if (f->edge_sharp[e] == VC_SHARP_ANGLE) {
+            const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
+            const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
+            const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+            is_flat = vc_flat_near(s, f, &p, seeds, 2, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0, NULL);
+        }
+        if (is_flat)
+            flat[e] = 1;
+        else
+            kept[r] = 1;
+    }
+    for (int64_t e = 0; e < f->n_edges; e++) {
+        if (!flat[e] || kept[root_of(parent, f->edge_vertex[2 * e])])
+            continue;
+        f->edge_sharp[e] = 0;
+        f->n_sharp_edges--;
+        f->n_sharp_by_angle--;
+        f->n_sharp_noise++;
+        /* the ground looked at, again, for the smoothed normals */
+        const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
+        const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
+        const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+        vc_flat_near(s, f, &p, seeds, 2, x, VC_FLAT_REACH * scale, INFINITY, 0, NULL);
+        for (int64_t i = 0; i < p.n_reached; i++)
+            near[p.queue[i]] = 1;
+    }
+    free(parent);
+    free(kept);
+    free(flat);
+    vc_flat_probe_free(&p);
+    return 0;
+}
+
+int vc_features_vertex_flat(const vc_surface *s, const vc_features *f, vc_flat_probe *p, int64_t v,
+                            const int64_t *vtri, int64_t n_vtri, double scale, unsigned char *near)
+{
+    if (n_vtri <= 0)
+        return 0;
+    /* a walk from one triangle of v: every other one must be reached (a
+     * triangle beyond the reach, or a fan joined only at v, is not flat
+     * ground) */
+    const double *x = s->xyz + 3 * v;
+    if (!vc_flat_near(s, f, p, vtri, 1, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0, NULL))
+        return 0;
+    for (int64_t i = 0; i < n_vtri; i++)
+        if (p->stamp[vtri[i]] != p->walk)
+            return 0;
+    for (int64_t i = 0; i < p->n_reached; i++)
+        near[p->queue[i]] = 1;
+    return 1;
+}
+
+int vc_features_smooth_normals(const vc_surface *s, vc_features *f, double scale,
+                               const unsigned char *near)
+{
+    const int64_t nt = s->n_triangles;
+    f->tri_smooth_normal = malloc(sizeof(double) * 3 * (size_t)(nt > 0 ? nt : 1));
+    if (!f->tri_smooth_normal)
+        return -1;
+    memcpy(f->tri_smooth_normal, f->tri_normal, sizeof(double) * 3 * (size_t)nt);
+    int fail = 0;
+#pragma omp parallel reduction(| : fail)
+    {
+        vc_flat_probe p;
+        if (vc_flat_probe_init(&p, nt))
+            fail = 1;
+        else {
+#pragma omp for schedule(dynamic, 256)
+            for (int64_t t = 0; t < nt; t++) {
+                if (!near[t])
+                    continue;
+                double c[3], m[3];
+                centroid(s, t, c);
+                vc_flat_near(s, f, &p, &t, 1, c, VC_FLAT_REACH * scale, INFINITY, 1, m);
+                if (m[0] != 0 || m[1] != 0 || m[2] != 0)
+                    memcpy(f->tri_smooth_normal + 3 * t, m, sizeof m);
+            }
+            vc_flat_probe_free(&p);
+        }
+    }
+    if (fail) {
+        free(f->tri_smooth_normal);
+        f->tri_smooth_normal = NULL;
+        return -1;
+    }
+    return 0;
+}

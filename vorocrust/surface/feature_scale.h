@@ -1,0 +1,68 @@
+/* Sharp features at the scale of the approximation error (internal to the
+ * surface module; see feature_scale.c and docs/sampling-convergence.md,
+ * "Noise below the error bound"). */
+#ifndef VC_SURFACE_FEATURE_SCALE_H
+#define VC_SURFACE_FEATURE_SCALE_H
+
+#include <stdint.h>
+#include "vorocrust/features.h"
+#include "vorocrust/surface.h"
+
+/* How far from a fold the surface is looked at, and how far from one
+ * plane it may then stray, in units of the error bound. */
+#define VC_FLAT_REACH 4.0
+#define VC_FLAT_SLAB 0.5
+/* ... and how much its normals must agree: the length of their
+ * area-weighted mean over the area */
+#define VC_FLAT_COHERENCE 0.5
+
+/* Scratch memory of the neighbourhood walks (one per thread). */
+typedef struct vc_flat_probe {
+    int64_t *stamp;  /* n_triangles: the walk that last reached a triangle */
+    int64_t *queue;  /* n_triangles */
+    signed char *sign; /* n_triangles: orientation relative to the seeds */
+    int64_t walk;
+    int64_t n_reached; /* the last walk's triangles: queue[0 .. n_reached) */
+} vc_flat_probe;
+
+int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles);
+void vc_flat_probe_free(vc_flat_probe *p);
+
+/* Whether the surface near x lies within distance slab of one plane: the
+ * triangles reached from seeds[0..n_seeds-1] (always taken) across
+ * manifold edges (only non-sharp ones when within_patch), each taken when
+ * its centroid lies within reach of x. The plane is the one through their
+ * area-weighted centroid normal to their area-weighted mean normal
+ * (normals turned consistently across each edge crossed, from f->tri_normal
+ * as it is at the call); false also when that mean is shorter than
+ * VC_FLAT_COHERENCE of their area. If mean is not NULL it receives that mean normal
+ * (unit, in the orientation of seeds[0]; zero when it vanishes). */
+int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
+                 int n_seeds, const double x[3], double reach, double slab, int within_patch,
+                 double mean[3]);
+
+/* Step 2b of vc_features_detect_scaled: the folds above theta_sharp (edges
+ * marked VC_SHARP_ANGLE) where the surface within VC_FLAT_REACH * scale
+ * lies within VC_FLAT_SLAB * scale of one plane are not sharp: noise (a
+ * scan's, a marching-cubes sliver's), not a feature, at the error bound;
+ * only whole networks of sharp edges (joined at vertices) are unmarked.
+ * Sets f->n_sharp_noise; marks the triangles looked at in near
+ * (n_triangles bytes, zeroed by the caller). Returns 0 or -1 when out of memory. */
+int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
+                                   unsigned char *near);
+
+/* Whether the surface around vertex v (its triangles vtri[0..n_vtri-1],
+ * then out to VC_FLAT_REACH * scale) is flat to VC_FLAT_SLAB * scale: a
+ * sector corner there is noise. If so, marks the triangles looked at in
+ * near. */
+int vc_features_vertex_flat(const vc_surface *s, const vc_features *f, vc_flat_probe *p, int64_t v,
+                            const int64_t *vtri, int64_t n_vtri, double scale, unsigned char *near);
+
+/* Step 6: f->tri_smooth_normal, the area-weighted mean of the patch-oriented
+ * normals within VC_FLAT_REACH * scale of each marked triangle (near[t]), in
+ * its patch; the triangle's own normal elsewhere. Returns 0 or -1 when out
+ * of memory. */
+int vc_features_smooth_normals(const vc_surface *s, vc_features *f, double scale,
+                               const unsigned char *near);
+
+#endif
