@@ -178,7 +178,7 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
                                    unsigned char *near)
 {
     f->n_sharp_noise = 0;
-    if (!(scale > 0) || !isfinite(scale))
+    if (!(scale > 0) || !isfinite(scale) || f->n_sharp_by_angle == 0)
         return 0;
     const int64_t nv = s->n_vertices;
     vc_flat_probe p;

@@ -592,8 +592,8 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     vstart[0] = 0;
     recs = xalloc(kmax, sizeof *recs);
     int64_t *vtri = xalloc(kmax, sizeof *vtri);
-    vc_flat_probe probe = {0};
-    if (!recs || !vtri || (scale > 0 && vc_flat_probe_init(&probe, nt))) {
+    vc_flat_probe probe = {0}; /* allocated at the first sector corner judged */
+    if (!recs || !vtri) {
         free(recs);
         free(vtri);
         free(parent);
@@ -639,7 +639,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
                 why |= VC_CORNER_SECTOR;
             i = j;
         }
-        if (why == VC_CORNER_SECTOR && scale > 0) {
+        if (why == VC_CORNER_SECTOR && scale > 0 && (probe.stamp || vc_flat_probe_init(&probe, nt) == 0)) {
             /* flat ground at the error bound: noise, not a corner */
             for (int64_t i = 0; i < k; i++)
                 vtri[i] = r[i].slot / 3;
