@@ -81,6 +81,97 @@ static double twice_area(const vc_surface *s, int64_t t)
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+/* Solves the n x n system a x = b (row-major a, n <= 6) by elimination
+ * with partial pivoting; 0 when a pivot falls below 1e-12 of the largest
+ * entry (a degenerate spread of points). */
+static int solve_small(double *a, double *b, int n, double *x)
+{
+    double big = 0;
+    for (int i = 0; i < n * n; i++)
+        big = fmax(big, fabs(a[i]));
+    if (!(big > 0))
+        return 0;
+    for (int k = 0; k < n; k++) {
+        int piv = k;
+        for (int i = k + 1; i < n; i++)
+            if (fabs(a[i * n + k]) > fabs(a[piv * n + k]))
+                piv = i;
+        if (!(fabs(a[piv * n + k]) > 1e-12 * big))
+            return 0;
+        if (piv != k) {
+            for (int j = 0; j < n; j++) {
+                const double t = a[k * n + j];
+                a[k * n + j] = a[piv * n + j];
+                a[piv * n + j] = t;
+            }
+            const double t = b[k];
+            b[k] = b[piv];
+            b[piv] = t;
+        }
+        for (int i = k + 1; i < n; i++) {
+            const double f = a[i * n + k] / a[k * n + k];
+            for (int j = k; j < n; j++)
+                a[i * n + j] -= f * a[k * n + j];
+            b[i] -= f * b[k];
+        }
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        double t = b[k];
+        for (int j = k + 1; j < n; j++)
+            t -= a[k * n + j] * x[j];
+        x[k] = t / a[k * n + k];
+    }
+    return 1;
+}
+
+/* Whether the vertices of the walk's triangles queue[0..n) lie within
+ * slab of the least-squares quadric height function over the plane
+ * through c normal to m (unit): curved ground, not only flat ground, is
+ * smooth at the scale. Coordinates in units of reach. */
+static int quadric_fits(const vc_surface *s, const vc_flat_probe *p, int64_t n, const double m[3],
+                        const double c[3], double reach, double slab)
+{
+    double u[3] = {0, 0, 0};
+    u[fabs(m[0]) < fabs(m[1]) ? (fabs(m[0]) < fabs(m[2]) ? 0 : 2) : (fabs(m[1]) < fabs(m[2]) ? 1 : 2)] = 1;
+    const double d = u[0] * m[0] + u[1] * m[1] + u[2] * m[2];
+    for (int k = 0; k < 3; k++)
+        u[k] -= d * m[k];
+    const double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; k++)
+        u[k] /= lu;
+    const double v[3] = {m[1] * u[2] - m[2] * u[1], m[2] * u[0] - m[0] * u[2], m[0] * u[1] - m[1] * u[0]};
+    double ata[36] = {0}, atz[6] = {0}, coef[6];
+    for (int pass = 0; pass < 2; pass++) {
+        for (int64_t i = 0; i < n; i++) {
+            const int64_t *w = s->tri + 3 * p->queue[i];
+            for (int j = 0; j < 3; j++) {
+                const double *q = s->xyz + 3 * w[j];
+                const double r[3] = {(q[0] - c[0]) / reach, (q[1] - c[1]) / reach, (q[2] - c[2]) / reach};
+                const double x = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+                const double y = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+                const double z = r[0] * m[0] + r[1] * m[1] + r[2] * m[2];
+                const double row[6] = {x * x, x * y, y * y, x, y, 1};
+                if (pass == 0) {
+                    for (int a = 0; a < 6; a++) {
+                        atz[a] += row[a] * z;
+                        for (int b = 0; b < 6; b++)
+                            ata[6 * a + b] += row[a] * row[b];
+                    }
+                } else {
+                    double h = z;
+                    for (int a = 0; a < 6; a++)
+                        h -= coef[a] * row[a];
+                    if (!(fabs(h) * reach <= slab))
+                        return 0;
+                }
+            }
+        }
+        if (pass == 0 && !solve_small(ata, atz, 6, coef))
+            return 0;
+    }
+    return 1;
+}
+
 int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
                  int n_seeds, const double x[3], double reach, double slab, int within_patch,
                  double mean[3])
@@ -153,16 +244,19 @@ int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, co
         m[k] /= len;
         c[k] /= area;
     }
-    for (int64_t i = 0; i < tail; i++) {
+    int in_slab = 1;
+    for (int64_t i = 0; i < tail && in_slab; i++) {
         const int64_t *v = s->tri + 3 * p->queue[i];
         for (int j = 0; j < 3; j++) {
             const double *q = s->xyz + 3 * v[j];
             const double h = m[0] * (q[0] - c[0]) + m[1] * (q[1] - c[1]) + m[2] * (q[2] - c[2]);
             if (!(fabs(h) <= slab))
-                return 0;
+                in_slab = 0;
         }
     }
-    return 1;
+    if (in_slab)
+        return 1;
+    return tail >= VC_FLAT_QUADRIC_MIN && quadric_fits(s, p, tail, m, c, reach, VC_FLAT_QUADRIC_SLAB * slab);
 }
 
 static int64_t root_of(int64_t *parent, int64_t v)

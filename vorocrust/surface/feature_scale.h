@@ -15,6 +15,15 @@
 /* ... and how much its normals must agree: the length of their
  * area-weighted mean over the area */
 #define VC_FLAT_COHERENCE 0.5
+/* Curved ground: when the points stray farther from the plane, they may
+ * lie within VC_FLAT_QUADRIC_SLAB of the slab from their least-squares
+ * quadric instead, if the walk took at least VC_FLAT_QUADRIC_MIN
+ * triangles (a quadric fits the few points of a coarse fold exactly). A
+ * quadric absorbs about half of a crease's kink: a 60-degree crease at
+ * reach R strays 0.11 R from it, 0.43 error bounds at 4 of them, so the
+ * quadric's slab is half the plane's. */
+#define VC_FLAT_QUADRIC_SLAB 0.5
+#define VC_FLAT_QUADRIC_MIN 24
 
 /* Scratch memory of the neighbourhood walks (one per thread). */
 typedef struct vc_flat_probe {
@@ -28,7 +37,8 @@ typedef struct vc_flat_probe {
 int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles);
 void vc_flat_probe_free(vc_flat_probe *p);
 
-/* Whether the surface near x lies within distance slab of one plane: the
+/* Whether the surface near x lies within distance slab of one plane (or
+ * within VC_FLAT_QUADRIC_SLAB * slab of a quadric, see above): the
  * triangles reached from seeds[0..n_seeds-1] (always taken) across
  * manifold edges (only non-sharp ones when within_patch), each taken when
  * its centroid lies within reach of x. The plane is the one through their
