@@ -259,6 +259,23 @@ int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, co
     return tail >= VC_FLAT_QUADRIC_MIN && quadric_fits(s, p, tail, m, c, reach, VC_FLAT_QUADRIC_SLAB * slab);
 }
 
+/* Marks in near the triangles of the last walk whose normal leans more
+ * than theta_sharp / 2 from the walk's mean m: those the noise tilted.
+ * The others lie within theta_sharp / 2 of the smoothed normal already,
+ * so their own normal stands for it (half the triangles a walk takes need
+ * no smoothing walk of their own). */
+static void mark_tilted(const vc_features *f, const vc_flat_probe *p, const double m[3],
+                        unsigned char *near)
+{
+    const double cos_tilt = cos(0.5 * f->sharp_angle * 3.14159265358979323846 / 180.0);
+    for (int64_t i = 0; i < p->n_reached; i++) {
+        const int64_t u = p->queue[i];
+        const double *n = f->tri_normal + 3 * u;
+        if (p->sign[u] * (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]) < cos_tilt)
+            near[u] = 1;
+    }
+}
+
 static int64_t root_of(int64_t *parent, int64_t v)
 {
     while (parent[v] != v) {
@@ -327,9 +344,9 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
         const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
         const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
         const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
-        vc_flat_near(s, f, &p, seeds, 2, x, VC_FLAT_REACH * scale, INFINITY, 0, NULL);
-        for (int64_t i = 0; i < p.n_reached; i++)
-            near[p.queue[i]] = 1;
+        double m[3];
+        vc_flat_near(s, f, &p, seeds, 2, x, VC_FLAT_REACH * scale, INFINITY, 0, m);
+        mark_tilted(f, &p, m, near);
     }
     free(parent);
     free(kept);
@@ -347,13 +364,13 @@ int vc_features_vertex_flat(const vc_surface *s, const vc_features *f, vc_flat_p
      * triangle beyond the reach, or a fan joined only at v, is not flat
      * ground) */
     const double *x = s->xyz + 3 * v;
-    if (!vc_flat_near(s, f, p, vtri, 1, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0, NULL))
+    double m[3];
+    if (!vc_flat_near(s, f, p, vtri, 1, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0, m))
         return 0;
     for (int64_t i = 0; i < n_vtri; i++)
         if (p->stamp[vtri[i]] != p->walk)
             return 0;
-    for (int64_t i = 0; i < p->n_reached; i++)
-        near[p->queue[i]] = 1;
+    mark_tilted(f, p, m, near);
     return 1;
 }
 

@@ -56,21 +56,23 @@ int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, co
  * lies within VC_FLAT_SLAB * scale of one plane are not sharp: noise (a
  * scan's, a marching-cubes sliver's), not a feature, at the error bound;
  * only whole networks of sharp edges (joined at vertices) are unmarked.
- * Sets f->n_sharp_noise; marks the triangles looked at in near
- * (n_triangles bytes, zeroed by the caller). Returns 0 or -1 when out of memory. */
+ * Sets f->n_sharp_noise; marks in near (n_triangles bytes, zeroed by the
+ * caller) the triangles there that lean more than theta_sharp / 2 from
+ * the mean normal (the noise's). Returns 0 or -1 when out of memory. */
 int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
                                    unsigned char *near);
 
 /* Whether the surface around vertex v (its triangles vtri[0..n_vtri-1],
  * then out to VC_FLAT_REACH * scale) is flat to VC_FLAT_SLAB * scale: a
- * sector corner there is noise. If so, marks the triangles looked at in
- * near. */
+ * sector corner there is noise. If so, marks the leaning triangles there
+ * in near (as vc_features_unmark_noise_folds). */
 int vc_features_vertex_flat(const vc_surface *s, const vc_features *f, vc_flat_probe *p, int64_t v,
                             const int64_t *vtri, int64_t n_vtri, double scale, unsigned char *near);
 
 /* Step 6: f->tri_smooth_normal, the area-weighted mean of the patch-oriented
  * normals within VC_FLAT_REACH * scale of each marked triangle (near[t]), in
- * its patch; the triangle's own normal elsewhere. Returns 0 or -1 when out
+ * its patch; the triangle's own normal elsewhere (within theta_sharp / 2
+ * of that mean, where noise was judged). Returns 0 or -1 when out
  * of memory. */
 int vc_features_smooth_normals(const vc_surface *s, vc_features *f, double scale,
                                const unsigned char *near);
