@@ -1,4 +1,5 @@
 /* vorocrust info: read a triangle surface and describe it. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
 #include "vorocrust/surface.h"
+#include "vorocrust/vorocrust.h"
 
 /* The regions of the arrangement: what the surface bounds, and whether
  * its orientation makes it one solid (what vorocrust mesh needs). */
@@ -48,10 +50,18 @@ static int print_regions(const vc_surface *s)
     return 0;
 }
 
+static double default_max_error(void)
+{
+    vc_mesh_options o;
+    vc_mesh_options_default(&o);
+    return o.max_error;
+}
+
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: vorocrust info INPUT [--require-closed] [--features [--sharp-angle DEG]]\n"
+        "usage: vorocrust info INPUT [--require-closed] [--features [--sharp-angle DEG]\n"
+        "                            [--max-error E]]\n"
         "  INPUT              triangle surface: .obj, .off, .stl (ASCII or binary), .ply\n"
         "  --require-closed   fail (exit 1) when the surface has open boundary edges\n"
         "                     or cannot bound a volume (see 'solid' below)\n"
@@ -62,6 +72,10 @@ static void usage(FILE *f)
         "                     an edge is sharp when its triangles' normals differ by\n"
         "                     more than DEG, or it has one or more than two triangles;\n"
         "                     implies --features\n"
+        "  --max-error E      the error bound of 'vorocrust mesh' (a fraction of the\n"
+        "                     bounding-box diagonal, default %g; 0: none): folds over\n"
+        "                     DEG on ground flat at it are noise, not sharp, as the\n"
+        "                     mesh command judges them; implies --features\n"
         "Prints counts, bounding box, topology (boundary, non-manifold and\n"
         "inconsistently oriented edges, components, Euler characteristic, genus)\n"
         "and enclosed volume, then whether the surface can bound a volume ('solid':\n"
@@ -69,14 +83,14 @@ static void usage(FILE *f)
         "1e-9 of the bounding box's, coordinates within 1e9 times the model's size).\n"
         "Problems are printed to stderr, one line each;\n"
         "only unreadable or unusable input makes the exit code non-zero.\n",
-        VC_FEATURES_DEFAULT_SHARP_ANGLE);
+        VC_FEATURES_DEFAULT_SHARP_ANGLE, default_max_error());
 }
 
 int vc_cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
     int require_closed = 0, features = 0;
-    double sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE;
+    double sharp_angle = VC_FEATURES_DEFAULT_SHARP_ANGLE, max_error = default_max_error();
     vc_cli_seen seen = {{NULL}, 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -96,6 +110,18 @@ int vc_cmd_info(int argc, char **argv)
                 sharp_angle = strtod(argv[i + 1], &end);
             if (i + 1 >= argc || end == argv[i + 1] || *end || !(sharp_angle > 0 && sharp_angle < 180)) {
                 fprintf(stderr, "vorocrust: --sharp-angle needs a number of degrees in (0, 180)%s%s%s\n",
+                        i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
+                        i + 1 < argc ? "'" : "");
+                return 2;
+            }
+            features = 1;
+            i++;
+        } else if (!strcmp(a, "--max-error")) {
+            char *end = NULL;
+            if (i + 1 < argc)
+                max_error = strtod(argv[i + 1], &end);
+            if (i + 1 >= argc || end == argv[i + 1] || *end || !(max_error >= 0 && max_error < 1)) {
+                fprintf(stderr, "vorocrust: --max-error needs a number in [0, 1)%s%s%s\n",
                         i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
                         i + 1 < argc ? "'" : "");
                 return 2;
@@ -219,7 +245,10 @@ int vc_cmd_info(int argc, char **argv)
     int rc = 0;
     if (features) {
         vc_features f;
-        if (vc_features_detect(&s, sharp_angle, &f, &err)) {
+        const double *bb = rep.bbox;
+        const double scale = max_error * sqrt((bb[3] - bb[0]) * (bb[3] - bb[0]) + (bb[4] - bb[1]) * (bb[4] - bb[1]) +
+                                              (bb[5] - bb[2]) * (bb[5] - bb[2]));
+        if (vc_features_detect_scaled(&s, sharp_angle, NULL, scale, &f, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", rep.name, err.msg);
             vc_surface_free(&s);
             return 1;
@@ -229,6 +258,9 @@ int vc_cmd_info(int argc, char **argv)
                (long long)f.n_sharp_edges, (long long)f.n_sharp_by_angle, (long long)f.n_boundary_edges,
                (long long)f.n_nonmanifold_edges);
         printf("sharp corners: %lld\n", (long long)f.n_corners);
+        printf("noise at the error bound: %lld folds over the sharp angle, %lld corners (not sharp; bound "
+               "%.9g)\n",
+               (long long)f.n_sharp_noise, (long long)f.n_corner_noise, f.noise_scale);
         printf("creases: %lld (%lld open, %lld closed)\n", (long long)f.n_creases,
                (long long)(f.n_creases - f.n_closed_creases), (long long)f.n_closed_creases);
         printf("surface patches: %lld", (long long)f.n_patches);
