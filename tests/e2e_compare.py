@@ -297,7 +297,8 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
                                            "vorocrust.vtu", "vorocrust_boundary.vtu"],
           "icosphere: mesh dir holds %r" % sorted(os.listdir(mesh_dir)))
 
-# (b) vorocrust refuses an inconsistently oriented surface; TetGen does not mind
+# (b) an inconsistently oriented surface: vorocrust reverses the flipped
+# triangle (a warning in its log) and both mesh it
 flipped = path("flipped.obj")
 with open(ico) as src, open(flipped, "w") as dst:
     done = False
@@ -307,22 +308,40 @@ with open(ico) as src, open(flipped, "w") as dst:
             line = "f %s %s %s\n" % (w[1], w[3], w[2])
             done = True
         dst.write(line)
-report = path("flipped.html")
-rc, so, se = run("compare", flipped, "-o", report, "--quiet")
-check(rc == 1, "flipped: exit %d, expected 1 (stderr %r)" % (rc, se))
+flipped_dir = path("flipped")
+os.makedirs(flipped_dir)
+rc, so, se = run("compare", flipped, "--mesh-dir", flipped_dir, "--quiet")
+check(rc == 0, "flipped: exit %d, expected 0 (stderr %r)" % (rc, se))
+with open(os.path.join(flipped_dir, "vorocrust.log")) as f:
+    log = f.read()
+check("1 triangles reversed" in log, "flipped: vorocrust's log does not say it reversed the triangle: %r" % log[:500])
+
+# (b2) a triangle given twice: both meshers refuse it; the table and the
+# report say so for each
+dup = path("repeated.obj")
+with open(ico) as src, open(dup, "w") as dst:
+    done = False
+    for line in src:
+        w = line.split()
+        if w and w[0] == "f" and not done:
+            dst.write(line)
+            done = True
+        dst.write(line)
+report = path("repeated.html")
+rc, so, se = run("compare", dup, "-o", report, "--quiet")
+check(rc == 1, "repeated: exit %d, expected 1 (stderr %r)" % (rc, se))
 lines = se.strip().splitlines()
-check(len(lines) == 1 and re.match(r"vorocrust: compare: .*flipped\.obj: vorocrust failed: exit 1: vorocrust: .*flipped\.obj: .*orient",
-                                   lines[0] if lines else ""), "flipped: stderr %r" % se)
+check(len(lines) == 2 and re.match(r"vorocrust: compare: .*repeated\.obj: vorocrust failed: exit 1: vorocrust: .*repeated\.obj: .*repeat",
+                                   lines[0] if lines else "") and "tetgen failed" in lines[-1], "repeated: stderr %r" % se)
 rows, other = parse_table(so)
-if check("cells" in rows, "flipped: no table in %r" % so):
-    check(rows["cells"][0] == "failed" and rows["fatness max"][0] == "failed", "flipped: vorocrust column %r" % rows["cells"])
-    check(float(rows["time (s)"][0]) > 0, "flipped: the failed run's time %r" % rows["time (s)"])
-    check(int(rows["cells"][1]) > 0 and float(rows["hausdorff / diagonal"][1]) < 1e-12, "flipped: tetgen column %r" % rows["cells"])
+if check("cells" in rows, "repeated: no table in %r" % so):
+    check(rows["cells"] == ["failed", "failed"] and rows["fatness max"][0] == "failed", "repeated: cells %r" % rows["cells"])
+    check(float(rows["time (s)"][0]) > 0, "repeated: the failed run's time %r" % rows["time (s)"])
     check("--max-volume" not in other.get("command tetgen", "x") and "tetgen target cells" not in other,
-          "flipped: tetgen should run with its quality bound only: %r" % other.get("command tetgen"))
-    text = check_report("flipped", report, rows, [0, int(rows["cells"][1])], [0, int(rows["surface triangles"][1])],
-                        failed=("vorocrust",))
-    check(text is not None and "vorocrust failed:" in text, "flipped: the report does not name the failure")
+          "repeated: tetgen should run with its quality bound only: %r" % other.get("command tetgen"))
+    text = check_report("repeated", report, rows, [0, 0], [0, 0], failed=("vorocrust", "tetgen"))
+    check(text is not None and "vorocrust failed:" in text and "tetgen failed:" in text,
+          "repeated: the report does not name the failures")
 
 # (c) the reference sphere
 sphere = os.path.join(MODELS, "sphere.obj")

@@ -130,6 +130,16 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *p
  * VC_EINPUT with "FILE: N open boundary edges (surface is not closed)". */
 int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err);
 
+/* The flips that orient s consistently: flip[t] (n_triangles bytes) is 1
+ * for the triangles to reverse so that every edge of exactly two triangles
+ * is walked once each way; in each component (triangles joined through
+ * such edges) the orientation most of its triangles have is kept (the
+ * lowest-numbered triangle's on a tie), so an inward cavity shell stays
+ * inward. *n_flipped receives their number. VC_EINPUT when a component is
+ * one-sided (no orientation exists), VC_ENOMEM. */
+int vc_surface_consistent_flips(const vc_surface *s, unsigned char *flip, int64_t *n_flipped,
+                                vc_error *err);
+
 /* vc_surface_check_solid's limits: the largest |coordinate| over the
  * bounding-box diagonal, the zero-area ratio |cross| / longest edge^2, the
  * smallest share of the bounding box's volume the surface must enclose. */

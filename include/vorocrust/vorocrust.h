@@ -221,6 +221,10 @@ typedef struct vc_mesh_result {
      * then describes the union. */
     int unioned;
     vc_self_union_report self_union;
+    /* Triangles reversed because the input's orientation was inconsistent
+     * (each component keeps the orientation most of its triangles have;
+     * input then describes the reoriented surface). */
+    int64_t n_flipped;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries

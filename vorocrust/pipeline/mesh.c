@@ -913,6 +913,27 @@ static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_su
     return 0;
 }
 
+/* *out = s with the triangles flip[t] != 0 reversed: its own triangles,
+ * the vertices and groups borrowed from s (free out->tri only). */
+static int consistent_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
+                           vc_error *err)
+{
+    *out = *s;
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
+    if (!out->tri) {
+        memset(out, 0, sizeof *out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
+    }
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        const int64_t *v = s->tri + 3 * t;
+        int64_t *w = out->tri + 3 * t;
+        w[0] = v[0];
+        w[1] = flip[t] ? v[2] : v[1];
+        w[2] = flip[t] ? v[1] : v[2];
+    }
+    return 0;
+}
+
 /* The groups that name the boundary patches (opt->patches): the input's
  * triangle groups, or its sharp-feature patches. */
 static int boundary_patches(const vc_surface *s, const vc_mesh_options *opt, const char *name,
@@ -956,6 +977,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     const vc_surface *s_input = s; /* with its triangle groups */
     vc_surface oriented; /* the input reoriented by --cavities */
     memset(&oriented, 0, sizeof oriented);
+    vc_surface consistent; /* the input with its flipped triangles reversed */
+    memset(&consistent, 0, sizeof consistent);
     vc_materials mm;     /* with several regions */
     memset(&mm, 0, sizeof mm);
     vc_surface centred;  /* a model far from the origin, moved to it */
@@ -985,11 +1008,42 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                           (long long)out->input.n_boundary_edges);
         goto fail;
     }
+    /* Triangles that disagree on the orientation (an exporter's flipped
+     * facets) are reversed, each component keeping the orientation most of
+     * its triangles have: the inside is then what the input meant, unless
+     * it is one-sided. */
     if (out->input.n_inconsistent_edges > 0) {
-        rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges: the inside "
-                          "of the surface is undefined", name,
-                          (long long)out->input.n_inconsistent_edges);
-        goto fail;
+        const int64_t n_bad = out->input.n_inconsistent_edges;
+        unsigned char *flip = malloc((size_t)s->n_triangles + 1);
+        if (!flip) {
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            goto fail;
+        }
+        char why[VC_ERROR_LEN];
+        rc = vc_surface_consistent_flips(s, flip, &out->n_flipped, err);
+        snprintf(why, sizeof why, "%s", err->msg);
+        if (rc == 0)
+            rc = consistent_copy(s, flip, &consistent, err);
+        free(flip);
+        if (rc == VC_EINPUT)
+            rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges, and %s: the "
+                              "inside of the surface is undefined", name, (long long)n_bad, why);
+        if (rc)
+            goto fail;
+        s = &consistent;
+        s_input = &consistent;
+        if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+            goto fail;
+        if (out->input.n_inconsistent_edges > 0) { /* only edges of more than two triangles left */
+            rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges: the inside "
+                              "of the surface is undefined", name,
+                              (long long)out->input.n_inconsistent_edges);
+            goto fail;
+        }
+        vc_log(opt.log, VC_LOG_WARNING,
+               "mesh: %s: %lld inconsistently oriented edges: %lld triangles reversed (each "
+               "component keeps the orientation most of its triangles have)",
+               name, (long long)n_bad, (long long)out->n_flipped);
     }
     /* And it can bound a volume: no repeated or zero-area triangle, no
      * self-intersection, a volume (before sampling, which would not end). */
@@ -1180,12 +1234,14 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
     free_centred(&centred);
+    free(consistent.tri); /* the rest is borrowed */
     vc_surface_free(&unioned);
     return 0;
 fail:
     vc_surface_free(&oriented);
     vc_materials_free(&mm);
     free_centred(&centred);
+    free(consistent.tri);
     vc_surface_free(&unioned);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
