@@ -112,6 +112,20 @@ if PART == "cli":
     check(rc == 0 and field(out, "sharp angle") == "30 degrees",
           "--features --sharp-angle 30 --require-closed: exit %d, stderr %r" % (rc, err))
 
+    # a reversed triangle: info says what vorocrust mesh does with it
+    with open(tet) as f:
+        text = f.read().splitlines()
+    first = [i for i, l in enumerate(text) if l.startswith("f ")][0]
+    w = text[first].split()
+    text[first] = " ".join([w[0], w[1], w[3], w[2]])
+    flipped = os.path.join(TMP, "info_flipped_tet.obj")
+    with open(flipped, "w") as f:
+        f.write("\n".join(text) + "\n")
+    rc, out, err = run(flipped)
+    check(rc == 0 and field(out, "inconsistently oriented edges") == "3" and
+          (field(out, "orientation repair") or "").startswith("1 triangles reversed by vorocrust mesh"),
+          "flipped tetrahedron: exit %d, stdout %r" % (rc, out[:600]))
+
 if failures:
     print("e2e_info: %d failures" % len(failures), file=sys.stderr)
     sys.exit(1)

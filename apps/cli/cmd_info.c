@@ -182,6 +182,18 @@ int vc_cmd_info(int argc, char **argv)
     printf("boundary edges: %lld\n", (long long)rep.n_boundary_edges);
     printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
     printf("inconsistently oriented edges: %lld\n", (long long)rep.n_inconsistent_edges);
+    if (rep.n_inconsistent_edges > 0) {
+        /* what vorocrust mesh does with them */
+        unsigned char *flip = malloc((size_t)s.n_triangles + 1);
+        int64_t n_flipped = 0;
+        vc_error why;
+        if (flip && vc_surface_consistent_flips(&s, flip, &n_flipped, &why) == 0)
+            printf("orientation repair: %lld triangles reversed by vorocrust mesh (each component keeps "
+                   "the orientation most of its triangles have)\n", (long long)n_flipped);
+        else if (flip)
+            printf("orientation repair: none possible (%s)\n", why.msg);
+        free(flip);
+    }
     printf("degenerate triangles: %lld\n", (long long)rep.n_degenerate);
     int64_t n_repeated = solid.n_repeated_same + solid.n_repeated_opposite;
     printf("repeated triangles: %lld", (long long)n_repeated);
