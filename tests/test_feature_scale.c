@@ -1,8 +1,9 @@
 /* The flat-ground test that judges folds at the error bound
  * (vorocrust/surface/feature_scale.c): on height fields over a grid, noise
  * on a plane and on a curved patch is flat at a scale well above it, a
- * 60-degree crease is not, with or without noise, and a coarse fold (too
- * few triangles for a quadric) is judged by the plane alone. */
+ * 60-degree crease is not, with or without noise; a coarser grid is
+ * looked at farther, and a coarse fold (too few triangles for a quadric
+ * even then) is judged by the plane alone. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -28,6 +29,12 @@ static double flat(double x, double y)
 static double paraboloid(double x, double y)
 {
     return 4.0 * (x * x + y * y);
+}
+
+/* curvature 4 */
+static double gentle_paraboloid(double x, double y)
+{
+    return 2.0 * (x * x + y * y);
 }
 
 /* two planes whose normals differ by 60 degrees, the crease along x = 0 */
@@ -115,10 +122,16 @@ int main(void)
     expect_flat("roof", n, roof, 0, 0.02, 0, 100, 1000);
     expect_flat("roof, scale 0.01", n, roof, 0, 0.01, 0, 24, 400);
     expect_flat("roof, noise 0.002", n, roof, 0.002, 0.02, 0, 100, 1000);
-    /* coarse: a 10 x 10 grid (spacing 0.2) at scale 0.02 looks at the two
-     * triangles of the fold only, whose points a quadric would fit
-     * exactly: the plane decides */
-    expect_flat("coarse paraboloid", 10, paraboloid, 0, 0.02, 0, 2, 2);
+    /* coarser: a 40 x 40 grid (spacing 0.05) has too few triangles within
+     * 4 scales for a quadric, and looks twice as far: a paraboloid of
+     * curvature 4 (0.05 off its tangent plane there), whose facets sag
+     * 0.0025 from it, is flat; the roof is not */
+    expect_flat("medium paraboloid", 40, gentle_paraboloid, 0, 0.02, 1, 24, 200);
+    expect_flat("medium roof", 40, roof, 0, 0.02, 0, 24, 200);
+    /* coarse: a 10 x 10 grid (spacing 0.2) takes 8 triangles even 16
+     * scales out, fewer than a quadric needs: the plane decides, and the
+     * paraboloid is not flat (its facets sag 0.04 from it anyway) */
+    expect_flat("coarse paraboloid", 10, paraboloid, 0, 0.02, 0, 2, 23);
     expect_flat("coarse plane", 10, flat, 0, 0.02, 1, 2, 2);
     if (failures) {
         fprintf(stderr, "test_feature_scale: %d failures\n", failures);

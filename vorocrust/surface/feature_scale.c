@@ -124,10 +124,29 @@ static int solve_small(double *a, double *b, int n, double *x)
     return 1;
 }
 
-/* Whether the vertices of the walk's triangles queue[0..n) lie within
- * slab of the least-squares quadric height function over the plane
+/* The quadric's row (x^2, xy, y^2, x, y, 1) and height z of point q in
+ * the frame (u, v, m) about c, in units of reach. */
+static void local_row(const double q[3], const double c[3], const double u[3], const double v[3],
+                      const double m[3], double reach, double row[6], double *z)
+{
+    const double r[3] = {(q[0] - c[0]) / reach, (q[1] - c[1]) / reach, (q[2] - c[2]) / reach};
+    const double x = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+    const double y = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    *z = r[0] * m[0] + r[1] * m[1] + r[2] * m[2];
+    row[0] = x * x;
+    row[1] = x * y;
+    row[2] = y * y;
+    row[3] = x;
+    row[4] = y;
+    row[5] = 1;
+}
+
+/* Whether the walk's triangles queue[0..n) lie within slab of the
+ * least-squares quadric height function of their vertices over the plane
  * through c normal to m (unit): curved ground, not only flat ground, is
- * smooth at the scale. Coordinates in units of reach. */
+ * smooth at the scale. The residual is taken at the corners, the edge
+ * midpoints and the centroid of every triangle: a coarse facet chords
+ * across a curved quadric whose vertices it shares. */
 static int quadric_fits(const vc_surface *s, const vc_flat_probe *p, int64_t n, const double m[3],
                         const double c[3], double reach, double slab)
 {
@@ -140,41 +159,55 @@ static int quadric_fits(const vc_surface *s, const vc_flat_probe *p, int64_t n, 
     for (int k = 0; k < 3; k++)
         u[k] /= lu;
     const double v[3] = {m[1] * u[2] - m[2] * u[1], m[2] * u[0] - m[0] * u[2], m[0] * u[1] - m[1] * u[0]};
-    double ata[36] = {0}, atz[6] = {0}, coef[6];
-    for (int pass = 0; pass < 2; pass++) {
-        for (int64_t i = 0; i < n; i++) {
-            const int64_t *w = s->tri + 3 * p->queue[i];
-            for (int j = 0; j < 3; j++) {
-                const double *q = s->xyz + 3 * w[j];
-                const double r[3] = {(q[0] - c[0]) / reach, (q[1] - c[1]) / reach, (q[2] - c[2]) / reach};
-                const double x = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
-                const double y = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
-                const double z = r[0] * m[0] + r[1] * m[1] + r[2] * m[2];
-                const double row[6] = {x * x, x * y, y * y, x, y, 1};
-                if (pass == 0) {
-                    for (int a = 0; a < 6; a++) {
-                        atz[a] += row[a] * z;
-                        for (int b = 0; b < 6; b++)
-                            ata[6 * a + b] += row[a] * row[b];
-                    }
-                } else {
-                    double h = z;
-                    for (int a = 0; a < 6; a++)
-                        h -= coef[a] * row[a];
-                    if (!(fabs(h) * reach <= slab))
-                        return 0;
-                }
+    double ata[36] = {0}, atz[6] = {0}, coef[6], row[6], z;
+    for (int64_t i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++) {
+            local_row(s->xyz + 3 * s->tri[3 * p->queue[i] + j], c, u, v, m, reach, row, &z);
+            for (int a = 0; a < 6; a++) {
+                atz[a] += row[a] * z;
+                for (int b = 0; b < 6; b++)
+                    ata[6 * a + b] += row[a] * row[b];
             }
         }
-        if (pass == 0 && !solve_small(ata, atz, 6, coef))
-            return 0;
+    if (!solve_small(ata, atz, 6, coef))
+        return 0;
+    for (int64_t i = 0; i < n; i++) {
+        const int64_t *w = s->tri + 3 * p->queue[i];
+        for (int k = 0; k < 7; k++) {
+            double q[3];
+            for (int e = 0; e < 3; e++) {
+                const double a = s->xyz[3 * w[k % 3] + e], b = s->xyz[3 * w[(k + 1) % 3] + e],
+                             g = s->xyz[3 * w[(k + 2) % 3] + e];
+                q[e] = k < 3 ? a : k < 6 ? 0.5 * (a + b) : (a + b + g) / 3.0;
+            }
+            local_row(q, c, u, v, m, reach, row, &z);
+            double h = z;
+            for (int a = 0; a < 6; a++)
+                h -= coef[a] * row[a];
+            if (!(fabs(h) * reach <= slab))
+                return 0;
+        }
     }
     return 1;
 }
 
+static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
+                     int n_seeds, const double x[3], double reach, double slab, int within_patch,
+                     double mean[3], int grow);
+
 int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
                  int n_seeds, const double x[3], double reach, double slab, int within_patch,
                  double mean[3])
+{
+    return flat_walk(s, f, p, seeds, n_seeds, x, reach, slab, within_patch, mean, VC_FLAT_GROW);
+}
+
+/* vc_flat_near; when the points leave the plane's slab and the walk took
+ * too few triangles for a quadric, the walk is made again, up to grow
+ * times, each time twice as far. */
+static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p, const int64_t *seeds,
+                     int n_seeds, const double x[3], double reach, double slab, int within_patch,
+                     double mean[3], int grow)
 {
     const int64_t walk = ++p->walk;
     int64_t head = 0, tail = 0;
@@ -256,7 +289,9 @@ int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, co
     }
     if (in_slab)
         return 1;
-    return tail >= VC_FLAT_QUADRIC_MIN && quadric_fits(s, p, tail, m, c, reach, VC_FLAT_QUADRIC_SLAB * slab);
+    if (tail >= VC_FLAT_QUADRIC_MIN)
+        return quadric_fits(s, p, tail, m, c, reach, VC_FLAT_QUADRIC_SLAB * slab);
+    return grow > 0 && flat_walk(s, f, p, seeds, n_seeds, x, 2 * reach, slab, within_patch, mean, grow - 1);
 }
 
 /* Marks in near the triangles of the last walk whose normal leans more

@@ -24,6 +24,11 @@
  * quadric's slab is half the plane's. */
 #define VC_FLAT_QUADRIC_SLAB 0.5
 #define VC_FLAT_QUADRIC_MIN 24
+/* A coarse tessellation's walk takes fewer: it is made again twice as far,
+ * up to this many times (the quadric is then held to its facets'
+ * midpoints and centroids too, which a coarse curved facet chords away
+ * from). */
+#define VC_FLAT_GROW 2
 
 /* Scratch memory of the neighbourhood walks (one per thread). */
 typedef struct vc_flat_probe {
@@ -38,7 +43,8 @@ int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles);
 void vc_flat_probe_free(vc_flat_probe *p);
 
 /* Whether the surface near x lies within distance slab of one plane (or
- * within VC_FLAT_QUADRIC_SLAB * slab of a quadric, see above): the
+ * within VC_FLAT_QUADRIC_SLAB * slab of a quadric, looking farther on a
+ * coarse tessellation, see above): the
  * triangles reached from seeds[0..n_seeds-1] (always taken) across
  * manifold edges (only non-sharp ones when within_patch), each taken when
  * its centroid lies within reach of x. The plane is the one through their
