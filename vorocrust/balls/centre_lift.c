@@ -7,7 +7,7 @@
 
 #include "balls/ball_set.h"
 #include "balls/triplets.h"
-#include "sizing/closest_point.h"
+#include "util/closest_point.h"
 #include "util/reserve.h"
 #include "util/clock.h"
 #include "util/threads.h"

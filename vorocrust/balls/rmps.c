@@ -30,7 +30,7 @@
 #include "balls/centre_lift.h"
 #include "balls/triplets.h"
 #include "balls/union_cover.h"
-#include "sizing/closest_point.h"
+#include "util/closest_point.h"
 #include "util/reserve.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"

@@ -1,5 +1,5 @@
 #include "sizing/sizing.h"
-#include "sizing/closest_point.h"
+#include "util/closest_point.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sizing/closest_point.h"
+#include "util/closest_point.h"
 #include "util/exact_predicates.h"
 
 #define LEAF_SIZE 4

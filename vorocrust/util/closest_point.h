@@ -1,6 +1,6 @@
 /* Closest points on segments and triangles (exact up to rounding). */
-#ifndef VC_SIZING_CLOSEST_POINT_H
-#define VC_SIZING_CLOSEST_POINT_H
+#ifndef VC_UTIL_CLOSEST_POINT_H
+#define VC_UTIL_CLOSEST_POINT_H
 
 /* Squared distance from p to the segment [a, b]; the closest point in q
  * when q is not NULL. */

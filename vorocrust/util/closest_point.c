@@ -1,7 +1,7 @@
 /* Closest point on a triangle by its Voronoi regions: the closest point is
  * a vertex, a point of an edge, or the projection into the interior,
  * decided from the barycentric signs of the projection. */
-#include "sizing/closest_point.h"
+#include "util/closest_point.h"
 
 static double dot3(const double a[3], const double b[3])
 {
