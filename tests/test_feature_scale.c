@@ -134,29 +134,6 @@ int main(void)
     expect_flat("coarse paraboloid", 10, paraboloid, 0, 0.02, 0, 2, 23);
     expect_flat("coarse plane", 10, flat, 0, 0.02, 1, 2, 6);
 
-    /* a plate 0.0025 thick (a unit cube squashed), at scale 0.01: the rim
-     * wall is thinner than the slab (0.005), but the fold's neighbours,
-     * always looked at, include the plate's other side turned back */
-    builder plate = {0};
-    make_cube(&plate);
-    for (int64_t v = 0; v < plate.s.n_vertices; v++)
-        plate.s.xyz[3 * v + 2] *= 0.0025;
-    vc_features f;
-    vc_error err;
-    if (vc_features_detect(&plate.s, 60, &f, &err) == 0) {
-        vc_flat_probe p;
-        const int64_t e = vc_features_find_edge(&f, 4, 5); /* top, y = 0 */
-        if (e >= 0 && vc_flat_probe_init(&p, plate.s.n_triangles) == 0) {
-            const int64_t seeds[2] = {f.edge_tri[f.edge_tri_start[e]], f.edge_tri[f.edge_tri_start[e] + 1]};
-            const double x[3] = {0.5, 0, 0.0025};
-            CHECKF(!vc_flat_near(&plate.s, &f, &p, seeds, 2, x, VC_FLAT_REACH * 0.01, VC_FLAT_SLAB * 0.01, 0, NULL),
-                   "thin plate: its rim judged flat (%lld triangles looked at)", (long long)p.n_reached);
-            vc_flat_probe_free(&p);
-        } else
-            CHECK(0);
-        vc_features_free(&f);
-    }
-    vc_surface_free(&plate.s);
     if (failures) {
         fprintf(stderr, "test_feature_scale: %d failures\n", failures);
         return 1;

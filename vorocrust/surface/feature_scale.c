@@ -28,35 +28,10 @@
  * their smoothed normals: the mean over the same reach, within the patch
  * (vc_features.tri_smooth_normal). */
 #include "feature_scale.h"
-#include "util/closest_point.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Whether some point of triangle t lies within reach of x: by its
- * centroid, or by the exact closest point where the centroid is farther
- * but a vertex could still be near. */
-static int comes_within(const vc_surface *s, int64_t t, const double x[3], double reach)
-{
-    const int64_t *v = s->tri + 3 * t;
-    const double *a = s->xyz + 3 * v[0], *b = s->xyz + 3 * v[1], *c = s->xyz + 3 * v[2];
-    double g[3], far2 = 0;
-    for (int k = 0; k < 3; k++)
-        g[k] = (a[k] + b[k] + c[k]) / 3.0;
-    const double d2 = (g[0] - x[0]) * (g[0] - x[0]) + (g[1] - x[1]) * (g[1] - x[1]) + (g[2] - x[2]) * (g[2] - x[2]);
-    if (d2 <= reach * reach)
-        return 1;
-    for (int i = 0; i < 3; i++) {
-        const double *q = s->xyz + 3 * v[i];
-        const double e2 = (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]) + (q[2] - g[2]) * (q[2] - g[2]);
-        far2 = e2 > far2 ? e2 : far2;
-    }
-    const double lim = reach + sqrt(far2);
-    if (d2 > lim * lim)
-        return 0;
-    return vc_closest_on_triangle(x, a, b, c, NULL) <= reach * reach;
-}
 
 int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles)
 {
@@ -274,10 +249,10 @@ static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p
                                                                       : f->edge_tri[f->edge_tri_start[e]];
             if (p->stamp[u] == walk)
                 continue;
-            /* every triangle that comes within the reach: a thin plate's
-             * rim wall, thinner than the slab, then shows the plate's other
-             * side turned back (and the normals do not agree) */
-            if (!comes_within(s, u, x, reach))
+            double cu[3];
+            centroid(s, u, cu);
+            if ((cu[0] - x[0]) * (cu[0] - x[0]) + (cu[1] - x[1]) * (cu[1] - x[1]) + (cu[2] - x[2]) * (cu[2] - x[2]) >
+                reach * reach)
                 continue;
             p->stamp[u] = walk;
             p->sign[u] = within_patch ? 1

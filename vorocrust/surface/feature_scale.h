@@ -47,7 +47,7 @@ void vc_flat_probe_free(vc_flat_probe *p);
  * coarse tessellation, see above): the
  * triangles reached from seeds[0..n_seeds-1] (always taken) across
  * manifold edges (only non-sharp ones when within_patch), each taken when
- * some point of it lies within reach of x. The plane is the one through their
+ * its centroid lies within reach of x. The plane is the one through their
  * area-weighted centroid normal to their area-weighted mean normal
  * (normals turned consistently across each edge crossed, from f->tri_normal
  * as it is at the call); false also when that mean is shorter than
