@@ -299,15 +299,20 @@ if check(rc == 0, "icosphere: exit %d, stderr %r" % (rc, se)):
 
 # (b) an inconsistently oriented surface: vorocrust reverses the flipped
 # triangle (a warning in its log) and both mesh it
+def with_first_face(dst_path, first_face_lines):
+    """The icosphere with its first face replaced by first_face_lines(w)."""
+    with open(ico) as src, open(dst_path, "w") as dst:
+        done = False
+        for line in src:
+            w = line.split()
+            if w and w[0] == "f" and not done:
+                line = first_face_lines(w)
+                done = True
+            dst.write(line)
+
+
 flipped = path("flipped.obj")
-with open(ico) as src, open(flipped, "w") as dst:
-    done = False
-    for line in src:
-        w = line.split()
-        if w and w[0] == "f" and not done:
-            line = "f %s %s %s\n" % (w[1], w[3], w[2])
-            done = True
-        dst.write(line)
+with_first_face(flipped, lambda w: "f %s %s %s\n" % (w[1], w[3], w[2]))
 flipped_dir = path("flipped")
 os.makedirs(flipped_dir)
 rc, so, se = run("compare", flipped, "--mesh-dir", flipped_dir, "--quiet")
@@ -319,14 +324,7 @@ check("1 triangles reversed" in log, "flipped: vorocrust's log does not say it r
 # (b2) a triangle given twice: both meshers refuse it; the table and the
 # report say so for each
 dup = path("repeated.obj")
-with open(ico) as src, open(dup, "w") as dst:
-    done = False
-    for line in src:
-        w = line.split()
-        if w and w[0] == "f" and not done:
-            dst.write(line)
-            done = True
-        dst.write(line)
+with_first_face(dup, lambda w: (" ".join(w) + "\n") * 2)
 report = path("repeated.html")
 rc, so, se = run("compare", dup, "-o", report, "--quiet")
 check(rc == 1, "repeated: exit %d, expected 1 (stderr %r)" % (rc, se))

@@ -50,6 +50,23 @@ static int print_regions(const vc_surface *s)
     return 0;
 }
 
+/* The number after option argv[i], in (lo, hi) or [lo, hi) when
+ * lo_closed; 1 (after one line on stderr) when missing or out of range. */
+static int number_arg(int argc, char **argv, int i, double lo, double hi, int lo_closed, const char *what,
+                      double *value)
+{
+    char *end = NULL;
+    if (i + 1 < argc)
+        *value = strtod(argv[i + 1], &end);
+    if (i + 1 >= argc || end == argv[i + 1] || *end || !(lo_closed ? *value >= lo : *value > lo) ||
+        !(*value < hi)) {
+        fprintf(stderr, "vorocrust: %s needs %s%s%s%s\n", argv[i], what, i + 1 < argc ? ", got '" : "",
+                i + 1 < argc ? argv[i + 1] : "", i + 1 < argc ? "'" : "");
+        return 1;
+    }
+    return 0;
+}
+
 static double default_max_error(void)
 {
     vc_mesh_options o;
@@ -105,27 +122,13 @@ int vc_cmd_info(int argc, char **argv)
         } else if (!strcmp(a, "--features")) {
             features = 1;
         } else if (!strcmp(a, "--sharp-angle")) {
-            char *end = NULL;
-            if (i + 1 < argc)
-                sharp_angle = strtod(argv[i + 1], &end);
-            if (i + 1 >= argc || end == argv[i + 1] || *end || !(sharp_angle > 0 && sharp_angle < 180)) {
-                fprintf(stderr, "vorocrust: --sharp-angle needs a number of degrees in (0, 180)%s%s%s\n",
-                        i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
-                        i + 1 < argc ? "'" : "");
+            if (number_arg(argc, argv, i, 0, 180, 0, "a number of degrees in (0, 180)", &sharp_angle))
                 return 2;
-            }
             features = 1;
             i++;
         } else if (!strcmp(a, "--max-error")) {
-            char *end = NULL;
-            if (i + 1 < argc)
-                max_error = strtod(argv[i + 1], &end);
-            if (i + 1 >= argc || end == argv[i + 1] || *end || !(max_error >= 0 && max_error < 1)) {
-                fprintf(stderr, "vorocrust: --max-error needs a number in [0, 1)%s%s%s\n",
-                        i + 1 < argc ? ", got '" : "", i + 1 < argc ? argv[i + 1] : "",
-                        i + 1 < argc ? "'" : "");
+            if (number_arg(argc, argv, i, 0, 1, 1, "a number in [0, 1)", &max_error))
                 return 2;
-            }
             features = 1;
             i++;
         } else if (a[0] == '-' && a[1]) {

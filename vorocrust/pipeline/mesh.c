@@ -890,6 +890,18 @@ static void move_results(vc_mesh_result *out, const double shift[3])
     move_points(m->seed_xyz, m->n_seeds, shift);
 }
 
+/* The triangles of s into tri, those with flip[t] != 0 reversed. */
+static void flip_triangles(const vc_surface *s, const unsigned char *flip, int64_t *tri)
+{
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        const int64_t *v = s->tri + 3 * t;
+        int64_t *w = tri + 3 * t;
+        w[0] = v[0];
+        w[1] = flip[t] ? v[2] : v[1];
+        w[2] = flip[t] ? v[1] : v[2];
+    }
+}
+
 /* s with the triangles flip[t] != 0 reversed, into *out. */
 static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
                            vc_error *err)
@@ -903,13 +915,7 @@ static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_su
         return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
     }
     memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
-    for (int64_t t = 0; t < s->n_triangles; t++) {
-        const int64_t *v = s->tri + 3 * t;
-        int64_t *w = out->tri + 3 * t;
-        w[0] = v[0];
-        w[1] = flip[t] ? v[2] : v[1];
-        w[2] = flip[t] ? v[1] : v[2];
-    }
+    flip_triangles(s, flip, out->tri);
     return 0;
 }
 
@@ -924,13 +930,7 @@ static int consistent_copy(const vc_surface *s, const unsigned char *flip, vc_su
         memset(out, 0, sizeof *out);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
     }
-    for (int64_t t = 0; t < s->n_triangles; t++) {
-        const int64_t *v = s->tri + 3 * t;
-        int64_t *w = out->tri + 3 * t;
-        w[0] = v[0];
-        w[1] = flip[t] ? v[2] : v[1];
-        w[2] = flip[t] ? v[1] : v[2];
-    }
+    flip_triangles(s, flip, out->tri);
     return 0;
 }
 
