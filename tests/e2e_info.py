@@ -123,8 +123,9 @@ if PART == "cli":
         f.write("\n".join(text) + "\n")
     rc, out, err = run(flipped)
     check(rc == 0 and field(out, "inconsistently oriented edges") == "3" and
-          (field(out, "orientation repair") or "").startswith("1 triangles reversed by vorocrust mesh"),
-          "flipped tetrahedron: exit %d, stdout %r" % (rc, out[:600]))
+          (field(out, "orientation repair") or "").startswith("1 triangles reversed, as vorocrust mesh") and
+          field(out, "solid") == "yes" and field(out, "enclosed volume") == "0.166666667",
+          "flipped tetrahedron: exit %d, stdout %r" % (rc, out[:900]))
 
 if failures:
     print("e2e_info: %d failures" % len(failures), file=sys.stderr)

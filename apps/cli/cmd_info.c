@@ -156,6 +156,31 @@ int vc_cmd_info(int argc, char **argv)
     }
     for (int i = 0; i < rep.n_warnings; i++)
         fprintf(stderr, "vorocrust: warning: %s\n", rep.warnings[i]);
+    /* Triangles that disagree on the orientation: reversed as vorocrust
+     * mesh reverses them, and the lines after describe that surface */
+    const int64_t n_inconsistent = rep.n_inconsistent_edges;
+    int64_t n_flipped = -1;
+    vc_error flip_why = {0, ""};
+    if (n_inconsistent > 0) {
+        unsigned char *flip = malloc((size_t)s.n_triangles + 1);
+        if (flip && vc_surface_consistent_flips(&s, flip, &n_flipped, &flip_why) == 0) {
+            for (int64_t t = 0; t < s.n_triangles; t++)
+                if (flip[t]) {
+                    const int64_t x = s.tri[3 * t + 1];
+                    s.tri[3 * t + 1] = s.tri[3 * t + 2];
+                    s.tri[3 * t + 2] = x;
+                }
+            rep.n_warnings = 0; /* printed above */
+            if (vc_surface_check(&s, &rep, &err)) {
+                fprintf(stderr, "vorocrust: %s\n", err.msg);
+                free(flip);
+                vc_surface_free(&s);
+                return 1;
+            }
+        } else
+            n_flipped = -1;
+        free(flip);
+    }
     /* Can it bound a volume? A warning, or with --require-closed on a
      * closed surface the error line at the end. */
     vc_solid_report solid;
@@ -184,19 +209,13 @@ int vc_cmd_info(int argc, char **argv)
     printf("size: %.9g x %.9g x %.9g\n", b[3] - b[0], b[4] - b[1], b[5] - b[2]);
     printf("boundary edges: %lld\n", (long long)rep.n_boundary_edges);
     printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
-    printf("inconsistently oriented edges: %lld\n", (long long)rep.n_inconsistent_edges);
-    if (rep.n_inconsistent_edges > 0) {
-        /* what vorocrust mesh does with them */
-        unsigned char *flip = malloc((size_t)s.n_triangles + 1);
-        int64_t n_flipped = 0;
-        vc_error why;
-        if (flip && vc_surface_consistent_flips(&s, flip, &n_flipped, &why) == 0)
-            printf("orientation repair: %lld triangles reversed by vorocrust mesh (each component keeps "
-                   "the orientation most of its triangles have)\n", (long long)n_flipped);
-        else if (flip)
-            printf("orientation repair: none possible (%s)\n", why.msg);
-        free(flip);
-    }
+    printf("inconsistently oriented edges: %lld\n", (long long)n_inconsistent);
+    if (n_inconsistent > 0 && n_flipped >= 0)
+        printf("orientation repair: %lld triangles reversed, as vorocrust mesh reverses them (each component "
+               "keeps the orientation most of its triangles have); the lines below describe that surface\n",
+               (long long)n_flipped);
+    else if (n_inconsistent > 0)
+        printf("orientation repair: none possible (%s)\n", flip_why.msg[0] ? flip_why.msg : "out of memory");
     printf("degenerate triangles: %lld\n", (long long)rep.n_degenerate);
     int64_t n_repeated = solid.n_repeated_same + solid.n_repeated_opposite;
     printf("repeated triangles: %lld", (long long)n_repeated);
