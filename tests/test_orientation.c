@@ -22,9 +22,7 @@ static void reverse(vc_surface *s, int64_t t)
 /* Applies the flips and checks that the surface is then consistent. */
 static int64_t apply_and_count_inconsistent(vc_surface *s, const unsigned char *flip)
 {
-    for (int64_t t = 0; t < s->n_triangles; t++)
-        if (flip[t])
-            reverse(s, t);
+    vc_surface_reverse_triangles(s, flip);
     vc_surface_report rep;
     memset(&rep, 0, sizeof rep);
     vc_error err;

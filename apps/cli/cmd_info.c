@@ -164,12 +164,7 @@ int vc_cmd_info(int argc, char **argv)
     if (n_inconsistent > 0) {
         unsigned char *flip = malloc((size_t)s.n_triangles + 1);
         if (flip && vc_surface_consistent_flips(&s, flip, &n_flipped, &flip_why) == 0) {
-            for (int64_t t = 0; t < s.n_triangles; t++)
-                if (flip[t]) {
-                    const int64_t x = s.tri[3 * t + 1];
-                    s.tri[3 * t + 1] = s.tri[3 * t + 2];
-                    s.tri[3 * t + 2] = x;
-                }
+            vc_surface_reverse_triangles(&s, flip);
             rep.n_warnings = 0; /* printed above */
             if (vc_surface_check(&s, &rep, &err)) {
                 fprintf(stderr, "vorocrust: %s\n", err.msg);

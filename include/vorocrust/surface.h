@@ -140,6 +140,9 @@ int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err);
 int vc_surface_consistent_flips(const vc_surface *s, unsigned char *flip, int64_t *n_flipped,
                                 vc_error *err);
 
+/* Reverses the triangles t of s with flip[t] != 0 (in place). */
+void vc_surface_reverse_triangles(vc_surface *s, const unsigned char *flip);
+
 /* vc_surface_check_solid's limits: the largest |coordinate| over the
  * bounding-box diagonal, the zero-area ratio |cross| / longest edge^2, the
  * smallest share of the bounding box's volume the surface must enclose. */

@@ -890,39 +890,9 @@ static void move_results(vc_mesh_result *out, const double shift[3])
     move_points(m->seed_xyz, m->n_seeds, shift);
 }
 
-/* The triangles of s into tri, those with flip[t] != 0 reversed. */
-static void flip_triangles(const vc_surface *s, const unsigned char *flip, int64_t *tri)
-{
-    for (int64_t t = 0; t < s->n_triangles; t++) {
-        const int64_t *v = s->tri + 3 * t;
-        int64_t *w = tri + 3 * t;
-        w[0] = v[0];
-        w[1] = flip[t] ? v[2] : v[1];
-        w[2] = flip[t] ? v[1] : v[2];
-    }
-}
-
-/* s with the triangles flip[t] != 0 reversed, into *out. */
-static int reoriented_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
-                           vc_error *err)
-{
-    out->n_vertices = s->n_vertices;
-    out->n_triangles = s->n_triangles;
-    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
-    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
-    if (!out->xyz || !out->tri) {
-        vc_surface_free(out);
-        return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
-    }
-    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
-    flip_triangles(s, flip, out->tri);
-    return 0;
-}
-
 /* *out = s with the triangles flip[t] != 0 reversed: its own triangles,
  * the vertices and groups borrowed from s (free out->tri only). */
-static int consistent_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out,
-                           vc_error *err)
+static int reversed_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out, vc_error *err)
 {
     *out = *s;
     out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
@@ -930,7 +900,8 @@ static int consistent_copy(const vc_surface *s, const unsigned char *flip, vc_su
         memset(out, 0, sizeof *out);
         return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
     }
-    flip_triangles(s, flip, out->tri);
+    memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
+    vc_surface_reverse_triangles(out, flip);
     return 0;
 }
 
@@ -975,7 +946,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             vc_error *err)
 {
     const vc_surface *s_input = s; /* with its triangle groups */
-    vc_surface oriented; /* the input reoriented by --cavities */
+    vc_surface oriented; /* the input reoriented by --cavities (own triangles, the rest borrowed) */
     memset(&oriented, 0, sizeof oriented);
     vc_surface consistent; /* the input with its flipped triangles reversed */
     memset(&consistent, 0, sizeof consistent);
@@ -1023,7 +994,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         rc = vc_surface_consistent_flips(s, flip, &out->n_flipped, err);
         snprintf(why, sizeof why, "%s", err->msg);
         if (rc == 0)
-            rc = consistent_copy(s, flip, &consistent, err);
+            rc = reversed_copy(s, flip, &consistent, err);
         free(flip);
         if (rc == VC_EINPUT)
             rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges, and %s: the "
@@ -1152,8 +1123,13 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                                   "%s: --cavities needs closed shells, each a 2-manifold of its "
                                   "own; this surface has edges of more than two triangles (an "
                                   "interface between materials)", name);
-            else if (n_flipped > 0)
-                rc = reoriented_copy(s, flip, &oriented, err);
+            else if (n_flipped > 0 && (rc = reversed_copy(s, flip, &oriented, err)) == 0) {
+                /* sampled without the groups, as before (the boundary
+                 * patches still come from s_input's) */
+                oriented.tri_group = NULL;
+                oriented.n_groups = 0;
+                oriented.group_name = NULL;
+            }
             free(flip);
             if (rc) {
                 vc_regions_free(&regions);
@@ -1231,14 +1207,14 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     if (centred.xyz)
         move_results(out, shift);
     out->time.total = now() - t0;
-    vc_surface_free(&oriented);
+    free(oriented.tri);
     vc_materials_free(&mm);
     free_centred(&centred);
     free(consistent.tri); /* the rest is borrowed */
     vc_surface_free(&unioned);
     return 0;
 fail:
-    vc_surface_free(&oriented);
+    free(oriented.tri);
     vc_materials_free(&mm);
     free_centred(&centred);
     free(consistent.tri);

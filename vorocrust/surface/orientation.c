@@ -113,3 +113,13 @@ int vc_surface_consistent_flips(const vc_surface *s, unsigned char *flip, int64_
     free(seen);
     return rc;
 }
+
+void vc_surface_reverse_triangles(vc_surface *s, const unsigned char *flip)
+{
+    for (int64_t t = 0; t < s->n_triangles; t++)
+        if (flip[t]) {
+            const int64_t x = s->tri[3 * t + 1];
+            s->tri[3 * t + 1] = s->tri[3 * t + 2];
+            s->tri[3 * t + 2] = x;
+        }
+}
