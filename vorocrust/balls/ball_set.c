@@ -131,9 +131,8 @@ void vc_ball_set_free(vc_ball_set *bs)
     vc_balls_free(&bs->b);
     free(bs->head);
     free(bs->filter);
-    free(bs->next);
+    free(bs->entry);
     free(bs->prev);
-    free(bs->key);
     free(bs->level);
     free(bs->level_pos);
     free(bs->changed_reach);
@@ -151,11 +150,11 @@ void vc_ball_set_free(vc_ball_set *bs)
 static void link_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        const uint64_t h = hash64(bs->key[e]);
+        const uint64_t h = hash64(bs->entry[e].key);
         int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
         filter_set(bs, h);
         const int64_t first = bs->head[slot];
-        bs->next[e] = first;
+        bs->entry[e].next = first;
         bs->prev[e] = -2 - slot;
         if (first >= 0)
             bs->prev[first] = e;
@@ -166,9 +165,9 @@ static void link_ball(vc_ball_set *bs, int64_t i)
 static void unlink_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        const int64_t before = bs->prev[e], after = bs->next[e];
+        const int64_t before = bs->prev[e], after = bs->entry[e].next;
         if (before >= 0)
-            bs->next[before] = after;
+            bs->entry[before].next = after;
         else
             bs->head[-2 - before] = after;
         if (after >= 0)
@@ -186,7 +185,7 @@ static void filter_refresh(vc_ball_set *bs, int64_t skip)
     for (int64_t i = 0; i < bs->b.n; i++)
         if (i != skip)
             for (int64_t e = 2 * i; e <= 2 * i + 1; e++)
-                filter_set(bs, hash64(bs->key[e]));
+                filter_set(bs, hash64(bs->entry[e].key));
 }
 
 static int level_push(vc_ball_set *bs, int l, int64_t i)
@@ -220,8 +219,8 @@ static void set_key(vc_ball_set *bs, int64_t i)
     int64_t x[3];
     for (int d = 0; d < 3; d++)
         x[d] = cell_coord(c[d] - bs->origin[d], h);
-    bs->key[2 * i] = cell_key(l, x[0], x[1], x[2]);
-    bs->key[2 * i + 1] = cell_key(l, x[0] >> COARSE_SHIFT, x[1] >> COARSE_SHIFT,
+    bs->entry[2 * i].key = cell_key(l, x[0], x[1], x[2]);
+    bs->entry[2 * i + 1].key = cell_key(l, x[0] >> COARSE_SHIFT, x[1] >> COARSE_SHIFT,
                                   x[2] >> COARSE_SHIFT) | COARSE_BIT;
 }
 
@@ -241,9 +240,8 @@ static int grow(vc_ball_set *bs)
     GROW(b->kind, signed char, 1);
     GROW(b->element, int64_t, 1);
     GROW(b->normal, double, 3);
-    GROW(bs->next, int64_t, 2);
+    GROW(bs->entry, vc_ball_entry, 2);
     GROW(bs->prev, int64_t, 2);
-    GROW(bs->key, uint64_t, 2);
     GROW(bs->level, int, 1);
     GROW(bs->level_pos, int64_t, 1);
     GROW(bs->changed_reach, double, 1);
@@ -417,10 +415,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                         if (!filter_has(bs, h))
                             continue;
                         int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
-                        for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
-                            if (bs->key[e] != key)
+                        for (int64_t e = bs->head[slot]; e >= 0; e = bs->entry[e].next) {
+                            if (bs->entry[e].key != key)
                                 continue;
-                            const uint64_t fine = bs->key[e - 1];
+                            const uint64_t fine = bs->entry[e - 1].key;
                             const int64_t x = (int64_t)(fine & mask),
                                           y = (int64_t)((fine >> COORD_BITS) & mask),
                                           z = (int64_t)((fine >> (2 * COORD_BITS)) & mask);
@@ -433,6 +431,18 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                         }
                     }
             continue;
+        }
+        /* Balls lie on a surface and their radii change slowly along it:
+         * near p most levels are empty. The few coarse cells of the range
+         * tell that before the fine ones are probed. */
+        {
+            int any = 0;
+            for (int64_t i = lo[0] >> COARSE_SHIFT; i <= hi[0] >> COARSE_SHIFT && !any; i++)
+                for (int64_t j = lo[1] >> COARSE_SHIFT; j <= hi[1] >> COARSE_SHIFT && !any; j++)
+                    for (int64_t k = lo[2] >> COARSE_SHIFT; k <= hi[2] >> COARSE_SHIFT && !any; k++)
+                        any = filter_has(bs, hash64(cell_key(l, i, j, k) | COARSE_BIT));
+            if (!any)
+                continue;
         }
         /* Per axis, the squared gap from p to each cell of the range: a
          * cell of the box that lies farther than R from p (a corner of the
@@ -457,8 +467,8 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                     if (!filter_has(bs, h))
                         continue;
                     int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
-                    for (int64_t e = bs->head[slot]; e >= 0; e = bs->next[e]) {
-                        if (bs->key[e] != key)
+                    for (int64_t e = bs->head[slot]; e >= 0; e = bs->entry[e].next) {
+                        if (bs->entry[e].key != key)
                             continue;
                         int r = fn(ctx, e >> 1);
                         if (r)
