@@ -264,6 +264,19 @@ static int covers_subface(void *ctx, int64_t i)
         c->found = i;
         return 1;
     }
+    /* A ball that misses the piece itself takes no part in covering it
+     * (its power cell holds no covered point of it), however near the
+     * bounding ball: a long, thin piece (the needle triangles of a coarse
+     * cylinder, split along their length) has a bounding ball far wider
+     * than itself, and the balls it caught filled the union test's places
+     * or made it cost up to 32 x 31 clippings, to no avail: a 92-triangle
+     * rod (20 long, radius 0.1) spent 60% of its 9.4 s of surface coverage
+     * there, 6.7 s with this test. */
+    const double *ci = c->b->center + 3 * i;
+    const double d2 = c->nv == 3 ? vc_closest_on_triangle(ci, c->v, c->v + 3, c->v + 6, NULL)
+                                 : vc_closest_on_segment(ci, c->v, c->v + 3, NULL);
+    if (!(d2 < r * r))
+        return 0;
     if (c->n_cand == VC_UNION_COVER_MAX) {
         c->overflow = 1;
         return 0;
