@@ -682,6 +682,9 @@ static int longest_edge_apex(const double *a, const double *b, const double *c)
  * the corner opposite the longest edge, or -1 when the subface is not
  * thin. */
 #define THIN_ASPECT 3.0
+/* ... and a needle when its apex stands within this share of the longest
+ * edge's length from one of its ends (see mps) */
+#define NEEDLE_END 0.25
 static int thin_apex(const subface *sf)
 {
     const int o = longest_edge_apex(sf->v, sf->v + 3, sf->v + 6);
@@ -876,14 +879,45 @@ static int mps(sampler *S, pool *P, int nv)
             } else if (o >= 0) {
                 const double *apex = sf->v + 3 * o, *p0 = sf->v + 3 * ((o + 1) % 3),
                              *p1 = sf->v + 3 * ((o + 2) % 3);
-                double m[3];
-                for (int d = 0; d < 3; d++)
-                    m[d] = 0.5 * (p0[d] + p1[d]);
-                const double *tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
-                for (int q = 0; q < 2; q++)
-                    for (int e = 0; e < 3; e++)
-                        memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
-                nch = 2;
+                /* where the apex stands over the longest edge */
+                double e01[3], e0a[3];
+                for (int d = 0; d < 3; d++) {
+                    e01[d] = p1[d] - p0[d];
+                    e0a[d] = apex[d] - p0[d];
+                }
+                const double t = (e01[0] * e0a[0] + e01[1] * e0a[1] + e01[2] * e0a[2]) /
+                                 (e01[0] * e01[0] + e01[1] * e01[1] + e01[2] * e01[2]);
+                if (t >= NEEDLE_END && t <= 1 - NEEDLE_END) {
+                    double m[3];
+                    for (int d = 0; d < 3; d++)
+                        m[d] = 0.5 * (p0[d] + p1[d]);
+                    const double *tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
+                    for (int q = 0; q < 2; q++)
+                        for (int e = 0; e < 3; e++)
+                            memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                    nch = 2;
+                } else {
+                    /* A needle: the apex stands near an end of the longest
+                     * edge, so the shortest edge (apex and that end) is its
+                     * width. Halving across the longest edge would leave a
+                     * child as long and half as wide (a right-angled needle
+                     * keeps its aspect for ever: four children per halving
+                     * of the length, all needles). Cut across the length
+                     * instead, through the midpoints of the two long edges:
+                     * the far tip (similar, half as long) and the near half
+                     * as two triangles as wide as the needle. */
+                    const double *near = t < 0.5 ? p0 : p1, *far = t < 0.5 ? p1 : p0;
+                    double u[3], w[3];
+                    for (int d = 0; d < 3; d++) {
+                        u[d] = 0.5 * (apex[d] + far[d]);
+                        w[d] = 0.5 * (near[d] + far[d]);
+                    }
+                    const double *tri[3][3] = {{u, w, far}, {apex, near, w}, {apex, w, u}};
+                    for (int q = 0; q < 3; q++)
+                        for (int e = 0; e < 3; e++)
+                            memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                    nch = 3;
+                }
             } else {
                 double m[3][3];
                 for (int e = 0; e < 3; e++)
