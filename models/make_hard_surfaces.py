@@ -59,6 +59,8 @@ The cases (NAME: what it tests):
                   two components 1000 times apart in size
   cone            vtkConeSource, 32 sides, capped: an apex of valence 32
   prism12         a capped 12-sided cylinder: 30-degree folds along it
+  rod             a capped 24-sided cylinder 12 long, radius 0.1: needle
+                  triangles 460 times longer than wide (a CAD export)
   text            the letters VC extruded (vtkVectorText): 2 components,
                   many corners, narrow strokes
   noise_blob      sphere plus Perlin noise, marching cubes on 200^3 (about
@@ -741,6 +743,21 @@ def case_prism12():
     return polydata_to_lists(c.GetOutput(), tolerance=1e-9)
 
 
+def case_rod():
+    """vtkCylinderSource with 24 sides, 12 long, radius 0.1, capped: each
+    side is two right triangles 12 x 0.026, needles of aspect 460, as a CAD
+    program exports a pin or a shaft. Their subfaces used to be halved
+    across their longest edge, which keeps a right needle's aspect for
+    ever (rmps.c, mps)."""
+    c = vtk.vtkCylinderSource()
+    c.SetResolution(24)
+    c.SetHeight(12.0)
+    c.SetRadius(0.1)
+    c.CappingOn()
+    c.Update()
+    return polydata_to_lists(c.GetOutput(), tolerance=1e-9)
+
+
 def case_text():
     """The letters "VC" (vtkVectorText) extruded by 0.3: two components,
     many corners and creases, narrow strokes, caps of long thin triangles."""
@@ -829,6 +846,7 @@ CASES = [
     ("box_speck", case_box_speck, "box of side 10 and apart a sphere of radius 0.01: 2 components 1000 times apart in size", 4),
     ("cone", case_cone, "capped 32-sided cone: an apex of valence 32 and a sharp rim", 2),
     ("prism12", case_prism12, "capped 12-sided cylinder 3 long: 30-degree folds along its length, sharp rims", 2),
+    ("rod", case_rod, "capped 24-sided cylinder 12 long, radius 0.1: needle triangles of aspect 460", 2),
     ("text", case_text, "the letters VC extruded: 2 components, many corners, narrow strokes", 4),
     ("scan_sphere", case_scan_sphere, "marching-cubes sphere, +-0.002 noise along the normal: folds over 60 degrees that are noise", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
