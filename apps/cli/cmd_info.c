@@ -274,9 +274,7 @@ int vc_cmd_info(int argc, char **argv)
     int rc = 0;
     if (features) {
         vc_features f;
-        const double *bb = rep.bbox;
-        const double scale = max_error * sqrt((bb[3] - bb[0]) * (bb[3] - bb[0]) + (bb[4] - bb[1]) * (bb[4] - bb[1]) +
-                                              (bb[5] - bb[2]) * (bb[5] - bb[2]));
+        const double scale = max_error > 0 ? max_error * vc_surface_diagonal(&s) : 0;
         if (vc_features_detect_scaled(&s, sharp_angle, NULL, scale, &f, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", rep.name, err.msg);
             vc_surface_free(&s);

@@ -126,6 +126,11 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged,
 int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *part_names,
                       vc_surface *out, vc_error *err);
 
+/* The diagonal of the bounding box of s's vertices (0 without vertices):
+ * the length the relative parameters (--max-error, the Hausdorff budget)
+ * are fractions of. */
+double vc_surface_diagonal(const vc_surface *s);
+
 /* Returns 0 when the checked surface has no open boundary edge, else
  * VC_EINPUT with "FILE: N open boundary edges (surface is not closed)". */
 int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err);

@@ -386,16 +386,7 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
  * are judged at it (vc_features_detect_scaled). */
 static double error_bound_of(const vc_surface *s, double max_error)
 {
-    if (!(max_error > 0) || s->n_vertices == 0)
-        return 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t v = 0; v < s->n_vertices; v++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
-            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
-        }
-    return max_error * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    return max_error > 0 ? max_error * vc_surface_diagonal(s) : 0;
 }
 
 /* The sampling, with more attempts when it diverges (resample_plan,

@@ -446,3 +446,17 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *p
         vc_surface_free(out);
     return rc;
 }
+
+double vc_surface_diagonal(const vc_surface *s)
+{
+    if (s->n_vertices <= 0)
+        return 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
