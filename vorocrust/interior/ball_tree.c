@@ -188,3 +188,33 @@ int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], 
     }
     return 0;
 }
+
+int vc_ball_tree_reaches(const vc_ball_tree *t, const double x[3], double h)
+{
+    if (t->balls->n == 0)
+        return 0;
+    int64_t stack[2 * MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
+        if (box_dist(nd, x) > nd->rmax + h)
+            continue;
+        if (nd->child < 0) {
+            const vc_balls *b = t->balls;
+            for (int64_t k = nd->first; k < nd->first + nd->count; k++) {
+                const int64_t i = t->order[k];
+                const double *p = b->center + 3 * i;
+                const double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
+                                  (x[2] - p[2]) * (x[2] - p[2]);
+                const double r = b->radius[i] + h;
+                if (d2 <= r * r)
+                    return 1;
+            }
+            continue;
+        }
+        stack[top++] = nd->child;
+        stack[top++] = nd->child + 1;
+    }
+    return 0;
+}

@@ -43,4 +43,7 @@ int vc_ball_tree_covers_scaled(const vc_ball_tree *t, const double x[3], double 
 int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], double factor,
                                       int64_t skip);
 
+/* 1 when some ball reaches within h of x: |x - p| <= r_p + h. */
+int vc_ball_tree_reaches(const vc_ball_tree *t, const double x[3], double h);
+
 #endif
