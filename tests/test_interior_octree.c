@@ -79,6 +79,27 @@ static int touch(const double *ca, double sa, const double *cb, double sb)
     return 1;
 }
 
+/* A leaf the sizing does not bind (octree_seeds.c): no ball reaches within
+ * its half diagonal of its centre, and the centre's nearest surface seed
+ * is an outside one (brute force). */
+static int outside_leaf(const vc_balls *b, const vc_seeds *ss, const double *c, double side)
+{
+    const double h = 0.5 * sqrt(3.0) * side;
+    for (int64_t i = 0; i < b->n; i++)
+        if (dist(b->center + 3 * i, c) <= b->radius[i] + h)
+            return 0;
+    int64_t best = -1;
+    double bd = INFINITY;
+    for (int64_t i = 0; i < ss->n; i++) {
+        const double d = dist(ss->xyz + 3 * i, c);
+        if (d < bd) {
+            bd = d;
+            best = i;
+        }
+    }
+    return best >= 0 && ss->label[best] == 0;
+}
+
 static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_options *o,
                          const vc_seeds *out, int64_t n_int, const vc_octree_stats *st,
                          const vc_octree_leaves *lv)
@@ -93,13 +114,17 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
     double box_vol = 1, vol = 0;
     for (int d = 0; d < 3; d++)
         box_vol *= lv->box[3 + d] - lv->box[d];
-    int64_t too_big = 0, needless = 0;
+    int64_t too_big = 0, needless = 0, outside_whole = 0;
     for (int64_t k = 0; k < lv->n; k++) {
         const double *c = lv->center + 3 * k;
         double a = lv->side[k];
         vol += a * a * a;
-        if (sqrt(3.0) * a > 2 * sizing(b, c, o->lipschitz, cap) * (1 + 1e-12))
-            too_big++;
+        if (sqrt(3.0) * a > 2 * sizing(b, c, o->lipschitz, cap) * (1 + 1e-12)) {
+            if (outside_leaf(b, ss, c, a))
+                outside_whole++;
+            else
+                too_big++;
+        }
         /* the parent: the cube of side 2a on the grid of that size */
         double pc[3];
         for (int d = 0; d < 3; d++)
@@ -110,6 +135,9 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
     CHECKF(fabs(vol - box_vol) <= 1e-9 * box_vol, "leaves cover %.12g of a box of %.12g", vol,
           box_vol);
     CHECKF(too_big == 0, "%lld leaves larger than the sizing allows", (long long)too_big);
+    /* outside, the leaves no ball reaches are left larger (the balls lie in
+     * a box with room around them) */
+    CHECKF(outside_whole > 0, "no outside leaf left larger than the sizing");
     /* balance splits a leaf into 8: at most 8 of every 7 added leaves */
     int64_t added = st->n_leaves - st->n_refined_leaves;
     CHECKF(needless <= 8 * added / 7, "%lld leaves refined beyond the sizing (balance added %lld)",
@@ -218,7 +246,8 @@ int main(void)
     if (rc == 0) {
         double largest = 0;
         for (int64_t k = 0; k < lv.n; k++)
-            largest = fmax(largest, lv.side[k]);
+            if (!outside_leaf(&b, &ss, lv.center + 3 * k, lv.side[k]))
+                largest = fmax(largest, lv.side[k]);
         CHECKF(sqrt(3.0) * largest <= 2 * 0.25, "capped: a leaf of side %g", largest);
         printf("capped: %lld leaves, %lld seeds\n", (long long)st.n_leaves, (long long)n_int[0]);
         check_forest(&b, &ss, &o, &out[0], n_int[0], &st, &lv);
