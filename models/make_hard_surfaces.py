@@ -63,6 +63,10 @@ The cases (NAME: what it tests):
                   triangles 460 times longer than wide (a CAD export)
   text            the letters VC extruded (vtkVectorText): 2 components,
                   many corners, narrow strokes
+  uv_noisy        a UV sphere (vtkSphereSource 300 x 180, radius 1) with
+                  +-0.002 of noise along the radius: needles at the poles
+                  whose normals the noise tips 80 degrees (folds that are
+                  noise, their normals far from agreeing)
   noise_blob      sphere plus Perlin noise, marching cubes on 200^3 (about
                   170k triangles): a bumpy scan-like surface
   scan_sphere     marching cubes of a sphere (80^3), every vertex moved
@@ -758,6 +762,28 @@ def case_rod():
     return polydata_to_lists(c.GetOutput(), tolerance=1e-9)
 
 
+def case_uv_noisy():
+    """vtkSphereSource 300 x 180 of radius 1, every vertex moved along the
+    radius by seeded noise of +-0.002 (1/7 of the error bound): 300
+    needles meet at each pole, 0.0002 wide at their first ring, and the
+    noise tips their normals by up to 85 degrees either way: thousands of
+    folds over 60 degrees whose walks' normals mostly disagree, yet every
+    needle still faces outward (vc_flat_near's least-squares plane)."""
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(300)
+    s.SetPhiResolution(180)
+    s.Update()
+    pts, tris = polydata_to_lists(s.GetOutput(), tolerance=1e-9)
+    rng = random.Random(11)
+    out = []
+    for p in pts:
+        ln = math.sqrt(dot(p, p))
+        f = rng.uniform(-0.002, 0.002)
+        out.append(tuple(v * (1 + f / ln) for v in p))
+    return out, tris
+
+
 def case_text():
     """The letters "VC" (vtkVectorText) extruded by 0.3: two components,
     many corners and creases, narrow strokes, caps of long thin triangles."""
@@ -849,6 +875,7 @@ CASES = [
     ("rod", case_rod, "capped 24-sided cylinder 12 long, radius 0.1: needle triangles of aspect 460", 2),
     ("text", case_text, "the letters VC extruded: 2 components, many corners, narrow strokes", 4),
     ("scan_sphere", case_scan_sphere, "marching-cubes sphere, +-0.002 noise along the normal: folds over 60 degrees that are noise", 2),
+    ("uv_noisy", case_uv_noisy, "UV sphere 300 x 180 with +-0.002 radial noise: noise-tipped needles at the poles", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
 ]
 

@@ -105,6 +105,66 @@ static void expect_flat(const char *name, int n, height_fn fn, double amp, doubl
     vc_surface_free(&b.s);
 }
 
+/* A grid of needles: nx x ny cells over [-ex, ex] x [-ey, ey], each cell
+ * two triangles, z = fn + seeded noise of +-amp (the pole of a fine UV
+ * sphere: cells far narrower than long). The fold tested is the grid edge
+ * from the centre vertex one step along y. */
+static void expect_flat_needles(const char *name, int nx, int ny, double ex, double ey, height_fn fn,
+                                double amp, double scale, int want)
+{
+    builder b = {0};
+    uint64_t state = 4242;
+    for (int j = 0; j <= ny; j++)
+        for (int i = 0; i <= nx; i++) {
+            const double x = -ex + 2.0 * ex * i / nx, y = -ey + 2.0 * ey * j / ny;
+            state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+            const double noise = amp * (2.0 * (double)(state >> 11) / 9007199254740992.0 - 1.0);
+            add_v(&b, x, y, fn(x, y) + noise);
+        }
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++) {
+            const int64_t a = (int64_t)j * (nx + 1) + i;
+            add_q(&b, a, a + 1, a + nx + 2, a + nx + 1);
+        }
+    vc_features f;
+    vc_error err;
+    int r = -1;
+    double coherence = 0;
+    if (vc_features_detect(&b.s, 60, &f, &err) == 0) {
+        vc_flat_probe p;
+        if (vc_flat_probe_init(&p, b.s.n_triangles) == 0) {
+            const int64_t u = (int64_t)(ny / 2) * (nx + 1) + nx / 2, v = u + nx + 1;
+            const int64_t e = vc_features_find_edge(&f, u, v);
+            if (e >= 0 && f.edge_tri_start[e + 1] - f.edge_tri_start[e] == 2) {
+                const int64_t seeds[2] = {f.edge_tri[f.edge_tri_start[e]], f.edge_tri[f.edge_tri_start[e] + 1]};
+                const double *pa = b.s.xyz + 3 * u, *pb = b.s.xyz + 3 * v;
+                const double x[3] = {0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])};
+                r = vc_flat_near(&b.s, &f, &p, seeds, 2, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0,
+                                 NULL);
+                /* how much the walk's normals agree (the mean's length) */
+                double m[3] = {0, 0, 0}, area = 0;
+                for (int64_t i = 0; i < p.n_reached; i++) {
+                    const int64_t t = p.queue[i];
+                    const double *q0 = b.s.xyz + 3 * b.s.tri[3 * t], *q1 = b.s.xyz + 3 * b.s.tri[3 * t + 1],
+                                 *q2 = b.s.xyz + 3 * b.s.tri[3 * t + 2];
+                    const double d1[3] = {q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]};
+                    const double d2[3] = {q2[0] - q0[0], q2[1] - q0[1], q2[2] - q0[2]};
+                    const double c[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
+                                         d1[0] * d2[1] - d1[1] * d2[0]};
+                    for (int k = 0; k < 3; k++)
+                        m[k] += c[k];
+                    area += sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                }
+                coherence = area > 0 ? sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) / area : 0;
+            }
+            vc_flat_probe_free(&p);
+        }
+        vc_features_free(&f);
+    }
+    CHECKF(r == want, "%s: flat %d (want %d); the walk's normals agree to %.2f", name, r, want, coherence);
+    vc_surface_free(&b.s);
+}
+
 int main(void)
 {
     /* grid spacing 0.01 (n = 200); scale 0.02: reach 0.08, slab 0.01 from
@@ -133,6 +193,14 @@ int main(void)
      * paraboloid is not flat (its facets sag 0.04 from it anyway) */
     expect_flat("coarse paraboloid", 10, paraboloid, 0, 0.02, 0, 2, 23);
     expect_flat("coarse plane", 10, flat, 0, 0.02, 1, 2, 6);
+
+    /* needles 0.0005 wide, 0.01 long (a fine UV sphere's pole): noise of
+     * +-0.004 (within the slab) tips their normals 80 degrees every way,
+     * their mean a small share of their area; but every one still faces up
+     * from the least-squares plane: flat. The same needles on the roof are
+     * not. */
+    expect_flat_needles("needles, noise 0.004", 400, 20, 0.1, 0.1, flat, 0.004, 0.02, 1);
+    expect_flat_needles("needles on the roof", 400, 20, 0.1, 0.1, roof, 0.004, 0.02, 0);
 
     if (failures) {
         fprintf(stderr, "test_feature_scale: %d failures\n", failures);

@@ -15,6 +15,10 @@
 /* ... and how much its normals must agree: the length of their
  * area-weighted mean over the area */
 #define VC_FLAT_COHERENCE 0.5
+/* ... and, when they do not agree that well, the walk must be a graph over
+ * its least-squares plane: the area facing away from it, weighted by how
+ * far, at most VC_FLAT_TURNED of the whole (a sheet turned over: 0.5) */
+#define VC_FLAT_TURNED 0.02
 /* Curved ground: when the points stray farther from the plane, they may
  * lie within VC_FLAT_QUADRIC_SLAB of the slab from their least-squares
  * quadric instead, if the walk took at least VC_FLAT_QUADRIC_MIN
