@@ -156,8 +156,8 @@ int vc_ball_tree_covers_scaled(const vc_ball_tree *t, const double x[3], double 
     return vc_ball_tree_covers_scaled_except(t, x, factor, -1);
 }
 
-int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], double factor,
-                                      int64_t skip)
+/* 1 when |x - p| <= factor r_p + h for some ball other than skip. */
+static int some_ball_within(const vc_ball_tree *t, const double x[3], double factor, double h, int64_t skip)
 {
     if (t->balls->n == 0)
         return 0;
@@ -166,7 +166,7 @@ int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], 
     stack[top++] = 0;
     while (top > 0) {
         const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
-        if (box_dist(nd, x) > factor * nd->rmax)
+        if (box_dist(nd, x) > factor * nd->rmax + h)
             continue;
         if (nd->child < 0) {
             const vc_balls *b = t->balls;
@@ -177,7 +177,7 @@ int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], 
                 const double *p = b->center + 3 * i;
                 double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
                             (x[2] - p[2]) * (x[2] - p[2]);
-                const double r = factor * b->radius[i];
+                const double r = factor * b->radius[i] + h;
                 if (d2 <= r * r)
                     return 1;
             }
@@ -189,32 +189,13 @@ int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], 
     return 0;
 }
 
+int vc_ball_tree_covers_scaled_except(const vc_ball_tree *t, const double x[3], double factor,
+                                      int64_t skip)
+{
+    return some_ball_within(t, x, factor, 0.0, skip);
+}
+
 int vc_ball_tree_reaches(const vc_ball_tree *t, const double x[3], double h)
 {
-    if (t->balls->n == 0)
-        return 0;
-    int64_t stack[2 * MAX_DEPTH + 2];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
-        if (box_dist(nd, x) > nd->rmax + h)
-            continue;
-        if (nd->child < 0) {
-            const vc_balls *b = t->balls;
-            for (int64_t k = nd->first; k < nd->first + nd->count; k++) {
-                const int64_t i = t->order[k];
-                const double *p = b->center + 3 * i;
-                const double d2 = (x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
-                                  (x[2] - p[2]) * (x[2] - p[2]);
-                const double r = b->radius[i] + h;
-                if (d2 <= r * r)
-                    return 1;
-            }
-            continue;
-        }
-        stack[top++] = nd->child;
-        stack[top++] = nd->child + 1;
-    }
-    return 0;
+    return some_ball_within(t, x, 1.0, h, -1);
 }

@@ -415,6 +415,49 @@ static int64_t root_of(int64_t *parent, int64_t v)
     return v;
 }
 
+/* The flat-ground walk of fold e (a manifold edge): from its two
+ * triangles, around its midpoint. */
+static int fold_flat(const vc_surface *s, const vc_features *f, vc_flat_probe *p, int64_t e, double reach,
+                     double slab, double mean[3])
+{
+    const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
+    const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
+    const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+    return vc_flat_near(s, f, p, seeds, 2, x, reach, slab, 0, mean);
+}
+
+/* The walks of the folds, in parallel, each with its own probe: without
+ * near, the folds above theta_sharp judged (flat[e]); with it, the
+ * triangles tilted around each fold with flat[e] marked in near. Neither
+ * depends on the order, so neither on the thread count. 0, or -1 when out
+ * of memory. */
+static int walk_folds(const vc_surface *s, const vc_features *f, unsigned char *flat, double scale,
+                      unsigned char *near)
+{
+    int fail = 0;
+#pragma omp parallel reduction(| : fail)
+    {
+        vc_flat_probe q;
+        if (vc_flat_probe_init(&q, s->n_triangles))
+            fail = 1;
+        else {
+#pragma omp for schedule(dynamic, 16)
+            for (int64_t e = 0; e < f->n_edges; e++) {
+                if (!near && f->edge_sharp[e] == VC_SHARP_ANGLE) {
+                    flat[e] = (unsigned char)fold_flat(s, f, &q, e, VC_FLAT_REACH * scale,
+                                                       VC_FLAT_SLAB * scale, NULL);
+                } else if (near && flat[e]) {
+                    double m[3];
+                    fold_flat(s, f, &q, e, VC_FLAT_REACH * scale, INFINITY, m);
+                    mark_tilted(f, &q, m, near);
+                }
+            }
+            vc_flat_probe_free(&q);
+        }
+    }
+    return fail ? -1 : 0;
+}
+
 int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
                                    unsigned char *near)
 {
@@ -444,30 +487,9 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
             if (a != b)
                 parent[a < b ? b : a] = a < b ? a : b;
         }
-    /* Every fold judged by its own walk, in parallel (the verdicts do not
-     * depend on the order, so neither on the thread count): a UV sphere's
-     * noisy poles have thousands of folds whose walks take 2,000 needles
-     * each. */
-    int fail = 0;
-#pragma omp parallel reduction(| : fail)
-    {
-        vc_flat_probe q;
-        if (vc_flat_probe_init(&q, s->n_triangles))
-            fail = 1;
-        else {
-#pragma omp for schedule(dynamic, 16)
-            for (int64_t e = 0; e < f->n_edges; e++) {
-                if (f->edge_sharp[e] != VC_SHARP_ANGLE)
-                    continue;
-                const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
-                const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
-                const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
-                flat[e] = (unsigned char)vc_flat_near(s, f, &q, seeds, 2, x, VC_FLAT_REACH * scale,
-                                                      VC_FLAT_SLAB * scale, 0, NULL);
-            }
-            vc_flat_probe_free(&q);
-        }
-    }
+    /* Every fold judged by its own walk, in parallel (a UV sphere's noisy
+     * poles have thousands of folds whose walks take 2,000 needles each) */
+    int fail = walk_folds(s, f, flat, scale, NULL) != 0;
     for (int64_t e = 0; e < f->n_edges && !fail; e++)
         if (f->edge_sharp[e] && !flat[e])
             kept[root_of(parent, f->edge_vertex[2 * e])] = 1;
@@ -483,28 +505,9 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
         f->n_sharp_by_angle--;
         f->n_sharp_noise++;
     }
-    /* the ground looked at, again, for the smoothed normals (the triangles
-     * it tilted are marked; the marks do not depend on the order) */
-#pragma omp parallel reduction(| : fail) if (!fail)
-    {
-        vc_flat_probe q;
-        if (vc_flat_probe_init(&q, s->n_triangles))
-            fail = 1;
-        else {
-#pragma omp for schedule(dynamic, 16)
-            for (int64_t e = 0; e < f->n_edges; e++) {
-                if (!flat[e])
-                    continue;
-                const int64_t seeds[2] = {f->edge_tri[f->edge_tri_start[e]], f->edge_tri[f->edge_tri_start[e] + 1]};
-                const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
-                const double x[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
-                double m[3];
-                vc_flat_near(s, f, &q, seeds, 2, x, VC_FLAT_REACH * scale, INFINITY, 0, m);
-                mark_tilted(f, &q, m, near);
-            }
-            vc_flat_probe_free(&q);
-        }
-    }
+    /* the ground looked at, again, for the smoothed normals */
+    if (!fail)
+        fail = walk_folds(s, f, flat, scale, near) != 0;
     free(parent);
     free(kept);
     free(flat);
