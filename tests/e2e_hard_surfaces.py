@@ -53,7 +53,8 @@ PEAK_MIB = {"box_speck": 100}
 WITHIN_ERROR_BOUND = {"prism12"}
 # Where a pass of the sampler acts that no shared model reaches (the
 # input-vertex check): the same .vtu on one thread as on two.
-THREAD_COUNT_CHECKED = {"prism12", "scan_sphere"}
+# uv_noisy: the folds judged in parallel (session 27).
+THREAD_COUNT_CHECKED = {"prism12", "scan_sphere", "uv_noisy"}
 # Folds over theta_sharp that are noise at the error bound (session 26):
 # the marching-cubes sphere with noise 1/7 of the bound has 1,261 of them;
 # judged as features they made 1,800 corners and radius bounds of 1e-4
