@@ -591,11 +591,12 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
         vstart[v] = vstart[v - 1];
     vstart[0] = 0;
     recs = xalloc(kmax, sizeof *recs);
-    int64_t *vtri = xalloc(kmax, sizeof *vtri);
-    vc_flat_probe probe = {0}; /* allocated at the first sector corner judged */
-    if (!recs || !vtri) {
+    /* the sector corners to judge at the error bound (after the loop) */
+    int64_t *judge = scale > 0 ? xalloc(nv, sizeof *judge) : NULL;
+    int64_t n_judge = 0;
+    if (!recs || (scale > 0 && !judge)) {
         free(recs);
-        free(vtri);
+        free(judge);
         free(parent);
         free(par);
         free(vstart);
@@ -639,28 +640,62 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
                 why |= VC_CORNER_SECTOR;
             i = j;
         }
-        if (why == VC_CORNER_SECTOR && scale > 0 && (probe.stamp || vc_flat_probe_init(&probe, nt) == 0)) {
-            /* flat ground at the error bound: noise, not a corner */
-            for (int64_t i = 0; i < k; i++)
-                vtri[i] = r[i].slot / 3;
-            if (vc_features_vertex_flat(s, f, &probe, v, vtri, k, scale, near)) {
-                why = 0;
-                f->n_corner_noise++;
-            }
-        }
+        if (why == VC_CORNER_SECTOR && scale > 0)
+            judge[n_judge++] = v;
         if (deg == 0 && n_sectors > 1)
             why |= VC_CORNER_PINCH;
         f->vertex_corner[v] = why;
         n_corners += why != 0;
     }
+    /* A sector corner on flat ground at the error bound is noise, not a
+     * corner: judged in parallel (a walk each, from the vertex's first
+     * triangle in sector order; the verdicts do not depend on the order:
+     * a UV sphere's noisy poles have thousands) */
+    unsigned char *noise = n_judge > 0 ? calloc((size_t)n_judge, 1) : NULL;
+    int fail = n_judge > 0 && !noise;
+    if (!fail && n_judge > 0) {
+#pragma omp parallel reduction(| : fail)
+        {
+            vc_flat_probe probe;
+            slot_rec *rr = xalloc(kmax, sizeof *rr);
+            int64_t *vtri = xalloc(kmax, sizeof *vtri);
+            if (!rr || !vtri || vc_flat_probe_init(&probe, nt))
+                fail = 1;
+            else {
+#pragma omp for schedule(dynamic, 16)
+                for (int64_t j = 0; j < n_judge; j++) {
+                    const int64_t v = judge[j], k = vstart[v + 1] - vstart[v];
+                    for (int64_t i = 0; i < k; i++) {
+                        const int64_t h = vslot[vstart[v] + i];
+                        rr[i] = (slot_rec){parent[h], h};
+                    }
+                    sort_slots(rr, k);
+                    for (int64_t i = 0; i < k; i++)
+                        vtri[i] = rr[i].slot / 3;
+                    noise[j] = (unsigned char)vc_features_vertex_flat(s, f, &probe, v, vtri, k, scale, near);
+                }
+                vc_flat_probe_free(&probe);
+            }
+            free(rr);
+            free(vtri);
+        }
+    }
+    for (int64_t j = 0; j < n_judge && !fail; j++)
+        if (noise[j]) {
+            f->vertex_corner[judge[j]] = 0;
+            f->n_corner_noise++;
+            n_corners--;
+        }
     f->n_corners = n_corners;
+    free(noise);
+    free(judge);
     free(parent);
     free(par);
     free(vstart);
     free(vslot);
     free(recs);
-    free(vtri);
-    vc_flat_probe_free(&probe);
+    if (fail)
+        return vc_error_set(err, VC_ENOMEM, "out of memory judging corners");
     return 0;
 }
 
