@@ -694,6 +694,15 @@ static int thin_apex(const subface *sf)
     return l2 > THIN_ASPECT * twice_area ? o : -1;
 }
 
+/* ch[0 .. n) from the corner pointers of tri (the parent's element is set
+ * by the caller). */
+static void fill_children(subface *ch, const double *const (*tri)[3], int n)
+{
+    for (int q = 0; q < n; q++)
+        for (int e = 0; e < 3; e++)
+            memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+}
+
 static int mps(sampler *S, pool *P, int nv)
 {
     int kind = nv == 2 ? VC_ELEM_EDGE : VC_ELEM_TRIANGLE;
@@ -891,10 +900,8 @@ static int mps(sampler *S, pool *P, int nv)
                     double m[3];
                     for (int d = 0; d < 3; d++)
                         m[d] = 0.5 * (p0[d] + p1[d]);
-                    const double *tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
-                    for (int q = 0; q < 2; q++)
-                        for (int e = 0; e < 3; e++)
-                            memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                    const double *const tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
+                    fill_children(ch, tri, 2);
                     nch = 2;
                 } else {
                     /* A needle: the apex stands near an end of the longest
@@ -912,10 +919,8 @@ static int mps(sampler *S, pool *P, int nv)
                         u[d] = 0.5 * (apex[d] + far[d]);
                         w[d] = 0.5 * (near[d] + far[d]);
                     }
-                    const double *tri[3][3] = {{u, w, far}, {apex, near, w}, {apex, w, u}};
-                    for (int q = 0; q < 3; q++)
-                        for (int e = 0; e < 3; e++)
-                            memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                    const double *const tri[3][3] = {{u, w, far}, {apex, near, w}, {apex, w, u}};
+                    fill_children(ch, tri, 3);
                     nch = 3;
                 }
             } else {
@@ -924,11 +929,9 @@ static int mps(sampler *S, pool *P, int nv)
                     for (int d = 0; d < 3; d++)
                         m[e][d] = 0.5 * (sf->v[3 * e + d] + sf->v[3 * ((e + 1) % 3) + d]);
                 const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
-                const double *tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
+                const double *const tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
                                            {m[0], m[1], m[2]}};
-                for (int q = 0; q < 4; q++)
-                    for (int e = 0; e < 3; e++)
-                        memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
+                fill_children(ch, tri, 4);
                 nch = 4;
             }
             for (int q = 0; q < nch; q++)

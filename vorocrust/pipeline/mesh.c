@@ -462,12 +462,11 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         const vc_surface *sampled = s;
         /* said first: on a fine noisy surface the folds judged at the
          * error bound take seconds (a 198,400-triangle UV sphere: 7 s) */
+        const double bound = error_bound_of(s, opt->max_error);
         if (attempt == 0)
             vc_log(opt->log, VC_LOG_INFO, "mesh: sharp features of %lld triangles at %g degrees, "
-                   "judged at the error bound %g", (long long)s->n_triangles, so.sharp_angle,
-                   error_bound_of(s, opt->max_error));
-        if (vc_features_detect_scaled(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error), &f,
-                                      err)) {
+                   "judged at the error bound %g", (long long)s->n_triangles, so.sharp_angle, bound);
+        if (vc_features_detect_scaled(s, so.sharp_angle, extra, bound, &f, err)) {
             rc = named(err, name, NULL);
             break;
         }
