@@ -31,11 +31,16 @@ static double dist(const double *a, const double *b)
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
-static double sizing(const vc_balls *b, const double x[3], double L, double cap)
+/* The sizing by brute force: r_p + L d within far_from radii of a ball's
+ * centre, growing at far_lipschitz beyond. */
+static double sizing(const vc_balls *b, const double x[3], const vc_octree_options *o, double cap)
 {
     double r = cap;
-    for (int64_t i = 0; i < b->n; i++)
-        r = fmin(r, b->radius[i] + L * dist(x, b->center + 3 * i));
+    for (int64_t i = 0; i < b->n; i++) {
+        const double d = dist(x, b->center + 3 * i), near = o->far_from * b->radius[i];
+        r = fmin(r, b->radius[i] + (d <= near ? o->lipschitz * d
+                                              : o->lipschitz * near + o->far_lipschitz * (d - near)));
+    }
     return r;
 }
 
@@ -119,7 +124,7 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
         const double *c = lv->center + 3 * k;
         double a = lv->side[k];
         vol += a * a * a;
-        if (sqrt(3.0) * a > 2 * sizing(b, c, o->lipschitz, cap) * (1 + 1e-12)) {
+        if (sqrt(3.0) * a > 2 * sizing(b, c, o, cap) * (1 + 1e-12)) {
             if (outside_leaf(b, ss, c, a))
                 outside_whole++;
             else
@@ -129,7 +134,7 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
         double pc[3];
         for (int d = 0; d < 3; d++)
             pc[d] = lv->box[d] + (floor((c[d] - lv->box[d]) / (2 * a)) + 0.5) * 2 * a;
-        if (lv->level[k] > 0 && sqrt(3.0) * 2 * a <= 2 * sizing(b, pc, o->lipschitz, cap))
+        if (lv->level[k] > 0 && sqrt(3.0) * 2 * a <= 2 * sizing(b, pc, o, cap))
             needless++;
     }
     CHECKF(fabs(vol - box_vol) <= 1e-9 * box_vol, "leaves cover %.12g of a box of %.12g", vol,
@@ -201,7 +206,8 @@ int main(void)
     }
     vc_octree_options o;
     vc_octree_options_default(&o);
-    CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2, "defaults");
+    CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2 && o.far_from == 3 && o.far_lipschitz == 1,
+           "defaults");
 
     vc_seeds out[2];
     int64_t n_int[2];
@@ -255,8 +261,38 @@ int main(void)
         vc_seeds_free(&out[0]);
     }
 
+    /* one grading everywhere (as before the far grading): the same rules,
+     * and more leaves deep inside */
+    {
+        vc_octree_options u = o;
+        u.max_size = 0;
+        u.far_from = INFINITY;
+        vc_octree_stats su, sf;
+        u.threads = 0;
+        int ru = vc_interior_octree(&b, &ss, &u, &out[0], &n_int[0], &su, &lv, &err);
+        CHECKF(ru == 0, "uniform grading: %s", err.msg);
+        if (ru == 0) {
+            check_forest(&b, &ss, &u, &out[0], n_int[0], &su, &lv);
+            vc_octree_leaves_free(&lv);
+            vc_seeds_free(&out[0]);
+            u.far_from = 3;
+            int rf = vc_interior_octree(&b, &ss, &u, &out[0], &n_int[0], &sf, NULL, &err);
+            CHECKF(rf == 0 && sf.n_seeds < su.n_seeds,
+                   "far grading: %lld interior seeds, %lld with one grading", (long long)sf.n_seeds,
+                   (long long)su.n_seeds);
+            printf("one grading: %lld seeds; faster far from the balls: %lld\n", (long long)su.n_seeds,
+                   (long long)sf.n_seeds);
+            if (rf == 0)
+                vc_seeds_free(&out[0]);
+        }
+    }
+
     /* bad options and input */
     o.max_size = 0;
+    o.far_lipschitz = 0.1;
+    CHECKF(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
+           "far grading slower than near accepted");
+    o.far_lipschitz = 1;
     o.lipschitz = 1.5;
     CHECKF(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
           "L = 1.5 accepted");

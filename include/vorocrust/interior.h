@@ -47,10 +47,19 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *surface_seeds, do
                         vc_seeds *out, int64_t *n_interior, vc_error *err);
 
 /* Octree interior. The sizing at x is r(x) = min over the surface balls
- * of (r_p + L |x - p|), the L-Lipschitz extension of the ball radii into
- * the volume, capped by max_size. */
+ * of (r_p + g(|x - p|)), capped by max_size: g(d) = L d within far_from
+ * radii of the ball's centre (the L-Lipschitz extension of the ball radii
+ * into the volume, where the surface seeds' cells meet the first interior
+ * cells), and beyond that it grows by far_lipschitz per unit of distance
+ * (1: each leaf about as large as its distance to the surface, the
+ * grading the octree's 2:1 balance allows). */
 typedef struct vc_octree_options {
     double lipschitz; /* L, 0 < L < 1; default 0.25, the sampling's default */
+    double far_from;  /* radii from a ball's centre where the far grading begins,
+                         >= 0; default 3 */
+    double far_lipschitz; /* L <= far_lipschitz; default 1 (far_lipschitz = L,
+                             or far_from = INFINITY: L everywhere, as before
+                             session 28) */
     double max_size;  /* cap of the sizing; <= 0: none (the box bounds the leaves) */
     double diagonal_factor; /* a leaf is refined while its diagonal exceeds this times
                                the sizing at its centre; default 2, thesis 5.5.2 (a leaf's

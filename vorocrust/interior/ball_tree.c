@@ -114,8 +114,10 @@ static double box_dist(const vc_ball_tree_node *nd, const double x[3])
     return sqrt(s);
 }
 
-double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lipschitz, double cap)
+double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
+                           double cap)
 {
+    const double lipschitz = g->lipschitz;
     double best = cap;
     if (t->balls->n == 0)
         return best;
@@ -133,7 +135,9 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lips
                 const double *p = b->center + 3 * i;
                 double d = sqrt((x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
                                 (x[2] - p[2]) * (x[2] - p[2]));
-                best = fmin(best, b->radius[i] + lipschitz * d);
+                const double near = g->far_from * b->radius[i];
+                best = fmin(best, b->radius[i] + (d <= near ? lipschitz * d
+                                                            : lipschitz * near + g->far_lipschitz * (d - near)));
             }
             continue;
         }

@@ -1,7 +1,8 @@
 /* A k-d tree over the surface balls for the two questions the interior
  * seeds ask at a point x: the sizing r(x) = min over balls of
  * (r_p + L |x - p|) (the L-Lipschitz extension of the radii into the
- * volume), and whether x lies inside some ball. Each node keeps the
+ * volume, growing faster far from the balls: vc_ball_tree_sizing), and
+ * whether x lies inside some ball. Each node keeps the
  * bounding box of its centres and the smallest and largest radius below
  * it, so both queries prune whole subtrees by a lower bound:
  * r_p + L |x - p| >= rmin + L dist(x, box) and |x - p| >= dist(x, box).
@@ -31,8 +32,19 @@ typedef struct vc_ball_tree {
 int vc_ball_tree_build(vc_ball_tree *t, const vc_balls *balls);
 void vc_ball_tree_free(vc_ball_tree *t);
 
-/* min(cap, min over balls of r_p + L |x - p|); cap may be INFINITY. */
-double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], double lipschitz, double cap);
+/* How the sizing grows away from the balls: at rate lipschitz within
+ * far_from radii of a ball's centre, at rate far_lipschitz (>= lipschitz)
+ * beyond. */
+typedef struct vc_ball_grading {
+    double lipschitz, far_from, far_lipschitz;
+} vc_ball_grading;
+
+/* min(cap, min over balls of r_p + g_p(|x - p|)), g_p(d) = L d up to
+ * d = far_from r_p and L far_from r_p + far_lipschitz (d - far_from r_p)
+ * beyond; cap may be INFINITY. The pruning by rmin + L dist(x, box) stays
+ * a lower bound, g_p(d) >= L d. */
+double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
+                           double cap);
 
 /* 1 when |x - p| <= r_p for some ball (on a sphere counts as inside). */
 int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3]);

@@ -32,7 +32,8 @@ enum { MAX_TREES_PER_AXIS = 16 };
 typedef struct forest_geometry {
     double lo[3];    /* the brick's low corner */
     double tree_side;
-    double lipschitz, cap, diagonal_factor;
+    vc_ball_grading grading;
+    double cap, diagonal_factor;
     const vc_ball_tree *balls;
     const vc_seed_kdtree *seeds; /* the surface seeds, and their labels */
     const int32_t *label;
@@ -41,6 +42,8 @@ typedef struct forest_geometry {
 void vc_octree_options_default(vc_octree_options *opt)
 {
     opt->lipschitz = 0.25;
+    opt->far_from = 3;
+    opt->far_lipschitz = 1;
     opt->max_size = 0;
     opt->diagonal_factor = 2;
     opt->threads = 0;
@@ -73,7 +76,7 @@ static int leaf_too_large(const p8est_t *forest, p4est_topidx_t tree, const p8es
     double c[3], side;
     quadrant_cube(forest, g, tree, q, c, &side);
     double diagonal = sqrt(3.0) * side;
-    if (!(diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, g->lipschitz, g->cap)))
+    if (!(diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, &g->grading, g->cap)))
         return 0;
     /* A leaf no ball reaches lies on one side of the reconstructed surface
      * (the balls hold it); outside (its centre's nearest surface seed an
@@ -241,6 +244,10 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     if (!(opt->lipschitz > 0 && opt->lipschitz < 1))
         return vc_error_set(err, VC_EPARAM, "the octree's Lipschitz constant must be in (0, 1), "
                             "got %g", opt->lipschitz);
+    if (!(opt->far_from >= 0) || !(opt->far_lipschitz >= opt->lipschitz) || !isfinite(opt->far_lipschitz))
+        return vc_error_set(err, VC_EPARAM, "the octree's far grading must start at a distance >= 0 "
+                            "and grow at least as fast as near the balls, got %g radii and %g",
+                            opt->far_from, opt->far_lipschitz);
     if (!(opt->diagonal_factor > 0) || !isfinite(opt->diagonal_factor))
         return vc_error_set(err, VC_EPARAM, "the octree's diagonal factor must be positive, got %g",
                             opt->diagonal_factor);
@@ -255,7 +262,9 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     forest_geometry g;
     int n[3];
     brick_layout(balls, g.lo, &g.tree_side, n);
-    g.lipschitz = opt->lipschitz;
+    g.grading.lipschitz = opt->lipschitz;
+    g.grading.far_from = opt->far_from;
+    g.grading.far_lipschitz = opt->far_lipschitz;
     g.diagonal_factor = opt->diagonal_factor;
     g.cap = opt->max_size > 0 ? opt->max_size : INFINITY;
     vc_ball_tree tree;
