@@ -114,10 +114,32 @@ static double box_dist(const vc_ball_tree_node *nd, const double x[3])
     return sqrt(s);
 }
 
+/* r + g_r(d): the sizing a ball of radius r gives at distance d. */
+static double graded(const vc_ball_grading *g, double r, double d)
+{
+    const double near = g->far_from * r;
+    return r + (d <= near ? g->lipschitz * d : g->lipschitz * near + g->far_lipschitz * (d - near));
+}
+
+/* A lower bound of graded(r_p, |x - p|) over a node's balls, D the box's
+ * distance: graded grows with d, and for fixed d it is piecewise linear in
+ * r with its one kink at r = d / far_from, so its least value over
+ * [rmin, rmax] is at an end or at the kink. Far from the balls this prunes
+ * by the far rate, not by L. */
+static double node_lower(const vc_ball_grading *g, const vc_ball_tree_node *nd, double D)
+{
+    double v = fmin(graded(g, nd->rmin, D), graded(g, nd->rmax, D));
+    if (g->far_from > 0) {
+        const double kink = D / g->far_from;
+        if (kink > nd->rmin && kink < nd->rmax)
+            v = fmin(v, graded(g, kink, D));
+    }
+    return v;
+}
+
 double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
                            double cap)
 {
-    const double lipschitz = g->lipschitz;
     double best = cap;
     if (t->balls->n == 0)
         return best;
@@ -126,7 +148,7 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ba
     stack[top++] = 0;
     while (top > 0) {
         const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
-        if (nd->rmin + lipschitz * box_dist(nd, x) >= best)
+        if (node_lower(g, nd, box_dist(nd, x)) >= best)
             continue;
         if (nd->child < 0) {
             const vc_balls *b = t->balls;
@@ -135,9 +157,7 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ba
                 const double *p = b->center + 3 * i;
                 double d = sqrt((x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
                                 (x[2] - p[2]) * (x[2] - p[2]));
-                const double near = g->far_from * b->radius[i];
-                best = fmin(best, b->radius[i] + (d <= near ? lipschitz * d
-                                                            : lipschitz * near + g->far_lipschitz * (d - near)));
+                best = fmin(best, graded(g, b->radius[i], d));
             }
             continue;
         }

@@ -41,8 +41,8 @@ typedef struct vc_ball_grading {
 
 /* min(cap, min over balls of r_p + g_p(|x - p|)), g_p(d) = L d up to
  * d = far_from r_p and L far_from r_p + far_lipschitz (d - far_from r_p)
- * beyond; cap may be INFINITY. The pruning by rmin + L dist(x, box) stays
- * a lower bound, g_p(d) >= L d. */
+ * beyond; cap may be INFINITY. A subtree is pruned by the least value
+ * its radius range can give at its box's distance. */
 double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
                            double cap);
 
