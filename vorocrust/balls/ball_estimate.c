@@ -1,5 +1,6 @@
 /* Ball count predicted from the sizing (see ball_estimate.h). */
 #include "ball_estimate.h"
+#include "ball_set.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -42,24 +43,26 @@ typedef struct estimate_ctx {
     double sz;
     const double *corner_r;  /* per vertex: the corner ball's bound, or 0 */
     const double *edge_r;    /* per edge: the crease ball's bound near it, or 0 */
-    double reach;            /* the largest of them */
+    /* the corners and sharp edges, each as a ball holding the points
+     * within its bound (an edge's: about its midpoint, its half length
+     * more), the element's kind and id with it */
+    vc_ball_set lower;
     int max_depth;
 } estimate_ctx;
 
 typedef struct covered_ctx {
     const estimate_ctx *e;
     const double *x;
-    int covered;
 } covered_ctx;
 
-static void check_lower(void *ctx, int kind, int64_t id)
+static int within_lower(void *ctx, int64_t i)
 {
-    covered_ctx *c = ctx;
-    if (c->covered || kind == VC_ELEM_TRIANGLE)
-        return;
+    const covered_ctx *c = ctx;
+    const vc_balls *b = &c->e->lower.b;
+    const int kind = b->kind[i];
+    const int64_t id = b->element[i];
     const double r = kind == VC_ELEM_CORNER ? c->e->corner_r[id] : c->e->edge_r[id];
-    if (r > 0 && vc_sizing_element_dist2(c->e->z, kind, id, c->x) < r * r)
-        c->covered = 1;
+    return vc_sizing_element_dist2(c->e->z, kind, id, c->x) < r * r;
 }
 
 /* Is x within the balls of a corner or a crease (their bounds standing
@@ -69,11 +72,44 @@ static void check_lower(void *ctx, int kind, int64_t id)
  * 3,399. */
 static int under_lower_strata(const estimate_ctx *e, const double x[3])
 {
-    if (!(e->reach > 0))
+    if (e->lower.b.n == 0)
         return 0;
-    covered_ctx c = {e, x, 0};
-    vc_sizing_elements_near(e->z, x, e->reach, check_lower, &c);
-    return c.covered;
+    covered_ctx c = {e, x};
+    return vc_ball_set_query(&e->lower, x, 0, 1.0, 0.0, within_lower, &c);
+}
+
+/* The index of the corner and crease balls (see estimate_ctx); 0, or -1
+ * when out of memory. */
+static int index_lower(estimate_ctx *e)
+{
+    const vc_surface *s = e->z->s;
+    const vc_features *f = e->z->f;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    const double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                             (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (vc_ball_set_init(&e->lower, lo, diag))
+        return -1;
+    const double none[3] = {0, 0, 0};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        if (e->corner_r[v] > 0 && isfinite(e->corner_r[v]) &&
+            vc_ball_set_add(&e->lower, s->xyz + 3 * v, e->corner_r[v], VC_ELEM_CORNER, v, none) < 0)
+            return -1;
+    for (int64_t k = 0; k < f->n_edges; k++) {
+        if (!(e->edge_r[k] > 0) || !isfinite(e->edge_r[k]))
+            continue;
+        const double *a = s->xyz + 3 * f->edge_vertex[2 * k], *b = s->xyz + 3 * f->edge_vertex[2 * k + 1];
+        const double m[3] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+        const double half = 0.5 * sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                                       (b[2] - a[2]) * (b[2] - a[2]));
+        if (vc_ball_set_add(&e->lower, m, e->edge_r[k] + half, VC_ELEM_EDGE, k, none) < 0)
+            return -1;
+    }
+    return 0;
 }
 
 static void lengths(const double *a, const double *b, const double *c, double *area, double *longest)
@@ -191,23 +227,21 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     }
     /* every sharp edge's crease balls: those of the last one evaluated
      * before it (all of them, below MAX_EVALUATED) */
-    double reach = 0, last = 0;
+    double last = 0;
     for (int64_t e = 0; e < ne; e++) {
         if (!f->edge_sharp[e])
             continue;
         if (isfinite(edge_r[e]))
             last = edge_r[e];
         edge_ball[e] = last;
-        reach = fmax(reach, last);
     }
-    for (int64_t v = 0; v < nv; v++)
-        reach = fmax(reach, corner_r[v]);
+    estimate_ctx ec = {.z = z, .sz = sz, .corner_r = corner_r, .edge_r = edge_ball};
+    int fail = index_lower(&ec);
 
     /* the patches */
     int64_t n_eval = 0;
     for (int64_t t = 0; t < nt; t += tri_stride)
         n_eval++;
-    estimate_ctx ec = {z, sz, corner_r, edge_ball, isfinite(reach) ? reach : 0, 0};
     for (int64_t per = n_eval > 0 ? ADAPTIVE_BUDGET / n_eval : 0, k = 4; ec.max_depth < MAX_DEPTH && per >= k + 1;
          k *= 4)
         ec.max_depth++, per -= k;
@@ -215,7 +249,7 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     for (int64_t t = 0; t < nt; t++) {
         tri_n[t] = 0;
         tri_r[t] = INFINITY;
-        if (t % tri_stride != 0)
+        if (fail || t % tri_stride != 0)
             continue;
         const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                      *c = s->xyz + 3 * s->tri[3 * t + 2];
@@ -275,5 +309,6 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     free(edge_ball);
     free(corner_r);
     free(edge_rank);
-    return 0;
+    vc_ball_set_free(&ec.lower);
+    return fail ? -1 : 0;
 }
