@@ -153,16 +153,17 @@ def mesh(name, seeds_path, *opts, cells=None, volume=None, connections=False):
 
 
 def check_header(name, path):
-    """The XML header: file version 1.0, UInt64 headers, Int64 ids, the
-    polyhedron arrays and the four cell-data arrays with their types."""
+    """The XML header: file version 1.0, UInt64 headers, Int32 ids (every
+    index of these meshes fits), the polyhedron arrays and the four
+    cell-data arrays with their types."""
     with open(path, "rb") as f:
         head = f.read(8192).split(b"<AppendedData")[0].decode()
     check('version="1.0"' in head and 'header_type="UInt64"' in head,
           "%s: VTKFile header %r" % (name, head[:200]))
     arrays = dict((n, t) for t, n in re.findall(r'<DataArray type="(\w+)" Name="(\w+)"', head))
     want = {"region": "Int32", "seed": "Int64", "volume": "Float64", "seed_point": "Float64",
-            "Points": "Float64", "connectivity": "Int64", "offsets": "Int64", "types": "UInt8",
-            "faces": "Int64", "faceoffsets": "Int64"}
+            "Points": "Float64", "connectivity": "Int32", "offsets": "Int32", "types": "UInt8",
+            "faces": "Int32", "faceoffsets": "Int32"}
     check(arrays == want, "%s: arrays %r, expected %r" % (name, arrays, want))
 
 

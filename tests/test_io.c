@@ -299,9 +299,10 @@ static void test_vtu_write(void)
         if (u) {
             long head = (long)(u - s) + (long)strlen("<AppendedData encoding=\"raw\">\n   _");
             /* region 2*4, seed 2*8, volume 2*8, seed_point 2*24 (the mesh
-             * carries its seeds), points 12*24, conn 16*8, offsets 2*8,
-             * types 2, faces 2*(1+6*5)*8, faceoffsets 2*8, 10 headers */
-            long data = 8 + 16 + 16 + 48 + 288 + 128 + 16 + 2 + 496 + 16 + 10 * 8;
+             * carries its seeds), points 12*24, then the indices as Int32
+             * (every one fits): conn 16*4, offsets 2*4, types 2, faces
+             * 2*(1+6*5)*4, faceoffsets 2*4; 10 headers */
+            long data = 8 + 16 + 16 + 48 + 288 + 64 + 8 + 2 + 248 + 8 + 10 * 8;
             long tail = (long)strlen("\n  </AppendedData>\n</VTKFile>\n");
             CHECK(file_size(raw) == head + data + tail);
         }

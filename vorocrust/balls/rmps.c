@@ -2065,7 +2065,11 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         st->n_shrunk_lipschitz += nl;
         if (nl > 0) {
+            const double tr = vc_clock_seconds();
             rc = resample_around(&S, old_r, shrunk);
+            vc_log(opt->log, VC_LOG_DEBUG, "  sampling: %lld balls shrunk for Lipschitz (%.3f s), "
+                   "resampled to %lld balls (%.3f s)", (long long)nl, tr - ta,
+                   (long long)S.bs.b.n, vc_clock_seconds() - tr);
             continue;
         }
         double tb = vc_clock_seconds();
@@ -2076,6 +2080,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
          * proves it for all of them */
         int64_t ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 0);
         st->t_slivers += vc_clock_seconds() - tb;
+        vc_log(opt->log, VC_LOG_DEBUG, "  sampling: triplet scan %.3f s", vc_clock_seconds() - tb);
         if (ns < 0) {
             rc = -1;
             break;
@@ -2219,7 +2224,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             diverged = 1;
             break;
         }
+        const double tr = vc_clock_seconds();
         rc = resample_around(&S, old_r, shrunk);
+        vc_log(opt->log, VC_LOG_DEBUG, "  sampling: resampled to %lld balls (%.3f s)",
+               (long long)S.bs.b.n, vc_clock_seconds() - tr);
     }
     if (diverged && opt->stuck_tri)
         mark_stuck(&S, shrunk, old_r, opt->stuck_tri);

@@ -1,5 +1,6 @@
 #include "balls/triplets.h"
 #include "util/reserve.h"
+#include "util/small_sort.h"
 #include "util/threads.h"
 
 #ifdef _OPENMP
@@ -93,11 +94,8 @@ static int collect_overlapping(void *ctx, int64_t q)
     return 0;
 }
 
-static int cmp_i64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
+#define ID_LESS(p, q) (*(p) < *(q))
+VC_SMALL_SORT(sort_ids, int64_t, ID_LESS)
 
 static int overlap(const vc_balls *b, int64_t p, int64_t q)
 {
@@ -163,7 +161,7 @@ static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_bu
         out->oom = 1;
         return;
     }
-    qsort(L->ids, (size_t)L->n, sizeof(int64_t), cmp_i64);
+    sort_ids(L->ids, L->n);
     for (int64_t a = 0; a < L->n; a++) {
         int64_t j = L->ids[a];
         if (j < i)

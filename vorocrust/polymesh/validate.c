@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/small_sort.h"
+
 typedef struct report {
     char *buf;
     size_t len, used;
@@ -36,6 +38,9 @@ static void problem(report *r, const char *fmt, ...)
 typedef struct edge {
     int64_t a, b;
 } edge;
+
+#define EDGE_LESS(p, q) ((p)->a < (q)->a || ((p)->a == (q)->a && (p)->b < (q)->b))
+VC_SMALL_SORT(sort_edges, edge, EDGE_LESS)
 
 static int cmp_edge(const void *x, const void *y)
 {
@@ -92,7 +97,7 @@ static void check_cell(const vc_polymesh *m, int64_t c, double rel_tol, report *
             e[k++] = rev ? (edge){b, a} : (edge){a, b};
         }
     }
-    qsort(e, (size_t)k, sizeof *e, cmp_edge);
+    sort_edges(e, k);
     for (int64_t j = 0; j < k; j++) {
         if (j + 1 < k && e[j].a == e[j + 1].a && e[j].b == e[j + 1].b) {
             problem(r, "cell %lld uses edge %lld->%lld twice in the same direction (faces not "

@@ -20,6 +20,7 @@
 #include "convex_cell.h"
 #include "util/exact_predicates.h"
 #include "util/reserve.h"
+#include "util/small_sort.h"
 #include "util/union_find.h"
 
 static inline int omp_thread(void)
@@ -424,13 +425,73 @@ typedef struct hashed_point {
     int64_t g;
 } hashed_point;
 
-static int cmp_hashed(const void *x, const void *y)
+#define HASHED_LESS(a, b)                                                                         \
+    ((a)->i[0] != (b)->i[0]   ? (a)->i[0] < (b)->i[0]                                              \
+     : (a)->i[1] != (b)->i[1] ? (a)->i[1] < (b)->i[1]                                              \
+     : (a)->i[2] != (b)->i[2] ? (a)->i[2] < (b)->i[2]                                              \
+                              : (a)->g < (b)->g)
+VC_SMALL_SORT(sort_hashed, hashed_point, HASHED_LESS)
+
+/* The columns of hash cells (i0, i1) that hold points: an open-addressing
+ * table from a column to its first point in the sorted order (a column's
+ * points are consecutive there). A probe is one or two loads where a
+ * binary search over all points was eighteen. */
+typedef struct column_table {
+    int64_t *key0, *key1, *first; /* first -1: an empty slot */
+    int64_t mask;
+} column_table;
+
+static uint64_t column_hash(int64_t a, int64_t b)
 {
-    const hashed_point *a = x, *b = y;
-    for (int d = 0; d < 3; d++)
-        if (a->i[d] != b->i[d])
-            return a->i[d] < b->i[d] ? -1 : 1;
-    return (a->g > b->g) - (a->g < b->g);
+    uint64_t x = (uint64_t)a * 0x9e3779b97f4a7c15ULL ^ (uint64_t)b * 0xc2b2ae3d27d4eb4fULL;
+    x ^= x >> 31;
+    x *= 0xbf58476d1ce4e5b9ULL;
+    return x ^ (x >> 29);
+}
+
+/* The first point of column (a, b), or -1. */
+static int64_t column_first(const column_table *c, int64_t a, int64_t b)
+{
+    for (int64_t s = (int64_t)(column_hash(a, b) & (uint64_t)c->mask);; s = (s + 1) & c->mask) {
+        if (c->first[s] < 0)
+            return -1;
+        if (c->key0[s] == a && c->key1[s] == b)
+            return c->first[s];
+    }
+}
+
+/* Builds the table of the sorted points h[0 .. nb); -1 when out of memory. */
+static int column_table_build(column_table *c, const hashed_point *h, int64_t nb)
+{
+    int64_t size = 16;
+    while (size < 2 * nb)
+        size *= 2;
+    c->mask = size - 1;
+    c->key0 = malloc((size_t)size * sizeof(int64_t));
+    c->key1 = malloc((size_t)size * sizeof(int64_t));
+    c->first = malloc((size_t)size * sizeof(int64_t));
+    if (!c->key0 || !c->key1 || !c->first)
+        return -1;
+    for (int64_t s = 0; s < size; s++)
+        c->first[s] = -1;
+    for (int64_t a = 0; a < nb; a++) {
+        if (a > 0 && h[a].i[0] == h[a - 1].i[0] && h[a].i[1] == h[a - 1].i[1])
+            continue;
+        int64_t s = (int64_t)(column_hash(h[a].i[0], h[a].i[1]) & (uint64_t)c->mask);
+        while (c->first[s] >= 0)
+            s = (s + 1) & c->mask;
+        c->key0[s] = h[a].i[0];
+        c->key1[s] = h[a].i[1];
+        c->first[s] = a;
+    }
+    return 0;
+}
+
+static void column_table_free(column_table *c)
+{
+    free(c->key0);
+    free(c->key1);
+    free(c->first);
 }
 
 /* Hash cells (of width q) around a boundary point that it must search:
@@ -503,7 +564,13 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
         h[n++].g = g;
     }
     free(on);
-    qsort(h, (size_t)nb, sizeof *h, cmp_hashed);
+    sort_hashed(h, nb);
+    column_table cols = {NULL, NULL, NULL, 0};
+    if (column_table_build(&cols, h, nb) != 0) {
+        column_table_free(&cols);
+        free(h);
+        return -1;
+    }
     /* The pairs that coincide, found in parallel against the classes as
      * they are (a compressed copy: finds in the shared array would write),
      * then united in one pass. Testing a pair the unions of this pass
@@ -517,6 +584,7 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
         free(snap);
         free(found);
         free(h);
+        column_table_free(&cols);
         return -1;
     }
     for (int64_t g = 0; g < ng_all; g++)
@@ -536,14 +604,12 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
         for (int64_t dx = -w; dx <= w; dx++)
             for (int64_t dy = -w; dy <= w; dy++) {
                 const hashed_point key = {{h[a].i[0] + dx, h[a].i[1] + dy, h[a].i[2] - w}, -1};
-                int64_t lo = 0, hi = nb;
-                while (lo < hi) {
-                    const int64_t mid = (lo + hi) / 2;
-                    if (cmp_hashed(&h[mid], &key) < 0)
-                        lo = mid + 1;
-                    else
-                        hi = mid;
-                }
+                int64_t lo = column_first(&cols, key.i[0], key.i[1]);
+                if (lo < 0)
+                    continue;
+                while (lo < nb && h[lo].i[0] == key.i[0] && h[lo].i[1] == key.i[1] &&
+                       h[lo].i[2] < key.i[2])
+                    lo++;
                 for (int64_t b = lo; b < nb && h[b].i[0] == key.i[0] && h[b].i[1] == key.i[1] &&
                                      h[b].i[2] <= key.i[2] + 2 * w;
                      b++) {
@@ -579,6 +645,7 @@ static int64_t match_boundary_points(stitch *st, int threads, double merge_tol)
     free(found);
     free(snap);
     free(h);
+    column_table_free(&cols);
     return n_unions;
 }
 
@@ -1087,59 +1154,46 @@ reclass:
         }
         if (failed)
             goto nomem;
-        int64_t total = 0;
-        for (int t = 0; t < threads; t++)
-            total += links[t].n;
-        /* (vertex, neighbour) packed in 64 bits (global vertices are
-         * below 2^31: checked), gathered (each thread's buffer freed as it
-         * is copied, the sort's second array only then), radix sorted, and
-         * counted */
-        uint64_t *all = malloc((size_t)(total + 1) * sizeof *all);
-        if (!all)
+        /* A candidate's distinct neighbours, up to three (three make it
+         * no straight point), from the (vertex, neighbour) links packed in
+         * 64 bits (global vertices are below 2^31: checked); the count
+         * does not depend on the links' order, so neither on the threads.
+         * Candidates get dense indices first: three slots per global
+         * vertex would cost 12 bytes each at a million seeds. */
+        int32_t *cidx = malloc((size_t)(ng + 1) * sizeof *cidx);
+        if (!cidx)
             goto nomem;
-        int64_t at = 0;
+        int64_t n_cand = 0;
+        for (int64_t g = 0; g < ng; g++)
+            cidx[g] = st.candidate[g] ? (int32_t)n_cand++ : -1;
+        int32_t *nbr = malloc((size_t)(3 * n_cand + 1) * sizeof *nbr);
+        unsigned char *n_nbr = calloc((size_t)n_cand + 1, 1);
+        if (!nbr || !n_nbr) {
+            free(cidx);
+            free(nbr);
+            free(n_nbr);
+            goto nomem;
+        }
         for (int t = 0; t < threads; t++) {
-            if (links[t].n)
-                memcpy(all + at, links[t].v, (size_t)links[t].n * sizeof *all);
-            at += links[t].n;
+            for (int64_t i = 0; i < links[t].n; i++) {
+                const uint64_t l = links[t].v[i];
+                const int32_t c = cidx[l >> 32], u = (int32_t)(l & 0xffffffffu);
+                int32_t *slot = nbr + 3 * (int64_t)c;
+                const int k = n_nbr[c];
+                if (k == 3 || (k > 0 && slot[0] == u) || (k > 1 && slot[1] == u))
+                    continue;
+                slot[k] = u;
+                n_nbr[c] = (unsigned char)(k + 1);
+            }
             free(links[t].v);
             links[t] = (u64_buf){NULL, 0, 0};
         }
-        uint64_t *tmp = malloc((size_t)(total + 1) * sizeof *tmp);
-        if (!tmp) {
-            free(all);
-            goto nomem;
-        }
-        for (int shift = 0; shift < 64; shift += 16) {
-            static const int R = 1 << 16;
-            int64_t *count = calloc((size_t)R + 1, sizeof *count);
-            if (!count) {
-                free(all);
-                free(tmp);
-                goto nomem;
-            }
-            for (int64_t i = 0; i < total; i++)
-                count[((all[i] >> shift) & 0xffff) + 1]++;
-            for (int r = 0; r < R; r++)
-                count[r + 1] += count[r];
-            for (int64_t i = 0; i < total; i++)
-                tmp[count[(all[i] >> shift) & 0xffff]++] = all[i];
-            free(count);
-            uint64_t *sw = all;
-            all = tmp;
-            tmp = sw;
-        }
-        free(tmp);
-        for (int64_t i = 0; i < total;) {
-            int64_t j = i, deg = 0;
-            const uint64_t v = all[i] >> 32;
-            for (; j < total && (all[j] >> 32) == v; j++)
-                deg += j == i || all[j] != all[j - 1];
-            if (deg == 2)
-                st.straight[v] = 1;
-            i = j;
-        }
-        free(all);
+        for (int64_t g = 0; g < ng; g++)
+            if (cidx[g] >= 0 && n_nbr[cidx[g]] == 2)
+                st.straight[g] = 1;
+        free(cidx);
+        free(nbr);
+        free(n_nbr);
     }
     PHASE("straight");
     /* What the faces no longer need, freed before the mesh's arrays are

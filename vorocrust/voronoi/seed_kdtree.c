@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/small_sort.h"
+
 /* Points per leaf: a few, so that a query reads few beyond the k it keeps
  * (bunny.off's 153,626 seeds, 48 neighbours: 8.5 us per query with 8 per
  * leaf, 7.2 with 16, 7.1 with 32). */
@@ -252,11 +254,8 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
     return n;
 }
 
-static int cmp_hit(const void *a, const void *b)
-{
-    const vc_kd_hit *p = a, *q = b;
-    return worse(p, q) ? 1 : (worse(q, p) ? -1 : 0);
-}
+#define HIT_LESS(p, q) worse(q, p)
+VC_SMALL_SORT(sort_hits, vc_kd_hit, HIT_LESS)
 
 int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
                           int64_t skip, int (*reach)(void *ctx, const double lo[3], const double hi[3]),
@@ -290,6 +289,6 @@ int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2,
             hit[n++] = h;
         }
     }
-    qsort(hit, (size_t)n, sizeof *hit, cmp_hit);
+    sort_hits(hit, n);
     return n;
 }

@@ -1,0 +1,100 @@
+/* util/small_sort.h against qsort: random arrays of every length from 0 to
+ * 300 and a few long ones (distinct keys, as the library's callers have),
+ * already sorted, reversed, organ-pipe and sawtooth orders (the inputs that
+ * defeat a naive pivot), and pairs with few ties: the same array as
+ * qsort's, element for element. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/small_sort.h"
+#include "vorocrust/random.h"
+
+#include "test_check.h"
+
+typedef struct pair {
+    int64_t a, b;
+} pair;
+
+#define I64_LESS(p, q) (*(p) < *(q))
+VC_SMALL_SORT(sort_i64, int64_t, I64_LESS)
+#define PAIR_LESS(p, q) ((p)->a < (q)->a || ((p)->a == (q)->a && (p)->b < (q)->b))
+VC_SMALL_SORT(sort_pairs, pair, PAIR_LESS)
+
+static int cmp_i64(const void *x, const void *y)
+{
+    const int64_t a = *(const int64_t *)x, b = *(const int64_t *)y;
+    return (a > b) - (a < b);
+}
+
+static int cmp_pair(const void *x, const void *y)
+{
+    const pair *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return (p->b > q->b) - (p->b < q->b);
+}
+
+/* Sorts a copy of v[0 .. n) both ways; 1 when they agree. */
+static int agrees_i64(const int64_t *v, int64_t n)
+{
+    int64_t *x = malloc(sizeof *x * (size_t)(n + 1)), *y = malloc(sizeof *y * (size_t)(n + 1));
+    memcpy(x, v, sizeof *x * (size_t)n);
+    memcpy(y, v, sizeof *y * (size_t)n);
+    sort_i64(x, n);
+    qsort(y, (size_t)n, sizeof *y, cmp_i64);
+    const int same = memcmp(x, y, sizeof *x * (size_t)n) == 0;
+    free(x);
+    free(y);
+    return same;
+}
+
+int main(void)
+{
+    vc_rng rng;
+    vc_rng_init(&rng, 7, 0);
+    enum { LONGEST = 20000 };
+    int64_t *v = malloc(sizeof *v * LONGEST);
+    /* random distinct keys: a shuffled range, shifted */
+    const int64_t lengths[] = {1000, 4096, LONGEST};
+    for (int64_t n = 0; n <= 300 + 3; n++) {
+        const int64_t len = n <= 300 ? n : lengths[n - 301];
+        for (int64_t i = 0; i < len; i++)
+            v[i] = 3 * i - 1000;
+        for (int64_t i = len - 1; i > 0; i--) {
+            const int64_t j = (int64_t)(vc_rng_uniform(&rng) * (double)(i + 1));
+            const int64_t t = v[i];
+            v[i] = v[j < i ? j : i];
+            v[j < i ? j : i] = t;
+        }
+        CHECKF(agrees_i64(v, len), "random keys, n = %lld", (long long)len);
+    }
+    /* orders that defeat a pivot taken from one end */
+    const int64_t n = LONGEST;
+    for (int64_t i = 0; i < n; i++)
+        v[i] = i;
+    CHECK(agrees_i64(v, n));
+    for (int64_t i = 0; i < n; i++)
+        v[i] = n - i;
+    CHECK(agrees_i64(v, n));
+    for (int64_t i = 0; i < n; i++)
+        v[i] = i < n / 2 ? 2 * i : 2 * (n - i) + 1; /* organ pipe, distinct */
+    CHECK(agrees_i64(v, n));
+    for (int64_t i = 0; i < n; i++)
+        v[i] = (i % 100) * n + i; /* sawtooth, distinct */
+    CHECK(agrees_i64(v, n));
+    /* pairs: keys tied in a, told apart by b, and a few equal pairs */
+    pair *p = malloc(sizeof *p * 3000), *q = malloc(sizeof *q * 3000);
+    for (int64_t i = 0; i < 3000; i++) {
+        p[i].a = (int64_t)(vc_rng_uniform(&rng) * 50);
+        p[i].b = i % 7 == 0 ? 0 : (int64_t)(vc_rng_uniform(&rng) * 1e9);
+    }
+    memcpy(q, p, sizeof *p * 3000);
+    sort_pairs(p, 3000);
+    qsort(q, 3000, sizeof *q, cmp_pair);
+    CHECK(memcmp(p, q, sizeof *p * 3000) == 0);
+    free(p);
+    free(q);
+    free(v);
+    return failures != 0;
+}
