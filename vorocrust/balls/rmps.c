@@ -32,6 +32,7 @@
 #include "balls/union_cover.h"
 #include "util/closest_point.h"
 #include "util/reserve.h"
+#include "util/small_sort.h"
 #include "sizing/sizing.h"
 #include "sizing/smooth_surface.h"
 #include "vorocrust/random.h"
@@ -1284,14 +1285,11 @@ static void cut_radii(const vc_balls *b, sliver_ctx *c, unsigned char *cut, doub
     }
 }
 
-static int cmp_facet_rec(const void *p, const void *q)
-{
-    const facet_rec *a = p, *b = q;
-    for (int m = 0; m < 3; m++)
-        if (a->v[m] != b->v[m])
-            return a->v[m] < b->v[m] ? -1 : 1;
-    return 0;
-}
+#define FACET_REC_LESS(a, b)                                                                      \
+    ((a)->v[0] != (b)->v[0]   ? (a)->v[0] < (b)->v[0]                                              \
+     : (a)->v[1] != (b)->v[1] ? (a)->v[1] < (b)->v[1]                                              \
+                              : (a)->v[2] < (b)->v[2])
+VC_SMALL_SORT(sort_facet_recs, facet_rec, FACET_REC_LESS)
 
 /* Also leaves the facets of the balls as they were before shrinking in
  * *facets, in (i, j, k) order, as a scan of every triplet lists them. With
@@ -1347,7 +1345,7 @@ static int64_t eliminate_slivers(sampler *S, double *old_r, unsigned char *shrun
             return -1;
         }
         if (fresh.n > 1)
-            qsort(fresh.f, (size_t)fresh.n, sizeof(facet_rec), cmp_facet_rec);
+            sort_facet_recs(fresh.f, fresh.n);
     }
     free(scanned);
     free(facets->f);
@@ -1399,6 +1397,10 @@ static int cmp_edge_rec(const void *p, const void *q)
         return x->b < y->b ? -1 : 1;
     return (x->facet > y->facet) - (x->facet < y->facet);
 }
+/* Records equal in every field are the same: any sort gives qsort's array. */
+#define EDGE_REC_LESS(x, y)                                                                       \
+    ((x)->a != (y)->a ? (x)->a < (y)->a : (x)->b != (y)->b ? (x)->b < (y)->b : (x)->facet < (y)->facet)
+VC_SMALL_SORT(sort_edge_recs, edge_rec, EDGE_REC_LESS)
 
 /* Are both points where the spheres of p, q (with radius rq) and o meet
  * inside ball s, FLAT_SEED_DEPTH deep? */
@@ -1451,7 +1453,7 @@ static edge_rec *sorted_edges(const facet_list *fl)
             int64_t a = fl->f[f].v[k], b = fl->f[f].v[(k + 1) % 3];
             e[3 * f + k] = (edge_rec){a < b ? a : b, a < b ? b : a, f};
         }
-    qsort(e, (size_t)(3 * fl->n), sizeof(edge_rec), cmp_edge_rec);
+    sort_edge_recs(e, 3 * fl->n);
     return e;
 }
 
@@ -1800,7 +1802,7 @@ static int64_t shrink_pinches(sampler *S, const facet_list *facets, double *old_
     for (int64_t f = 0; f < fl.n; f++)
         for (int k = 0; k < 3; k++)
             e[3 * f + k] = (edge_rec){fl.f[f].v[k], fl.f[f].v[(k + 1) % 3], fl.f[f].v[(k + 2) % 3]};
-    qsort(e, (size_t)(3 * fl.n), sizeof(edge_rec), cmp_edge_rec);
+    sort_edge_recs(e, 3 * fl.n);
     for (int64_t m = 0; m < 3 * fl.n && changed >= 0;) {
         int64_t m2 = m;
         while (m2 < 3 * fl.n && e[m2].a == e[m].a)
