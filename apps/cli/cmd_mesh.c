@@ -257,10 +257,11 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     }
     fprintf(stderr,
             "  volume mesh: %lld cells (%lld interior seeds), volume %.12g (reconstructed "
-            "surface %.12g, input %.12g), %.3f s; %lld faces (%lld interior, %lld "
-            "boundary), %lld vertices\n",
+            "surface %.12g, input %.12g), %.3f s (cells %.3f, checks and quality %.3f, "
+            "writing %.3f); %lld faces (%lld interior, %lld boundary), %lld vertices\n",
             (long long)m->n_cells, (long long)r->n_interior_seeds, r->mesh_volume,
-            r->surface_volume, input_volume, t->voronoi + t->quality + t_write_mesh,
+            r->surface_volume, input_volume, t->voronoi + t->quality + t_write_mesh, t->voronoi,
+            t->quality, t_write_mesh,
             (long long)m->n_faces, (long long)m->n_interior_faces,
             (long long)(m->n_faces - m->n_interior_faces), (long long)m->n_points);
     {

@@ -11,6 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The arrays are written in the machine's byte order. */
+#if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
+    __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#define VTU_BYTE_ORDER "BigEndian"
+#else
+#define VTU_BYTE_ORDER "LittleEndian"
+#endif
+
 int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err)
 {
     if (!m || !path || !*path)
@@ -48,7 +56,7 @@ int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err)
     FILE *fp = (FILE *)t.fp;
     int bad_io = fprintf(fp, "<?xml version=\"1.0\"?>\n"
                              "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-                             "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+                             "byte_order=\"" VTU_BYTE_ORDER "\" header_type=\"UInt64\">\n"
                              "<UnstructuredGrid>\n<FieldData>\n"
                              "<Array type=\"String\" Name=\"patch_names\" NumberOfTuples=\"%d\" "
                              "format=\"ascii\">\n",
@@ -59,40 +67,70 @@ int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err)
             fprintf(fp, "%d ", (unsigned char)*c);
         bad_io = fprintf(fp, "0\n") < 0;
     }
-    fprintf(fp, "</Array>\n</FieldData>\n"
-                "<Piece NumberOfPoints=\"%" PRId64 "\" NumberOfCells=\"%" PRId64 "\">\n"
-                "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-            np, nb);
-    for (int64_t i = 0; i < np && !bad_io; i++) {
-        const double *x = m->points + 3 * used[i];
-        bad_io = fprintf(fp, "%.17g %.17g %.17g\n", x[0], x[1], x[2]) < 0;
+    fprintf(fp, "</Array>\n</FieldData>\n");
+    /* The arrays as raw appended data (each a UInt64 byte count, then the
+     * bytes): printing 17 digits per coordinate in ASCII took a third of
+     * a second for bunny.off's 40,000 faces. */
+    const int64_t nfv = m->face_offsets[m->n_faces] - m->face_offsets[ni];
+    const uint64_t bytes[7] = {24 * (uint64_t)np, 8 * (uint64_t)nfv, 8 * (uint64_t)nb, (uint64_t)nb,
+                               4 * (uint64_t)nb, 4 * (uint64_t)nb, 8 * (uint64_t)nb};
+    uint64_t off[7], at = 0;
+    for (int a = 0; a < 7; a++) {
+        off[a] = at;
+        at += 8 + bytes[a];
     }
-    fprintf(fp, "</DataArray>\n</Points>\n<Cells>\n"
-                "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for (int64_t f = ni; f < m->n_faces && !bad_io; f++) {
+    fprintf(fp,
+            "<Piece NumberOfPoints=\"%" PRId64 "\" NumberOfCells=\"%" PRId64 "\">\n"
+            "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"appended\" "
+            "offset=\"%" PRIu64 "\"/>\n</Points>\n<Cells>\n"
+            "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"appended\" offset=\"%" PRIu64
+            "\"/>\n"
+            "<DataArray type=\"Int64\" Name=\"offsets\" format=\"appended\" offset=\"%" PRIu64 "\"/>\n"
+            "<DataArray type=\"UInt8\" Name=\"types\" format=\"appended\" offset=\"%" PRIu64 "\"/>\n"
+            "</Cells>\n<CellData>\n"
+            "<DataArray type=\"Int32\" Name=\"patch\" format=\"appended\" offset=\"%" PRIu64 "\"/>\n"
+            "<DataArray type=\"Int32\" Name=\"region\" format=\"appended\" offset=\"%" PRIu64 "\"/>\n"
+            "<DataArray type=\"Float64\" Name=\"area\" format=\"appended\" offset=\"%" PRIu64 "\"/>\n"
+            "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_",
+            np, nb, off[0], off[1], off[2], off[3], off[4], off[5], off[6]);
+#define PUT_COUNT(a) (bad_io = bad_io || fwrite(&bytes[a], 8, 1, fp) != 1)
+#define PUT(x) (bad_io = bad_io || fwrite(&(x), sizeof(x), 1, fp) != 1)
+    PUT_COUNT(0);
+    for (int64_t i = 0; i < np && !bad_io; i++)
+        bad_io = fwrite(m->points + 3 * used[i], sizeof(double), 3, fp) != 3;
+    PUT_COUNT(1);
+    for (int64_t f = ni; f < m->n_faces && !bad_io; f++)
         /* outward: as the face is stored, out of its owner */
-        for (int64_t j = m->face_offsets[f]; j < m->face_offsets[f + 1]; j++)
-            fprintf(fp, "%" PRId64 " ", map[m->face_vertices[j]]);
-        bad_io = fputc('\n', fp) == EOF;
+        for (int64_t j = m->face_offsets[f]; j < m->face_offsets[f + 1]; j++) {
+            const int64_t v = map[m->face_vertices[j]];
+            PUT(v);
+        }
+    PUT_COUNT(2);
+    for (int64_t f = ni; f < m->n_faces && !bad_io; f++) {
+        const int64_t end = m->face_offsets[f + 1] - m->face_offsets[ni];
+        PUT(end);
     }
-    fprintf(fp, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    PUT_COUNT(3);
+    for (int64_t f = 0; f < nb && !bad_io; f++) {
+        const uint8_t polygon = 7;
+        PUT(polygon);
+    }
+    PUT_COUNT(4);
+    for (int64_t f = 0; f < nb && !bad_io; f++) {
+        const int32_t patch = bp.face_patch[f];
+        PUT(patch);
+    }
+    PUT_COUNT(5);
+    for (int64_t f = ni; f < m->n_faces && !bad_io; f++) {
+        const int32_t region = m->cell_region ? m->cell_region[m->face_owner[f]] : 1;
+        PUT(region);
+    }
+    PUT_COUNT(6);
     for (int64_t f = ni; f < m->n_faces && !bad_io; f++)
-        bad_io = fprintf(fp, "%" PRId64 "\n",
-                         m->face_offsets[f + 1] - m->face_offsets[ni]) < 0;
-    fprintf(fp, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for (int64_t f = 0; f < nb && !bad_io; f++)
-        bad_io = fputs("7\n", fp) < 0;
-    fprintf(fp, "</DataArray>\n</Cells>\n<CellData>\n"
-                "<DataArray type=\"Int32\" Name=\"patch\" format=\"ascii\">\n");
-    for (int64_t f = 0; f < nb && !bad_io; f++)
-        bad_io = fprintf(fp, "%d\n", bp.face_patch[f]) < 0;
-    fprintf(fp, "</DataArray>\n<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n");
-    for (int64_t f = ni; f < m->n_faces && !bad_io; f++)
-        bad_io = fprintf(fp, "%d\n", m->cell_region ? (int)m->cell_region[m->face_owner[f]] : 1) < 0;
-    fprintf(fp, "</DataArray>\n<DataArray type=\"Float64\" Name=\"area\" format=\"ascii\">\n");
-    for (int64_t f = ni; f < m->n_faces && !bad_io; f++)
-        bad_io = fprintf(fp, "%.17g\n", m->face_area[f]) < 0;
-    if (fprintf(fp, "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n") < 0)
+        PUT(m->face_area[f]);
+#undef PUT
+#undef PUT_COUNT
+    if (fprintf(fp, "\n</AppendedData>\n</VTKFile>\n") < 0)
         bad_io = 1;
     free(map);
     free(used);

@@ -25,12 +25,20 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
+#include <libdeflate.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
-#define VTU_BLOCK ((size_t)32768)     /* uncompressed zlib block size */
-#define VTU_BATCH ((size_t)64)        /* zlib blocks compressed per batch */
+/* The zlib-format blocks are made by libdeflate at level 1: 2.7 times
+ * faster than zlib's compress2 at its fastest on a mesh's arrays (bunny.off:
+ * 39 MB in 0.30 s against 0.83 s, 45% of the size against 44%), which had
+ * been most of writing a mesh. Blocks of 512 KiB, 16 compressed at a time
+ * (VTK's own blocks are 32 KiB; its reader takes any size). */
+#define VTU_BLOCK ((size_t)524288)
+#define VTU_BATCH ((size_t)16)        /* zlib blocks compressed per batch */
 #define VTU_RAW_BUF ((size_t)1 << 20) /* raw streaming buffer */
-#define VTU_ZLEVEL 1                  /* Z_BEST_SPEED: 2x faster than 5, ~3% larger */
+#define VTU_ZLEVEL 1                  /* libdeflate's fastest */
 #define VTU_OFFSET_ROOM 22            /* room for "<20 digits>" */
 #define VTK_POLYHEDRON_TYPE 42
 
@@ -60,7 +68,9 @@ typedef struct vtu_stream {
     /* zlib */
     unsigned char *cbuf;   /* VTU_BATCH compressed blocks */
     size_t cbound;         /* room per compressed block */
-    uLongf *clen;          /* VTU_BATCH compressed sizes */
+    size_t *clen;          /* VTU_BATCH compressed sizes */
+    struct libdeflate_compressor **zc; /* one per thread of the batches */
+    int n_zc;
     uint64_t *zheader;     /* 3 + nblocks words for the current array */
     size_t zheader_cap;
     uint64_t nblocks, iblock;
@@ -87,15 +97,19 @@ static void vtu_flush_zlib(vtu_stream *s)
         s->len = 0;
         return;
     }
-#pragma omp parallel for schedule(static) if (nb > 1) reduction(| : zfail)
+#pragma omp parallel for schedule(static) num_threads(s->n_zc) if (nb > 1) reduction(| : zfail)
     for (int b = 0; b < nb; ++b) {
         size_t off = (size_t)b * VTU_BLOCK;
         size_t n = len - off < VTU_BLOCK ? len - off : VTU_BLOCK;
-        uLongf out = (uLongf)s->cbound;
-        int rc = compress2(s->cbuf + (size_t)b * s->cbound, &out, s->buf + off,
-                           (uLong)n, VTU_ZLEVEL);
-        s->clen[b] = out;
-        zfail |= (rc != Z_OK);
+#ifdef _OPENMP
+        struct libdeflate_compressor *zc = s->zc[omp_get_thread_num()];
+#else
+        struct libdeflate_compressor *zc = s->zc[0];
+#endif
+        /* 0: the block did not fit in cbound, which the bound rules out */
+        s->clen[b] = libdeflate_zlib_compress(zc, s->buf + off, n,
+                                              s->cbuf + (size_t)b * s->cbound, s->cbound);
+        zfail |= s->clen[b] == 0;
     }
     if (zfail) {
         s->zerr = 1;
@@ -127,7 +141,18 @@ static int vtu_stream_init(vtu_stream *s, FILE *fp, vc_vtu_encoding enc)
     s->enc = enc;
     if (enc == VC_VTU_ZLIB) {
         s->cap = VTU_BLOCK * VTU_BATCH;
-        s->cbound = (size_t)compressBound((uLong)VTU_BLOCK);
+#ifdef _OPENMP
+        s->n_zc = omp_get_max_threads();
+#else
+        s->n_zc = 1;
+#endif
+        s->zc = calloc((size_t)s->n_zc, sizeof *s->zc);
+        if (!s->zc)
+            return VC_ENOMEM;
+        for (int t = 0; t < s->n_zc; t++)
+            if (!(s->zc[t] = libdeflate_alloc_compressor(VTU_ZLEVEL)))
+                return VC_ENOMEM;
+        s->cbound = libdeflate_zlib_compress_bound(s->zc[0], VTU_BLOCK);
         s->cbuf = malloc(s->cbound * VTU_BATCH);
         s->clen = malloc(sizeof *s->clen * VTU_BATCH);
         if (!s->cbuf || !s->clen)
@@ -145,6 +170,10 @@ static void vtu_stream_free(vtu_stream *s)
     free(s->cbuf);
     free(s->clen);
     free(s->zheader);
+    for (int t = 0; t < s->n_zc; t++)
+        if (s->zc[t])
+            libdeflate_free_compressor(s->zc[t]);
+    free(s->zc);
 }
 
 /* Starts an array of nbytes bytes; returns its offset in the appended data. */
