@@ -1107,8 +1107,21 @@ typedef struct lipschitz_ctx {
     const vc_balls *b;
     int64_t q;
     double L;
-    double *newr;
+    uint64_t *newr; /* the bits of positive doubles: ordered as the values */
 } lipschitz_ctx;
+
+/* newr[p] = min(newr[p], v) for a positive v, from any thread: positive
+ * doubles order as their bit patterns do, and the minimum does not depend
+ * on the order of the updates. */
+static void lower_to(uint64_t *slot, double v)
+{
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof bits);
+    uint64_t cur = __atomic_load_n(slot, __ATOMIC_RELAXED);
+    while (bits < cur &&
+           !__atomic_compare_exchange_n(slot, &cur, bits, 1, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+        ;
+}
 
 static int lower_neighbour(void *ctx, int64_t p)
 {
@@ -1116,8 +1129,8 @@ static int lower_neighbour(void *ctx, int64_t p)
     if (p == c->q || c->b->kind[p] != c->b->kind[c->q])
         return 0;
     double lim = c->b->radius[c->q] + c->L * dist(c->b->center + 3 * p, c->b->center + 3 * c->q);
-    if (lim < c->newr[p])
-        c->newr[p] = lim;
+    if (lim < c->b->radius[p])
+        lower_to(&c->newr[p], lim);
     return 0;
 }
 
@@ -1128,12 +1141,16 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
     if (n == 0)
         return 0;
     memcpy(old_r, b->radius, sizeof(double) * (size_t)n);
-    double *newr = malloc(sizeof(double) * (size_t)n);
+    uint64_t *newr = malloc(sizeof(uint64_t) * (size_t)n);
     if (!newr)
         return -1;
     memcpy(newr, b->radius, sizeof(double) * (size_t)n);
-    double L = S->opt.lipschitz;
-    for (int64_t q = 0; q < n && q < S->dirty_cap; q++) {
+    const double L = S->opt.lipschitz;
+    const int64_t nq = n < S->dirty_cap ? n : S->dirty_cap;
+    /* the dirty balls in parallel (a gyroid's 65,828 first balls took 1.6 s
+     * on one thread); each lowers its neighbours' bounds atomically */
+#pragma omp parallel for schedule(dynamic, 64) num_threads(S->threads) if (nq > 256)
+    for (int64_t q = 0; q < nq; q++) {
         if (!S->dirty[q])
             continue;
         S->dirty[q] = 0;
@@ -1142,10 +1159,12 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
                           lower_neighbour, &c);
     }
     for (int64_t i = 0; i < n; i++) {
-        if (newr[i] < old_r[i] * (1 - 1e-12)) {
+        double r;
+        memcpy(&r, &newr[i], sizeof r);
+        if (r < old_r[i] * (1 - 1e-12)) {
             shrunk[i] = 1;
             changed++;
-            if (vc_ball_set_resize(&S->bs, i, newr[i]))
+            if (vc_ball_set_resize(&S->bs, i, r))
                 changed = -1;
         }
     }
