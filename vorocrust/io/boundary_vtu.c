@@ -4,20 +4,13 @@
 #include "io/io_patches.h"
 
 #include "io/tmpfile.h"
+#include "io/vtu_byte_order.h"
 
 #include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* The arrays are written in the machine's byte order. */
-#if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
-    __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-#define VTU_BYTE_ORDER "BigEndian"
-#else
-#define VTU_BYTE_ORDER "LittleEndian"
-#endif
 
 int vc_write_boundary_vtu(const vc_polymesh *m, const char *path, vc_error *err)
 {

@@ -19,6 +19,7 @@
  * room is reserved with trailing blanks outside the quotes). */
 #include "vorocrust/io.h"
 #include "io/tmpfile.h"
+#include "io/vtu_byte_order.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -42,12 +43,6 @@
 #define VTU_OFFSET_ROOM 22            /* room for "<20 digits>" */
 #define VTK_POLYHEDRON_TYPE 42
 
-#if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
-    __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-#define VTU_BYTE_ORDER "BigEndian"
-#else
-#define VTU_BYTE_ORDER "LittleEndian"
-#endif
 
 /* ---- appended-data stream ------------------------------------------- */
 
@@ -233,18 +228,22 @@ static void vtu_put(vtu_stream *s, const void *p, size_t n)
     }
 }
 
-static inline void vtu_put_i64(vtu_stream *s, int64_t v)
+/* One value of n bytes (4 or 8): copied straight into the buffer when it
+ * fits (the common case: a call per index of a large mesh). */
+static inline void vtu_put_small(vtu_stream *s, const void *p, size_t n)
 {
-    if (s->cap - s->len >= sizeof v) {
-        memcpy(s->buf + s->len, &v, sizeof v);
-        s->len += sizeof v;
-        s->fed += sizeof v;
+    if (s->cap - s->len >= n) {
+        memcpy(s->buf + s->len, p, n);
+        s->len += n;
+        s->fed += n;
         if (s->len == s->cap)
             vtu_flush(s);
     } else {
-        vtu_put(s, &v, sizeof v);
+        vtu_put(s, p, n);
     }
 }
+
+static inline void vtu_put_i64(vtu_stream *s, int64_t v) { vtu_put_small(s, &v, sizeof v); }
 
 /* An index (point id, count or offset) as Int32 (w 4) or Int64 (w 8). */
 static inline void vtu_put_index(vtu_stream *s, int64_t v, int w)
@@ -254,15 +253,7 @@ static inline void vtu_put_index(vtu_stream *s, int64_t v, int w)
         return;
     }
     const int32_t x = (int32_t)v;
-    if (s->cap - s->len >= sizeof x) {
-        memcpy(s->buf + s->len, &x, sizeof x);
-        s->len += sizeof x;
-        s->fed += sizeof x;
-        if (s->len == s->cap)
-            vtu_flush(s);
-    } else {
-        vtu_put(s, &x, sizeof x);
-    }
+    vtu_put_small(s, &x, sizeof x);
 }
 
 /* Ends the current array; returns 0 if all went well. */
