@@ -743,6 +743,7 @@ static int mps(sampler *S, pool *P, int nv)
         }
         int misses = 0;
         int64_t thrown = 0; /* darts used this round */
+        const int64_t balls_at_round = S->bs.b.n;
         while (misses < MAX_MISSES && total > 0 && !rc) {
             /* a batch of darts, drawn in order (a dart's subface by area,
              * then its place on it) */
@@ -844,6 +845,14 @@ static int mps(sampler *S, pool *P, int nv)
         }
         if (rc)
             break;
+        /* The balls this round added may cover whole subfaces: testing
+         * each once before splitting costs one test where its children
+         * would cost four. */
+        const int64_t n_pool = P->n; /* the round's pool, for KEEP_WHOLE */
+        if (S->bs.b.n > balls_at_round && drop_covered(S, P, 0, nv, kind)) {
+            rc = -1;
+            break;
+        }
         /* subdivide and keep the uncovered children, tested in batches
          * (children of PARENT_BATCH parents at a time, not all at once:
          * the pool can be large) */
@@ -868,7 +877,7 @@ static int mps(sampler *S, pool *P, int nv)
              * surface Q min fell from 0.15-0.20 to 0.09-0.16 over four
              * random seeds.) */
             const double a = measure(sf, nv);
-            if (KEEP_WHOLE * a * (double)P->n < total && (double)thrown * a < total) {
+            if (KEEP_WHOLE * a * (double)n_pool < total && (double)thrown * a < total) {
                 if (pool_push(&next, sf, P->smooth ? &P->g[i] : NULL))
                     rc = -1;
                 continue;
