@@ -51,6 +51,21 @@ int vc_union_covers(const double *v, int nv, const double *c, const double *r, i
 {
     if (k <= 0 || k > VC_UNION_COVER_MAX || nv < 2 || nv > 3)
         return 0;
+    /* A corner in no ball: not covered, without the k (k - 1) clippings
+     * (most pieces that fail, fail at a corner: a dart's gap reaches the
+     * piece's edge). The same answer as the clipping below, which would
+     * find that corner outside the ball of its power cell. */
+    for (int m = 0; m < nv; m++) {
+        int held = 0;
+        for (int i = 0; i < k && !held; i++) {
+            const double ri = r[i] * (1 - SHRINK);
+            const double dx = v[3 * m] - c[3 * i], dy = v[3 * m + 1] - c[3 * i + 1],
+                         dz = v[3 * m + 2] - c[3 * i + 2];
+            held = dx * dx + dy * dy + dz * dz <= ri * ri;
+        }
+        if (!held)
+            return 0;
+    }
     /* A triangle clipped by k - 1 planes has at most 3 + k - 1 corners. */
     double buf[2][VC_UNION_COVER_MAX + 3][3];
     for (int i = 0; i < k; i++) {
