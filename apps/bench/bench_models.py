@@ -157,7 +157,7 @@ def parse_summary(err):
     m = re.search(r"^  Lloyd: .*, ([0-9.]+) s$", err, re.M)
     if m:
         phases.append(("Lloyd", float(m.group(1))))
-    m = re.search(r"^  volume mesh: (\d+) cells \((\d+) interior seeds\).*?, ([0-9.]+) s;", err, re.M)
+    m = re.search(r"^  volume mesh: (\d+) cells \((\d+) interior seeds\).*?, ([0-9.]+) s[ ;]", err, re.M)
     if m:
         f["cells"] = int(m.group(1))
         f["interior"] = int(m.group(2))
