@@ -540,15 +540,15 @@ static int nearest_centre(void *ctx, int64_t i)
     return 0;
 }
 
-/* The radius for a new ball at x on element sp, or a negative value when
- * density regulation drops the sample. */
-/* x: the dart on the input; c: the centre (x, or its projection on S' with
- * radius of curvature rho there). */
-static double new_radius(sampler *S, const vc_surface_point *sp, const double x[3],
-                         const double c[3], double rho)
+/* The radius for a new ball on element sp, or a negative value when
+ * density regulation drops the sample. bound: the sizing's radius bound
+ * at the dart on the input (vc_sizing_radius_bound, capped at S->sz); c:
+ * the centre (the dart, or its projection on S' with radius of curvature
+ * rho there). */
+static double new_radius(sampler *S, const vc_surface_point *sp, double bound, const double c[3],
+                         double rho)
 {
-    double r = S->sz;
-    r = vc_sizing_radius_bound(&S->z, sp, x, r);
+    double r = bound;
     if (S->smooth && sp->kind == VC_ELEM_TRIANGLE)
         r = fmin(r, S->opt.curvature_factor * rho);
     int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
@@ -746,6 +746,7 @@ static int mps(sampler *S, pool *P, int nv)
         int64_t sub;  /* the subface */
         double x[3];  /* the dart on the input */
         double c[3];  /* ... and where its coverage is tested (on S', or x) */
+        double bound; /* the sizing's radius bound at x (uncovered darts) */
     } batch[DART_BATCH];
     unsigned char batch_covered[DART_BATCH];
     for (int round = 0; P->n > 0 && round < 60; round++) {
@@ -789,8 +790,16 @@ static int mps(sampler *S, pool *P, int nv)
              * batch, in parallel (most darts land on covered ground) */
             const int64_t n_before = S->bs.b.n;
 #pragma omp parallel for schedule(static) num_threads(S->threads) if (S->threads > 1)
-            for (int b = 0; b < DART_BATCH; b++)
+            for (int b = 0; b < DART_BATCH; b++) {
                 batch_covered[b] = (unsigned char)point_covered(S, batch[b].c, kind);
+                /* the sizing bound of a dart that may make a ball: a tree
+                 * walk that depends on the dart alone, so done here in
+                 * parallel rather than in the serial loop below */
+                if (!batch_covered[b]) {
+                    const vc_surface_point sp = {kind, P->f[batch[b].sub].elem};
+                    batch[b].bound = vc_sizing_radius_bound(&S->z, &sp, batch[b].x, S->sz);
+                }
+            }
             for (int b = 0; b < DART_BATCH && misses < MAX_MISSES; b++) {
                 /* a line every 2 s: phase, the share of the area (length)
                  * covered (that of the pool left at the start of this
@@ -853,7 +862,7 @@ static int mps(sampler *S, pool *P, int nv)
                         rho = fmin(rho, 1 / k);
                 }
                 vc_surface_point sp = {kind, sf->elem};
-                double r = new_radius(S, &sp, x, c, rho);
+                double r = new_radius(S, &sp, batch[b].bound, c, rho);
                 if (r <= 0) {
                     misses++;
                     continue;
