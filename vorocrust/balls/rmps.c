@@ -304,18 +304,10 @@ static const double *subface_bound(const subface *sf, const subface_on_smooth *s
     return v;
 }
 
-/* What the last coverage test of a run of neighbouring subfaces found:
- * the ball that held it, or the balls whose union covered it. */
-typedef struct cover_cache {
-    int64_t last; /* the ball, or -1 */
-    int n;        /* the union's balls (0: none) */
-    double c[3 * VC_UNION_COVER_MAX], r[VC_UNION_COVER_MAX];
-} cover_cache;
-
 /* Is the whole subface covered: by one ball (balls are convex), or else by
  * the union of the balls that meet it (union_cover.h)? */
 static int subface_covered(const sampler *S, const subface *sf, const subface_on_smooth *sg,
-                           int nv, int kind, cover_cache *cache)
+                           int nv, int kind, int64_t *last_cover)
 {
     double c[3], reach;
     const double *v = subface_bound(sf, sg, nv, c, &reach);
@@ -338,17 +330,11 @@ static int subface_covered(const sampler *S, const subface *sf, const subface_on
      * mesh order): the ball that covered the last one often covers this
      * one too, and trying it first skips most queries. The answer (is
      * the subface covered?) does not depend on which ball is found. */
-    if (cache->last >= 0 && cache->last < S->bs.b.n) {
-        const double r = cover_radius(cc.b, cache->last, kind, cc.deep);
-        if (r >= 0 && holds_corners(&cc, cache->last, r + margin))
+    if (*last_cover >= 0 && *last_cover < S->bs.b.n) {
+        const double r = cover_radius(cc.b, *last_cover, kind, cc.deep);
+        if (r >= 0 && holds_corners(&cc, *last_cover, r + margin))
             return 1;
     }
-    /* Likewise the union that covered the last one: any balls whose union
-     * holds the subface prove it covered (those of its neighbour usually
-     * do), without the query. Only on the input (margin 0: the radii
-     * kept are the rules' own). */
-    if (cache->n >= 2 && margin == 0 && vc_union_covers(v, nv, cache->c, cache->r, cache->n))
-        return 1;
     /* A ball meeting the subface has its centre within its radius (plus
      * the margin) of the subface's bounding ball. One that holds it has a
      * radius of at least reach / 2; the union test takes no smaller ones
@@ -356,17 +342,11 @@ static int subface_covered(const sampler *S, const subface *sf, const subface_on
      * split, and its children see them), which keeps the query to a few
      * cells per level. */
     if (vc_ball_set_query(&S->bs, c, reach + margin, 1.0, 0.5 * reach, covers_subface, &cc)) {
-        cache->last = cc.found;
+        *last_cover = cc.found;
         return 1;
     }
-    if (cc.overflow || cc.n_cand < 2 || !vc_union_covers(v, nv, cc.cand_c, cc.cand_r, cc.n_cand))
-        return 0;
-    if (margin == 0) {
-        cache->n = cc.n_cand;
-        memcpy(cache->c, cc.cand_c, sizeof(double) * 3 * (size_t)cc.n_cand);
-        memcpy(cache->r, cc.cand_r, sizeof(double) * (size_t)cc.n_cand);
-    }
-    return 1;
+    return !cc.overflow && cc.n_cand >= 2 &&
+           vc_union_covers(v, nv, cc.cand_c, cc.cand_r, cc.n_cand);
 }
 
 /* The midpoint of the cubic through a and b whose tangents there are the
@@ -458,10 +438,10 @@ static int in_lost_region(const sampler *S, const subface *sf, const subface_on_
     return vc_ball_set_query(S->lost, c, reach, 1.0, 0.0, meets_lost, &l);
 }
 
-/* Keeps the subfaces of P from index `from` on that the balls do not
- * cover, in their order. The tests only read the balls, so they run in
+/* Keeps the subfaces of P from index `from` on that no single ball
+ * covers, in their order. The tests only read the balls, so they run in
  * parallel in chunks of neighbouring subfaces (each chunk with its own
- * cover_cache); the answer does not depend on the thread count. */
+ * last covering ball); the answer does not depend on the thread count. */
 static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kind)
 {
     const int64_t n = P->n - from;
@@ -476,16 +456,14 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
     const int64_t n_chunks = (n + chunk - 1) / chunk;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(S->threads) if (n > 2 * chunk)
     for (int64_t c = 0; c < n_chunks; c++) {
-        cover_cache cache;
-        cache.last = -1;
-        cache.n = 0;
+        int64_t last = -1;
         const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
         for (int64_t i = c * chunk; i < end; i++) {
             if (g)
                 project_corners(S, &f[i], &g[i]);
             keep[i] = !(g && on_seam(S, &f[i], &g[i])) &&
                       in_lost_region(S, &f[i], g ? &g[i] : NULL, nv) &&
-                      !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &cache);
+                      !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
         }
     }
     int64_t m = 0;
