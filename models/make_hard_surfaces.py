@@ -67,6 +67,8 @@ The cases (NAME: what it tests):
                   +-0.002 of noise along the radius: needles at the poles
                   whose normals the noise tips 80 degrees (folds that are
                   noise, their normals far from agreeing)
+  turned_needles  a UV sphere with 8 pleats: a needle whose apex crossed its
+                  long edge by 0.1 to 0.45 of the error bound (turned over)
   noise_blob      sphere plus Perlin noise, marching cubes on 200^3 (about
                   170k triangles): a bumpy scan-like surface
   scan_sphere     marching cubes of a sphere (80^3), every vertex moved
@@ -839,6 +841,50 @@ def case_scan_sphere():
     return jitter(pts, 0.002, 23), tris
 
 
+def case_turned_needles():
+    """A UV sphere with eight pleats: in eight triangles (u, v, o) a point w
+    near the middle of the edge u v, moved across it onto the neighbouring
+    triangle (v, u, a) by 0.1 to 0.45 of the default error bound (and a
+    third of that off its plane), the triangle split into (u, v, w),
+    (v, o, w), (o, u, w): the needle (u, v, w) turned over, as decimation
+    and scan meshing leave them (cow.off has two)."""
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(48)
+    s.SetPhiResolution(24)
+    s.Update()
+    pts, tris = clean(*polydata_to_lists(s.GetOutput()))
+    tris = [tuple(t) for t in orient_consistently(tris)]
+    bound = 0.004 * bbox_diag(pts)
+    edge_tri = {}
+    for k, (a, b, c) in enumerate(tris):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_tri[(u, v)] = k
+    done = set()
+    made = 0
+    for k in range(40, len(tris), len(tris) // 8):
+        u, v, o = tris[k]
+        k2 = edge_tri[(v, u)]
+        if k in done or k2 in done:
+            continue
+        a = [x for x in tris[k2] if x not in (u, v)][0]
+        m = [(pts[u][i] + pts[v][i]) / 2 for i in range(3)]
+        d = sub(pts[a], m)
+        ld = math.sqrt(dot(d, d))
+        n2 = cross(sub(pts[u], pts[v]), sub(pts[a], pts[v]))
+        ln = math.sqrt(dot(n2, n2))
+        h = (0.1 + 0.05 * made) * bound
+        w = tuple(m[i] + h * d[i] / ld + h / 3 * n2[i] / ln for i in range(3))
+        pts.append(w)
+        iw = len(pts) - 1
+        tris[k] = (u, v, iw)
+        tris.append((v, o, iw))
+        tris.append((o, u, iw))
+        done.update((k, k2))
+        made += 1
+    return pts, tris
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -876,6 +922,7 @@ CASES = [
     ("text", case_text, "the letters VC extruded: 2 components, many corners, narrow strokes", 4),
     ("scan_sphere", case_scan_sphere, "marching-cubes sphere, +-0.002 noise along the normal: folds over 60 degrees that are noise", 2),
     ("uv_noisy", case_uv_noisy, "UV sphere 300 x 180 with +-0.002 radial noise: noise-tipped needles at the poles", 2),
+    ("turned_needles", case_turned_needles, "UV sphere with 8 turned-over needles (apex 0.1 to 0.45 of the error bound across its long edge)", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
 ]
 

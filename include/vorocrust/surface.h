@@ -236,6 +236,27 @@ typedef struct vc_self_union_report {
 int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out, vc_self_union_report *rep,
                           vc_error *err);
 
+/* What vc_surface_flip_turned_needles did. */
+typedef struct vc_needle_flip_report {
+    int64_t n_flipped; /* edges flipped */
+    double max_move;   /* the largest apex height of a flipped needle: the surface moved by at
+                          most this (two-sided Hausdorff distance) */
+} vc_needle_flip_report;
+
+/* Removes the turned-over needles of a closed, consistently oriented
+ * surface, in place (s->tri is rewritten; vertices, triangle count and
+ * groups stay): a triangle whose apex lies within max_move of its longest
+ * edge and which folds by more than 90 degrees against the triangle across
+ * that edge (the apex crossed the edge: a pleat that no ball sampling
+ * follows) gets that edge flipped, when the flip lowers the largest fold
+ * of the edges involved, the two new triangles fold by less than 90
+ * degrees, the new edge is not already an edge and both triangles have one
+ * group. The surface moves by at most the apex's height (rep->max_move).
+ * Serial and deterministic, linear in the surface's size. max_move <= 0:
+ * nothing is done. Fails only with VC_ENOMEM. rep may be NULL. */
+int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_flip_report *rep,
+                                   vc_error *err);
+
 /* Adds a warning line to rep (printf-style); extra lines beyond
  * VC_SURFACE_MAX_WARNINGS are dropped. */
 void vc_surface_report_warn(vc_surface_report *rep, const char *fmt, ...)

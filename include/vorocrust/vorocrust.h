@@ -225,6 +225,10 @@ typedef struct vc_mesh_result {
      * (each component keeps the orientation most of its triangles have;
      * input then describes the reoriented surface). */
     int64_t n_flipped;
+    /* Turned-over needles whose long edge was flipped
+     * (vc_surface_flip_turned_needles, within half the error bound); input
+     * then describes the repaired surface. */
+    vc_needle_flip_report needles;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries

@@ -886,19 +886,27 @@ static void move_results(vc_mesh_result *out, const double shift[3])
     move_points(m->seed_xyz, m->n_seeds, shift);
 }
 
-/* *out = s with the triangles flip[t] != 0 reversed: its own triangles,
- * the vertices and groups borrowed from s (free out->tri only). */
-static int reversed_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out, vc_error *err)
+/* *out = s with its own copy of the triangles, the vertices and groups
+ * borrowed from s (free out->tri only). */
+static int copy_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
 {
     *out = *s;
     out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
     if (!out->tri) {
         memset(out, 0, sizeof *out);
-        return vc_error_set(err, VC_ENOMEM, "out of memory for the reoriented surface");
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the repaired surface");
     }
     memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
-    vc_surface_reverse_triangles(out, flip);
     return 0;
+}
+
+/* The same with the triangles flip[t] != 0 reversed. */
+static int reversed_copy(const vc_surface *s, const unsigned char *flip, vc_surface *out, vc_error *err)
+{
+    int rc = copy_triangles(s, out, err);
+    if (!rc)
+        vc_surface_reverse_triangles(out, flip);
+    return rc;
 }
 
 /* The groups that name the boundary patches (opt->patches): the input's
@@ -952,6 +960,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&centred, 0, sizeof centred);
     vc_surface unioned;  /* a self-intersecting input's union */
     memset(&unioned, 0, sizeof unioned);
+    vc_surface repaired; /* turned-over needles flipped (own triangles, the rest borrowed) */
+    memset(&repaired, 0, sizeof repaired);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -1011,6 +1021,29 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                "mesh: %s: %lld inconsistently oriented edges: %lld triangles reversed (each "
                "component keeps the orientation most of its triangles have)",
                name, (long long)n_bad, (long long)out->n_flipped);
+    }
+    /* Pleats of the tessellation below the error bound (a needle whose
+     * apex crossed its long edge: cow.off has two) are flipped away before
+     * anything else looks at the surface: no sampling follows them, and
+     * they often cross their neighbours. Half the error bound at most, the
+     * other half left to the sampling. */
+    if (opt.max_error > 0) {
+        if ((rc = copy_triangles(s, &repaired, err)) != 0)
+            goto fail;
+        if ((rc = vc_surface_flip_turned_needles(&repaired, 0.5 * error_bound_of(s, opt.max_error),
+                                                 &out->needles, err)) != 0)
+            goto fail;
+        if (out->needles.n_flipped > 0) {
+            s = &repaired;
+            s_input = &repaired;
+            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+                goto fail;
+            vc_log(opt.log, VC_LOG_INFO,
+                   "mesh: %s: %lld turned-over needle triangles (an apex across its long edge) "
+                   "flipped; the surface moved by at most %.3g (%.2g of the error bound)",
+                   name, (long long)out->needles.n_flipped, out->needles.max_move,
+                   out->needles.max_move / error_bound_of(s, opt.max_error));
+        }
     }
     /* And it can bound a volume: no repeated or zero-area triangle, no
      * self-intersection, a volume (before sampling, which would not end). */
@@ -1207,6 +1240,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_materials_free(&mm);
     free_centred(&centred);
     free(consistent.tri); /* the rest is borrowed */
+    free(repaired.tri);
     vc_surface_free(&unioned);
     return 0;
 fail:
@@ -1214,6 +1248,7 @@ fail:
     vc_materials_free(&mm);
     free_centred(&centred);
     free(consistent.tri);
+    free(repaired.tri);
     vc_surface_free(&unioned);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;

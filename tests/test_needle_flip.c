@@ -1,0 +1,183 @@
+/* vc_surface_flip_turned_needles: a UV sphere with one pleat (a needle
+ * whose apex crossed its long edge onto the neighbouring triangle) gets
+ * that edge flipped when the apex's height is within max_move, and only
+ * then; the result is a closed, consistently oriented surface without a
+ * fold of 90 degrees, moved by the apex's height at most. A needle that did
+ * not cross its edge is left alone. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_check.h"
+#include "test_surface_util.h"
+#include "vorocrust/surface.h"
+
+static void sub(const double *a, const double *b, double *r)
+{
+    for (int k = 0; k < 3; k++)
+        r[k] = a[k] - b[k];
+}
+
+static void cross(const double *a, const double *b, double *r)
+{
+    r[0] = a[1] * b[2] - a[2] * b[1];
+    r[1] = a[2] * b[0] - a[0] * b[2];
+    r[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double norm(const double *a)
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+static void unit_normal(const vc_surface *s, int64_t t, double n[3])
+{
+    const int64_t *T = s->tri + 3 * t;
+    double u[3], v[3];
+    sub(s->xyz + 3 * T[1], s->xyz + 3 * T[0], u);
+    sub(s->xyz + 3 * T[2], s->xyz + 3 * T[0], v);
+    cross(u, v, n);
+    const double l = norm(n);
+    for (int k = 0; k < 3; k++)
+        n[k] /= l;
+}
+
+/* The triangle holding the directed edge (a, b), or -1. */
+static int64_t holder(const vc_surface *s, int64_t a, int64_t b)
+{
+    for (int64_t t = 0; t < s->n_triangles; t++)
+        for (int k = 0; k < 3; k++)
+            if (s->tri[3 * t + k] == a && s->tri[3 * t + (k + 1) % 3] == b)
+                return t;
+    return -1;
+}
+
+/* Every directed edge once, its reverse once; and the smallest cosine of
+ * the fold between neighbours. */
+static int closed_oriented(const vc_surface *s, double *min_fold_cos)
+{
+    *min_fold_cos = 1;
+    for (int64_t t = 0; t < s->n_triangles; t++)
+        for (int k = 0; k < 3; k++) {
+            const int64_t a = s->tri[3 * t + k], b = s->tri[3 * t + (k + 1) % 3];
+            int n_same = 0;
+            for (int64_t q = 0; q < s->n_triangles; q++)
+                for (int j = 0; j < 3; j++)
+                    n_same += s->tri[3 * q + j] == a && s->tri[3 * q + (j + 1) % 3] == b;
+            const int64_t g = holder(s, b, a);
+            if (n_same != 1 || g < 0)
+                return 0;
+            double n[3], m[3];
+            unit_normal(s, t, n);
+            unit_normal(s, g, m);
+            const double c = n[0] * m[0] + n[1] * m[1] + n[2] * m[2];
+            if (c < *min_fold_cos)
+                *min_fold_cos = c;
+        }
+    return 1;
+}
+
+/* Splits triangle t = (u, v, o) at a new point w near the middle of u v:
+ * moved by `across` times height along the plane of the triangle (v, u, a)
+ * beyond u v (a turned-over needle), or, with across < 0, into t itself
+ * (a needle that did not cross). Returns w's height over the line u v. */
+static double add_needle(builder *b, int64_t t, double height, int across)
+{
+    vc_surface *s = &b->s;
+    const int64_t u = s->tri[3 * t], v = s->tri[3 * t + 1], o = s->tri[3 * t + 2];
+    const int64_t g = holder(s, v, u);
+    int64_t a = -1;
+    for (int k = 0; k < 3; k++)
+        if (s->tri[3 * g + k] != u && s->tri[3 * g + k] != v)
+            a = s->tri[3 * g + k];
+    double m[3], d[3], e[3], f[3], n2[3], w[3];
+    for (int k = 0; k < 3; k++)
+        m[k] = 0.5 * (s->xyz[3 * u + k] + s->xyz[3 * v + k]);
+    sub(s->xyz + 3 * (across ? a : o), m, d);
+    sub(s->xyz + 3 * u, s->xyz + 3 * v, e);
+    sub(s->xyz + 3 * a, s->xyz + 3 * v, f);
+    cross(e, f, n2);
+    /* d made perpendicular to u v, so that the height is known */
+    const double el = norm(e), dl0 = (d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / (el * el);
+    for (int k = 0; k < 3; k++)
+        d[k] -= dl0 * e[k];
+    const double dl = norm(d), nl = norm(n2);
+    for (int k = 0; k < 3; k++)
+        w[k] = m[k] + height * d[k] / dl + (across ? height / 3 * n2[k] / nl : 0);
+    const int64_t iw = add_v(b, w[0], w[1], w[2]);
+    s = &b->s;
+    s->tri[3 * t + 2] = iw; /* (u, v, w) */
+    add_t(b, v, o, iw);
+    add_t(b, o, u, iw);
+    /* the height of w over the line u v */
+    double wu[3], c[3];
+    sub(w, b->s.xyz + 3 * u, wu);
+    cross(wu, e, c);
+    return norm(c) / el;
+}
+
+static vc_surface copy_surface(const vc_surface *s)
+{
+    vc_surface c = *s;
+    c.xyz = malloc(sizeof(double) * 3 * (size_t)s->n_vertices);
+    c.tri = malloc(sizeof(int64_t) * 3 * (size_t)s->n_triangles);
+    memcpy(c.xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
+    memcpy(c.tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
+    return c;
+}
+
+int main(void)
+{
+    builder b = {0};
+    make_sphere(&b, 24, 12);
+    const int64_t t = 7 * 22 + 2 + 2 * 5; /* column 7 (22 triangles each): a quad at mid-latitude */
+    const double h = add_needle(&b, t, 0.01, 1);
+    const double vol0 = surface_enclosed_volume(&b.s);
+    vc_error err;
+    double c0;
+    CHECK(closed_oriented(&b.s, &c0));
+    CHECKF(c0 < -0.9, "the pleat folds by %.1f degrees", acos(c0) * 180 / M_PI);
+
+    /* max_move below the apex's height: nothing */
+    vc_surface s1 = copy_surface(&b.s);
+    vc_needle_flip_report rep;
+    CHECK(vc_surface_flip_turned_needles(&s1, 0.9 * h, &rep, &err) == 0);
+    CHECK(rep.n_flipped == 0 && rep.max_move == 0);
+    CHECK(memcmp(s1.tri, b.s.tri, sizeof(int64_t) * 3 * (size_t)b.s.n_triangles) == 0);
+    vc_surface_free(&s1);
+
+    /* above it: one flip, the surface moved by h at most */
+    vc_surface s2 = copy_surface(&b.s);
+    CHECK(vc_surface_flip_turned_needles(&s2, 1.1 * h, &rep, &err) == 0);
+    CHECKF(rep.n_flipped == 1, "%lld flips", (long long)rep.n_flipped);
+    CHECKF(fabs(rep.max_move - h) <= 1e-12, "max_move %.17g, apex height %.17g", rep.max_move, h);
+    double c2;
+    CHECK(closed_oriented(&s2, &c2));
+    CHECKF(c2 > 0.5, "a fold of %.1f degrees left", acos(c2) * 180 / M_PI);
+    CHECK(s2.n_triangles == b.s.n_triangles && s2.n_vertices == b.s.n_vertices);
+    /* the swept volume is a thin tetrahedron: at most the pleat's area
+     * times h */
+    const double vol2 = surface_enclosed_volume(&s2);
+    CHECKF(fabs(vol2 - vol0) < 0.3 * 0.3 * h, "volume %.9g to %.9g", vol0, vol2);
+    vc_surface_free(&s2);
+
+    /* max_move 0: nothing, and no failure */
+    vc_surface s3 = copy_surface(&b.s);
+    CHECK(vc_surface_flip_turned_needles(&s3, 0, &rep, &err) == 0 && rep.n_flipped == 0);
+    vc_surface_free(&s3);
+    vc_surface_free(&b.s);
+
+    /* a needle that did not cross its edge stays */
+    builder c = {0};
+    make_sphere(&c, 24, 12);
+    add_needle(&c, t, 0.01, 0);
+    double c4;
+    CHECK(closed_oriented(&c.s, &c4) && c4 > 0);
+    vc_surface s4 = copy_surface(&c.s);
+    CHECK(vc_surface_flip_turned_needles(&s4, 1.0, &rep, &err) == 0 && rep.n_flipped == 0);
+    CHECK(memcmp(s4.tri, c.s.tri, sizeof(int64_t) * 3 * (size_t)c.s.n_triangles) == 0);
+    vc_surface_free(&s4);
+    vc_surface_free(&c.s);
+    return failures ? 1 : 0;
+}
