@@ -4,8 +4,10 @@ each of the six reproducers of ../shared/repro/hangs (their contents are
 copied here) exits 1 in under 1 s (10 s under the sanitizers) with one
 stderr line "vorocrust: F: ..." naming the problem, and leaves no OUT.vtu
 and no temporary file. `vorocrust info` reports the counts, and
---require-closed fails on them. Two boxes overlapping in general position
-are refused naming --union, and mesh with it (the union's volume). Environment: VC_BIN, VC_TMP, VC_SOURCE,
+--require-closed fails on them (cubes_overlap: its union cannot be formed,
+a degenerate contact). Two boxes overlapping in general position mesh as
+their union by default (its volume), and are refused naming --no-union
+with it. Environment: VC_BIN, VC_TMP, VC_SOURCE,
 VC_SANITIZED."""
 import os
 import sys
@@ -96,9 +98,10 @@ check(n is not None and int(n) > 0, "cubes_overlap self-intersections %r" % n)
 u = field(out_text, "union") or ""
 check(u.startswith("cannot be formed: ") and "degenerate" in u, "cubes_overlap union %r" % u)
 
-# Two boxes that overlap in general position: refused by default with a
-# pointer to --union; with --union, the union is meshed and its cells'
-# volumes (VTK's own measure) sum to the closed-form union volume.
+# Two boxes that overlap in general position: by default (since session
+# 30) the union is meshed and its cells' volumes (VTK's own measure) sum to
+# the closed-form union volume; with --no-union they are refused, the line
+# saying how to mesh the union.
 OX, OY, OZ = 0.5123, 0.3217, 0.2731
 boxes = os.path.join(TMP, "boxes.obj")
 with open(boxes, "w") as f:
@@ -114,11 +117,11 @@ union_volume = 2 - (1 - OX) * (1 - OY) * (1 - OZ)
 words = u.split()
 check(len(words) > 3 and words[2] == "volume" and abs(float(words[3]) - union_volume) < 1e-8 and
       "(2 of 4 patches" in u, "boxes: info union %r, volume %.9g" % (u, union_volume))
-rc, _, err = e2eutil.run([BIN, "mesh", boxes, "-o", union_vtu, "--quiet"], timeout=120)
-check(rc == 1 and "intersects itself" in err and "--union" in err and not os.path.exists(union_vtu),
-      "boxes without --union: exit %d, stderr %r" % (rc, err))
-rc, _, err = e2eutil.run([BIN, "mesh", boxes, "-o", union_vtu, "--union"], timeout=300)
-check(rc == 0 and "meshing the union of its parts" in err, "boxes --union: exit %d, stderr %r" % (rc, err[-2000:]))
+rc, _, err = e2eutil.run([BIN, "mesh", boxes, "-o", union_vtu, "--quiet", "--no-union"], timeout=120)
+check(rc == 1 and "intersects itself" in err and "without --no-union" in err and not os.path.exists(union_vtu),
+      "boxes with --no-union: exit %d, stderr %r" % (rc, err))
+rc, _, err = e2eutil.run([BIN, "mesh", boxes, "-o", union_vtu], timeout=300)
+check(rc == 0 and "meshing the union of its parts" in err, "boxes: exit %d, stderr %r" % (rc, err[-2000:]))
 if rc == 0:
     import vtk
     reader = vtk.vtkXMLUnstructuredGridReader()

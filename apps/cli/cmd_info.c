@@ -219,7 +219,7 @@ int vc_cmd_info(int argc, char **argv)
                (long long)solid.n_repeated_opposite);
     printf("\n");
     printf("self-intersections: %lld\n", (long long)solid.n_self_intersections);
-    /* what `mesh --union` would mesh instead */
+    /* what `mesh` meshes instead (unless --no-union) */
     if (solid.n_self_intersections > 0 && closed && rep.n_inconsistent_edges == 0 && solid.n_zero_area == 0 &&
         solid.n_repeated_same == 0) {
         vc_surface u;
@@ -228,7 +228,7 @@ int vc_cmd_info(int argc, char **argv)
         int urc = vc_surface_self_union(&s, rep.name, &u, &ur, &uerr);
         if (urc == 0) {
             printf("union: %lld triangles, volume %.9g (%lld of %lld patches inside another part dropped): "
-                   "what vorocrust mesh --union samples\n",
+                   "what vorocrust mesh samples\n",
                    (long long)u.n_triangles, ur.volume, (long long)ur.n_patches_dropped, (long long)ur.n_patches);
         } else {
             const size_t skip = strlen(rep.name) + 2; /* the message's "NAME: " */

@@ -101,9 +101,9 @@ static void usage(FILE *f)
         "                      shrinks and resampling), the Voronoi engine's phases\n"
         "  --cavities          nested closed shells alternate solid and cavity (the\n"
         "                      outermost solid), whatever their orientation\n"
-        "  --union             mesh a surface that intersects itself as the union of its\n"
-        "                      parts (the region it winds around at least once);\n"
-        "                      default: refuse it\n"
+        "  --no-union          refuse a surface that intersects itself (default: mesh the\n"
+        "                      union of its parts, the region it winds around at least\n"
+        "                      once, with a warning; --union, the default, is accepted)\n"
         "  --fallback          when sliver elimination diverges, sample again at theta_sharp\n"
         "                      20 (folds become creases), then after %d rounds of Loop\n"
         "                      smoothing at 120 (moves the surface); default: an error\n"
@@ -398,6 +398,8 @@ static int run_mesh(int argc, char **argv)
             opt.cavities = 1;
         } else if (!strcmp(a, "--union")) {
             opt.self_union = 1;
+        } else if (!strcmp(a, "--no-union")) {
+            opt.self_union = 0;
         } else if (takes_value(a) && !v) {
             fprintf(stderr, "vorocrust: %s needs a value (see 'vorocrust mesh --help')\n", a);
             return 2;

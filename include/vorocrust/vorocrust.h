@@ -121,9 +121,9 @@ typedef struct vc_mesh_options {
      * reoriented before sampling. Without it the orientation decides, and
      * nested shells of the same orientation (an inclusion) are refused. */
     int cavities;
-    /* 1: a surface that intersects itself is meshed as the region it winds
-     * around at least once (vc_surface_self_union), with a warning; 0
-     * (default): it is refused. */
+    /* 1 (default): a surface that intersects itself is meshed as the
+     * region it winds around at least once (vc_surface_self_union), with a
+     * warning (degenerate contacts are still refused); 0: it is refused. */
     int self_union;
     vc_patch_source patches; /* default VC_PATCHES_GROUPS */
     vc_interior_kind interior;

@@ -64,6 +64,7 @@ void vc_mesh_options_default(vc_mesh_options *opt)
     vc_sampling_options_default(&so);
     opt->sharp_angle = so.sharp_angle;
     opt->max_error = so.max_error;
+    opt->self_union = 1;
     opt->smooth_width = so.smooth_width;
     opt->curvature_factor = so.curvature_factor;
     opt->lipschitz = so.lipschitz;
@@ -1052,10 +1053,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         rc = vc_surface_check_solid(s, &out->input, &solid, err);
         /* A surface whose only fault is that it runs through itself (a box
          * through a box) bounds the region it winds around at least once:
-         * with opt.self_union, that union is meshed. Not the default: where
-         * the parts also nearly touch (cow.off's tail along its rump) the
-         * union has gaps far below the error budget, and the sampling
-         * follows them with 3e5 balls (docs/input-checks.md). */
+         * with opt.self_union (the default since session 30, when cow.off's
+         * union meshed once its turned-over needles were flipped), that
+         * union is meshed. */
         if (rc == VC_EINPUT && opt.self_union && solid.n_self_intersections > 0 && solid.n_zero_area == 0 &&
             solid.n_repeated_same == 0 && !(solid.coordinate_ratio > VC_SOLID_MAX_COORDINATE_RATIO)) {
             const double volume_before = out->input.volume;

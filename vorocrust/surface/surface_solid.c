@@ -239,7 +239,8 @@ int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc
         return vc_error_set(err, VC_EINPUT,
                             "%s: the surface intersects itself: %lld pairs of triangles cross or touch "
                             "(first: triangles %lld and %lld); repair it (merge the overlapping parts "
-                            "with a boolean union, or remesh), or mesh the union with --union",
+                            "with a boolean union, or remesh), or mesh the union of its parts (vorocrust mesh "
+                            "without --no-union)",
                             name, (long long)o->n_self_intersections, (long long)f[0] + 1, (long long)f[1] + 1);
     }
     if (check_volume && !(o->volume_ratio > MIN_VOLUME_RATIO)) {
