@@ -22,14 +22,18 @@ sampling) on the shared models, checked independently of the C code:
    input's within 1%, the same .vtu with 1 and 2 threads, the summary's
    counts of cells, faces and vertices equal to the file's;
  - `--foam` writes the same mesh as an OpenFOAM case;
+ - touching: parts of one surface that touch along an edge (two boxes) or
+   at a vertex (a box and a tetrahedron) mesh, the reconstruction touching
+   where the input does (session 30; before, the non-manifold edges the
+   reconstruction kept made it an error); the volume exact, VTK reads it;
  - bad input: open surface (the error names the boundary edge count),
    missing file, bad options, unwritable output; nothing written then.
 Usage: e2e_mesh.py PART (one ctest test per part, tests/CMakeLists.txt):
 surface (the five models' surfaces), volume (sphere, cube, onebox volume
 meshes), icosphere (models/icosphere.obj's volume mesh and --foam),
 fandisk_a, fandisk_b, fandisk_c (the seeds 2 to 8; fandisk_c, seeds 5 to 8, in the extended suite), determinism (and smoothing),
-bad_input (on models/icosphere.obj). icosphere and bad_input need only the
-repository; the others skip (exit 77) when the shared models are missing.
+bad_input (on models/icosphere.obj), touching. icosphere, bad_input and
+touching need only the repository; the others skip (exit 77) when the shared models are missing.
 Environment: VC_BIN, VC_MODELS, VC_TMP."""
 import math
 import os
@@ -51,12 +55,12 @@ from e2eutil import models_dir  # noqa: E402
 # "bad_input" need only the repository, the others the shared models (they
 # skip, exit 77, when the directory is missing).
 PARTS = ("surface", "volume", "icosphere", "fandisk_a", "fandisk_b", "fandisk_c", "determinism",
-         "bad_input")
+         "bad_input", "touching")
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_mesh.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
 PART = sys.argv[1]
-MODELS = models_dir() if PART not in ("icosphere", "bad_input") else None
+MODELS = models_dir() if PART not in ("icosphere", "bad_input", "touching") else None
 TMP = os.environ.get("VC_TMP", "/tmp")
 # models/icosphere.obj is the project's own model of the README's first command.
 ICOSPHERE = os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj")
@@ -467,6 +471,57 @@ if PART == "bad_input":
         check(rc == want_rc and len(lines) == 1 and want in err and lines[0].startswith("vorocrust: "),
               "bad input %r: exit %d, stderr %r" % (args[1:], rc, err))
         check(not os.path.exists(os.path.join(TMP, "x.obj")), "bad input %r left an output" % (args[1:],))
+
+def write_touching(path, second):
+    """A box [0, 1] x [0, 1.3] x [0, 0.8] and a second part sharing vertices
+    with it: "edge", a box [1, 2.2] x [1.3, 2] x [0, 0.8] (their edge x = 1,
+    y = 1.3 in common); "vertex", a tetrahedron on the corner (1, 1.3, 0.8).
+    Returns the enclosed volume."""
+    box = [(0, 0, 0), (1, 0, 0), (1, 1.3, 0), (0, 1.3, 0), (0, 0, 0.8), (1, 0, 0.8), (1, 1.3, 0.8), (0, 1.3, 0.8)]
+    quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (0, 4, 7, 3), (1, 2, 6, 5)]
+    pts = list(box)
+    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    if second == "edge":
+        other = [(1, 1.3, 0), (2.2, 1.3, 0), (2.2, 2, 0), (1, 2, 0), (1, 1.3, 0.8), (2.2, 1.3, 0.8), (2.2, 2, 0.8),
+                 (1, 2, 0.8)]
+        volume = 1 * 1.3 * 0.8 + 1.2 * 0.7 * 0.8
+        faces = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    else:
+        other = [(1, 1.3, 0.8), (1.9, 1.3, 0.8), (1, 2.1, 0.8), (1, 1.3, 1.5)]
+        volume = 1 * 1.3 * 0.8 + 0.9 * 0.8 * 0.7 / 6
+        faces = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]
+    index = {}
+    for k, p in enumerate(other):
+        if p in pts:
+            index[k] = pts.index(p)
+        else:
+            index[k] = len(pts)
+            pts.append(p)
+    tris += [tuple(index[v] for v in t) for t in faces]
+    with open(path, "w") as f:
+        f.write("".join("v %r %r %r\n" % p for p in pts))
+        f.write("".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in tris))
+    return volume
+
+
+if PART == "touching":
+    for second in ("edge", "vertex"):
+        src = os.path.join(TMP, "mesh_touching_%s.obj" % second)
+        vtu = os.path.join(TMP, "mesh_touching_%s.vtu" % second)
+        volume = write_touching(src, second)
+        rc, out, err = run("mesh", src, "-o", vtu, "--threads", "2")
+        check(rc == 0 and "warning" not in err, "touching %s: exit %d: %s" % (second, rc, err[-1500:]))
+        if rc != 0:
+            continue
+        m = re.search(r"euler (-?\d+) \(input (-?\d+)\), closed", err)
+        check(m is not None and m.group(1) == m.group(2) == "3",
+              "touching %s: the surface's Euler characteristic is not the input's 3" % second)
+        try:
+            fig = vtkcheck.check_vtu(vtu, expected_volume=volume)
+            print("touching %s: %d cells, volume %.12g (input %.12g)"
+                  % (second, fig["n_cells"], fig["total_volume"], volume))
+        except vtkcheck.CheckError as e:
+            check(False, "touching %s volume mesh: %s" % (second, e))
 
 if failures:
     print("e2e_mesh: %d failure(s)" % len(failures), file=sys.stderr)

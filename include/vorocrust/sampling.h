@@ -165,6 +165,9 @@ typedef struct vc_polysurface_topology {
     int64_t euler;
     int64_t n_boundary_edges;      /* used by one polygon */
     int64_t n_nonmanifold_edges;   /* used by three or more */
+    int64_t n_balanced_nonmanifold_edges; /* of those, walked as often each way (an even
+                                             number of polygons: parts touching along
+                                             the edge, each closed) */
     int64_t n_misoriented_edges;   /* two polygons walking it the same way */
     int64_t n_nonmanifold_vertices;/* whose polygons do not form one fan */
     int64_t n_components;

@@ -361,8 +361,13 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
         return rc;
     out->time.reconstruct = now() - t;
     const vc_polysurface_topology *topo = &out->surface_topology;
-    out->surface_closed = !topo->n_boundary_edges && !topo->n_nonmanifold_edges &&
-                          !topo->n_misoriented_edges && !topo->n_nonmanifold_vertices &&
+    /* Where the input's parts touch along an edge (four triangles at it),
+     * the reconstruction touches there too: non-manifold edges are then
+     * right, provided each is walked as often each way (closed parts). */
+    const int touching = out->input.n_nonmanifold_edges > 0 &&
+                         topo->n_balanced_nonmanifold_edges == topo->n_nonmanifold_edges;
+    out->surface_closed = !topo->n_boundary_edges && !topo->n_misoriented_edges &&
+                          (touching || (!topo->n_nonmanifold_edges && !topo->n_nonmanifold_vertices)) &&
                           topo->euler == out->input.euler;
     /* a surface known to be wrong is an error, not a mesh with a warning */
     if (!out->surface_closed) {

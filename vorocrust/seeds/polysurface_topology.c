@@ -65,8 +65,13 @@ int vc_polysurface_topology_compute(const vc_polysurface *p, vc_polysurface_topo
         vedge[e[i].b]++;
         if (cnt == 1)
             t->n_boundary_edges++;
-        else if (cnt > 2)
+        else if (cnt > 2) {
             t->n_nonmanifold_edges++;
+            int64_t balance = 0;
+            for (int64_t k = i; k < j; k++)
+                balance += e[k].dir;
+            t->n_balanced_nonmanifold_edges += balance == 0;
+        }
         else if (e[i].dir == e[i + 1].dir)
             t->n_misoriented_edges++;
         vc_uf_unite(parent, e[i].a, e[i].b);
