@@ -90,8 +90,10 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
             int expect = 0;
             while (got + expect < m && all[got + expect].d2 <= r2)
                 expect++;
-            const int in = vc_seed_kdtree_within(&t, x, r2, hit[got - 1], skip, NULL, NULL, hit, (int)n + 8);
-            same = in == expect;
+            int truncated = -1;
+            const int in = vc_seed_kdtree_within(&t, x, r2, hit[got - 1], skip, NULL, NULL, hit, (int)n + 8,
+                                                 &truncated);
+            same = in == expect && truncated == 0;
             for (int i = 0; same && i < in; i++)
                 same = hit[i].seed == all[got + i].seed && hit[i].d2 == all[got + i].d2;
             if (!same) {
@@ -100,13 +102,28 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
                 bad = 1;
                 break;
             }
-            if (expect > 1)
-                CHECK(vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, NULL, NULL, hit, expect - 1) == -1);
+            if (expect > 1) {
+                /* a cap below the count: the first cap in order, truncated,
+                 * then the rest after the last of them */
+                const int part = vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, NULL, NULL, hit,
+                                                       expect - 1, &truncated);
+                int prefix = part == expect - 1 && truncated == 1;
+                for (int i = 0; prefix && i < part; i++)
+                    prefix = hit[i].seed == all[got + i].seed && hit[i].d2 == all[got + i].d2;
+                CHECKF(prefix, "%s: query %d, capped range after %d: %d hits, truncated %d", name, q, k,
+                       part, truncated);
+                const int rest = vc_seed_kdtree_within(&t, x, r2, all[got + expect - 2], skip, NULL, NULL,
+                                                       hit, (int)n + 8, &truncated);
+                CHECK(rest == 1 && truncated == 0 && hit[0].seed == all[got + expect - 1].seed);
+            }
             /* with a node filter: every hit in the half-space it keeps is
              * still found, in order, and nothing outside the plain answer */
             const int inh = vc_seed_kdtree_within(&t, x, r2, all[got - 1], skip, right_half, NULL, hit,
-                                                  (int)n + 8);
-            int j = 0, ok = inh >= 0;
+                                                  (int)n + 8, &truncated);
+            int j = 0, ok = inh >= 0 && truncated == 0;
+            /* the filter applies to points too: nothing from the other half */
+            for (int i = 0; ok && i < inh; i++)
+                ok = pts[3 * hit[i].seed] >= 0.5;
             for (int i = 0; ok && i < expect; i++) {
                 const vc_kd_hit *w = &all[got + i];
                 if (j < inh && hit[j].seed == w->seed && hit[j].d2 == w->d2)

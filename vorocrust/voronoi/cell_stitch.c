@@ -122,6 +122,19 @@ static void vertex_key(const stitch *st, int64_t m, int i, int64_t key[4])
     }
 }
 
+/* A cell's own vertex: its key and local index, to number them by key. */
+typedef struct owned_key {
+    int64_t key[4];
+    int local;
+} owned_key;
+/* keys of one cell's vertices are distinct (each names one vertex) */
+#define OWNED_KEY_LESS(x, y)                                                                      \
+    ((x)->key[0] != (y)->key[0]   ? (x)->key[0] < (y)->key[0]                                      \
+     : (x)->key[1] != (y)->key[1] ? (x)->key[1] < (y)->key[1]                                      \
+     : (x)->key[2] != (y)->key[2] ? (x)->key[2] < (y)->key[2]                                      \
+                                  : (x)->key[3] < (y)->key[3])
+VC_SMALL_SORT(sort_owned_keys, owned_key, OWNED_KEY_LESS)
+
 /* The position of the owner of a key: the kept seed of lowest index. */
 static int64_t owner_of(const stitch *st, const int64_t key[4])
 {
@@ -792,18 +805,40 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     if (!st.gid)
         goto nomem;
 
-    /* Owned vertices, numbered in the owners' order: first within the
-     * cell, then offset by the cells before. */
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int64_t m = 0; m < n_kept; m++) {
-        int32_t c = 0;
-        for (int i = 0; i < cells[m].nv; i++) {
-            int64_t key[4];
-            vertex_key(&st, m, i, key);
-            st.gid[st.loc_off[m] + i] = owner_of(&st, key) == m ? c++ : -1;
+    /* Owned vertices, numbered in the owners' order: within the cell by
+     * their keys (not by where the cell's cuts left them, which depends on
+     * the order its neighbours came in: the class roots, the smallest
+     * members, would follow it), then offset by the cells before. */
+    int oom_keys = 0;
+#pragma omp parallel num_threads(threads)
+    {
+        owned_key *ok = NULL;
+        int64_t ok_cap = 0;
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_kept; m++) {
+            if (vc_reserve(&ok, &ok_cap, cells[m].nv + 1, sizeof(owned_key))) {
+#pragma omp atomic write
+                oom_keys = 1;
+                continue;
+            }
+            int n_own = 0;
+            for (int i = 0; i < cells[m].nv; i++) {
+                vertex_key(&st, m, i, ok[n_own].key);
+                if (owner_of(&st, ok[n_own].key) == m) {
+                    ok[n_own++].local = i;
+                } else {
+                    st.gid[st.loc_off[m] + i] = -1;
+                }
+            }
+            sort_owned_keys(ok, n_own);
+            for (int c = 0; c < n_own; c++)
+                st.gid[st.loc_off[m] + ok[c].local] = c;
+            owned[m] = n_own;
         }
-        owned[m] = c;
+        free(ok);
     }
+    if (oom_keys)
+        goto nomem;
     vbase[0] = 0;
     for (int64_t m = 0; m < n_kept; m++)
         vbase[m + 1] = vbase[m] + owned[m];
@@ -1305,30 +1340,38 @@ reclass:
         goto nomem;
     out->face_offsets[0] = 0;
 
-    /* The faces, each by its owner: interior ones by neighbour. */
+    /* The faces, each by its owner: interior ones by neighbour, boundary
+     * ones by the seed (or wall) across (not in the cell's own order,
+     * which follows the order its cuts came in). */
 #pragma omp parallel num_threads(threads)
     {
-        int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0, nb_cap = 0;
-        pair64 *nb = NULL;
+        int64_t *buf = NULL, *ob = NULL, cap = 0, ocap = 0, nb_cap = 0, bd_cap = 0;
+        pair64 *nb = NULL, *bd = NULL;
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const vc_cell_result *c = &cells[m];
             const int64_t k = order[m];
-            if (face_buf(c, &buf, &cap) != 0 || vc_reserve(&nb, &nb_cap, c->nf, sizeof *nb) != 0) {
+            if (face_buf(c, &buf, &cap) != 0 || vc_reserve(&nb, &nb_cap, c->nf, sizeof *nb) != 0 ||
+                vc_reserve(&bd, &bd_cap, c->nf, sizeof *bd) != 0) {
                 failed = 1;
                 continue;
             }
             const cell_count *a = &cnt[m];
-            int n_nb = 0;
+            int n_nb = 0, n_bd = 0;
             int64_t ib = n_int + a->n_bnd, pb = fv_int + a->fv_bnd;
             for (int f = 0; f < c->nf; f++) {
                 if (!owns_face(&st, m, f))
                     continue;
                 const int64_t t = c->plane[f];
-                if (is_interior(&st, t)) {
+                if (is_interior(&st, t))
                     nb[n_nb++] = (pair64){st.kidx[t], f};
-                    continue;
-                }
+                else
+                    bd[n_bd++] = (pair64){t, f};
+            }
+            qsort(bd, (size_t)n_bd, sizeof *bd, cmp_pair);
+            for (int q = 0; q < n_bd; q++) {
+                const int f = (int)bd[q].b;
+                const int64_t t = bd[q].a;
                 const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
                 if (len < 0)
                     failed = 1;
@@ -1365,6 +1408,7 @@ reclass:
         free(buf);
         free(ob);
         free(nb);
+        free(bd);
     }
     if (failed)
         goto nomem;

@@ -3,7 +3,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/small_sort.h"
 
 /* Points per leaf: a few, so that a query reads few beyond the k it keeps
  * (bunny.off's 153,626 seeds, 48 neighbours: 8.5 us per query with 8 per
@@ -254,14 +253,12 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
     return n;
 }
 
-#define HIT_LESS(p, q) worse(q, p)
-VC_SMALL_SORT(sort_hits, vc_kd_hit, HIT_LESS)
-
 int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
                           int64_t skip, int (*reach)(void *ctx, const double lo[3], const double hi[3]),
-                          void *ctx, vc_kd_hit *hit, int cap)
+                          void *ctx, vc_kd_hit *hit, int cap, int *truncated)
 {
-    if (t->n == 0)
+    *truncated = 0;
+    if (t->n == 0 || cap <= 0)
         return 0;
     int n = 0;
     int64_t stack[128];
@@ -269,9 +266,13 @@ int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2,
     stack[top++] = 0;
     while (top > 0) {
         const vc_kd_node *nd = &t->node[stack[--top]];
-        if (box_dist2(nd, x) > r2 || box_dist2_far(nd, x) < after.d2 ||
-            (reach && !reach(ctx, nd->lo, nd->hi)))
+        const double near2 = box_dist2(nd, x);
+        if (near2 > r2 || box_dist2_far(nd, x) < after.d2 || (reach && !reach(ctx, nd->lo, nd->hi)))
             continue;
+        if (n == cap && near2 > hit[0].d2) {
+            *truncated = 1; /* what it holds comes after the cap */
+            continue;
+        }
         if (nd->left >= 0) {
             stack[top++] = nd->left;
             stack[top++] = nd->right;
@@ -282,13 +283,22 @@ int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2,
             const double *p = t->xyz + 3 * i;
             const double dx = p[0] - x[0], dy = p[1] - x[1], dz = p[2] - x[2];
             const vc_kd_hit h = {dx * dx + dy * dy + dz * dz, s};
-            if (h.d2 > r2 || s == skip || !worse(&h, &after))
+            if (h.d2 > r2 || s == skip || !worse(&h, &after) || (reach && !reach(ctx, p, p)))
                 continue;
-            if (n == cap)
-                return -1;
-            hit[n++] = h;
+            if (n < cap) {
+                heap_push(hit, n++, h);
+            } else {
+                *truncated = 1;
+                if (worse(&hit[0], &h))
+                    heap_replace_top(hit, n, h);
+            }
         }
     }
-    sort_hits(hit, n);
+    /* nearest first: the heap's worst moved to the end, one at a time */
+    for (int m = n - 1; m > 0; m--) {
+        const vc_kd_hit w = hit[0];
+        heap_replace_top(hit, m, hit[m]);
+        hit[m] = w;
+    }
     return n;
 }

@@ -48,14 +48,15 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
 
 /* The seeds other than `skip` within squared distance r2 of x that come
  * after `after` in (d2, seed) order (what a k-nearest query returned
- * last), in increasing (d2, seed) order, into hit (room for cap); returns
- * how many, or -1 when there are more than cap. One range query instead of
- * asking for ever more neighbours: a cell whose reach is known after its
- * nearest neighbours reads each further candidate once. When reach is not
- * NULL, a node whose box it rejects (reach(ctx, lo, hi) == 0: no point of
- * the box can matter) is skipped. */
+ * last): the first cap of them in that order, into hit, sorted; returns
+ * how many, with *truncated = 1 when there were more (ask again after the
+ * last). One range query instead of asking for ever more neighbours: a
+ * cell whose reach is known after its nearest neighbours reads each
+ * further candidate once. When reach is not NULL, a node whose box it
+ * rejects (reach(ctx, lo, hi) == 0: no point of the box can matter) is
+ * skipped, and so is a point it rejects (lo = hi = the point). */
 int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
                           int64_t skip, int (*reach)(void *ctx, const double lo[3], const double hi[3]),
-                          void *ctx, vc_kd_hit *hit, int cap);
+                          void *ctx, vc_kd_hit *hit, int cap, int *truncated);
 
 #endif

@@ -473,15 +473,25 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
 }
 
 /* Neighbours asked of the tree at first; when the cell still reaches
- * beyond the last of them, every seed within twice its radius comes from
- * one range query (about 15 neighbours cut an ordinary cell, but a
- * VoroCrust surface cell reaches 60 to 200 seeds: asking for 2k, 4k, ...
- * nearest repeated the whole search). More than RANGE_MAX candidates (a
- * big cell on the hull of the seeds, open to the clipping box) are read
- * from the grid's rings instead, which prune the far bins by the
- * vertices' clearance balls. */
+ * beyond the last of them, every seed within twice its radius and within a
+ * clearance ball of one of its vertices comes from range queries, RANGE_MAX
+ * at a time (about 15 neighbours cut an ordinary cell, but a VoroCrust
+ * surface cell reaches 60 to 200 seeds: asking for 2k, 4k, ... nearest
+ * repeated the whole search). Before session 30 more than RANGE_MAX
+ * candidates went to the grid's rings, whose bins in a sheet of tiny
+ * seeds hold tens of thousands (cow.off: 713 cells, 5.7 s of 12.9, up to
+ * 111,000 cuts each); now the cell, cut by the nearest RANGE_MAX, asks
+ * again for those after the last with its smaller reach and balls. */
 #define KNN_FIRST 48
 #define RANGE_MAX 4096
+/* A cell still open to the clipping box after its nearest neighbours asks
+ * the tree for twice as many, up to this many, before the grid's rings:
+ * in a sheet of tiny seeds (VoroCrust balls shrunk where two parts of the
+ * surface meet at a small angle: cow.off's tail on its rump) the nearest
+ * hundreds all lie in the sheet and the cell stays open across it, and the
+ * grid's bins there hold tens of thousands of seeds (cow.off: 1,168 such
+ * cells took 5.3 s of its 21, up to 100,000 cuts each). */
+#define KNN_OPEN_MAX 3072
 
 /* Does the cell still reach the clipping box (a wall plane in a vertex)? */
 static int on_box(const vc_convex_cell *cell)
@@ -587,26 +597,45 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
         return CELL_NOMEM;
     const vc_seed_kdtree *t = job->tree;
     vc_kd_hit *hit = hit_buf->data;
-    const int got = vc_seed_kdtree_knn(t, xs, KNN_FIRST, s, hit);
+    int k = KNN_FIRST;
+    int got = vc_seed_kdtree_knn(t, xs, k, s, hit);
     int more, r = cut_with_hits(job, cell, pr, xs, hit, got, &more, other);
-    if (r != CELL_OK || got < KNN_FIRST || !more)
+    /* the k nearest in (d2, seed) order begin with the k / 2 nearest: only
+     * the new ones cut */
+    while (r == CELL_OK && got == k && more && k < KNN_OPEN_MAX && on_box(cell)) {
+        const int before = got;
+        k *= 2;
+        if (reserve_hits(hit_buf, k) != 0)
+            return CELL_NOMEM;
+        hit = hit_buf->data;
+        got = vc_seed_kdtree_knn(t, xs, k, s, hit);
+        r = cut_with_hits(job, cell, pr, xs, hit + before, got - before, &more, other);
+    }
+    if (r != CELL_OK || got < k || !more)
         return r;
     if (on_box(cell))
         return compute_cell(job, cell, cand_buf, pr, s, xs, other);
     /* every further seed that can still cut: within twice the radius the
-     * cell has now (it only shrinks) */
-    const vc_kd_hit last = hit[got - 1];
-    if (reserve_hits(hit_buf, RANGE_MAX) != 0 || clearance_balls(cell, &pr->ball) != 0)
+     * cell has now (it only shrinks) and in a clearance ball of one of its
+     * vertices, RANGE_MAX at a time in (d2, seed) order, the cell's reach
+     * and balls taken again after each batch */
+    vc_kd_hit last = hit[got - 1];
+    if (reserve_hits(hit_buf, RANGE_MAX) != 0)
         return CELL_NOMEM;
-    pr->dirty = 1; /* the grid's pruning lists its balls again */
     hit = hit_buf->data;
-    clearance cl = {pr->ball.data, cell->nt, xs, job->slack};
-    const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s,
-                                        clearance_reaches, &cl, hit, RANGE_MAX);
-    if (n < 0)
-        return compute_cell(job, cell, cand_buf, pr, s, xs, other);
-    r = cut_with_hits(job, cell, pr, xs, hit, n, &more, other);
-    return r;
+    for (;;) {
+        if (clearance_balls(cell, &pr->ball) != 0)
+            return CELL_NOMEM;
+        pr->dirty = 1; /* the grid's pruning lists its balls again */
+        clearance cl = {pr->ball.data, cell->nt, xs, job->slack};
+        int truncated;
+        const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s,
+                                            clearance_reaches, &cl, hit, RANGE_MAX, &truncated);
+        r = cut_with_hits(job, cell, pr, xs, hit, n, &more, other);
+        if (r != CELL_OK || !truncated || !more)
+            return r;
+        last = hit[n - 1];
+    }
 }
 
 /* The finished cells of one chunk of the build order are appended to a
