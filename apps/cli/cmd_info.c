@@ -176,6 +176,26 @@ int vc_cmd_info(int argc, char **argv)
             n_flipped = -1;
         free(flip);
     }
+    /* Turned-over needles within half the error bound: flipped as vorocrust
+     * mesh flips them (before its solid check), and the lines after
+     * describe that surface */
+    vc_needle_flip_report needles = {0, 0};
+    const int needles_checked = max_error > 0 && rep.n_inconsistent_edges == 0;
+    if (needles_checked) {
+        if (vc_surface_flip_turned_needles(&s, 0.5 * max_error * vc_surface_diagonal(&s), &needles, &err)) {
+            fprintf(stderr, "vorocrust: %s\n", err.msg);
+            vc_surface_free(&s);
+            return 1;
+        }
+        if (needles.n_flipped > 0) {
+            rep.n_warnings = 0; /* printed above */
+            if (vc_surface_check(&s, &rep, &err)) {
+                fprintf(stderr, "vorocrust: %s\n", err.msg);
+                vc_surface_free(&s);
+                return 1;
+            }
+        }
+    }
     /* Can it bound a volume? A warning, or with --require-closed on a
      * closed surface the error line at the end. */
     vc_solid_report solid;
@@ -211,6 +231,13 @@ int vc_cmd_info(int argc, char **argv)
                (long long)n_flipped);
     else if (n_inconsistent > 0)
         printf("orientation repair: none possible (%s)\n", flip_why.msg[0] ? flip_why.msg : "out of memory");
+    if (needles_checked && needles.n_flipped > 0)
+        printf("turned-over needles: %lld flipped, as vorocrust mesh flips them (an apex across its long "
+               "edge within half the error bound; the surface moved by at most %.3g); the lines below "
+               "describe that surface\n",
+               (long long)needles.n_flipped, needles.max_move);
+    else if (needles_checked)
+        printf("turned-over needles: 0\n");
     printf("degenerate triangles: %lld\n", (long long)rep.n_degenerate);
     int64_t n_repeated = solid.n_repeated_same + solid.n_repeated_opposite;
     printf("repeated triangles: %lld", (long long)n_repeated);
