@@ -40,6 +40,18 @@ if PART == "models":
     vol = field(out, "enclosed volume")
     check(vol is not None and float(vol.split()[0]) > 0, "fertility volume %r" % vol)
     check(field(out, "bounding box") is not None, "fertility bounding box missing")
+    check(field(out, "turned-over needles") == "0", "fertility turned-over needles %r"
+          % field(out, "turned-over needles"))
+
+    # cow.off: four turned-over needles, flipped as vorocrust mesh flips
+    # them, then the union of its parts (session 30)
+    rc, out, err = run(os.path.join(MODELS, "cow.off"))
+    needles = field(out, "turned-over needles") or ""
+    check(rc == 0 and needles.startswith("4 flipped, as vorocrust mesh flips them") and
+          field(out, "self-intersections") == "79" and
+          (field(out, "union") or "").startswith("5638 triangles"),
+          "cow.off: exit %d, needles %r, self-intersections %r, union %r"
+          % (rc, needles, field(out, "self-intersections"), field(out, "union")))
 
     # Quads: a warning line on stderr, exit 0.
     rc, out, err = run(os.path.join(MODELS, "cube.off"))
