@@ -5,8 +5,9 @@ cow.off intersects itself (its tail runs through its rump) and has four
 turned-over needle triangles (an apex across its long edge). With
 defaults, `vorocrust mesh cow.off -o OUT.vtu --surface S.obj --threads 2`
 must:
- - exit 0 with one warning, the union of its parts meshed, and an info
-   line for the needles flipped (at most half the error bound);
+ - exit 0 with one warning, the union of its parts meshed, and info lines
+   for the needles flipped (at most half the error bound) and the union's
+   pinch vertex opened (at most an eighth of it);
  - give a reconstructed surface that is a closed, consistently oriented
    2-manifold with the union's Euler characteristic, no half-covered pair;
  - keep the volume: the cells' total equal to the reconstructed surface's
@@ -33,8 +34,9 @@ from e2eutil import check, failures, fresh_tmp, models_dir  # noqa: E402
 from surfacecheck import max_distance, polydata, read_surface  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
-# model: (needles flipped, Euler characteristic of the union)
-EXPECTED = {"cow.off": (4, -1)}
+# model: (needles flipped, pinch vertices of the union opened, Euler
+# characteristic of the union after that)
+EXPECTED = {"cow.off": (4, 1, 0)}
 
 
 def main():
@@ -42,7 +44,7 @@ def main():
         print("usage: e2e_dirty_models.py MODEL, MODEL one of %s" % ", ".join(EXPECTED), file=sys.stderr)
         return 2
     model = sys.argv[1]
-    n_needles, euler = EXPECTED[model]
+    n_needles, n_pinches, euler = EXPECTED[model]
     src = os.path.join(models_dir(), model)
     tmp = fresh_tmp("dirty_models_" + model.replace(".", "_"))
     vtu = os.path.join(tmp, "mesh.vtu")
@@ -60,6 +62,10 @@ def main():
                   r"surface moved by at most \S+ \(([0-9.]+) of the error bound\)", e)
     check(m is not None and int(m.group(1)) == n_needles and float(m.group(2)) <= 0.5,
           "%s: needles flipped: %s" % (model, m and m.group(0)))
+    m = re.search(r"the union's (\d+) pinch vertices \(sheets touching at a point\) opened: the surface "
+                  r"moved by at most \S+ \(([0-9.]+) of the error bound\)", e)
+    check(m is not None and int(m.group(1)) == n_pinches and float(m.group(2)) <= 0.125,
+          "%s: pinches opened: %s" % (model, m and m.group(0)))
     m = re.search(r"euler (-?\d+) \(input (-?\d+)\), closed 2-manifold, consistently oriented", e)
     check(m is not None and int(m.group(1)) == int(m.group(2)) == euler,
           "%s: the surface is not a closed oriented 2-manifold of Euler characteristic %d" % (model, euler))

@@ -257,6 +257,24 @@ typedef struct vc_needle_flip_report {
 int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_flip_report *rep,
                                    vc_error *err);
 
+/* What vc_surface_open_pinches did. */
+typedef struct vc_pinch_report {
+    int64_t n_pinches; /* vertices whose triangles formed several fans */
+    int64_t n_copies;  /* vertices added (a fan beyond the first each) */
+    double max_move;   /* the largest move of a copy: the surface moved by at most this */
+} vc_pinch_report;
+
+/* Opens the pinch vertices of a surface, in place: a vertex whose
+ * triangles form several fans (cones touching only at their apex; joined
+ * across the edges at the vertex, an edge of more than two triangles
+ * joining all of its) gets a copy per fan beyond the first, appended to
+ * the vertices, and each copy, the vertex itself for the first fan, moves
+ * towards the centroid of its fan's ring by max_move, at most a quarter of
+ * the distance to the nearest ring vertex. The Euler characteristic grows
+ * by the copies. Serial, deterministic. max_move <= 0: nothing is done.
+ * Fails only with VC_ENOMEM. rep may be NULL. */
+int vc_surface_open_pinches(vc_surface *s, double max_move, vc_pinch_report *rep, vc_error *err);
+
 /* Adds a warning line to rep (printf-style); extra lines beyond
  * VC_SURFACE_MAX_WARNINGS are dropped. */
 void vc_surface_report_warn(vc_surface_report *rep, const char *fmt, ...)

@@ -229,6 +229,9 @@ typedef struct vc_mesh_result {
      * (vc_surface_flip_turned_needles, within half the error bound); input
      * then describes the repaired surface. */
     vc_needle_flip_report needles;
+    /* The union's pinch vertices opened (vc_surface_open_pinches, by an
+     * eighth of the error bound), when unioned. */
+    vc_pinch_report pinches;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries
