@@ -190,8 +190,8 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             : topo->n_boundary_edges == 0 && topo->n_nonmanifold_edges == 0 &&
                     topo->n_misoriented_edges == 0 && topo->n_nonmanifold_vertices == 0
                 ? "closed 2-manifold, consistently oriented"
-            : r->surface_closed ? "closed and consistently oriented, parts touching along the input's "
-                                  "non-manifold edges"
+            : r->surface_closed ? "closed and consistently oriented, parts touching where the input's "
+                                  "do (its non-manifold edges or vertices)"
                                 : "NOT a closed consistently oriented 2-manifold",
             (long long)topo->n_components, sq->q_min,
             sq->q_mean, sq->pct_below_30, sq->pct_above_90, (long long)sq->n_triangles, t_read,

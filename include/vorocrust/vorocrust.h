@@ -232,6 +232,10 @@ typedef struct vc_mesh_result {
     /* The union's pinch vertices opened (vc_surface_open_pinches, by an
      * eighth of the error bound), when unioned. */
     vc_pinch_report pinches;
+    /* Vertices of the surface meshed (after the repairs) whose triangles
+     * form several fans or meet at an edge of more than two: where there
+     * are none, the reconstructed surface may have none either. */
+    int64_t input_nonmanifold_vertices;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries

@@ -366,8 +366,12 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
      * right, provided each is walked as often each way (closed parts). */
     const int touching = out->input.n_nonmanifold_edges > 0 &&
                          topo->n_balanced_nonmanifold_edges == topo->n_nonmanifold_edges;
+    /* Where parts of the input touch at a vertex only (a pinch it keeps:
+     * two cubes sharing a corner), the reconstruction may too. */
+    const int pinched = out->input_nonmanifold_vertices > 0;
     out->surface_closed = !topo->n_boundary_edges && !topo->n_misoriented_edges &&
-                          (touching || (!topo->n_nonmanifold_edges && !topo->n_nonmanifold_vertices)) &&
+                          (touching || (!topo->n_nonmanifold_edges &&
+                                        (pinched || !topo->n_nonmanifold_vertices))) &&
                           topo->euler == out->input.euler;
     /* a surface known to be wrong is an error, not a mesh with a warning */
     if (!out->surface_closed) {
@@ -950,6 +954,27 @@ static int open_union_pinches(vc_surface *u, const char *name, const vc_mesh_opt
     return rc;
 }
 
+/* The non-manifold vertices of the triangle surface s, counted as the
+ * reconstructed surface's are (vc_polysurface_topology_compute). */
+static int count_nonmanifold_vertices(const vc_surface *s, int64_t *n, vc_error *err)
+{
+    vc_polysurface view;
+    view.n_points = s->n_vertices;
+    view.points = s->xyz;
+    view.n_polys = s->n_triangles;
+    view.poly_vertices = s->tri;
+    view.poly_offsets = malloc(sizeof(int64_t) * (size_t)(s->n_triangles + 1));
+    if (!view.poly_offsets)
+        return vc_error_set(err, VC_ENOMEM, "out of memory");
+    for (int64_t t = 0; t <= s->n_triangles; t++)
+        view.poly_offsets[t] = 3 * t;
+    vc_polysurface_topology topo;
+    const int rc = vc_polysurface_topology_compute(&view, &topo, err);
+    free(view.poly_offsets);
+    *n = rc ? 0 : topo.n_nonmanifold_vertices;
+    return rc;
+}
+
 /* *out = s with its own copy of the triangles, the vertices and groups
  * borrowed from s (free out->tri only). */
 static int copy_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
@@ -1167,6 +1192,11 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         if (rc)
             goto fail;
     }
+    /* The input's vertices where parts touch (several fans, or an edge of
+     * more than two triangles), as the reconstruction's are counted: where
+     * the input has none, the reconstruction may have none. */
+    if ((rc = count_nonmanifold_vertices(s, &out->input_nonmanifold_vertices, err)) != 0)
+        goto fail;
     /* A size the sampling and the engine handle in double precision: their
      * squared distances and volumes (a size cubed) must stay normal
      * numbers, as vc_voronoi_build requires of the seeds' extent. */
