@@ -12,6 +12,7 @@
 
 #include "test_check.h"
 #include "test_surface_util.h"
+#include "vorocrust/sampling.h"
 #include "vorocrust/surface.h"
 
 /* The number of fans at vertex v (classes of its triangles joined across
@@ -95,6 +96,23 @@ static void add_tet(builder *b, int64_t apex, double sx, double sy, double sz)
     }
 }
 
+/* vc_polysurface_topology_compute on the triangles of s: the check the
+ * reconstructed surface goes through (a pinch's closed fans have as many
+ * polygons as edges: only its link tells). */
+static vc_polysurface_topology topology_of(const vc_surface *s)
+{
+    vc_polysurface p = {s->n_vertices, s->xyz, s->n_triangles, NULL, s->tri};
+    p.poly_offsets = malloc(sizeof(int64_t) * (size_t)(s->n_triangles + 1));
+    for (int64_t t = 0; t <= s->n_triangles; t++)
+        p.poly_offsets[t] = 3 * t;
+    vc_polysurface_topology topo;
+    vc_error err;
+    memset(&topo, 0, sizeof topo);
+    CHECK(vc_polysurface_topology_compute(&p, &topo, &err) == 0);
+    free(p.poly_offsets);
+    return topo;
+}
+
 int main(void)
 {
     vc_error err;
@@ -108,6 +126,10 @@ int main(void)
     CHECKF(fabs(vol0 - 1.0 / 3) < 1e-12, "volume %.17g", vol0);
     CHECK(closed_oriented(&b.s) && fans_at(&b.s, v) == 2);
     const int64_t e0 = euler(&b.s), nv0 = b.s.n_vertices;
+    vc_polysurface_topology t0 = topology_of(&b.s);
+    CHECKF(t0.n_nonmanifold_vertices == 1 && t0.n_nonmanifold_edges == 0 && t0.n_boundary_edges == 0 &&
+           t0.euler == 3, "pinch: %lld non-manifold vertices, Euler %lld",
+           (long long)t0.n_nonmanifold_vertices, (long long)t0.euler);
 
     CHECK(vc_surface_open_pinches(&b.s, 0, &rep, &err) == 0 && rep.n_pinches == 0 &&
           b.s.n_vertices == nv0);
@@ -118,6 +140,8 @@ int main(void)
            "%lld pinches, %lld copies, move %g", (long long)rep.n_pinches, (long long)rep.n_copies,
            rep.max_move);
     CHECK(b.s.n_vertices == nv0 + 1 && euler(&b.s) == e0 + 1 && closed_oriented(&b.s));
+    vc_polysurface_topology t1 = topology_of(&b.s);
+    CHECK(t1.n_nonmanifold_vertices == 0 && t1.euler == 4 && t1.n_components == 2);
     for (int64_t i = 0; i < b.s.n_vertices; i++)
         CHECKF(fans_at(&b.s, i) == 1, "vertex %lld: %d fans", (long long)i, fans_at(&b.s, i));
     /* the two apexes moved into their own tetrahedra, along the diagonals */
@@ -135,6 +159,7 @@ int main(void)
     make_sphere(&c, 16, 8);
     vc_surface s = c.s;
     const int64_t nvs = s.n_vertices;
+    CHECK(topology_of(&s).n_nonmanifold_vertices == 0);
     CHECK(vc_surface_open_pinches(&s, 0.1, &rep, &err) == 0 && rep.n_pinches == 0 && s.n_vertices == nvs);
     vc_surface_free(&s);
 
