@@ -3,7 +3,8 @@
  * by the move each makes into its own fan; every edge still has two
  * triangles walked both ways, no vertex has two fans any more, the Euler
  * characteristic grows by one and the volumes stay within the moves'
- * reach. A sphere, and two boxes sharing an edge (four triangles at it:
+ * reach. Asked for fans meeting at less than 60 degrees, it keeps the
+ * tetrahedra (90) and opens two flat pyramids apex to apex. A sphere, and two boxes sharing an edge (four triangles at it:
  * touching parts, not a pinch), are left alone. */
 #include <math.h>
 #include <stdio.h>
@@ -131,11 +132,11 @@ int main(void)
            t0.euler == 3, "pinch: %lld non-manifold vertices, Euler %lld",
            (long long)t0.n_nonmanifold_vertices, (long long)t0.euler);
 
-    CHECK(vc_surface_open_pinches(&b.s, 0, &rep, &err) == 0 && rep.n_pinches == 0 &&
+    CHECK(vc_surface_open_pinches(&b.s, 0, -2, &rep, &err) == 0 && rep.n_pinches == 0 &&
           b.s.n_vertices == nv0);
 
     const double move = 0.01;
-    CHECK(vc_surface_open_pinches(&b.s, move, &rep, &err) == 0);
+    CHECK(vc_surface_open_pinches(&b.s, move, -2, &rep, &err) == 0);
     CHECKF(rep.n_pinches == 1 && rep.n_copies == 1 && fabs(rep.max_move - move) < 1e-15,
            "%lld pinches, %lld copies, move %g", (long long)rep.n_pinches, (long long)rep.n_copies,
            rep.max_move);
@@ -154,13 +155,47 @@ int main(void)
     CHECKF(fabs(vol1 - vol0) < 2 * move * 3 * 0.5, "volume %.17g to %.17g", vol0, vol1);
     vc_surface_free(&b.s);
 
+    /* with an angle: the two tetrahedra's fans meet at 90 degrees (their
+     * edges along opposite axes), kept at 60; two flat hexagonal pyramids
+     * apex to apex (their sheets 5.7 degrees apart) are opened */
+    builder g = {0};
+    const int64_t gv = add_v(&g, 0, 0, 0);
+    add_tet(&g, gv, 1, 1, 1);
+    add_tet(&g, gv, -1, -1, -1);
+    const double cos60 = 0.5;
+    CHECK(vc_surface_open_pinches(&g.s, 0.01, cos60, &rep, &err) == 0 && rep.n_pinches == 0 &&
+          g.s.n_vertices == 7);
+    vc_surface_free(&g.s);
+    builder h = {0};
+    const int64_t hv = add_v(&h, 0, 0, 0);
+    for (int side = -1; side <= 1; side += 2) {
+        int64_t ring[6];
+        for (int k = 0; k < 6; k++)
+            ring[k] = add_v(&h, cos(k * M_PI / 3), sin(k * M_PI / 3), 0.1 * side);
+        const int64_t cap = add_v(&h, 0, 0, 0.2 * side);
+        for (int k = 0; k < 6; k++) {
+            const int64_t a = ring[k], c = ring[(k + 1) % 6];
+            if (side > 0) { /* outward: the apex below, the cap above */
+                add_t(&h, hv, c, a);
+                add_t(&h, cap, a, c);
+            } else {
+                add_t(&h, hv, a, c);
+                add_t(&h, cap, c, a);
+            }
+        }
+    }
+    CHECK(closed_oriented(&h.s) && fans_at(&h.s, hv) == 2);
+    CHECK(vc_surface_open_pinches(&h.s, 0.01, cos60, &rep, &err) == 0 && rep.n_pinches == 1 &&
+          rep.n_copies == 1 && closed_oriented(&h.s) && fans_at(&h.s, hv) == 1);
+    vc_surface_free(&h.s);
+
     /* no pinch: a sphere, and two boxes on a common edge */
     builder c = {0};
     make_sphere(&c, 16, 8);
     vc_surface s = c.s;
     const int64_t nvs = s.n_vertices;
     CHECK(topology_of(&s).n_nonmanifold_vertices == 0);
-    CHECK(vc_surface_open_pinches(&s, 0.1, &rep, &err) == 0 && rep.n_pinches == 0 && s.n_vertices == nvs);
+    CHECK(vc_surface_open_pinches(&s, 0.1, -2, &rep, &err) == 0 && rep.n_pinches == 0 && s.n_vertices == nvs);
     vc_surface_free(&s);
 
     builder e = {0};
@@ -181,7 +216,7 @@ int main(void)
         add_q(&e, w[1], w[3], w[7], w[5]);
     }
     const int64_t nve = e.s.n_vertices;
-    CHECK(vc_surface_open_pinches(&e.s, 0.1, &rep, &err) == 0 && rep.n_pinches == 0 &&
+    CHECK(vc_surface_open_pinches(&e.s, 0.1, -2, &rep, &err) == 0 && rep.n_pinches == 0 &&
           e.s.n_vertices == nve);
     vc_surface_free(&e.s);
     return failures ? 1 : 0;

@@ -270,10 +270,15 @@ typedef struct vc_pinch_report {
  * joining all of its) gets a copy per fan beyond the first, appended to
  * the vertices, and each copy, the vertex itself for the first fan, moves
  * towards the centroid of its fan's ring by max_move, at most a quarter of
- * the distance to the nearest ring vertex. The Euler characteristic grows
- * by the copies. Serial, deterministic. max_move <= 0: nothing is done.
- * Fails only with VC_ENOMEM. rep may be NULL. */
-int vc_surface_open_pinches(vc_surface *s, double max_move, vc_pinch_report *rep, vc_error *err);
+ * the distance to the nearest ring vertex. With min_cos > -1 only the
+ * pinches whose fans meet at a small angle are opened: an edge of one fan
+ * within the angle of min_cos of an edge of another (sheets that part
+ * slowly from the apex, which sampling cannot follow; cones meeting at a
+ * wide angle, two cubes' corners, are kept). The Euler characteristic
+ * grows by the copies. Serial, deterministic. max_move <= 0: nothing is
+ * done. Fails only with VC_ENOMEM. rep may be NULL. */
+int vc_surface_open_pinches(vc_surface *s, double max_move, double min_cos, vc_pinch_report *rep,
+                            vc_error *err);
 
 /* Adds a warning line to rep (printf-style); extra lines beyond
  * VC_SURFACE_MAX_WARNINGS are dropped. */

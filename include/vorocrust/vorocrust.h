@@ -229,9 +229,11 @@ typedef struct vc_mesh_result {
      * (vc_surface_flip_turned_needles, within half the error bound); input
      * then describes the repaired surface. */
     vc_needle_flip_report needles;
-    /* The union's pinch vertices opened (vc_surface_open_pinches, by an
-     * eighth of the error bound), when unioned. */
-    vc_pinch_report pinches;
+    /* Pinch vertices opened (vc_surface_open_pinches, by an eighth of the
+     * error bound): the input's whose fans meet at less than theta_sharp
+     * (input then describes the opened surface) and, when unioned, every
+     * one of the union's. */
+    vc_pinch_report input_pinches, pinches;
     /* Vertices of the surface meshed (after the repairs) whose triangles
      * form several fans or meet at an edge of more than two: where there
      * are none, the reconstructed surface may have none either. */

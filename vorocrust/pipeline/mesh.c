@@ -896,12 +896,14 @@ static void move_results(vc_mesh_result *out, const double shift[3])
     move_points(m->seed_xyz, m->n_seeds, shift);
 }
 
-/* The union's pinch vertices (where two of its intersection curves meet,
- * the sheets touching at a point: cow.off's tail on its rump) opened by an
- * eighth of the error bound (vc_surface_open_pinches), unless that makes
- * triangles cross that did not (then the union stays as it was). */
-static int open_union_pinches(vc_surface *u, const char *name, const vc_mesh_options *opt,
-                              vc_pinch_report *rep, vc_error *err)
+/* Pinch vertices (sheets touching at a point: where two intersection
+ * curves of a union meet, cow.off's tail on its rump; parts of an input
+ * that touch at a vertex) opened by an eighth of the error bound
+ * (vc_surface_open_pinches; with min_cos > -1 only those whose fans meet
+ * at a small angle), unless that makes triangles cross that did not (then
+ * u stays as it was). u owns its vertices and triangles. */
+static int open_pinches(vc_surface *u, const char *name, const vc_mesh_options *opt, double min_cos,
+                        vc_pinch_report *rep, vc_error *err)
 {
     memset(rep, 0, sizeof *rep);
     if (!(opt->max_error > 0))
@@ -917,7 +919,7 @@ static int open_union_pinches(vc_surface *u, const char *name, const vc_mesh_opt
     }
     memcpy(before.xyz, u->xyz, sizeof(double) * 3 * (size_t)u->n_vertices);
     memcpy(before.tri, u->tri, sizeof(int64_t) * 3 * (size_t)u->n_triangles);
-    int rc = vc_surface_open_pinches(u, 0.125 * bound, rep, err);
+    int rc = vc_surface_open_pinches(u, 0.125 * bound, min_cos, rep, err);
     if (!rc && rep->n_pinches > 0) {
         /* the union's own crossings (its cut points rounded off their
          * planes) against the opened one's */
@@ -937,7 +939,7 @@ static int open_union_pinches(vc_surface *u, const char *name, const vc_mesh_opt
             }
         }
         if (!rc && bad) {
-            vc_log(opt->log, VC_LOG_INFO, "mesh: %s: opening the union's %lld pinch vertices would make "
+            vc_log(opt->log, VC_LOG_INFO, "mesh: %s: opening its %lld pinch vertices would make "
                    "triangles cross: kept", name, (long long)rep->n_pinches);
             free(u->xyz);
             free(u->tri);
@@ -986,6 +988,23 @@ static int copy_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
         return vc_error_set(err, VC_ENOMEM, "out of memory for the repaired surface");
     }
     memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
+    return 0;
+}
+
+/* *out = s with its own copies of the vertices and triangles, the groups
+ * borrowed (free out->xyz and out->tri only). */
+static int copy_vertices_and_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
+{
+    int rc = copy_triangles(s, out, err);
+    if (rc)
+        return rc;
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
+    if (!out->xyz) {
+        free(out->tri);
+        memset(out, 0, sizeof *out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the repaired surface");
+    }
+    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
     return 0;
 }
 
@@ -1051,6 +1070,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&unioned, 0, sizeof unioned);
     vc_surface repaired; /* turned-over needles flipped (own triangles, the rest borrowed) */
     memset(&repaired, 0, sizeof repaired);
+    vc_surface opened;   /* pinch vertices opened (own vertices and triangles, groups borrowed) */
+    memset(&opened, 0, sizeof opened);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -1134,6 +1155,30 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                    out->needles.max_move / error_bound_of(s, opt.max_error));
         }
     }
+    /* Parts that touch at a vertex only, their sheets parting at less than
+     * theta_sharp (two spheres sharing a pole diverged: the balls must stay
+     * below a gap that grows slowly from zero), are parted there like the
+     * union's pinches; cones meeting at a wide angle (two cubes' corners)
+     * are kept, as is any vertex on an edge of more than two triangles
+     * (the interfaces of materials, parts touching along an edge). */
+    if (opt.max_error > 0 && out->input.n_nonmanifold_edges == 0) {
+        if ((rc = copy_vertices_and_triangles(s, &opened, err)) != 0)
+            goto fail;
+        if ((rc = open_pinches(&opened, name, &opt, cos(opt.sharp_angle * 3.14159265358979323846 / 180),
+                               &out->input_pinches, err)) != 0)
+            goto fail;
+        if (out->input_pinches.n_pinches > 0) {
+            s = &opened;
+            s_input = &opened;
+            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+                goto fail;
+            vc_log(opt.log, VC_LOG_INFO,
+                   "mesh: %s: %lld pinch vertices (parts touching at a point at a small angle) opened: "
+                   "the surface moved by at most %.3g (%.2g of the error bound)", name,
+                   (long long)out->input_pinches.n_pinches, out->input_pinches.max_move,
+                   out->input_pinches.max_move / error_bound_of(s, opt.max_error));
+        }
+    }
     /* And it can bound a volume: no repeated or zero-area triangle, no
      * self-intersection, a volume (before sampling, which would not end). */
     {
@@ -1149,7 +1194,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             const double volume_before = out->input.volume;
             if ((rc = vc_surface_self_union(s, name, &unioned, &out->self_union, err)) != 0)
                 goto fail;
-            if ((rc = open_union_pinches(&unioned, name, &opt, &out->pinches, err)) != 0)
+            if ((rc = open_pinches(&unioned, name, &opt, -2, &out->pinches, err)) != 0)
                 goto fail;
             s = &unioned;
             s_input = &unioned;
@@ -1342,6 +1387,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     free_centred(&centred);
     free(consistent.tri); /* the rest is borrowed */
     free(repaired.tri);
+    free(opened.xyz);
+    free(opened.tri);
     vc_surface_free(&unioned);
     return 0;
 fail:
@@ -1350,6 +1397,8 @@ fail:
     free_centred(&centred);
     free(consistent.tri);
     free(repaired.tri);
+    free(opened.xyz);
+    free(opened.tri);
     vc_surface_free(&unioned);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;

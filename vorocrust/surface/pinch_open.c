@@ -31,7 +31,37 @@ static const double *vertex_at(const vc_surface *s, const double *moved, int64_t
     return i < nv ? s->xyz + 3 * i : moved + 3 * (i - nv);
 }
 
-int vc_surface_open_pinches(vc_surface *s, double max_move, vc_pinch_report *rep, vc_error *err)
+/* Do two of the vertex's fans meet at less than the angle of min_cos: an
+ * edge of one within that angle of an edge of another (sheets that part
+ * slowly from the apex)? */
+static int fans_meet_within(const vc_surface *s, const double *moved, int64_t nv, const double *x,
+                            const int64_t *link, int64_t *parent, int64_t deg, double min_cos)
+{
+    for (int64_t i = 0; i < deg; i++)
+        for (int64_t j = 0; j < deg; j++) {
+            if (vc_uf_find(parent, i) >= vc_uf_find(parent, j))
+                continue;
+            for (int a = 0; a < 2; a++)
+                for (int b = 0; b < 2; b++) {
+                    const double *p = vertex_at(s, moved, nv, link[2 * i + a]);
+                    const double *q = vertex_at(s, moved, nv, link[2 * j + b]);
+                    double u[3], w[3], uu = 0, ww = 0, uw = 0;
+                    for (int k = 0; k < 3; k++) {
+                        u[k] = p[k] - x[k];
+                        w[k] = q[k] - x[k];
+                        uu += u[k] * u[k];
+                        ww += w[k] * w[k];
+                        uw += u[k] * w[k];
+                    }
+                    if (uu > 0 && ww > 0 && uw > min_cos * sqrt(uu * ww))
+                        return 1;
+                }
+        }
+    return 0;
+}
+
+int vc_surface_open_pinches(vc_surface *s, double max_move, double min_cos, vc_pinch_report *rep,
+                            vc_error *err)
 {
     vc_pinch_report r = {0, 0, 0};
     if (rep)
@@ -101,8 +131,10 @@ int vc_surface_open_pinches(vc_surface *s, double max_move, vc_pinch_report *rep
             n_fans += vc_uf_find(parent, i) == i;
         if (n_fans < 2)
             continue;
-        r.n_pinches++;
         const double *x = s->xyz + 3 * v;
+        if (min_cos > -1 && !fans_meet_within(s, moved, nv, x, link, parent, deg, min_cos))
+            continue;
+        r.n_pinches++;
         double new_v[3] = {x[0], x[1], x[2]};
         int first = 1;
         /* each fan, in the order of its first triangle */
