@@ -234,10 +234,6 @@ typedef struct vc_mesh_result {
      * (input then describes the opened surface) and, when unioned, every
      * one of the union's. */
     vc_pinch_report input_pinches, pinches;
-    /* Vertices of the surface meshed (after the repairs) whose triangles
-     * form several fans or meet at an edge of more than two: where there
-     * are none, the reconstructed surface may have none either. */
-    int64_t input_nonmanifold_vertices;
     int64_t n_regions;          /* bounded regions of its arrangement (vorocrust/regions.h) */
     /* 1 when they are not one solid (vc_regions_single_solid): several
      * materials, interfaces, inclusions; then every seed and cell carries

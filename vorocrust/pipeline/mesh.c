@@ -302,8 +302,10 @@ static int check_regions(const vc_mesh_options *opt, const char *name, const vc_
  * seeds. VC_EINPUT (with *unresolved set) when that surface is not a
  * closed, consistently oriented 2-manifold with the input's Euler
  * characteristic. */
-static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
-                       vc_mesh_result *out, int *unresolved, vc_error *err)
+static int count_nonmanifold_vertices(const vc_surface *s, int64_t *n, vc_error *err);
+
+static int reconstruct(const vc_surface *s, const vc_mesh_options *opt, const char *name,
+                       const vc_materials *mm, vc_mesh_result *out, int *unresolved, vc_error *err)
 {
     *unresolved = 0;
     vc_seeds_free(&out->seeds);
@@ -366,9 +368,14 @@ static int reconstruct(const vc_mesh_options *opt, const char *name, const vc_ma
      * right, provided each is walked as often each way (closed parts). */
     const int touching = out->input.n_nonmanifold_edges > 0 &&
                          topo->n_balanced_nonmanifold_edges == topo->n_nonmanifold_edges;
-    /* Where parts of the input touch at a vertex only (a pinch it keeps:
-     * two cubes sharing a corner), the reconstruction may too. */
-    const int pinched = out->input_nonmanifold_vertices > 0;
+    /* Where parts of the input s touch at a vertex only (a pinch it keeps:
+     * two cubes sharing a corner), the reconstruction may too; counted only
+     * when the reconstruction has such vertices. */
+    int64_t input_nonmanifold = 0;
+    if (topo->n_nonmanifold_vertices > 0 &&
+        (rc = count_nonmanifold_vertices(s, &input_nonmanifold, err)) != 0)
+        return rc;
+    const int pinched = input_nonmanifold > 0;
     out->surface_closed = !topo->n_boundary_edges && !topo->n_misoriented_edges &&
                           (touching || (!topo->n_nonmanifold_edges &&
                                         (pinched || !topo->n_nonmanifold_vertices))) &&
@@ -511,7 +518,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
             out->sharp_angle = so.sharp_angle;
             out->smooth_iterations = smooth;
             out->n_sampled_triangles = sampled->n_triangles;
-            rc = reconstruct(opt, name, mm, out, &unresolved, err);
+            rc = reconstruct(s, opt, name, mm, out, &unresolved, err);
             if (rc == 0 || !unresolved)
                 break;
             rc = 0;
@@ -896,87 +903,6 @@ static void move_results(vc_mesh_result *out, const double shift[3])
     move_points(m->seed_xyz, m->n_seeds, shift);
 }
 
-/* Pinch vertices (sheets touching at a point: where two intersection
- * curves of a union meet, cow.off's tail on its rump; parts of an input
- * that touch at a vertex) opened by an eighth of the error bound
- * (vc_surface_open_pinches; with min_cos > -1 only those whose fans meet
- * at a small angle), unless that makes triangles cross that did not (then
- * u stays as it was). u owns its vertices and triangles. */
-static int open_pinches(vc_surface *u, const char *name, const vc_mesh_options *opt, double min_cos,
-                        vc_pinch_report *rep, vc_error *err)
-{
-    memset(rep, 0, sizeof *rep);
-    if (!(opt->max_error > 0))
-        return 0;
-    const double bound = error_bound_of(u, opt->max_error);
-    vc_surface before = *u;
-    before.xyz = malloc(sizeof(double) * 3 * (size_t)(u->n_vertices + 1));
-    before.tri = malloc(sizeof(int64_t) * 3 * (size_t)(u->n_triangles + 1));
-    if (!before.xyz || !before.tri) {
-        free(before.xyz);
-        free(before.tri);
-        return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
-    }
-    memcpy(before.xyz, u->xyz, sizeof(double) * 3 * (size_t)u->n_vertices);
-    memcpy(before.tri, u->tri, sizeof(int64_t) * 3 * (size_t)u->n_triangles);
-    int rc = vc_surface_open_pinches(u, 0.125 * bound, min_cos, rep, err);
-    if (!rc && rep->n_pinches > 0) {
-        /* the union's own crossings (its cut points rounded off their
-         * planes) against the opened one's */
-        vc_surface_report r0, r1;
-        vc_solid_report s0, s1;
-        memset(&r0, 0, sizeof r0);
-        memset(&r1, 0, sizeof r1);
-        vc_error e0 = {0, ""}, e1 = {0, ""};
-        int bad = vc_surface_check(&before, &r0, &e0) || vc_surface_check(u, &r1, &e1);
-        if (!bad) {
-            const int c0 = vc_surface_check_solid(&before, &r0, &s0, &e0);
-            const int c1 = vc_surface_check_solid(u, &r1, &s1, &e1);
-            if (c0 == VC_ENOMEM || c1 == VC_ENOMEM) {
-                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
-            } else {
-                bad = s1.n_self_intersections > s0.n_self_intersections;
-            }
-        }
-        if (!rc && bad) {
-            vc_log(opt->log, VC_LOG_INFO, "mesh: %s: opening its %lld pinch vertices would make "
-                   "triangles cross: kept", name, (long long)rep->n_pinches);
-            free(u->xyz);
-            free(u->tri);
-            u->xyz = before.xyz;
-            u->tri = before.tri;
-            u->n_vertices = before.n_vertices;
-            before.xyz = NULL;
-            before.tri = NULL;
-            memset(rep, 0, sizeof *rep);
-        }
-    }
-    free(before.xyz);
-    free(before.tri);
-    return rc;
-}
-
-/* The non-manifold vertices of the triangle surface s, counted as the
- * reconstructed surface's are (vc_polysurface_topology_compute). */
-static int count_nonmanifold_vertices(const vc_surface *s, int64_t *n, vc_error *err)
-{
-    vc_polysurface view;
-    view.n_points = s->n_vertices;
-    view.points = s->xyz;
-    view.n_polys = s->n_triangles;
-    view.poly_vertices = s->tri;
-    view.poly_offsets = malloc(sizeof(int64_t) * (size_t)(s->n_triangles + 1));
-    if (!view.poly_offsets)
-        return vc_error_set(err, VC_ENOMEM, "out of memory");
-    for (int64_t t = 0; t <= s->n_triangles; t++)
-        view.poly_offsets[t] = 3 * t;
-    vc_polysurface_topology topo;
-    const int rc = vc_polysurface_topology_compute(&view, &topo, err);
-    free(view.poly_offsets);
-    *n = rc ? 0 : topo.n_nonmanifold_vertices;
-    return rc;
-}
-
 /* *out = s with its own copy of the triangles, the vertices and groups
  * borrowed from s (free out->tri only). */
 static int copy_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
@@ -1006,6 +932,76 @@ static int copy_vertices_and_triangles(const vc_surface *s, vc_surface *out, vc_
     }
     memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
     return 0;
+}
+
+/* Pinch vertices (sheets touching at a point: where two intersection
+ * curves of a union meet, cow.off's tail on its rump; parts of an input
+ * that touch at a vertex) opened by an eighth of the error bound
+ * (vc_surface_open_pinches; with min_cos > -1 only those whose fans meet
+ * at a small angle). *opened receives src with its pinches opened (own
+ * vertices and triangles, the groups borrowed from src), or stays empty
+ * when src has none, or when opening them would make triangles cross that
+ * did not. */
+static int open_pinches(const vc_surface *src, const char *name, const vc_mesh_options *opt,
+                        double min_cos, vc_surface *opened, vc_pinch_report *rep, vc_error *err)
+{
+    memset(rep, 0, sizeof *rep);
+    memset(opened, 0, sizeof *opened);
+    if (!(opt->max_error > 0))
+        return 0;
+    const double bound = error_bound_of(src, opt->max_error);
+    int rc = copy_vertices_and_triangles(src, opened, err);
+    if (!rc)
+        rc = vc_surface_open_pinches(opened, 0.125 * bound, min_cos, rep, err);
+    int keep = !rc && rep->n_pinches > 0;
+    if (keep) {
+        /* src's own crossings (a union's cut points rounded off their
+         * planes) against the opened surface's */
+        vc_surface_report r0, r1;
+        vc_solid_report s0, s1;
+        memset(&r0, 0, sizeof r0);
+        memset(&r1, 0, sizeof r1);
+        vc_error e0 = {0, ""}, e1 = {0, ""};
+        keep = !vc_surface_check(src, &r0, &e0) && !vc_surface_check(opened, &r1, &e1);
+        if (keep) {
+            const int c0 = vc_surface_check_solid(src, &r0, &s0, &e0);
+            const int c1 = vc_surface_check_solid(opened, &r1, &s1, &e1);
+            if (c0 == VC_ENOMEM || c1 == VC_ENOMEM)
+                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            keep = !rc && s1.n_self_intersections <= s0.n_self_intersections;
+        }
+        if (!rc && !keep)
+            vc_log(opt->log, VC_LOG_INFO, "mesh: %s: opening its %lld pinch vertices would make "
+                   "triangles cross: kept", name, (long long)rep->n_pinches);
+    }
+    if (!keep) {
+        free(opened->xyz);
+        free(opened->tri);
+        memset(opened, 0, sizeof *opened);
+        memset(rep, 0, sizeof *rep);
+    }
+    return rc;
+}
+
+/* The non-manifold vertices of the triangle surface s, counted as the
+ * reconstructed surface's are (vc_polysurface_topology_compute). */
+static int count_nonmanifold_vertices(const vc_surface *s, int64_t *n, vc_error *err)
+{
+    vc_polysurface view;
+    view.n_points = s->n_vertices;
+    view.points = s->xyz;
+    view.n_polys = s->n_triangles;
+    view.poly_vertices = s->tri;
+    view.poly_offsets = malloc(sizeof(int64_t) * (size_t)(s->n_triangles + 1));
+    if (!view.poly_offsets)
+        return vc_error_set(err, VC_ENOMEM, "out of memory");
+    for (int64_t t = 0; t <= s->n_triangles; t++)
+        view.poly_offsets[t] = 3 * t;
+    vc_polysurface_topology topo;
+    const int rc = vc_polysurface_topology_compute(&view, &topo, err);
+    free(view.poly_offsets);
+    *n = rc ? 0 : topo.n_nonmanifold_vertices;
+    return rc;
 }
 
 /* The same with the triangles flip[t] != 0 reversed. */
@@ -1072,6 +1068,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&repaired, 0, sizeof repaired);
     vc_surface opened;   /* pinch vertices opened (own vertices and triangles, groups borrowed) */
     memset(&opened, 0, sizeof opened);
+    vc_surface union_opened; /* the same of the union */
+    memset(&union_opened, 0, sizeof union_opened);
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -1161,13 +1159,11 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * union's pinches; cones meeting at a wide angle (two cubes' corners)
      * are kept, as is any vertex on an edge of more than two triangles
      * (the interfaces of materials, parts touching along an edge). */
-    if (opt.max_error > 0 && out->input.n_nonmanifold_edges == 0) {
-        if ((rc = copy_vertices_and_triangles(s, &opened, err)) != 0)
-            goto fail;
-        if ((rc = open_pinches(&opened, name, &opt, cos(opt.sharp_angle * 3.14159265358979323846 / 180),
+    if (out->input.n_nonmanifold_edges == 0) {
+        if ((rc = open_pinches(s, name, &opt, cos(opt.sharp_angle * 3.14159265358979323846 / 180), &opened,
                                &out->input_pinches, err)) != 0)
             goto fail;
-        if (out->input_pinches.n_pinches > 0) {
+        if (opened.xyz) {
             s = &opened;
             s_input = &opened;
             if ((rc = vc_surface_check(s, &out->input, err)) != 0)
@@ -1194,10 +1190,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             const double volume_before = out->input.volume;
             if ((rc = vc_surface_self_union(s, name, &unioned, &out->self_union, err)) != 0)
                 goto fail;
-            if ((rc = open_pinches(&unioned, name, &opt, -2, &out->pinches, err)) != 0)
+            if ((rc = open_pinches(&unioned, name, &opt, -2, &union_opened, &out->pinches, err)) != 0)
                 goto fail;
-            s = &unioned;
-            s_input = &unioned;
+            s = union_opened.xyz ? &union_opened : &unioned;
+            s_input = s;
             out->unioned = 1;
             if ((rc = vc_surface_check(s, &out->input, err)) != 0)
                 goto fail;
@@ -1237,11 +1233,6 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         if (rc)
             goto fail;
     }
-    /* The input's vertices where parts touch (several fans, or an edge of
-     * more than two triangles), as the reconstruction's are counted: where
-     * the input has none, the reconstruction may have none. */
-    if ((rc = count_nonmanifold_vertices(s, &out->input_nonmanifold_vertices, err)) != 0)
-        goto fail;
     /* A size the sampling and the engine handle in double precision: their
      * squared distances and volumes (a size cubed) must stay normal
      * numbers, as vc_voronoi_build requires of the seeds' extent. */
@@ -1389,6 +1380,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     free(repaired.tri);
     free(opened.xyz);
     free(opened.tri);
+    free(union_opened.xyz);
+    free(union_opened.tri);
     vc_surface_free(&unioned);
     return 0;
 fail:
@@ -1399,6 +1392,8 @@ fail:
     free(repaired.tri);
     free(opened.xyz);
     free(opened.tri);
+    free(union_opened.xyz);
+    free(union_opened.tri);
     vc_surface_free(&unioned);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
