@@ -800,10 +800,10 @@ def case_text():
     return polydata_to_lists(e.GetOutput(), tolerance=1e-9)
 
 
-def case_noise_blob():
+def case_noise_blob(res=200):
     """The unit sphere's quadric plus vtkPerlinNoise (frequency 6, amplitude
-    0.2) contoured on a 200^3 grid, the largest component: a bumpy,
-    scan-like marching-cubes surface of about 170k triangles."""
+    0.2) contoured on a res^3 grid (200: about 170k triangles), the largest
+    component: a bumpy, scan-like marching-cubes surface."""
     q = quadric((1, 1, 1, 0, 0, 0, 0, 0, 0, -1))
     n = vtk.vtkPerlinNoise()
     n.SetFrequency(6, 6, 6)
@@ -811,7 +811,7 @@ def case_noise_blob():
     f = vtk.vtkImplicitSum()
     f.AddFunction(q)
     f.AddFunction(n)
-    surf = contour(sample(f, (-1.6, 1.6, -1.6, 1.6, -1.6, 1.6), (200, 200, 200)), 0.0)
+    surf = contour(sample(f, (-1.6, 1.6, -1.6, 1.6, -1.6, 1.6), (res, res, res)), 0.0)
     conn = vtk.vtkPolyDataConnectivityFilter()
     conn.SetInputData(surf)
     conn.SetExtractionModeToLargestRegion()
@@ -885,6 +885,51 @@ def case_turned_needles():
     return pts, tris
 
 
+def plant_needle(pts, tris, near, bound, tilt_deg=70.0, width=2e-7):
+    """Splits the triangle (a, b, c) nearest the point near whose edge a b
+    is shorter than half the error bound at a point m 'width' off the
+    middle of a b towards c and tilted out of the plane: (a, b, m) is a
+    needle whose normal leans tilt_deg from its neighbours', as marching
+    cubes leave them where the contour passes a grid node."""
+    best = None
+    for k, t in enumerate(tris):
+        for i in range(3):
+            a, b, c = t[i], t[(i + 1) % 3], t[(i + 2) % 3]
+            if math.sqrt(dot(sub(pts[a], pts[b]), sub(pts[a], pts[b]))) >= 0.5 * bound:
+                continue
+            d = sum((pts[a][j] - near[j]) ** 2 for j in range(3))
+            if best is None or d < best[0]:
+                best = (d, k, a, b, c)
+    _, k, a, b, c = best
+    ab = sub(pts[b], pts[a])
+    n = cross(ab, sub(pts[c], pts[a]))
+    ln = math.sqrt(dot(n, n))
+    n = [x / ln for x in n]
+    towards = cross(n, ab)  # in the plane, perpendicular to a b, towards c
+    lt = math.sqrt(dot(towards, towards))
+    up = width * math.tan(math.radians(tilt_deg))
+    m = tuple(0.5 * (pts[a][j] + pts[b][j]) + width * towards[j] / lt + up * n[j] for j in range(3))
+    pts.append(m)
+    im = len(pts) - 1
+    tris[k] = (a, b, im)
+    tris.append((b, c, im))
+    tris.append((c, a, im))
+
+
+def case_mc_needles():
+    """The noise blob (200^3) with four marching-cubes needles planted
+    (plant_needle) on its bumps, where the ground within four error bounds
+    is curved beyond a quadric's slab: each needle's three folds of 70
+    degrees are a network of sharp edges smaller than the error bound."""
+    pts, tris = case_noise_blob()
+    pts, tris = clean(pts, tris)
+    tris = [tuple(t) for t in tris]
+    bound = 0.004 * bbox_diag(pts)
+    for near in ((-0.8518, -0.2839, 0.4576), (0.3, 0.85, -0.35), (-0.2, -0.5, -0.85), (0.75, -0.4, 0.5)):
+        plant_needle(pts, tris, near, bound)
+    return pts, tris
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -924,6 +969,7 @@ CASES = [
     ("uv_noisy", case_uv_noisy, "UV sphere 300 x 180 with +-0.002 radial noise: noise-tipped needles at the poles", 2),
     ("turned_needles", case_turned_needles, "UV sphere with 8 turned-over needles (apex 0.1 to 0.45 of the error bound across its long edge)", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
+    ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 
 

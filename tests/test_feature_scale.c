@@ -3,7 +3,8 @@
  * on a plane and on a curved patch is flat at a scale well above it, a
  * 60-degree crease is not, with or without noise; a coarser grid is
  * looked at farther, and a coarse fold (too few triangles for a quadric
- * even then) is judged by the plane alone. */
+ * even then) is judged by the plane alone; a needle's folds smaller than
+ * the bound are noise on any coherent ground. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -165,6 +166,97 @@ static void expect_flat_needles(const char *name, int nx, int ny, double ex, dou
     vc_surface_free(&b.s);
 }
 
+/* waves of 0.012 and wavelength 0.16: within four bounds of a point (the
+ * bounds below) the ground strays from a plane and a quadric by more than
+ * their slabs */
+static double wavy(double x, double y)
+{
+    return 0.012 * sin(40 * x) * cos(40 * y);
+}
+
+/* The wavy field, 200 x 200 cells over [-1, 1]^2, with a needle planted
+ * in the cell (i0, j0): its triangle (a, b, c) (a b its edge along x,
+ * 0.01 long) split at m, 2e-7 off the middle of a b towards c and lifted
+ * so that the needle (a, b, m) leans 70 degrees from its neighbours (a
+ * marching-cubes sliver). Features judged at scale: the needle's three
+ * folds must be noise (want_noise) or sharp, and a, b, m corners or not
+ * accordingly. */
+static void expect_needle(const char *name, double scale, int want_noise)
+{
+    const int n = 200, i0 = n / 2 + 3, j0 = n / 2 + 3;
+    builder b = {0};
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
+            add_v(&b, x, y, wavy(x, y));
+        }
+    int64_t na = -1, nb = -1, nm = -1;
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            const int64_t a = (int64_t)j * (n + 1) + i, c = a + n + 2;
+            if (i != i0 || j != j0) {
+                add_q(&b, a, a + 1, c, a + n + 1);
+                continue;
+            }
+            const double *pa = b.s.xyz + 3 * a, *pb = b.s.xyz + 3 * (a + 1), *pc = b.s.xyz + 3 * c;
+            const double ab[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+            const double ac[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+            double nn[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
+                            ab[0] * ac[1] - ab[1] * ac[0]};
+            const double ln = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+            for (int k = 0; k < 3; k++)
+                nn[k] /= ln;
+            double tw[3] = {nn[1] * ab[2] - nn[2] * ab[1], nn[2] * ab[0] - nn[0] * ab[2],
+                            nn[0] * ab[1] - nn[1] * ab[0]};
+            const double lt = sqrt(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]);
+            const double w = 2e-7, up = w * tan(70 * M_PI / 180);
+            double m[3];
+            for (int k = 0; k < 3; k++)
+                m[k] = 0.5 * (pa[k] + pb[k]) + w * tw[k] / lt + up * nn[k];
+            nm = add_v(&b, m[0], m[1], m[2]);
+            na = a;
+            nb = a + 1;
+            add_t(&b, a, a + 1, nm);
+            add_t(&b, a + 1, c, nm);
+            add_t(&b, c, a, nm);
+            add_t(&b, a, c, a + n + 1);
+        }
+    vc_features f;
+    vc_error err;
+    if (vc_features_detect_scaled(&b.s, 60, NULL, scale, &f, &err)) {
+        CHECKF(0, "%s: %s", name, err.msg);
+        vc_surface_free(&b.s);
+        return;
+    }
+    const int64_t e[3] = {vc_features_find_edge(&f, na, nb), vc_features_find_edge(&f, na, nm),
+                          vc_features_find_edge(&f, nb, nm)};
+    int sharp = 0;
+    for (int k = 0; k < 3; k++)
+        sharp += e[k] >= 0 && f.edge_sharp[e[k]] != 0;
+    const int corners = (f.vertex_corner[na] != 0) + (f.vertex_corner[nb] != 0) + (f.vertex_corner[nm] != 0);
+    /* the ground is not flat there by the plane or the quadric: the rule
+     * for networks smaller than the bound decides */
+    vc_flat_probe p;
+    int flat = -1;
+    if (e[0] >= 0 && vc_flat_probe_init(&p, b.s.n_triangles) == 0) {
+        const int64_t seeds[2] = {f.edge_tri[f.edge_tri_start[e[0]]], f.edge_tri[f.edge_tri_start[e[0]] + 1]};
+        const double *pa = b.s.xyz + 3 * na, *pb = b.s.xyz + 3 * nb;
+        const double x[3] = {0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])};
+        flat = vc_flat_near(&b.s, &f, &p, seeds, 2, x, VC_FLAT_REACH * scale, VC_FLAT_SLAB * scale, 0, NULL);
+        vc_flat_probe_free(&p);
+    }
+    CHECKF(flat == 0, "%s: the ground at the needle is flat (%d): the test would not test the rule", name, flat);
+    if (want_noise)
+        CHECKF(sharp == 0 && corners == 0 && f.n_sharp_noise >= 3,
+               "%s: %d of the needle's folds sharp, %d corners, %lld folds judged noise (want 0, 0, >= 3)",
+               name, sharp, corners, (long long)f.n_sharp_noise);
+    else
+        CHECKF(sharp == 3 && corners > 0, "%s: %d of the needle's folds sharp, %d corners (want 3, > 0)", name,
+               sharp, corners);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
+}
+
 int main(void)
 {
     /* grid spacing 0.01 (n = 200); scale 0.02: reach 0.08, slab 0.01 from
@@ -201,6 +293,12 @@ int main(void)
      * not. */
     expect_flat_needles("needles, noise 0.004", 400, 20, 0.1, 0.1, flat, 0.004, 0.02, 1);
     expect_flat_needles("needles on the roof", 400, 20, 0.1, 0.1, roof, 0.004, 0.02, 0);
+
+    /* A marching-cubes needle (folds of 70 degrees, a network 0.01 wide)
+     * on wavy ground: below the bound 0.02 it is noise, however curved the
+     * ground; at a bound of 0.009 it is wider than the bound, a feature */
+    expect_needle("needle on waves, bound 0.02", 0.02, 1);
+    expect_needle("needle on waves, bound 0.009", 0.009, 0);
 
     if (failures) {
         fprintf(stderr, "test_feature_scale: %d failures\n", failures);

@@ -489,8 +489,9 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         if (attempt == 0 && f.n_sharp_noise + f.n_corner_noise > 0)
             vc_log(opt->log, VC_LOG_INFO,
-                   "mesh: %lld folds over %g degrees and %lld corners lie on ground flat at the "
-                   "error bound (%g): noise, not features; left inside the patches",
+                   "mesh: %lld folds over %g degrees and %lld corners are noise at the error bound "
+                   "(%g: on ground flat at it, or smaller than it), not features; left inside the "
+                   "patches",
                    (long long)f.n_sharp_noise, so.sharp_angle, (long long)f.n_corner_noise,
                    f.noise_scale);
         if (smooth > 0) {

@@ -458,6 +458,88 @@ static int walk_folds(const vc_surface *s, const vc_features *f, unsigned char *
     return fail ? -1 : 0;
 }
 
+/* Networks of sharp edges smaller than the error bound (the diagonal of
+ * their vertices' bounding box below VC_SPECK_EXTENT * scale) on coherent
+ * ground are noise too, however curved that ground: the folds of
+ * marching-cubes slivers on a bumpy surface (the plane and the quadric
+ * tests above fail there: a noise blob contoured at 480^3 kept 5 folds of
+ * 70 degrees around triangles of area 1e-10 and 1e-15, two of their
+ * corners 3e-7 apart, and the sampling's radius bound fell to 8.5e-9: a
+ * first coverage still running after 5 minutes). A feature below the error
+ * bound is below the resolution asked for; the reconstruction passes
+ * within the bound of it either way. The ground is coherent when the
+ * triangles within VC_FLAT_REACH * scale of the network's centre, turned
+ * consistently, have a mean normal of at least VC_FLAT_COHERENCE of their
+ * area: a surface, not a speck folded up (a tiny closed part, whose mean
+ * normal vanishes, keeps its features). Those networks' edges get flat[e]
+ * set and their root's kept cleared. Returns 0, or -1 when out of memory. */
+static int unkeep_specks(const vc_surface *s, const vc_features *f, int64_t *parent,
+                         unsigned char *kept, unsigned char *flat, double scale)
+{
+    const int64_t nv = s->n_vertices;
+    int64_t n_kept = 0;
+    for (int64_t v = 0; v < nv; v++)
+        n_kept += kept[v];
+    if (n_kept == 0)
+        return 0;
+    /* the kept networks' bounding boxes and one triangle each (a walk's
+     * seed), indexed by root */
+    double *box = malloc(sizeof(double) * 6 * (size_t)nv);
+    int64_t *seed = malloc(sizeof(int64_t) * (size_t)nv);
+    vc_flat_probe q;
+    if (!box || !seed || vc_flat_probe_init(&q, s->n_triangles)) {
+        free(box);
+        free(seed);
+        return -1;
+    }
+    for (int64_t v = 0; v < nv; v++)
+        if (kept[v]) {
+            seed[v] = -1;
+            for (int k = 0; k < 3; k++) {
+                box[6 * v + k] = INFINITY;
+                box[6 * v + 3 + k] = -INFINITY;
+            }
+        }
+    for (int64_t e = 0; e < f->n_edges; e++) {
+        if (!f->edge_sharp[e])
+            continue;
+        const int64_t r = root_of(parent, f->edge_vertex[2 * e]);
+        if (!kept[r])
+            continue;
+        if (seed[r] < 0 && f->edge_tri_start[e + 1] > f->edge_tri_start[e])
+            seed[r] = f->edge_tri[f->edge_tri_start[e]];
+        for (int j = 0; j < 2; j++) {
+            const double *x = s->xyz + 3 * f->edge_vertex[2 * e + j];
+            for (int k = 0; k < 3; k++) {
+                box[6 * r + k] = fmin(box[6 * r + k], x[k]);
+                box[6 * r + 3 + k] = fmax(box[6 * r + 3 + k], x[k]);
+            }
+        }
+    }
+    /* in vertex order: the same answer for any thread count */
+    for (int64_t v = 0; v < nv; v++) {
+        if (!kept[v] || seed[v] < 0)
+            continue;
+        const double *b = box + 6 * v;
+        const double d[3] = {b[3] - b[0], b[4] - b[1], b[5] - b[2]};
+        if (!(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) < VC_SPECK_EXTENT * scale))
+            continue;
+        const double x[3] = {0.5 * (b[0] + b[3]), 0.5 * (b[1] + b[4]), 0.5 * (b[2] + b[5])};
+        if (vc_flat_near(s, f, &q, &seed[v], 1, x, VC_FLAT_REACH * scale, INFINITY, 0, NULL))
+            kept[v] = 2; /* noise: its edges are marked below */
+    }
+    for (int64_t e = 0; e < f->n_edges; e++)
+        if (f->edge_sharp[e] && kept[root_of(parent, f->edge_vertex[2 * e])] == 2)
+            flat[e] = 1;
+    for (int64_t v = 0; v < nv; v++)
+        if (kept[v] == 2)
+            kept[v] = 0;
+    vc_flat_probe_free(&q);
+    free(box);
+    free(seed);
+    return 0;
+}
+
 int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
                                    unsigned char *near)
 {
@@ -493,6 +575,8 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
     for (int64_t e = 0; e < f->n_edges && !fail; e++)
         if (f->edge_sharp[e] && !flat[e])
             kept[root_of(parent, f->edge_vertex[2 * e])] = 1;
+    if (!fail && unkeep_specks(s, f, parent, kept, flat, scale))
+        fail = 1;
     for (int64_t e = 0; e < f->n_edges && !fail; e++) {
         if (!flat[e])
             continue;

@@ -34,6 +34,11 @@
  * from). */
 #define VC_FLAT_GROW 2
 
+/* A network of sharp edges whose vertices' bounding box has a diagonal
+ * below this many error bounds is noise on coherent ground, however curved
+ * (vc_features_unmark_noise_folds). */
+#define VC_SPECK_EXTENT 1.0
+
 /* Scratch memory of the neighbourhood walks (one per thread). */
 typedef struct vc_flat_probe {
     int64_t *stamp;  /* n_triangles: the walk that last reached a triangle */
@@ -65,7 +70,9 @@ int vc_flat_near(const vc_surface *s, const vc_features *f, vc_flat_probe *p, co
  * marked VC_SHARP_ANGLE) where the surface within VC_FLAT_REACH * scale
  * lies within VC_FLAT_SLAB * scale of one plane are not sharp: noise (a
  * scan's, a marching-cubes sliver's), not a feature, at the error bound;
- * only whole networks of sharp edges (joined at vertices) are unmarked.
+ * only whole networks of sharp edges (joined at vertices) are unmarked,
+ * and so are networks smaller than VC_SPECK_EXTENT * scale on coherent
+ * ground.
  * Sets f->n_sharp_noise; marks in near (n_triangles bytes, zeroed by the
  * caller) the triangles there that lean more than theta_sharp / 2 from
  * the mean normal (the noise's). Returns 0 or -1 when out of memory. */

@@ -459,24 +459,40 @@ static void sort_slots(slot_rec *a, int64_t n)
     }
 }
 
+/* The normal sector_spread counts for corner slot h: NULL for a
+ * zero-area triangle, and for one whose tilt a fold beside it was judged
+ * noise at the error bound (tilted[t], may be NULL): a marching-cubes
+ * sliver's normal swings by 70 degrees over the sliver's width of 1e-8,
+ * and counting it made its corners sector corners 3e-7 apart, which
+ * sliver elimination could not resolve. */
+static const double *counted_normal(const vc_features *f, int64_t h, const unsigned char *tilted)
+{
+    const double *q = f->tri_normal + 3 * (h / 3);
+    if ((q[0] == 0 && q[1] == 0 && q[2] == 0) || (tilted && tilted[h / 3]))
+        return NULL;
+    return q;
+}
+
 /* Whether two of the normals of the triangles of the corner slots
- * r[0..n-1] (zero-area ones skipped), each turned by the slot's sign par
- * (the orientation of the sector), differ by at least theta, i.e. have
- * dot <= cos_theta. When every normal is within theta / 2 of the mean
- * direction no pair can; otherwise pairs are compared until one is
- * found. */
+ * r[0..n-1] (those counted_normal skips left out), each turned by the
+ * slot's sign par (the orientation of the sector), differ by at least
+ * theta, i.e. have dot <= cos_theta. When every normal is within theta / 2
+ * of the mean direction no pair can; otherwise pairs are compared until
+ * one is found. */
 static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, const signed char *par,
-                         double cos_theta, double cos_half)
+                         double cos_theta, double cos_half, const unsigned char *tilted)
 {
     double m[3] = {0, 0, 0};
     int64_t used = 0;
     for (int64_t i = 0; i < n; i++) {
-        const double *q = f->tri_normal + 3 * (r[i].slot / 3);
+        const double *q = counted_normal(f, r[i].slot, tilted);
+        if (!q)
+            continue;
         double sg = par[r[i].slot];
         m[0] += sg * q[0];
         m[1] += sg * q[1];
         m[2] += sg * q[2];
-        used += q[0] != 0 || q[1] != 0 || q[2] != 0;
+        used++;
     }
     if (used < 2)
         return 0;
@@ -484,21 +500,20 @@ static int sector_spread(const vc_features *f, const slot_rec *r, int64_t n, con
     if (len > 0) {
         int inside = 1;
         for (int64_t i = 0; i < n && inside; i++) {
-            const double *q = f->tri_normal + 3 * (r[i].slot / 3);
-            if (q[0] != 0 || q[1] != 0 || q[2] != 0)
+            const double *q = counted_normal(f, r[i].slot, tilted);
+            if (q)
                 inside = par[r[i].slot] * dot3(q, m) > cos_half * len;
         }
         if (inside)
             return 0;
     }
     for (int64_t i = 0; i < n; i++) {
-        const double *p = f->tri_normal + 3 * (r[i].slot / 3);
-        if (p[0] == 0 && p[1] == 0 && p[2] == 0)
+        const double *p = counted_normal(f, r[i].slot, tilted);
+        if (!p)
             continue;
         for (int64_t j = i + 1; j < n; j++) {
-            const double *q = f->tri_normal + 3 * (r[j].slot / 3);
-            if ((q[0] != 0 || q[1] != 0 || q[2] != 0) &&
-                par[r[i].slot] * par[r[j].slot] * dot3(p, q) <= cos_theta)
+            const double *q = counted_normal(f, r[j].slot, tilted);
+            if (q && par[r[i].slot] * par[r[j].slot] * dot3(p, q) <= cos_theta)
                 return 1;
         }
     }
@@ -636,7 +651,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
             while (j < k && r[j].root == r[i].root)
                 j++;
             n_sectors++;
-            if (!(why & VC_CORNER_SECTOR) && sector_spread(f, r + i, j - i, par, cos_theta, cos_half))
+            if (!(why & VC_CORNER_SECTOR) && sector_spread(f, r + i, j - i, par, cos_theta, cos_half, near))
                 why |= VC_CORNER_SECTOR;
             i = j;
         }
