@@ -23,7 +23,9 @@ with default options, and the test checks:
    triangle; the noisy sphere excepted, a known defect: Q_ZERO_KNOWN);
  - turned_needles: the repair said (EXPECTED_REPAIR);
  - box_speck: the summary's peak memory below 100 MiB (PEAK_MIB);
- - mc_needles: the planted needles' folds judged noise, no edge ball (SPECKS).
+ - mc_needles: the planted needles' folds judged noise, no edge ball (SPECKS);
+ - an input of 100k triangles or more: its first line announces the input
+   checks (they take seconds).
 """
 
 import math
@@ -125,6 +127,12 @@ def main():
                  "%s: exit %d: %s" % (name, p.returncode, p.stderr[-2000:])):
         return 1
     e = p.stderr
+    # a large input's checks take seconds: the first line says so at once
+    n_tri = int(row.split(",")[1])
+    if n_tri >= 100000:
+        first = e.splitlines()[0] if e else ""
+        check(first.endswith(": %d triangles; checking that they bound a volume" % n_tri),
+              "%s: the first line is not the input checks': %r" % (name, first))
     if name in EXPECTED_REPAIR:
         check(re.search(EXPECTED_REPAIR[name], e) is not None, "%s: not the expected repair" % name)
     if name in THREAD_COUNT_CHECKED:

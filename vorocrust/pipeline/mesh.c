@@ -46,6 +46,19 @@ static double now(void)
 #endif
 }
 
+/* The input checks of a large surface take seconds (1M triangles: 2.3 s
+ * here, 5 s on a slower machine) before the first sampling line: one line
+ * names each step that starts half a second or more after the last line
+ * (every step takes under a second here). */
+static void check_progress(const vc_mesh_options *opt, double *t_last, const char *name, const char *step)
+{
+    const double t = now();
+    if (t - *t_last < 0.5)
+        return;
+    *t_last = t;
+    vc_log(opt->log, VC_LOG_INFO, "mesh: %s: %s", name, step);
+}
+
 int64_t vc_mesh_default_max_balls(void)
 {
     /* measured: 10 KiB per ball for the whole run (torus, bracket:
@@ -1082,6 +1095,12 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     if (rc)
         return rc;
     const double t0 = now();
+    double t_line = t0;
+    /* a large input's checks take seconds: said at once (a small one's
+     * refusal stays one line) */
+    if (s->n_triangles >= 100000)
+        vc_log(opt.log, VC_LOG_INFO, "mesh: %s: %lld triangles; checking that they bound a volume", name,
+               (long long)s->n_triangles);
 
     /* The input: closed and consistently oriented, or its inside is not
      * defined. */
@@ -1137,6 +1156,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * they often cross their neighbours. Half the error bound at most, the
      * other half left to the sampling. */
     if (opt.max_error > 0) {
+        check_progress(&opt, &t_line, name, "turned-over needles");
         if ((rc = copy_triangles(s, &repaired, err)) != 0)
             goto fail;
         if ((rc = vc_surface_flip_turned_needles(&repaired, 0.5 * error_bound_of(s, opt.max_error),
@@ -1161,6 +1181,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * are kept, as is any vertex on an edge of more than two triangles
      * (the interfaces of materials, parts touching along an edge). */
     if (out->input.n_nonmanifold_edges == 0) {
+        check_progress(&opt, &t_line, name, "pinch vertices");
         if ((rc = open_pinches(s, name, &opt, cos(opt.sharp_angle * 3.14159265358979323846 / 180), &opened,
                                &out->input_pinches, err)) != 0)
             goto fail;
@@ -1180,6 +1201,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * self-intersection, a volume (before sampling, which would not end). */
     {
         vc_solid_report solid;
+        check_progress(&opt, &t_line, name, "repeated triangles, self-intersections, volume");
         rc = vc_surface_check_solid(s, &out->input, &solid, err);
         /* A surface whose only fault is that it runs through itself (a box
          * through a box) bounds the region it winds around at least once:
@@ -1276,6 +1298,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * opt.cavities, nested shells are reoriented by the even-odd rule. */
     {
         vc_regions regions;
+        check_progress(&opt, &t_line, name, "regions");
         if ((rc = vc_surface_regions(s, &regions, err)) != 0) {
             rc = named(err, name, NULL);
             goto fail;
