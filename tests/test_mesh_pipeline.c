@@ -180,8 +180,21 @@ static void check_ladder(void)
         vc_mesh_result_free(&r);
     }
     o.max_sliver_iterations = 1;
-    /* without a fallback (the default) the divergence is the error, and it
-     * names the fallback */
+    /* by default (VC_RESAMPLE_FOLDS) the folds where it is stuck become
+     * creases: the torus is its own, resampled, at theta_sharp 60 */
+    if (vc_mesh(&torus, &o, &r, &err) != 0) {
+        CHECKF(0, "coarse torus, one pass, folds as creases: %s", err.msg);
+    } else {
+        CHECKF(r.resampled && r.sharp_angle == 60 && r.smooth_iterations == 0 && r.surface_closed &&
+                   fabs(r.surface_volume - v_in) <= 0.01 * v_in,
+               "coarse torus, one pass, folds as creases: resampled %d at %g, %d smoothing rounds, "
+               "volume %.9g against %.9g", r.resampled, r.sharp_angle, r.smooth_iterations,
+               r.surface_volume, v_in);
+        vc_mesh_result_free(&r);
+    }
+    /* with no resampling the divergence is the error, and it names the
+     * fallback */
+    o.resample = 0;
     if (vc_mesh(&torus, &o, &r, &err) == 0) {
         CHECKF(0, "coarse torus, one pass, no fallback: meshed (resampled %d)", r.resampled);
         vc_mesh_result_free(&r);
@@ -231,7 +244,7 @@ int main(void)
     vc_mesh_options d;
     vc_mesh_options_default(&d);
     CHECKF(d.sharp_angle == 60 && d.interior == VC_INTERIOR_OCTREE && d.lloyd_iterations == 0 &&
-               d.smooth_iterations == 0 && d.resample == 0 &&
+               d.smooth_iterations == 0 && d.resample == VC_RESAMPLE_FOLDS &&
                d.log == NULL && !d.surface_only,
            "defaults");
 

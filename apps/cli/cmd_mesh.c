@@ -107,10 +107,11 @@ static void usage(FILE *f)
         "                      once, with a warning; --union, the default, is accepted)\n"
         "  --fallback          when sliver elimination diverges, sample again at theta_sharp\n"
         "                      20 (folds become creases), then after %d rounds of Loop\n"
-        "                      smoothing at 120 (moves the surface); default: an error\n"
-        "  --fold-creases      when sliver elimination diverges, make the folds over 10\n"
-        "                      degrees where it is stuck creases and sample again (up to 4\n"
-        "                      times, then all such folds; experimental)\n",
+        "                      smoothing at 120 (moves the surface); instead of the default\n"
+        "  --no-fold-creases   when sliver elimination diverges, stop with an error (default:\n"
+        "                      make the folds over 10 degrees where it is stuck creases and\n"
+        "                      sample again, up to 4 times, then all such folds; the surface\n"
+        "                      is not moved; --fold-creases, the default, is accepted)\n",
         FOAM_DEFAULT_MAX_SKEW, d.sharp_angle, VC_SMOOTH_MAX_ITERATIONS, VC_SMOOTH_DEFAULT_ITERATIONS, d.max_error,
         d.lipschitz, (unsigned long long)d.seed, VC_SMOOTH_DEFAULT_ITERATIONS);
 }
@@ -369,7 +370,7 @@ static int run_mesh(int argc, char **argv)
     const char *in_path = NULL, *surf_path = NULL, *out_path = NULL, *seeds_path = NULL,
                *balls_path = NULL, *foam_path = NULL, *conn_path = NULL, *uge_path = NULL,
                *tough_path = NULL;
-    int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 0, fallback = 0,
+    int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 1, fallback = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
     vc_skew_collapse_stats foam_skew;
@@ -395,6 +396,8 @@ static int run_mesh(int argc, char **argv)
             verbose = 1;
         } else if (!strcmp(a, "--fold-creases")) {
             fold_creases = 1;
+        } else if (!strcmp(a, "--no-fold-creases")) {
+            fold_creases = 0;
         } else if (!strcmp(a, "--fallback")) {
             fallback = 1;
         } else if (!strcmp(a, "--cavities")) {
@@ -653,12 +656,12 @@ static int run_mesh(int argc, char **argv)
         }
     }
     free(boundary_out);
-    if (fold_creases)
-        opt.resample = VC_RESAMPLE_FOLDS;
-    else if (fallback)
+    if (fallback)
         /* smoothing first already: only the creases are left to try */
         opt.resample = smooth_iterations_given ? VC_RESAMPLE_CREASES
                                                : VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH;
+    else
+        opt.resample = fold_creases ? VC_RESAMPLE_FOLDS : 0;
     vc_logger log;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
     opt.log = &log;

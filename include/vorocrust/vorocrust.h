@@ -63,8 +63,9 @@ typedef enum vc_interior_kind {
 } vc_interior_kind;
 
 /* What vc_mesh may do when sliver elimination diverges on the first
- * sampling (flags of vc_mesh_options.resample). None by default: the
- * divergence is then an error naming where it is stuck. */
+ * sampling (flags of vc_mesh_options.resample). VC_RESAMPLE_FOLDS by
+ * default; with none, the divergence is an error naming where it is
+ * stuck. */
 enum {
     /* Folds between 20 degrees and theta_sharp inside the patches: sample
      * again at theta_sharp 20, where they are creases (the surface is not
@@ -76,7 +77,7 @@ enum {
     VC_RESAMPLE_SMOOTH = 2,
     /* Make the folds over 10 degrees where sliver elimination is stuck
      * creases and sample again, up to 4 times, then every fold over 10
-     * degrees (the surface is not moved; experimental, not a default). */
+     * degrees (the surface is not moved; the default). */
     VC_RESAMPLE_FOLDS = 4
 };
 
@@ -108,8 +109,8 @@ typedef struct vc_mesh_options {
     double max_size;        /* largest ball radius; <= 0: the bounding-box diagonal */
     uint64_t seed;          /* random seed, default 1 */
     int smooth_iterations;  /* rounds of Loop smoothing before sampling, default 0 */
-    int resample;           /* VC_RESAMPLE_* flags, default 0 (none); the CLI's
-                               --fallback: CREASES | SMOOTH */
+    int resample;           /* VC_RESAMPLE_* flags, default VC_RESAMPLE_FOLDS; the
+                               CLI's --fallback: CREASES | SMOOTH, --no-fold-creases: 0 */
     /* Stop after the reconstructed surface (no volume mesh). The interior
      * seeds are still placed: they bound the inside surface seeds' cells,
      * which are built alone; the surface is the one the volume mesh would

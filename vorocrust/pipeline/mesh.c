@@ -87,7 +87,11 @@ void vc_mesh_options_default(vc_mesh_options *opt)
      * surface off the input (sphere.obj: 0.78% of the diagonal, 3.3% of the
      * volume after 6 rounds), beyond the 0.5% error budget. */
     opt->smooth_iterations = 0;
-    opt->resample = 0; /* a sampling that diverges is an error (issue 16) */
+    /* folds that defeat sliver elimination become creases where it is
+     * stuck (the surface is not moved; session 31: marching cubes of a
+     * union of shapes, whose junction creases are staircases of folds
+     * partly below theta_sharp, diverged) */
+    opt->resample = VC_RESAMPLE_FOLDS;
     opt->interior = VC_INTERIOR_OCTREE;
 }
 
@@ -592,7 +596,8 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         if (plan == 0) {
             *err = why;
-            if (out->sampling.diverged && opt->resample == 0 && !mm) {
+            if (out->sampling.diverged && !(opt->resample & (VC_RESAMPLE_CREASES | VC_RESAMPLE_SMOOTH)) &&
+                !mm) {
                 /* the ladder is the user's choice, never the default */
                 size_t len = strlen(err->msg);
                 snprintf(err->msg + len, sizeof err->msg - len,
