@@ -471,8 +471,10 @@ static int walk_folds(const vc_surface *s, const vc_features *f, unsigned char *
  * triangles within VC_FLAT_REACH * scale of the network's centre, turned
  * consistently, have a mean normal of at least VC_FLAT_COHERENCE of their
  * area: a surface, not a speck folded up (a tiny closed part, whose mean
- * normal vanishes, keeps its features). Those networks' edges get flat[e]
- * set and their root's kept cleared. Returns 0, or -1 when out of memory. */
+ * normal vanishes, keeps its features). Only networks of folds
+ * (VC_SHARP_ANGLE) qualify: a boundary, a non-manifold edge or a crease
+ * asked for keeps its network. Those networks' edges get flat[e] set and
+ * their root's kept cleared. Returns 0, or -1 when out of memory. */
 static int unkeep_specks(const vc_surface *s, const vc_features *f, int64_t *parent,
                          unsigned char *kept, unsigned char *flat, double scale)
 {
@@ -506,6 +508,12 @@ static int unkeep_specks(const vc_surface *s, const vc_features *f, int64_t *par
         const int64_t r = root_of(parent, f->edge_vertex[2 * e]);
         if (!kept[r])
             continue;
+        /* only folds are judged: a network with a boundary, non-manifold
+         * or requested edge stays (seed -2) */
+        if (f->edge_sharp[e] != VC_SHARP_ANGLE)
+            seed[r] = -2;
+        if (seed[r] == -2)
+            continue;
         if (seed[r] < 0 && f->edge_tri_start[e + 1] > f->edge_tri_start[e])
             seed[r] = f->edge_tri[f->edge_tri_start[e]];
         for (int j = 0; j < 2; j++) {
@@ -519,7 +527,7 @@ static int unkeep_specks(const vc_surface *s, const vc_features *f, int64_t *par
     /* in vertex order: the same answer for any thread count */
     for (int64_t v = 0; v < nv; v++) {
         if (!kept[v] || seed[v] < 0)
-            continue;
+            continue; /* not a root, or a network that is not all folds */
         const double *b = box + 6 * v;
         const double d[3] = {b[3] - b[0], b[4] - b[1], b[5] - b[2]};
         if (!(sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) < VC_SPECK_EXTENT * scale))
