@@ -155,6 +155,12 @@ def main():
             check(p1.returncode == 0 and f1.read() == f2.read(),
                   "%s: the mesh on one thread differs from the mesh on two" % name)
     if name in FOLDS_RESAMPLED:
+        # without the rule (--no-fold-creases) the divergence is the error
+        p0 = subprocess.run([BIN, "mesh", src, "-o", os.path.join(tmp, "nofold.vtu"), "--threads", "2",
+                             "--no-fold-creases"], capture_output=True, text=True, timeout=900)
+        check(p0.returncode == 1 and "sliver elimination does not converge" in p0.stderr
+              and not os.path.exists(os.path.join(tmp, "nofold.vtu")),
+              "%s --no-fold-creases: exit %d, %r" % (name, p0.returncode, p0.stderr[-300:]))
         m = re.search(r"mesh: sampling again with (\d+) more folds of over 10 degrees as creases", e)
         check(m is not None and "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in e
               and "sampling again with --" not in e,
