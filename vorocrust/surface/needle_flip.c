@@ -63,7 +63,8 @@ static edge_slot *edge_find(const edge_table *e, int64_t a, int64_t b)
 }
 
 /* The slot of edge (a, b), made if absent (the table never fills: it has
- * four slots per edge, and a flip adds one edge for the one it removes). */
+ * at least two slots per edge, and a flip adds one edge for the one it
+ * removes). */
 static edge_slot *edge_insert(edge_table *e, int64_t a, int64_t b)
 {
     if (a > b) {
@@ -171,6 +172,24 @@ static double outer_folds(const vc_surface *s, const edge_table *e, const int64_
     return worst;
 }
 
+/* The height of triangle t's apex over its longest edge (infinite for a
+ * triangle without area or length: never a candidate). */
+static double needle_height(const vc_surface *s, int64_t t)
+{
+    const int64_t *T = s->tri + 3 * t;
+    double best = -1;
+    for (int k = 0; k < 3; k++) {
+        double d[3];
+        sub3(s->xyz + 3 * T[(k + 2) % 3], s->xyz + 3 * T[(k + 1) % 3], d);
+        best = fmax(best, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    double n[3], area2;
+    area_vector(s->xyz + 3 * T[0], s->xyz + 3 * T[1], s->xyz + 3 * T[2], n, &area2);
+    if (!(area2 > 0) || !(best > 0))
+        return INFINITY;
+    return area2 / sqrt(best);
+}
+
 /* Tries the flip of triangle t's longest edge; 1 when made. */
 static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, double *moved)
 {
@@ -273,9 +292,17 @@ int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_fli
         *rep = r;
     if (!(max_move > 0) || s->n_triangles < 2)
         return 0;
+    /* Most inputs have no needle that low, and a flip needs one: no table
+     * then (on a 1M-triangle input it cost 0.45 s and 256 MB). */
+    int64_t low = 0;
+#pragma omp parallel for reduction(+ : low) schedule(static)
+    for (int64_t t = 0; t < s->n_triangles; t++)
+        low += needle_height(s, t) <= max_move;
+    if (low == 0)
+        return 0;
     edge_table e;
     size_t cap = 16;
-    while (cap < 4 * 3 * (size_t)s->n_triangles / 2 + 16)
+    while (cap < 2 * 3 * (size_t)s->n_triangles / 2 + 16)
         cap *= 2;
     e.slot = malloc(sizeof(edge_slot) * cap);
     if (!e.slot)
