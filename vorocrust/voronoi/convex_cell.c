@@ -50,6 +50,10 @@ void vc_convex_cell_free(vc_convex_cell *c)
     memset(c, 0, sizeof *c);
 }
 
+/* A plane is (n, d, |n|): the normal's length kept for the error bounds
+ * of the vertices it makes. */
+#define PLANE_STRIDE 5
+
 static inline double norm2(const double *x)
 {
     return x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
@@ -92,7 +96,7 @@ static inline int holds_edge(const int *tr, int a, int b)
 int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
                              const double hi[3], const int64_t wall_id[6])
 {
-    c->plane = reserve(&c->b_plane, 6, 4 * sizeof(double));
+    c->plane = reserve(&c->b_plane, 6, PLANE_STRIDE * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, 6, sizeof(int64_t));
     c->tri = reserve(&c->b_tri, 8, 3 * sizeof(int));
     c->px = reserve(&c->b_px, 8, sizeof(double));
@@ -114,10 +118,11 @@ int vc_convex_cell_reset_box(vc_convex_cell *c, const double lo[3],
      * upper one. */
     for (int a = 0; a < 3; a++) {
         for (int side = 0; side < 2; side++) {
-            double *q = c->plane + 4 * (2 * a + side);
+            double *q = c->plane + PLANE_STRIDE * (2 * a + side);
             q[0] = q[1] = q[2] = 0;
             q[a] = side ? 1.0 : -1.0;
             q[3] = side ? hi[a] : -lo[a];
+            q[4] = 1.0;
             c->plane_id[2 * a + side] = wall_id[2 * a + side];
         }
     }
@@ -165,7 +170,11 @@ static int has_edge(const int *tri, const int *list, int n, int a, int b)
     return 0;
 }
 
-double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det)
+/* vc_solve_planes with the normals' lengths given (len[i] = |n_i|) and
+ * |y| returned in *vy: the cut's new vertices take them from the planes,
+ * where they are kept (three square roots a vertex fewer). */
+static inline double solve_planes_len(const double *const q[3], const double len[3], const int wall[3],
+                                      double y[3], double *det, double *vy_out)
 {
     double C[3][3];
     for (int i = 0; i < 3; i++) {
@@ -179,12 +188,10 @@ double vc_solve_planes(const double *const q[3], const int wall[3], double y[3],
         *det = D;
     for (int k = 0; k < 3; k++)
         y[k] = (q[0][3] * C[0][k] + q[1][3] * C[1][k] + q[2][3] * C[2][k]) / D;
+    const double vy = sqrt(norm2(y));
+    *vy_out = vy;
     if (!(D != 0))
         return INFINITY;
-    double len[3];
-    for (int i = 0; i < 3; i++)
-        len[i] = sqrt(q[i][0] * q[i][0] + q[i][1] * q[i][1] + q[i][2] * q[i][2]);
-    const double vy = sqrt(norm2(y));
     double sum = 6 * vy * len[0] * len[1] * len[2];
     for (int i = 0; i < 3; i++) {
         const double d = fabs(q[i][3]);
@@ -195,15 +202,25 @@ double vc_solve_planes(const double *const q[3], const int wall[3], double y[3],
     return isfinite(e) ? e : INFINITY;
 }
 
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det)
+{
+    double len[3], vy;
+    for (int i = 0; i < 3; i++)
+        len[i] = sqrt(q[i][0] * q[i][0] + q[i][1] * q[i][1] + q[i][2] * q[i][2]);
+    return solve_planes_len(q, len, wall, y, det, &vy);
+}
+
 /* The vertex of planes a, b and P (in that order: det(n_a, n_b, n_P) > 0
  * in exact arithmetic) into y, with the bound of vc_solve_planes (+inf
  * where the rounded determinant has the wrong sign). */
-static double solve_vertex(const vc_convex_cell *c, int ia, int ib, int ic, double y[3])
+static double solve_vertex(const vc_convex_cell *c, int ia, int ib, int ic, double y[3], double *vy)
 {
-    const double *q[3] = {c->plane + 4 * ia, c->plane + 4 * ib, c->plane + 4 * ic};
+    const double *q[3] = {c->plane + PLANE_STRIDE * ia, c->plane + PLANE_STRIDE * ib,
+                          c->plane + PLANE_STRIDE * ic};
+    const double len[3] = {q[0][4], q[1][4], q[2][4]};
     const int wall[3] = {c->plane_id[ia] < 0, c->plane_id[ib] < 0, c->plane_id[ic] < 0};
     double D;
-    const double e = vc_solve_planes(q, wall, y, &D);
+    const double e = solve_planes_len(q, len, wall, y, &D, vy);
     return D > 0 ? e : INFINITY;
 }
 
@@ -434,7 +451,7 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
      * interpolated between its ends, within their distance of the exact
      * vertex). */
     const int P = np;
-    c->plane = reserve(&c->b_plane, np + 1, 4 * sizeof(double));
+    c->plane = reserve(&c->b_plane, np + 1, PLANE_STRIDE * sizeof(double));
     c->plane_id = reserve(&c->b_plane_id, np + 1, sizeof(int64_t));
     c->prow = reserve(&c->b_prow, np + 1, VC_POWER_ROW * sizeof(double));
     c->prow_ok = reserve(&c->b_prow_ok, np + 1, 1);
@@ -445,11 +462,12 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
     c->prow_ok[P] = (unsigned char)prow_ready;
     if (prow_ready)
         memcpy(c->prow + VC_POWER_ROW * P, prow, sizeof prow);
-    double *q = c->plane + 4 * P;
+    double *q = c->plane + PLANE_STRIDE * P;
     q[0] = p[0];
     q[1] = p[1];
     q[2] = p[2];
     q[3] = half;
+    q[4] = plen;
     c->plane_id[P] = plane_id;
     c->np = np + 1;
 
@@ -457,8 +475,8 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id)
     for (int k = 0; k < n_boundary; k++) {
         const int b = next[a], tin = edge_out[a], tout = edge_tri[a];
         double *y = new_pt + 5 * k;
-        double e = solve_vertex(c, a, b, P, y);
-        const double vy = sqrt(norm2(y));
+        double vy;
+        double e = solve_vertex(c, a, b, P, y, &vy);
         if (!(isfinite(vy) && e <= 1e-6 * vy)) {
             /* ill-conditioned: the vertex in double-double, from the
              * exact seeds (the side test's prepared part: v = -W / C_3) */
