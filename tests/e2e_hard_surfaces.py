@@ -47,12 +47,7 @@ SANITIZED = os.environ.get("VC_SANITIZED", "0") in ("1", "ON", "TRUE", "true")
 # Cases whose reconstructed surface has a collapsed triangle (Q min printed
 # 0.000), a defect left open: the noisy sphere's near-quartet of balls puts
 # a surface vertex 5e-7 from a ball centre (issue 20, near-coincident seeds).
-Q_ZERO_KNOWN = {"noisy_sphere": "a near-quartet's vertex 5e-7 from a ball centre",
-                # session 31: sliver elimination crushes balls to 4e-6 (the
-                # bound 0.013) at a 56.5-degree fold between a triangle of
-                # area 8e-7 and a large one (bunny.off's defect, at 57.8
-                # degrees): two surface vertices 4e-11 apart
-                "csg_animal": "balls crushed to 4e-6 at a 56.5-degree fold"}
+Q_ZERO_KNOWN = {"noisy_sphere": "a near-quartet's vertex 5e-7 from a ball centre"}
 # Bounded work where it once ran away (the summary's peak memory, Release
 # only): the speck beside the box had 10 million subfaces split without a
 # dart (1.1 GB; 18 MB since the darts' floor in rmps.c's mps).
@@ -85,7 +80,7 @@ SPECKS = {"mc_needles": 12}
 # Sampled again with the folds where sliver elimination is stuck as creases
 # (the default since session 31; the surface is not moved): the junctions
 # of a marching-cubes union, creases drawn as staircases of folds partly
-# below theta_sharp, stalled it (18 folds added on csg_animal).
+# below theta_sharp, stalled it (15 folds added on csg_animal).
 FOLDS_RESAMPLED = {"csg_animal"}
 # A repair a case needs, said so on stderr (session 30: the 8 turned-over
 # needles flipped, each within half the error bound; without the flips the
