@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "openmp_spin.h"
 
 static void usage(FILE *f)
 {
@@ -19,6 +20,7 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
+    vc_cli_short_openmp_spin(argv);
     if (argc < 2) {
         usage(stderr);
         return 2;
