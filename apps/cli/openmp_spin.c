@@ -8,7 +8,8 @@
  * (bunny.off 4.51-4.57 s to 4.63 s). The ctest suite runs two tests at
  * once, as a user's batch script would. libgomp reads its environment when
  * it is loaded, before main: the setting takes a fresh start of the
- * program, once (the variable is then set). */
+ * program, once (the variable is then set). Under valgrind, set either
+ * variable: the fresh start would leave the tool. */
 #include "openmp_spin.h"
 
 #include <stdlib.h>
