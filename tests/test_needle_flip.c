@@ -139,6 +139,12 @@ int main(void)
     CHECK(closed_oriented(&b.s, &c0));
     CHECKF(c0 < -0.9, "the pleat folds by %.1f degrees", acos(c0) * 180 / M_PI);
 
+    /* the pleat's needle is the one candidate above its height, none below */
+    CHECKF(vc_surface_count_low_needles(&b.s, 1.1 * h) >= 1 && vc_surface_count_low_needles(&b.s, 0.9 * h) == 0,
+           "low needles: %lld above the apex's height, %lld below",
+           (long long)vc_surface_count_low_needles(&b.s, 1.1 * h),
+           (long long)vc_surface_count_low_needles(&b.s, 0.9 * h));
+
     /* max_move below the apex's height: nothing */
     vc_surface s1 = copy_surface(&b.s);
     vc_needle_flip_report rep;

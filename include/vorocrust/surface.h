@@ -257,6 +257,11 @@ typedef struct vc_needle_flip_report {
 int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_flip_report *rep,
                                    vc_error *err);
 
+/* The triangles whose apex lies within max_move of their longest edge:
+ * the candidates of vc_surface_flip_turned_needles (none: it has nothing
+ * to do, and a caller need not copy the surface for it). */
+int64_t vc_surface_count_low_needles(const vc_surface *s, double max_move);
+
 /* What vc_surface_open_pinches did. */
 typedef struct vc_pinch_report {
     int64_t n_pinches; /* vertices whose triangles formed several fans */

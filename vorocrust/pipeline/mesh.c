@@ -1160,7 +1160,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * anything else looks at the surface: no sampling follows them, and
      * they often cross their neighbours. Half the error bound at most, the
      * other half left to the sampling. */
-    if (opt.max_error > 0) {
+    if (opt.max_error > 0 &&
+        vc_surface_count_low_needles(s, 0.5 * error_bound_of(s, opt.max_error)) > 0) {
         check_progress(&opt, &t_line, name, "turned-over needles");
         if ((rc = copy_triangles(s, &repaired, err)) != 0)
             goto fail;

@@ -173,29 +173,12 @@ static double outer_folds(const vc_surface *s, const edge_table *e, const int64_
 }
 
 /* The height of triangle t's apex over its longest edge (infinite for a
- * triangle without area or length: never a candidate). */
-static double needle_height(const vc_surface *s, int64_t t)
+ * triangle without area or length), the apex's corner (0..2) in *kw and
+ * the longest edge's squared length in *long2. */
+static double apex_height(const vc_surface *s, int64_t t, int *kw, double *long2)
 {
     const int64_t *T = s->tri + 3 * t;
-    double best = -1;
-    for (int k = 0; k < 3; k++) {
-        double d[3];
-        sub3(s->xyz + 3 * T[(k + 2) % 3], s->xyz + 3 * T[(k + 1) % 3], d);
-        best = fmax(best, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
-    double n[3], area2;
-    area_vector(s->xyz + 3 * T[0], s->xyz + 3 * T[1], s->xyz + 3 * T[2], n, &area2);
-    if (!(area2 > 0) || !(best > 0))
-        return INFINITY;
-    return area2 / sqrt(best);
-}
-
-/* Tries the flip of triangle t's longest edge; 1 when made. */
-static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, double *moved)
-{
-    int64_t *T = s->tri + 3 * t;
-    /* the longest edge (u, v), the apex w: T = (w, u, v) in its order */
-    int kw = 0;
+    int k_apex = 0;
     double best = -1;
     for (int k = 0; k < 3; k++) {
         double d[3];
@@ -203,18 +186,30 @@ static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, do
         const double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         if (l2 > best) {
             best = l2;
-            kw = k;
+            k_apex = k;
         }
     }
-    const int64_t w = T[kw], u = T[(kw + 1) % 3], v = T[(kw + 2) % 3];
+    *kw = k_apex;
+    *long2 = best;
     double n[3], area2;
-    area_vector(s->xyz + 3 * w, s->xyz + 3 * u, s->xyz + 3 * v, n, &area2);
+    area_vector(s->xyz + 3 * T[0], s->xyz + 3 * T[1], s->xyz + 3 * T[2], n, &area2);
     const double long_len = sqrt(best);
     if (!(area2 > 0) || !(long_len > 0))
-        return 0;
-    const double h = area2 / long_len; /* the apex's height over u v */
+        return INFINITY;
+    return area2 / long_len;
+}
+
+/* Tries the flip of triangle t's longest edge; 1 when made. */
+static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, double *moved)
+{
+    int64_t *T = s->tri + 3 * t;
+    /* the longest edge (u, v), the apex w: T = (w, u, v) in its order */
+    int kw;
+    double best;
+    const double h = apex_height(s, t, &kw, &best); /* the apex's height over u v */
     if (!(h <= max_move))
         return 0;
+    const int64_t w = T[kw], u = T[(kw + 1) % 3], v = T[(kw + 2) % 3];
     const int64_t g = across(e, u, v, t);
     if (g < 0)
         return 0;
@@ -285,6 +280,18 @@ static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, do
     return 1;
 }
 
+int64_t vc_surface_count_low_needles(const vc_surface *s, double max_move)
+{
+    int64_t low = 0;
+#pragma omp parallel for reduction(+ : low) schedule(static)
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        int kw;
+        double long2;
+        low += apex_height(s, t, &kw, &long2) <= max_move;
+    }
+    return low;
+}
+
 int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_flip_report *rep, vc_error *err)
 {
     vc_needle_flip_report r = {0, 0};
@@ -294,11 +301,7 @@ int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_fli
         return 0;
     /* Most inputs have no needle that low, and a flip needs one: no table
      * then (on a 1M-triangle input it cost 0.45 s and 256 MB). */
-    int64_t low = 0;
-#pragma omp parallel for reduction(+ : low) schedule(static)
-    for (int64_t t = 0; t < s->n_triangles; t++)
-        low += needle_height(s, t) <= max_move;
-    if (low == 0)
+    if (vc_surface_count_low_needles(s, max_move) == 0)
         return 0;
     edge_table e;
     size_t cap = 16;

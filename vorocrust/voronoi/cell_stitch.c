@@ -204,8 +204,7 @@ static double canonical_point(const vc_power_ctx *ctx, const int64_t key[4], dou
     }
     const double *qp[3] = {q[0], q[1], q[2]};
     double y[3];
-    double e = vc_solve_planes(qp, wall, y, NULL);
-    *rad = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+    double e = vc_solve_planes(qp, wall, y, NULL, rad);
     if (!(isfinite(*rad) && e <= 1e-6 * *rad)) {
         /* too ill-conditioned in double: the exact vertex, rounded */
         int64_t pl[3];

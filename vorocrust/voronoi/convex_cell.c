@@ -202,12 +202,15 @@ static inline double solve_planes_len(const double *const q[3], const double len
     return isfinite(e) ? e : INFINITY;
 }
 
-double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det)
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det, double *norm_y)
 {
     double len[3], vy;
     for (int i = 0; i < 3; i++)
         len[i] = sqrt(q[i][0] * q[i][0] + q[i][1] * q[i][1] + q[i][2] * q[i][2]);
-    return solve_planes_len(q, len, wall, y, det, &vy);
+    const double e = solve_planes_len(q, len, wall, y, det, &vy);
+    if (norm_y)
+        *norm_y = vy;
+    return e;
 }
 
 /* The vertex of planes a, b and P (in that order: det(n_a, n_b, n_P) > 0

@@ -120,9 +120,9 @@ int vc_convex_cell_cut(vc_convex_cell *c, const double p[3], int64_t plane_id);
  * a seed at n (wall[i] = 0; n rounded within U |n| per component, d
  * within 4 U |n|^2) or a wall (wall[i] = 1: n exact, d within U |d|). The
  * bound is first order in U, taken four times; +inf when the rounded
- * determinant is 0. The determinant of the normals goes to *det when det
- * is not NULL. */
-double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det);
+ * determinant is 0. The determinant of the normals goes to *det, and |y|
+ * to *norm_y, when they are not NULL. */
+double vc_solve_planes(const double *const q[3], const int wall[3], double y[3], double *det, double *norm_y);
 
 /* Fills the face form (nv, nf, nfv, face_plane, face_start, fv) from
  * the current cell. Returns 0, -1 if a face cycle is inconsistent, or
