@@ -75,6 +75,7 @@ typedef struct config {
     uint64_t seed;
     int skip_voropp, skip_vorocrust, validate, repeat;
     const char *seeds_path; /* a seeds CSV instead of random seeds */
+    int keep_labels;        /* cells only for its seeds of a non-zero label */
 } config;
 
 static double clock_seconds(clockid_t id)
@@ -115,8 +116,9 @@ static size_t read_all(int fd, void *buf, size_t len)
 }
 
 /* The seeds of a run, and the box: N random seeds in the unit cube, or
- * the seeds of cfg->seeds_path, every one kept, in their bounding box grown
- * by 1% of its diagonal on every side. */
+ * the seeds of cfg->seeds_path (every one kept, or, with --keep-labels, those
+ * of a non-zero label), in their bounding box grown by 1% of its diagonal on
+ * every side. */
 /* FNV-1a over bytes, continued from h. */
 static uint64_t fnv1a(uint64_t h, const void *data, size_t len)
 {
@@ -150,7 +152,8 @@ static int make_seeds(vc_seeds *s, int64_t n, const config *cfg, double box[6], 
             return rc;
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (int64_t i = 0; i < s->n; i++) {
-            s->label[i] = 1;
+            if (!cfg->keep_labels)
+                s->label[i] = 1;
             for (int d = 0; d < 3; d++) {
                 lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
                 hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
@@ -348,6 +351,8 @@ static void usage(FILE *f)
             "  --seed S               random seed (default 1)\n"
             "  --seeds FILE.csv       these seeds (x,y,z[,label]; all kept) in their bounding box\n"
             "                         grown by 1%% of its diagonal, instead of random ones\n"
+            "  --keep-labels          with --seeds: cells only for the seeds of a non-zero label\n"
+            "                         (the others only cut them: a mesh's outside seeds)\n"
             "  --repeat R             runs per configuration, the fastest is reported (default 1)\n"
             "  --skip-voropp          do not run Voro++\n"
             "  --skip-vorocrust       do not run vorocrust\n"
@@ -456,6 +461,8 @@ static int parse_args(int argc, char **argv, config *cfg)
             cfg->repeat = (int)r;
         } else if (!strcmp(name, "--seeds")) {
             cfg->seeds_path = val;
+        } else if (!strcmp(name, "--keep-labels")) {
+            cfg->keep_labels = 1;
         } else if (!strcmp(name, "--skip-voropp")) {
             cfg->skip_voropp = 1;
         } else if (!strcmp(name, "--skip-vorocrust")) {
@@ -581,9 +588,10 @@ int main(int argc, char **argv)
         measure(&runs[k], &cfg);
 
     if (cfg.seeds_path)
-        printf("# vc-bench-voronoi: the %" PRId64 " seeds of %s, all kept, cells clipped to their "
+        printf("# vc-bench-voronoi: the %" PRId64 " seeds of %s, %s, cells clipped to their "
                "bounding box grown by 1%% of its diagonal\n",
-               cfg.n_list[0], cfg.seeds_path);
+               cfg.n_list[0], cfg.seeds_path,
+               cfg.keep_labels ? "cells for those of a non-zero label" : "all kept");
     else
         printf("# vc-bench-voronoi: N uniform random seeds in the unit cube (seed %" PRIu64
                "), cells clipped to [0,1]^3\n",

@@ -704,6 +704,79 @@ static void fill_children(subface *ch, const double *const (*tri)[3], int n)
             memcpy(ch[q].v + 3 * e, tri[q][e], sizeof(double) * 3);
 }
 
+/* The children of subface sf (nv corners; smooth: on S', whose split
+ * keeps the corners there) into ch; returns their number. Their element
+ * is the parent's. */
+static int split_subface(const subface *sf, int nv, int smooth, subface ch[4])
+{
+    int nch;
+    /* a thin triangle is halved across its longest edge (see
+     * thin_apex; not on S', whose split keeps its children's
+     * corners there) */
+    const int o = nv == 3 && !smooth ? thin_apex(sf) : -1;
+    if (nv == 2) {
+        double m[3];
+        for (int d = 0; d < 3; d++)
+            m[d] = 0.5 * (sf->v[d] + sf->v[3 + d]);
+        memcpy(ch[0].v, sf->v, sizeof(double) * 3);
+        memcpy(ch[0].v + 3, m, sizeof m);
+        memcpy(ch[1].v, m, sizeof m);
+        memcpy(ch[1].v + 3, sf->v + 3, sizeof(double) * 3);
+        nch = 2;
+    } else if (o >= 0) {
+        const double *apex = sf->v + 3 * o, *p0 = sf->v + 3 * ((o + 1) % 3),
+                     *p1 = sf->v + 3 * ((o + 2) % 3);
+        /* where the apex stands over the longest edge */
+        double e01[3], e0a[3];
+        for (int d = 0; d < 3; d++) {
+            e01[d] = p1[d] - p0[d];
+            e0a[d] = apex[d] - p0[d];
+        }
+        const double t = (e01[0] * e0a[0] + e01[1] * e0a[1] + e01[2] * e0a[2]) /
+                         (e01[0] * e01[0] + e01[1] * e01[1] + e01[2] * e01[2]);
+        if (t >= NEEDLE_END && t <= 1 - NEEDLE_END) {
+            double m[3];
+            for (int d = 0; d < 3; d++)
+                m[d] = 0.5 * (p0[d] + p1[d]);
+            const double *const tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
+            fill_children(ch, tri, 2);
+            nch = 2;
+        } else {
+            /* A needle: the apex stands near an end of the longest
+             * edge, so the shortest edge (apex and that end) is its
+             * width. Halving across the longest edge would leave a
+             * child as long and half as wide (a right-angled needle
+             * keeps its aspect for ever: four children per halving
+             * of the length, all needles). Cut across the length
+             * instead, through the midpoints of the two long edges:
+             * the far tip (similar, half as long) and the near half
+             * as two triangles as wide as the needle. */
+            const double *near = t < 0.5 ? p0 : p1, *far = t < 0.5 ? p1 : p0;
+            double u[3], w[3];
+            for (int d = 0; d < 3; d++) {
+                u[d] = 0.5 * (apex[d] + far[d]);
+                w[d] = 0.5 * (near[d] + far[d]);
+            }
+            const double *const tri[3][3] = {{u, w, far}, {apex, near, w}, {apex, w, u}};
+            fill_children(ch, tri, 3);
+            nch = 3;
+        }
+    } else {
+        double m[3][3];
+        for (int e = 0; e < 3; e++)
+            for (int d = 0; d < 3; d++)
+                m[e][d] = 0.5 * (sf->v[3 * e + d] + sf->v[3 * ((e + 1) % 3) + d]);
+        const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
+        const double *const tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
+                                   {m[0], m[1], m[2]}};
+        fill_children(ch, tri, 4);
+        nch = 4;
+    }
+    for (int q = 0; q < nch; q++)
+        ch[q].elem = sf->elem;
+    return nch;
+}
+
 static int mps(sampler *S, pool *P, int nv)
 {
     int kind = nv == 2 ? VC_ELEM_EDGE : VC_ELEM_TRIANGLE;
@@ -870,7 +943,6 @@ static int mps(sampler *S, pool *P, int nv)
         for (int64_t i = 0; i < P->n && !rc; i++) {
             const subface *sf = &P->f[i];
             subface ch[4];
-            int nch;
             /* A subface far smaller than the pool's mean (KEEP_WHOLE
              * times) that expected less than one of this round's darts
              * stays whole: splitting what no dart has tried only multiplies
@@ -891,70 +963,7 @@ static int mps(sampler *S, pool *P, int nv)
                     rc = -1;
                 continue;
             }
-            /* a thin triangle is halved across its longest edge (see
-             * thin_apex; not on S', whose split keeps its children's
-             * corners there) */
-            const int o = nv == 3 && !P->smooth ? thin_apex(sf) : -1;
-            if (nv == 2) {
-                double m[3];
-                for (int d = 0; d < 3; d++)
-                    m[d] = 0.5 * (sf->v[d] + sf->v[3 + d]);
-                memcpy(ch[0].v, sf->v, sizeof(double) * 3);
-                memcpy(ch[0].v + 3, m, sizeof m);
-                memcpy(ch[1].v, m, sizeof m);
-                memcpy(ch[1].v + 3, sf->v + 3, sizeof(double) * 3);
-                nch = 2;
-            } else if (o >= 0) {
-                const double *apex = sf->v + 3 * o, *p0 = sf->v + 3 * ((o + 1) % 3),
-                             *p1 = sf->v + 3 * ((o + 2) % 3);
-                /* where the apex stands over the longest edge */
-                double e01[3], e0a[3];
-                for (int d = 0; d < 3; d++) {
-                    e01[d] = p1[d] - p0[d];
-                    e0a[d] = apex[d] - p0[d];
-                }
-                const double t = (e01[0] * e0a[0] + e01[1] * e0a[1] + e01[2] * e0a[2]) /
-                                 (e01[0] * e01[0] + e01[1] * e01[1] + e01[2] * e01[2]);
-                if (t >= NEEDLE_END && t <= 1 - NEEDLE_END) {
-                    double m[3];
-                    for (int d = 0; d < 3; d++)
-                        m[d] = 0.5 * (p0[d] + p1[d]);
-                    const double *const tri[2][3] = {{apex, p0, m}, {apex, m, p1}};
-                    fill_children(ch, tri, 2);
-                    nch = 2;
-                } else {
-                    /* A needle: the apex stands near an end of the longest
-                     * edge, so the shortest edge (apex and that end) is its
-                     * width. Halving across the longest edge would leave a
-                     * child as long and half as wide (a right-angled needle
-                     * keeps its aspect for ever: four children per halving
-                     * of the length, all needles). Cut across the length
-                     * instead, through the midpoints of the two long edges:
-                     * the far tip (similar, half as long) and the near half
-                     * as two triangles as wide as the needle. */
-                    const double *near = t < 0.5 ? p0 : p1, *far = t < 0.5 ? p1 : p0;
-                    double u[3], w[3];
-                    for (int d = 0; d < 3; d++) {
-                        u[d] = 0.5 * (apex[d] + far[d]);
-                        w[d] = 0.5 * (near[d] + far[d]);
-                    }
-                    const double *const tri[3][3] = {{u, w, far}, {apex, near, w}, {apex, w, u}};
-                    fill_children(ch, tri, 3);
-                    nch = 3;
-                }
-            } else {
-                double m[3][3];
-                for (int e = 0; e < 3; e++)
-                    for (int d = 0; d < 3; d++)
-                        m[e][d] = 0.5 * (sf->v[3 * e + d] + sf->v[3 * ((e + 1) % 3) + d]);
-                const double *a = sf->v, *b = sf->v + 3, *c = sf->v + 6;
-                const double *const tri[4][3] = {{a, m[0], m[2]}, {m[0], b, m[1]}, {m[2], m[1], c},
-                                           {m[0], m[1], m[2]}};
-                fill_children(ch, tri, 4);
-                nch = 4;
-            }
-            for (int q = 0; q < nch; q++)
-                ch[q].elem = sf->elem;
+            const int nch = split_subface(sf, nv, P->smooth, ch);
             if (P->smooth) {
                 subface_on_smooth chg[4];
                 split_on_smooth(S, &P->g[i], chg);
@@ -1032,6 +1041,7 @@ static void mark_near(void *ctx, int kind, int64_t id)
  * (all when marks are NULL). */
 static int sample_strata(sampler *S, const unsigned char *mark_edge, const unsigned char *mark_tri)
 {
+
     pool E = {NULL, NULL, 0, 0, 0};
     int rc = 0;
     double t0 = vc_clock_seconds();
