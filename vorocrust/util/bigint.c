@@ -43,6 +43,18 @@ int vc_bigint_set(vc_bigint *r, int64_t m, int shift)
     return 0;
 }
 
+/* *r = *t, reading only the limbs in use (the capacity is several times
+ * what a side test needs: whole-struct copies were most of the time of the
+ * exact ties of a lattice). */
+static inline void assign(vc_bigint *r, const vc_bigint *t)
+{
+    if (r == t)
+        return;
+    r->n = t->n;
+    r->neg = t->neg;
+    memcpy(r->d, t->d, (size_t)t->n * sizeof t->d[0]);
+}
+
 /* |a| compared with |b|: -1, 0, +1. */
 static int cmp_mag(const vc_bigint *a, const vc_bigint *b)
 {
@@ -74,7 +86,7 @@ static int add_mag(vc_bigint *r, const vc_bigint *a, const vc_bigint *b, int neg
     }
     t.neg = neg;
     trim(&t);
-    *r = t;
+    assign(r, &t);
     return 0;
 }
 
@@ -92,7 +104,7 @@ static void sub_mag(vc_bigint *r, const vc_bigint *a, const vc_bigint *b, int ne
     t.n = a->n;
     t.neg = neg;
     trim(&t);
-    *r = t;
+    assign(r, &t);
 }
 
 /* r = a + (negate_b ? -b : b). */
@@ -101,13 +113,12 @@ static int add_signed(vc_bigint *r, const vc_bigint *a, const vc_bigint *b, int 
     const int bneg = b->n ? b->neg ^ negate_b : 0;
     if (a->neg == bneg || a->n == 0 || b->n == 0) {
         if (a->n == 0) {
-            vc_bigint t = *b;
-            t.neg = bneg;
-            *r = t;
+            assign(r, b);
+            r->neg = bneg;
             return 0;
         }
         if (b->n == 0) {
-            *r = *a;
+            assign(r, a);
             return 0;
         }
         return add_mag(r, a, b, a->neg);
@@ -163,6 +174,6 @@ int vc_bigint_mul(vc_bigint *r, const vc_bigint *a, const vc_bigint *b)
     t.n = cap;
     t.neg = a->neg ^ b->neg;
     trim(&t);
-    *r = t;
+    assign(r, &t);
     return 0;
 }
