@@ -74,6 +74,11 @@ The cases (NAME: what it tests):
   scan_sphere     marching cubes of a sphere (80^3), every vertex moved
                   along the normal by +-0.002 (1/7 of the error bound):
                   slivers folding by more than 60 degrees that are noise
+  wing            a NACA 0012 wing 3 long tapering from chord 1 to 0.4: a
+                  sharp trailing edge (a 16-degree wedge), a round leading
+                  edge, flat caps (a CFD part)
+  hex_prism       a capped hexagonal prism: its side edges fold by exactly
+                  theta_sharp, 60 degrees
 """
 import math
 import os
@@ -953,6 +958,57 @@ def case_mc_needles():
     return pts, tris
 
 
+def capped_sweep(rings, caps=True):
+    """Triangles between consecutive closed rings of equal size (lists of
+    points), each end closed by a fan from its ring's centroid; outward when
+    the rings turn counter-clockwise seen from beyond the last ring."""
+    m = len(rings[0])
+    pts = [p for ring in rings for p in ring]
+    tris = []
+    for k in range(len(rings) - 1):
+        for i in range(m):
+            a, b = k * m + i, k * m + (i + 1) % m
+            c, d = (k + 1) * m + (i + 1) % m, (k + 1) * m + i
+            tris += [(a, b, c), (a, c, d)]
+    for k, sign in ((0, -1), (len(rings) - 1, 1)):
+        ring = rings[k]
+        ci = len(pts)
+        pts.append(tuple(sum(p[d] for p in ring) / m for d in range(3)))
+        for i in range(m):
+            a, b = k * m + i, k * m + (i + 1) % m
+            tris.append((ci, b, a) if sign < 0 else (ci, a, b))
+    return pts, tris
+
+
+def naca4_half_thickness(t, x):
+    """Half thickness of a symmetric NACA 4-digit section of thickness t at
+    chord fraction x, with the closed trailing edge (-0.1036 x^4)."""
+    return 5 * t * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x ** 3
+                    - 0.1036 * x ** 4)
+
+
+def case_wing(n_chord=80, n_span=20, span=3.0, taper=0.4):
+    """A NACA 0012 wing 3 long, its chord tapering from 1 to 0.4: a sharp
+    trailing edge (a wedge of about 16 degrees), a blunt rounded leading
+    edge, flat caps; cosine spacing along the chord."""
+    xs = [0.5 * (1 - math.cos(math.pi * i / n_chord)) for i in range(n_chord + 1)]
+    section = [(x, naca4_half_thickness(0.12, x)) for x in reversed(xs)] + \
+              [(x, -naca4_half_thickness(0.12, x)) for x in xs[1:-1]]
+    rings = []
+    for k in range(n_span + 1):
+        c = 1.0 - (1.0 - taper) * k / n_span
+        rings.append([(c * x, c * y, span * k / n_span) for x, y in section])
+    pts, tris = capped_sweep(rings)
+    return pts, [(a, c, b) for a, b, c in tris]
+
+
+def case_hex_prism():
+    """A capped hexagonal prism: its six side edges fold by exactly 60
+    degrees, theta_sharp itself (to rounding), the caps' rims by 90."""
+    ring = lambda z: [(math.cos(math.pi * i / 3), math.sin(math.pi * i / 3), z) for i in range(6)]
+    return capped_sweep([ring(0.0), ring(1.5)])
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -993,6 +1049,8 @@ CASES = [
     ("turned_needles", case_turned_needles, "UV sphere with 8 turned-over needles (apex 0.1 to 0.45 of the error bound across its long edge)", 2),
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
     ("csg_animal", case_csg_animal, "marching cubes of a union of sphere chains (a body, four legs): junction creases as staircases of folds", 2),
+    ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
+    ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

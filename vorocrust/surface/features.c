@@ -257,6 +257,9 @@ static double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* see vc_features_detect_scaled's cos_theta */
+#define FOLD_TIE 1e-6
+
 static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_theta,
                              const unsigned char *extra)
 {
@@ -827,7 +830,13 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
     f->n_triangles = nt;
     f->noise_scale = scale > 0 && isfinite(scale) ? scale : 0;
     unsigned char *near = NULL;
-    double cos_theta = cos(theta_sharp_deg * M_PI / 180.0);
+    /* Folds within FOLD_TIE radians of theta_sharp count as sharp: an input
+     * that folds by exactly theta_sharp (a hexagonal prism at 60 degrees)
+     * has its folds computed a few ulps either side of it, a few 1e-7
+     * either side from float32 STL coordinates; classified apart, the ones
+     * just below were sampled as smooth, where sliver elimination stalled
+     * until they became creases after all. */
+    double cos_theta = cos(theta_sharp_deg * M_PI / 180.0 - FOLD_TIE);
 
     int rc = build_edges(s, f, err);
     int64_t *adj_start = NULL, *adj = NULL;
