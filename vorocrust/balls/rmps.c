@@ -31,6 +31,7 @@
 #include "balls/triplets.h"
 #include "balls/union_cover.h"
 #include "util/closest_point.h"
+#include "util/csr_group.h"
 #include "util/reserve.h"
 #include "util/small_sort.h"
 #include "sizing/sizing.h"
@@ -1688,33 +1689,12 @@ static int64_t shrink_far_vertices(sampler *S, const facet_list *facets, double 
     const int64_t nb = S->bs.b.n, nv = s->n_vertices;
     if (!isfinite(bound) || facets->n == 0 || nv == 0)
         return 0;
-    int64_t *start = calloc((size_t)nb + 1, sizeof *start);
-    int64_t *of = malloc(sizeof *of * (size_t)(3 * facets->n));
+    /* the facets at each ball (a facet_rec is its three balls) */
+    int64_t *start, *of;
     unsigned char *far = calloc((size_t)nv, 1);
-    if (!start || !of || !far) {
-        free(start);
-        free(of);
+    if (!far || vc_csr_group((const int64_t *)facets->f, facets->n, 3, nb, NULL, &start, &of)) {
         free(far);
         return -1;
-    }
-    for (int64_t f = 0; f < facets->n; f++)
-        for (int k = 0; k < 3; k++)
-            start[facets->f[f].v[k] + 1]++;
-    for (int64_t i = 0; i < nb; i++)
-        start[i + 1] += start[i];
-    {
-        int64_t *fill = malloc(sizeof *fill * (size_t)(nb ? nb : 1));
-        if (!fill) {
-            free(start);
-            free(of);
-            free(far);
-            return -1;
-        }
-        memcpy(fill, start, sizeof *fill * (size_t)nb);
-        for (int64_t f = 0; f < facets->n; f++)
-            for (int k = 0; k < 3; k++)
-                of[fill[facets->f[f].v[k]]++] = f;
-        free(fill);
     }
     const vc_balls *b = &S->bs.b;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(S->threads)

@@ -1,4 +1,5 @@
 #include "sizing/sizing.h"
+#include "util/csr_group.h"
 #include "util/closest_point.h"
 
 #include <math.h>
@@ -277,12 +278,10 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
 
     z->tri_out_normal = malloc(sizeof(double) * 3 * (size_t)(nt ? nt : 1));
     z->edge_tangent = calloc(3 * (size_t)(ne ? ne : 1), sizeof(double));
-    z->vtri_start = calloc((size_t)nv + 1, sizeof(int64_t));
-    z->vtri = malloc(sizeof(int64_t) * 3 * (size_t)(nt ? nt : 1));
-    z->vedge_start = calloc((size_t)nv + 1, sizeof(int64_t));
-    z->vedge = malloc(sizeof(int64_t) * 2 * (size_t)(f->n_sharp_edges ? f->n_sharp_edges : 1));
-    if (!z->tri_out_normal || !z->edge_tangent || !z->vtri_start || !z->vtri ||
-        !z->vedge_start || !z->vedge) {
+    /* vertex -> triangles, vertex -> sharp edges */
+    if (!z->tri_out_normal || !z->edge_tangent ||
+        vc_csr_group(s->tri, nt, 3, nv, NULL, &z->vtri_start, &z->vtri) ||
+        vc_csr_group(f->edge_vertex, ne, 2, nv, f->edge_sharp, &z->vedge_start, &z->vedge)) {
         vc_sizing_free(z);
         return -1;
     }
@@ -300,38 +299,6 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
             for (int k = 0; k < 3; k++)
                 z->edge_tangent[3 * e + k] = sg * d[k] / l;
     }
-    /* vertex -> triangles, vertex -> sharp edges */
-    for (int64_t t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++)
-            z->vtri_start[s->tri[3 * t + k] + 1]++;
-    for (int64_t v = 0; v < nv; v++)
-        z->vtri_start[v + 1] += z->vtri_start[v];
-    {
-        int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nv ? nv : 1));
-        if (!fill) {
-            vc_sizing_free(z);
-            return -1;
-        }
-        memcpy(fill, z->vtri_start, sizeof(int64_t) * (size_t)nv);
-        for (int64_t t = 0; t < nt; t++)
-            for (int k = 0; k < 3; k++)
-                z->vtri[fill[s->tri[3 * t + k]]++] = t;
-        for (int64_t e = 0; e < ne; e++)
-            if (f->edge_sharp[e]) {
-                z->vedge_start[f->edge_vertex[2 * e] + 1]++;
-                z->vedge_start[f->edge_vertex[2 * e + 1] + 1]++;
-            }
-        for (int64_t v = 0; v < nv; v++)
-            z->vedge_start[v + 1] += z->vedge_start[v];
-        memcpy(fill, z->vedge_start, sizeof(int64_t) * (size_t)nv);
-        for (int64_t e = 0; e < ne; e++)
-            if (f->edge_sharp[e]) {
-                z->vedge[fill[f->edge_vertex[2 * e]]++] = e;
-                z->vedge[fill[f->edge_vertex[2 * e + 1]]++] = e;
-            }
-        free(fill);
-    }
-
     /* The elements and their tree. */
     int64_t n = nt + f->n_sharp_edges + f->n_corners;
     build_elem *be = malloc(sizeof(build_elem) * (size_t)(n ? n : 1));

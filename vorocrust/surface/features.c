@@ -17,6 +17,7 @@
  *     new triangle against the one it was reached from. */
 #include "vorocrust/features.h"
 #include "feature_scale.h"
+#include "util/csr_group.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -564,14 +565,12 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     double cos_half = cos(0.5 * acos(cos_theta));
     int64_t *parent = xalloc(nh, sizeof *parent);
     signed char *par = xalloc(nh, 1);
-    int64_t *vstart = xcalloc(nv + 1, sizeof *vstart);
-    int64_t *vslot = xalloc(nh, sizeof *vslot);
+    /* the slots (triangle corners, 3 t + k) at each vertex */
+    int64_t *vstart = NULL, *vslot = NULL;
     slot_rec *recs = NULL;
-    if (!parent || !par || !vstart || !vslot) {
+    if (!parent || !par || vc_csr_group(s->tri, nh, 1, nv, NULL, &vstart, &vslot)) {
         free(parent);
         free(par);
-        free(vstart);
-        free(vslot);
         return vc_error_set(err, VC_ENOMEM, "out of memory finding corners");
     }
     /* Sectors: corners of triangles joined through non-sharp edges, with
@@ -595,19 +594,10 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     /* Every slot straight under its root, parity relative to the root. */
     for (int64_t h = 0; h < nh; h++)
         uf_find(parent, par, h);
-    /* Slots grouped by vertex; the largest group sizes the sort buffer. */
-    for (int64_t h = 0; h < nh; h++)
-        vstart[s->tri[h] + 1]++;
+    /* the largest group of slots sizes the sort buffer */
     int64_t kmax = 0;
-    for (int64_t v = 0; v < nv; v++) {
-        kmax = vstart[v + 1] > kmax ? vstart[v + 1] : kmax;
-        vstart[v + 1] += vstart[v];
-    }
-    for (int64_t h = 0; h < nh; h++)
-        vslot[vstart[s->tri[h]]++] = h;
-    for (int64_t v = nv; v > 0; v--)
-        vstart[v] = vstart[v - 1];
-    vstart[0] = 0;
+    for (int64_t v = 0; v < nv; v++)
+        kmax = vstart[v + 1] - vstart[v] > kmax ? vstart[v + 1] - vstart[v] : kmax;
     recs = xalloc(kmax, sizeof *recs);
     /* the sector corners to judge at the error bound (after the loop) */
     int64_t *judge = scale > 0 ? xalloc(nv, sizeof *judge) : NULL;

@@ -51,6 +51,7 @@
 #include <string.h>
 
 #include "vorocrust/smoothing.h"
+#include "util/csr_group.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -571,25 +572,12 @@ static int64_t guard(const lmesh *o, const int64_t *origin, int64_t nv, double t
 static int freeze_rings(const lmesh *m, const int *radius, unsigned char *frozen)
 {
     int64_t nv = m->nv, nt = m->nt;
-    int64_t *vstart = xcalloc(nv + 1, sizeof *vstart);
-    int64_t *vtri = xmalloc(3 * nt, sizeof *vtri);
+    int64_t *vstart, *vtri;
     int *dist = xmalloc(nv, sizeof *dist);
-    if (!vstart || !vtri || !dist) {
-        free(vstart);
-        free(vtri);
+    if (!dist || vc_csr_group(m->tri, nt, 3, nv, NULL, &vstart, &vtri)) {
         free(dist);
         return VC_ENOMEM;
     }
-    for (int64_t i = 0; i < 3 * nt; i++)
-        vstart[m->tri[i] + 1]++;
-    for (int64_t v = 0; v < nv; v++)
-        vstart[v + 1] += vstart[v];
-    for (int64_t t = 0; t < nt; t++)
-        for (int j = 0; j < 3; j++)
-            vtri[vstart[m->tri[3 * t + j]]++] = t;
-    for (int64_t v = nv; v > 0; v--)
-        vstart[v] = vstart[v - 1];
-    vstart[0] = 0;
     /* dist[v]: rings still to freeze around v; levels in decreasing
      * order, each vertex handled once with its largest budget. */
     int maxr = 0;

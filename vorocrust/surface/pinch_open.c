@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/csr_group.h"
 #include "util/union_find.h"
 
 /* Vertex i: an input vertex, or a copy made so far (its triangles already
@@ -70,30 +71,9 @@ int vc_surface_open_pinches(vc_surface *s, double max_move, double min_cos, vc_p
     if (!(max_move > 0) || nt == 0)
         return 0;
     /* vertex -> triangles (CSR) */
-    int64_t *start = calloc((size_t)nv + 1, sizeof(int64_t));
-    int64_t *inc = malloc(sizeof(int64_t) * (size_t)(3 * nt));
-    if (!start || !inc) {
-        free(start);
-        free(inc);
+    int64_t *start, *inc;
+    if (vc_csr_group(s->tri, nt, 3, nv, NULL, &start, &inc))
         return vc_error_set(err, VC_ENOMEM, "out of memory for the pinch vertices");
-    }
-    for (int64_t i = 0; i < 3 * nt; i++)
-        start[s->tri[i] + 1]++;
-    for (int64_t v = 0; v < nv; v++)
-        start[v + 1] += start[v];
-    {
-        int64_t *fill = malloc(sizeof(int64_t) * (size_t)(nv + 1));
-        if (!fill) {
-            free(start);
-            free(inc);
-            return vc_error_set(err, VC_ENOMEM, "out of memory for the pinch vertices");
-        }
-        memcpy(fill, start, sizeof(int64_t) * (size_t)(nv + 1));
-        for (int64_t t = 0; t < nt; t++)
-            for (int k = 0; k < 3; k++)
-                inc[fill[s->tri[3 * t + k]]++] = t;
-        free(fill);
-    }
     int64_t max_deg = 0;
     for (int64_t v = 0; v < nv; v++)
         if (start[v + 1] - start[v] > max_deg)
