@@ -44,8 +44,8 @@ int vc_bigint_set(vc_bigint *r, int64_t m, int shift)
 }
 
 /* *r = *t, reading only the limbs in use (the capacity is several times
- * what a side test needs: whole-struct copies were most of the time of the
- * exact ties of a lattice). */
+ * what a side test needs: copying all 24 limbs cost 4% of a lattice's
+ * exact ties). */
 static inline void assign(vc_bigint *r, const vc_bigint *t)
 {
     if (r == t)
