@@ -3,6 +3,7 @@
  * edge walked both ways, each component keeping the orientation most of
  * its triangles have. */
 #include "vorocrust/surface.h"
+#include "util/small_sort.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -13,15 +14,12 @@ typedef struct side_rec {
     int forward;  /* 1 when t walks a -> b */
 } side_rec;
 
-static int cmp_side(const void *x, const void *y)
-{
-    const side_rec *p = x, *q = y;
-    if (p->a != q->a)
-        return p->a < q->a ? -1 : 1;
-    if (p->b != q->b)
-        return p->b < q->b ? -1 : 1;
-    return p->t < q->t ? -1 : p->t > q->t;
-}
+/* (a, b, t, forward): distinct records, so the order is the same for any sort */
+#define SIDE_LESS(p, q)                                                                          \
+    ((p)->a < (q)->a ||                                                                          \
+     ((p)->a == (q)->a && ((p)->b < (q)->b || ((p)->b == (q)->b && ((p)->t < (q)->t ||           \
+                                                                    ((p)->t == (q)->t && (p)->forward < (q)->forward))))))
+VC_SMALL_SORT(sort_sides, side_rec, SIDE_LESS)
 
 int vc_surface_consistent_flips(const vc_surface *s, unsigned char *flip, int64_t *n_flipped,
                                 vc_error *err)
@@ -49,7 +47,7 @@ int vc_surface_consistent_flips(const vc_surface *s, unsigned char *flip, int64_
             e[3 * t + j] = (side_rec){a < b ? a : b, a < b ? b : a, t, a < b};
             across[3 * t + j] = -1;
         }
-    qsort(e, (size_t)(3 * nt), sizeof *e, cmp_side);
+    sort_sides(e, 3 * nt);
     for (int64_t k = 0; k < 3 * nt;) {
         int64_t j = k + 1;
         while (j < 3 * nt && e[j].a == e[k].a && e[j].b == e[k].b)

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/small_sort.h"
 #include "util/union_find.h"
 
 #define PI 3.14159265358979323846
@@ -15,29 +16,25 @@ typedef struct edge_rec {
     int64_t lo, hi, tri;
 } edge_rec;
 
-static int cmp_edge_rec(const void *a, const void *b)
-{
-    const edge_rec *x = a, *y = b;
-    if (x->lo != y->lo)
-        return x->lo < y->lo ? -1 : 1;
-    if (x->hi != y->hi)
-        return x->hi < y->hi ? -1 : 1;
-    return (x->tri > y->tri) - (x->tri < y->tri);
-}
+/* (lo, hi, tri) and (v, tri): distinct records, the same order for any sort */
+#define EDGE_REC_LESS(x, y)                                                                      \
+    ((x)->lo < (y)->lo ||                                                                        \
+     ((x)->lo == (y)->lo && ((x)->hi < (y)->hi || ((x)->hi == (y)->hi && (x)->tri < (y)->tri))))
+VC_SMALL_SORT(sort_edge_recs, edge_rec, EDGE_REC_LESS)
 
 typedef struct tri_key {
     int64_t v[3]; /* sorted */
     int64_t tri;
 } tri_key;
 
-static int cmp_tri_key(const void *a, const void *b)
+static int tri_key_less(const tri_key *x, const tri_key *y)
 {
-    const tri_key *x = a, *y = b;
     for (int k = 0; k < 3; k++)
         if (x->v[k] != y->v[k])
-            return x->v[k] < y->v[k] ? -1 : 1;
-    return (x->tri > y->tri) - (x->tri < y->tri);
+            return x->v[k] < y->v[k];
+    return x->tri < y->tri;
 }
+VC_SMALL_SORT(sort_tri_keys, tri_key, tri_key_less)
 
 static void sub3(const double *a, const double *b, double *o)
 {
@@ -127,7 +124,7 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
         keys[t].tri = t;
         alias[t] = t;
     }
-    qsort(keys, (size_t)nt, sizeof *keys, cmp_tri_key);
+    sort_tri_keys(keys, nt);
     for (int64_t i = 1; i < nt; i++) {
         const tri_key *a = &keys[i - 1], *b = &keys[i];
         if (a->v[0] == b->v[0] && a->v[1] == b->v[1] && a->v[2] == b->v[2]) {
@@ -153,7 +150,7 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
             ne++;
         }
     }
-    qsort(er, (size_t)ne, sizeof *er, cmp_edge_rec);
+    sort_edge_recs(er, ne);
     vc_uf_init(side, 2 * nt);
     vc_uf_init(comp, nt);
     out->closed_shells = !any_alias;

@@ -7,6 +7,7 @@
 #include "vorocrust/surface.h"
 #include "surface/surface_internal.h"
 #include "io/text_escape.h"
+#include "util/small_sort.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -281,14 +282,16 @@ typedef struct pos_rec {
     int64_t i;
 } pos_rec;
 
-static int cmp_pos(const void *a, const void *b)
+static int pos_less(const pos_rec *p, const pos_rec *q)
 {
-    const pos_rec *p = a, *q = b;
     for (int k = 0; k < 3; k++)
         if (p->x[k] != q->x[k])
-            return p->x[k] < q->x[k] ? -1 : 1;
-    return (p->i > q->i) - (p->i < q->i);
+            return p->x[k] < q->x[k];
+    return p->i < q->i;
 }
+/* distinct records (the index breaks ties; the coordinates are finite): the
+ * same order for any sort */
+VC_SMALL_SORT(sort_positions, pos_rec, pos_less)
 
 int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unused,
                               int64_t *n_collapsed, vc_error *err)
@@ -307,7 +310,7 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unuse
         memcpy(rec[i].x, s->xyz + 3 * i, sizeof rec[i].x);
         rec[i].i = i;
     }
-    qsort(rec, (size_t)nv, sizeof *rec, cmp_pos);
+    sort_positions(rec, nv);
     for (int64_t i = 0; i < nv; i++)
         order[i] = rec[i].i;
     free(rec);

@@ -2,6 +2,7 @@
  * non-manifold, orientation), components, Euler characteristic, genus,
  * degenerate triangles, bounding box and enclosed volume. */
 #include "vorocrust/surface.h"
+#include "util/small_sort.h"
 #include "util/union_find.h"
 
 #include <math.h>
@@ -10,18 +11,13 @@
 
 typedef struct edge_use {
     int64_t a, b; /* a < b */
-    int dir;      /* 1 when the triangle walks a -> b */
+    int64_t hd;   /* 2 h + dir: the triangle side h = 3 t + j, dir 1 when it walks a -> b */
 } edge_use;
 
-static int cmp_edge(const void *x, const void *y)
-{
-    const edge_use *p = x, *q = y;
-    if (p->a != q->a)
-        return p->a < q->a ? -1 : 1;
-    if (p->b != q->b)
-        return p->b < q->b ? -1 : 1;
-    return 0;
-}
+/* (a, b, hd): distinct records, so the order is the same for any sort */
+#define EDGE_USE_LESS(p, q)                                                                      \
+    ((p)->a < (q)->a || ((p)->a == (q)->a && ((p)->b < (q)->b || ((p)->b == (q)->b && (p)->hd < (q)->hd))))
+VC_SMALL_SORT(sort_edge_uses, edge_use, EDGE_USE_LESS)
 
 int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
 {
@@ -119,9 +115,9 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
             edge_use *u = &e[3 * t + j];
             u->a = a < b ? a : b;
             u->b = a < b ? b : a;
-            u->dir = a < b;
+            u->hd = 2 * (3 * t + j) + (a < b);
         }
-    qsort(e, (size_t)(3 * nt), sizeof *e, cmp_edge);
+    sort_edge_uses(e, 3 * nt);
     int64_t n_edges = 0, boundary = 0, nonmanifold = 0, inconsistent = 0;
     for (int64_t k = 0; k < 3 * nt;) {
         int64_t j = k + 1;
@@ -132,7 +128,7 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
         if (m == 1)
             boundary++;
         else if (m == 2)
-            inconsistent += e[k].dir == e[k + 1].dir;
+            inconsistent += (e[k].hd & 1) == (e[k + 1].hd & 1);
         else
             nonmanifold++;
         k = j;
