@@ -18,6 +18,7 @@
 #include "vorocrust/features.h"
 #include "feature_scale.h"
 #include "util/csr_group.h"
+#include "util/small_sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -79,28 +80,8 @@ static int half_less(const half *x, const half *y)
     return x->b < y->b || (x->b == y->b && x->h < y->h);
 }
 
-static int cmp_half(const void *x, const void *y)
-{
-    const half *p = x, *q = y;
-    return half_less(p, q) ? -1 : half_less(q, p) ? 1 : 0;
-}
-
-static void sort_halves(half *a, int64_t n)
-{
-    if (n > 24) {
-        qsort(a, (size_t)n, sizeof *a, cmp_half);
-        return;
-    }
-    for (int64_t i = 1; i < n; i++) {
-        half x = a[i];
-        int64_t j = i;
-        while (j > 0 && half_less(&x, &a[j - 1])) {
-            a[j] = a[j - 1];
-            j--;
-        }
-        a[j] = x;
-    }
-}
+/* distinct records (h is unique): the same order for any sort */
+VC_SMALL_SORT(sort_halves, half, half_less)
 
 static int build_edges(const vc_surface *s, vc_features *f, vc_error *err)
 {
@@ -438,30 +419,9 @@ typedef struct slot_rec {
     int64_t root, slot;
 } slot_rec;
 
-static int cmp_slot(const void *x, const void *y)
-{
-    const slot_rec *p = x, *q = y;
-    if (p->root != q->root)
-        return p->root < q->root ? -1 : 1;
-    return (p->slot > q->slot) - (p->slot < q->slot);
-}
-
-static void sort_slots(slot_rec *a, int64_t n)
-{
-    if (n > 24) {
-        qsort(a, (size_t)n, sizeof *a, cmp_slot);
-        return;
-    }
-    for (int64_t i = 1; i < n; i++) {
-        slot_rec x = a[i];
-        int64_t j = i;
-        while (j > 0 && cmp_slot(&x, &a[j - 1]) < 0) {
-            a[j] = a[j - 1];
-            j--;
-        }
-        a[j] = x;
-    }
-}
+/* (root, slot): distinct records (slots are unique), the same order for any sort */
+#define SLOT_LESS(p, q) ((p)->root < (q)->root || ((p)->root == (q)->root && (p)->slot < (q)->slot))
+VC_SMALL_SORT(sort_slots, slot_rec, SLOT_LESS)
 
 /* The normal sector_spread counts for corner slot h: NULL for a
  * zero-area triangle, and for one whose tilt a fold beside it was judged
