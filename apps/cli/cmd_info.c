@@ -181,11 +181,8 @@ int vc_cmd_info(int argc, char **argv)
      * describe that surface */
     vc_needle_flip_report needles = {0, 0};
     const int needles_checked = max_error > 0 && rep.n_inconsistent_edges == 0;
-    /* the candidates are counted first: most surfaces have none, and the
-     * flip builds an edge table (0.37 s on a million triangles) */
-    const double needle_move = 0.5 * max_error * vc_surface_diagonal(&s);
-    if (needles_checked && vc_surface_count_low_needles(&s, needle_move) > 0) {
-        if (vc_surface_flip_turned_needles(&s, needle_move, &needles, &err)) {
+    if (needles_checked) {
+        if (vc_surface_flip_turned_needles(&s, 0.5 * max_error * vc_surface_diagonal(&s), &needles, &err)) {
             fprintf(stderr, "vorocrust: %s\n", err.msg);
             vc_surface_free(&s);
             return 1;

@@ -32,6 +32,7 @@
 #include "balls/union_cover.h"
 #include "util/closest_point.h"
 #include "util/csr_group.h"
+#include "util/progress.h"
 #include "util/reserve.h"
 #include "util/small_sort.h"
 #include "sizing/sizing.h"
@@ -42,8 +43,6 @@
 #include "util/clock.h"
 
 #define MAX_MISSES 100
-/* inputs of this many triangles or more say when their sizing starts */
-#define LARGE_INPUT 100000
 /* Darts are drawn in batches of DART_BATCH: drawn in order, their first
  * coverage test in parallel (against the balls there before the batch),
  * then taken in order, each also tested against the balls the batch has
@@ -1976,7 +1975,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     /* a large input's sizing takes seconds (a million triangles: the tree
      * 0.4 s, the prediction's radius bounds 1.5 s on 2 threads): said
      * first, so that no more than 2 s pass without a line */
-    const int large = s->n_triangles >= LARGE_INPUT;
+    const int large = s->n_triangles >= VC_LARGE_INPUT_TRIANGLES;
     if (large)
         vc_log(opt->log, VC_LOG_INFO, "mesh: sizing %lld triangles: their tree", (long long)s->n_triangles);
     if (vc_sizing_init(&S.z, s, f, opt->sharp_angle, opt->max_error))

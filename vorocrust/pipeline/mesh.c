@@ -16,6 +16,7 @@
 #include "boundary_surface.h"
 #include "mesh_measures.h"
 #include "interior/octree_runtime.h"
+#include "util/progress.h"
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
 #include "boundary_groups.h"
@@ -1103,7 +1104,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     double t_line = t0;
     /* a large input's checks take seconds: said at once (a small one's
      * refusal stays one line) */
-    if (s->n_triangles >= 100000)
+    if (s->n_triangles >= VC_LARGE_INPUT_TRIANGLES)
         vc_log(opt.log, VC_LOG_INFO, "mesh: %s: %lld triangles; checking that they bound a volume", name,
                (long long)s->n_triangles);
 
