@@ -814,6 +814,21 @@ def case_uv_noisy():
     return out, tris
 
 
+def case_uv_tight():
+    """vtkSphereSource 24 x 12 of radius 1: a coarse faceted sphere (folds
+    of 15 to 30 degrees between facets 0.26 wide), meshed at an error bound
+    of 1e-4 of its diagonal (e2e_hard_surfaces' OPTIONS), which sees every
+    fold: until session 33 they were sampled as smooth, sliver elimination
+    diverged (395,000 balls) and a second sampling made them creases (63,459
+    balls, 76 s); now they are creases from the start."""
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(24)
+    s.SetPhiResolution(12)
+    s.Update()
+    return polydata_to_lists(s.GetOutput(), tolerance=1e-9)
+
+
 def case_text():
     """The letters "VC" (vtkVectorText) extruded by 0.3: two components,
     many corners and creases, narrow strokes, caps of long thin triangles."""
@@ -1051,6 +1066,7 @@ CASES = [
     ("csg_animal", case_csg_animal, "marching cubes of a union of sphere chains (a body, four legs): junction creases as staircases of folds", 2),
     ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
+    ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

@@ -91,8 +91,10 @@ static void usage(FILE *f)
         "                     implies --features\n"
         "  --max-error E      the error bound of 'vorocrust mesh' (a fraction of the\n"
         "                     bounding-box diagonal, default %g; 0: none): folds over\n"
-        "                     DEG on ground flat at it are noise, not sharp, as the\n"
-        "                     mesh command judges them; implies --features\n"
+        "                     DEG on ground flat at it are noise, not sharp, and folds\n"
+        "                     below DEG whose triangles leave each other's plane by\n"
+        "                     more than 8 bounds are sharp, as the mesh command judges\n"
+        "                     them; implies --features\n"
         "Prints counts, bounding box, topology (boundary, non-manifold and\n"
         "inconsistently oriented edges, components, Euler characteristic, genus)\n"
         "and enclosed volume, then whether the surface can bound a volume ('solid':\n"
@@ -315,6 +317,9 @@ int vc_cmd_info(int argc, char **argv)
         printf("noise at the error bound: %lld folds over the sharp angle, %lld corners (not sharp; bound "
                "%.9g)\n",
                (long long)f.n_sharp_noise, (long long)f.n_corner_noise, f.noise_scale);
+        printf("folds the error bound sees: %lld below the sharp angle (sharp: their triangles leave "
+               "each other's plane by more than %g bounds)\n",
+               (long long)f.n_sharp_visible, VC_VISIBLE_FOLD);
         printf("creases: %lld (%lld open, %lld closed)\n", (long long)f.n_creases,
                (long long)(f.n_creases - f.n_closed_creases), (long long)f.n_closed_creases);
         printf("surface patches: %lld", (long long)f.n_patches);

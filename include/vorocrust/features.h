@@ -124,6 +124,8 @@ typedef struct vc_features {
     int64_t n_sharp_noise;      /* folds above theta_sharp left inside a patch: flat
                                    ground at noise_scale */
     int64_t n_corner_noise;     /* sector corners dropped for the same reason */
+    int64_t n_sharp_visible;    /* folds below theta_sharp made creases: visible at
+                                   noise_scale (VC_SHARP_FOLD) */
 
     /* ---- Creases ----
      * Crease c has k = crease_start[c+1] - crease_start[c] edges,
@@ -179,7 +181,19 @@ int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
  * there but noise (a scan's, marching cubes' slivers), and stays inside
  * its patch (n_sharp_noise, n_corner_noise, tri_smooth_normal). Folds of
  * coarse tessellations and true creases stay sharp: their own triangles,
- * or their two sides, spread wider than that. */
+ * or their two sides, spread wider than that.
+ *
+ * Conversely, a fold below theta_sharp that the error bound sees is a
+ * crease (VC_SHARP_FOLD, n_sharp_visible): one whose flat triangles
+ * leave the plane of each other by more than VC_VISIBLE_FOLD times scale
+ * (the sine of the fold times the smaller of the two triangles' heights
+ * over the edge). Kept smooth, such a fold bounds the balls on it by
+ * scale / sin(fold), VC_VISIBLE_FOLD times smaller than its triangles: a
+ * kink at the scale it is sampled at, where sliver elimination does not
+ * converge (a 9,216-triangle torus at a bound of 1e-4 of its diagonal:
+ * 650,000 balls and no end), while as a crease its sides are flat and take
+ * balls of their own size. */
+#define VC_VISIBLE_FOLD 8.0
 int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
                               const unsigned char *extra_sharp, double scale, vc_features *out,
                               vc_error *err);

@@ -512,6 +512,11 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                    "patches",
                    (long long)f.n_sharp_noise, so.sharp_angle, (long long)f.n_corner_noise,
                    f.noise_scale);
+        if (attempt == 0 && f.n_sharp_visible > 0)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %lld folds below %g degrees are creases: their triangles leave each "
+                   "other's plane by more than %g times the error bound",
+                   (long long)f.n_sharp_visible, so.sharp_angle, VC_VISIBLE_FOLD);
         if (smooth > 0) {
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %d rounds of Loop smoothing of the patches (%lld triangles, about %lld "

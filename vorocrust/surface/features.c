@@ -281,6 +281,46 @@ static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_the
     f->n_nonmanifold_edges = n_nm;
 }
 
+/* Folds below theta_sharp that the error bound sees become creases (see
+ * vc_features_detect_scaled); not on ground judged noisy (near). */
+static void promote_visible_folds(const vc_surface *s, vc_features *f, double scale,
+                                  const unsigned char *near)
+{
+    int64_t n = 0;
+    for (int64_t e = 0; e < f->n_edges; e++) {
+        if (f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+            continue;
+        const int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
+        if (!has_normal(f, t1) || !has_normal(f, t2) || (near && (near[t1] || near[t2])))
+            continue;
+        double d = dot3(f->tri_normal + 3 * t1, f->tri_normal + 3 * t2);
+        if (walk_dir(f, s, t1, e) == walk_dir(f, s, t2, e))
+            d = -d;
+        const double sin_fold = sqrt(fmax(0.0, 1 - d * d));
+        /* the heights of the two triangles over the edge: twice their
+         * areas over its length */
+        const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
+        const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                                (b[2] - a[2]) * (b[2] - a[2]));
+        double height = INFINITY;
+        for (int k = 0; k < 2; k++) {
+            const int64_t *v = s->tri + 3 * (k ? t2 : t1);
+            const double *p = s->xyz + 3 * v[0], *q = s->xyz + 3 * v[1], *r = s->xyz + 3 * v[2];
+            const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+            const double w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+            const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                 u[0] * w[1] - u[1] * w[0]};
+            height = fmin(height, sqrt(dot3(c, c)) / len);
+        }
+        if (len > 0 && sin_fold * height > VC_VISIBLE_FOLD * scale) {
+            f->edge_sharp[e] = VC_SHARP_FOLD;
+            n++;
+        }
+    }
+    f->n_sharp_visible = n;
+    f->n_sharp_edges += n;
+}
+
 /* ---- 5. Surface patches ---- */
 
 static int build_patches(const vc_surface *s, vc_features *f, vc_error *err)
@@ -806,6 +846,8 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
         if (f->noise_scale > 0 && (!(near = xcalloc(nt, 1)) ||
                                    vc_features_unmark_noise_folds(s, f, f->noise_scale, near)))
             rc = vc_error_set(err, VC_ENOMEM, "out of memory detecting features");
+        else if (f->noise_scale > 0)
+            promote_visible_folds(s, f, f->noise_scale, near);
     }
     if (!rc)
         rc = sharp_adjacency(f, &adj_start, &adj, err);
