@@ -4,7 +4,9 @@
  * 60-degree crease is not, with or without noise; a coarser grid is
  * looked at farther, and a coarse fold (too few triangles for a quadric
  * even then) is judged by the plane alone; a needle's folds smaller than
- * the bound are noise on any coherent ground. */
+ * the bound are noise on any coherent ground. And the converse: folds
+ * below theta_sharp whose triangles leave each other's plane by more than
+ * VC_VISIBLE_FOLD bounds are creases, the others not. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -257,8 +259,43 @@ static void expect_needle(const char *name, double scale, int want_noise)
     vc_surface_free(&b.s);
 }
 
+/* The folds the error bound sees (features.h, VC_VISIBLE_FOLD): a 12-gon
+ * prism of radius 1 and height 3 folds by 30 degrees along its 12 side
+ * edges, and the triangles beside each are a chord 2 sin(15 deg) = 0.518
+ * wide: the far side of each leaves the other's plane by sin(30 deg) times
+ * that, 0.259, which is 8 bounds at a bound of 0.0324. Below that bound
+ * the 12 side edges are creases, above it they are not; the quads'
+ * diagonals (no fold) never are, nor the rims (sharp by angle anyway). */
+static void expect_visible_folds(double theta, double scale, int64_t want)
+{
+    builder b = {0};
+    make_prism(&b, 12, 3.0);
+    vc_features f;
+    vc_error err = {0};
+    CHECK(vc_features_detect_scaled(&b.s, theta, NULL, scale, &f, &err) == 0);
+    int64_t folds = 0, angle = 0;
+    for (int64_t e = 0; e < f.n_edges; e++) {
+        folds += f.edge_sharp[e] == VC_SHARP_FOLD;
+        angle += f.edge_sharp[e] == VC_SHARP_ANGLE;
+    }
+    CHECKF(f.n_sharp_visible == want && folds == want,
+           "12-gon prism at %g degrees, bound %g: %lld folds seen (%lld marked), want %lld",
+           theta, scale, (long long)f.n_sharp_visible, (long long)folds, (long long)want);
+    /* the rims, and at 20 degrees the side edges, by angle */
+    CHECKF(angle == (theta < 30 ? 36 : 24), "12-gon prism at %g degrees: %lld sharp by angle", theta,
+           (long long)angle);
+    CHECKF(f.n_sharp_edges == angle + want, "12-gon prism: %lld sharp edges", (long long)f.n_sharp_edges);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
+}
+
 int main(void)
 {
+    expect_visible_folds(60, 0.030, 12);
+    expect_visible_folds(60, 0.034, 0);
+    expect_visible_folds(60, 0, 0);
+    expect_visible_folds(20, 0.030, 0);
+
     /* grid spacing 0.01 (n = 200); scale 0.02: reach 0.08, slab 0.01 from
      * a plane, 0.005 from a quadric */
     const int n = 200;
