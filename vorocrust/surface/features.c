@@ -242,6 +242,17 @@ static double dot3(const double *a, const double *b)
 /* see vc_features_detect_scaled's cos_theta */
 #define FOLD_TIE 1e-6
 
+/* The cosine of the fold at edge e between its triangles t1 and t2, both
+ * with normals, before the patches are oriented: the input's triangles of
+ * a consistently oriented pair walk the edge in opposite directions, and
+ * the normals are made to agree across it. */
+static double input_fold_cos(const vc_surface *s, const vc_features *f, int64_t e, int64_t t1,
+                             int64_t t2)
+{
+    const double d = dot3(f->tri_normal + 3 * t1, f->tri_normal + 3 * t2);
+    return walk_dir(f, s, t1, e) == walk_dir(f, s, t2, e) ? -d : d;
+}
+
 static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_theta,
                              const unsigned char *extra)
 {
@@ -258,13 +269,7 @@ static void find_sharp_edges(const vc_surface *s, vc_features *f, double cos_the
         } else {
             int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
             if (has_normal(f, t1) && has_normal(f, t2)) {
-                /* Make the normals consistent across the edge: the two
-                 * triangles of a consistently oriented pair walk it in
-                 * opposite directions. */
-                double d = dot3(f->tri_normal + 3 * t1, f->tri_normal + 3 * t2);
-                if (walk_dir(f, s, t1, e) == walk_dir(f, s, t2, e))
-                    d = -d;
-                if (d < cos_theta) {
+                if (input_fold_cos(s, f, e, t1, t2) < cos_theta) {
                     why = VC_SHARP_ANGLE;
                     n_angle++;
                 }
@@ -293,9 +298,7 @@ static void promote_visible_folds(const vc_surface *s, vc_features *f, double sc
         const int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
         if (!has_normal(f, t1) || !has_normal(f, t2) || (near && (near[t1] || near[t2])))
             continue;
-        double d = dot3(f->tri_normal + 3 * t1, f->tri_normal + 3 * t2);
-        if (walk_dir(f, s, t1, e) == walk_dir(f, s, t2, e))
-            d = -d;
+        const double d = input_fold_cos(s, f, e, t1, t2);
         const double sin_fold = sqrt(fmax(0.0, 1 - d * d));
         /* the heights of the two triangles over the edge: twice their
          * areas over its length */
