@@ -305,6 +305,8 @@ static void promote_visible_folds(const vc_surface *s, vc_features *f, double sc
         const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
         const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
                                 (b[2] - a[2]) * (b[2] - a[2]));
+        if (!(len > 0))
+            continue;
         double height = INFINITY;
         for (int k = 0; k < 2; k++) {
             const int64_t *v = s->tri + 3 * (k ? t2 : t1);
@@ -315,7 +317,7 @@ static void promote_visible_folds(const vc_surface *s, vc_features *f, double sc
                                  u[0] * w[1] - u[1] * w[0]};
             height = fmin(height, sqrt(dot3(c, c)) / len);
         }
-        if (len > 0 && sin_fold * height > VC_VISIBLE_FOLD * scale) {
+        if (sin_fold * height > VC_VISIBLE_FOLD * scale) {
             f->edge_sharp[e] = VC_SHARP_FOLD;
             n++;
         }
