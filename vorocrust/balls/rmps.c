@@ -856,15 +856,19 @@ static int mps(sampler *S, pool *P, int nv)
             for (int b = 0; b < DART_BATCH && misses < MAX_MISSES; b++) {
                 /* a line every 2 s: phase, the share of the area (length)
                  * covered (that of the pool left at the start of this
-                 * round, covered since, as the recent darts saw it), balls */
+                 * round, covered since, as the recent darts saw it), balls
+                 * against the prediction (the area can read 100% covered
+                 * while the last specks take most of the balls: noise
+                 * above a tight bound, where the prediction is low) */
                 if ((++darts & 1023) == 0 && vc_clock_seconds() - S->t_logged >= 2.0) {
                     S->t_logged = vc_clock_seconds();
                     const double left = area0 > 0 ? total / area0 : 0;
                     const double seen = (double)darts_covered / (double)darts;
                     vc_log(S->opt.log, VC_LOG_INFO,
-                           "mesh: %s, %s: %.1f%% of the %s covered, %lld balls, %.0f s", S->phase,
-                           nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
-                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, vc_clock_seconds() - S->t_start);
+                           "mesh: %s, %s: %.1f%% of the %s covered, %lld balls (%.3g predicted), %.0f s",
+                           S->phase, nv == 2 ? "creases" : "patches", 100.0 * (1 - left * (1 - seen)),
+                           nv == 2 ? "length" : "area", (long long)S->bs.b.n, S->st->n_balls_predicted,
+                           vc_clock_seconds() - S->t_start);
                     darts = darts_covered = 0;
                 }
                 thrown++;
