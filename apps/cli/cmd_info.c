@@ -93,7 +93,7 @@ static void usage(FILE *f)
         "                     bounding-box diagonal, default %g; 0: none): folds over\n"
         "                     DEG on ground flat at it are noise, not sharp, and folds\n"
         "                     below DEG whose triangles leave each other's plane by\n"
-        "                     more than 8 bounds are sharp, as the mesh command judges\n"
+        "                     more than %g bounds are sharp, as the mesh command judges\n"
         "                     them; implies --features\n"
         "Prints counts, bounding box, topology (boundary, non-manifold and\n"
         "inconsistently oriented edges, components, Euler characteristic, genus)\n"
@@ -102,7 +102,7 @@ static void usage(FILE *f)
         "1e-9 of the bounding box's, coordinates within 1e9 times the model's size).\n"
         "Problems are printed to stderr, one line each;\n"
         "only unreadable or unusable input makes the exit code non-zero.\n",
-        VC_FEATURES_DEFAULT_SHARP_ANGLE, default_max_error());
+        VC_FEATURES_DEFAULT_SHARP_ANGLE, default_max_error(), VC_VISIBLE_FOLD);
 }
 
 int vc_cmd_info(int argc, char **argv)
