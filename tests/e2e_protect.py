@@ -46,9 +46,13 @@ BIN = os.environ["VC_BIN"]
 # its floor follows the sampling's nearest same-side seed pair, 3e-4 before
 # the centre lift's passes (session 21), 1.5e-4 after (the pair at 2.0e-4
 # of the ball radius; the lift may bring a seed to within a power gap of
-# 1e-3 of a fourth sphere, as one pass always could).
+# 1e-3 of a fourth sphere, as one pass always could). The three layers'
+# floor was 3e-4 until session 34, when the octree's clearance from the
+# balls (VC_INTERIOR_CLEARANCE) left out the leaf centres just outside them
+# and the protection moved other seeds: 2.67e-4 (cells with an edge below
+# 1e-2 of their radius: 7.2% with --protect, 32% without).
 PARTS = {"icosphere": (os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj"), 1e-3),
-         "materials": (None, 3e-4), "blobby": (None, 1e-3), "torus": (None, 1e-4)}
+         "materials": (None, 2.5e-4), "blobby": (None, 1e-3), "torus": (None, 1e-4)}
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_protect.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)

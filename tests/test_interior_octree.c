@@ -8,7 +8,8 @@
  *   was already small enough can only come from the 2:1 balance;
  * - 2:1 balance: leaves that touch (even at a corner) differ by one level
  *   at most;
- * - every interior seed is a leaf centre outside every ball, its nearest
+ * - every interior seed is a leaf centre outside every ball grown by the
+ *   clearance (also with none), its nearest
  *   surface seed is an inside seed, and no surface seed is closer than
  *   half the leaf's side; every other leaf centre fails one of these;
  * - --max-size caps the leaves; 1 and 2 threads give the same seeds; two
@@ -171,7 +172,7 @@ static void check_forest(const vc_balls *b, const vc_seeds *ss, const vc_octree_
         const double *c = lv->center + 3 * k;
         int covered = 0;
         for (int64_t i = 0; i < b->n && !covered; i++)
-            covered = dist(c, b->center + 3 * i) <= b->radius[i];
+            covered = dist(c, b->center + 3 * i) <= (1 + o->clearance) * b->radius[i];
         int64_t q = 0;
         for (int64_t i = 1; i < ss->n; i++)
             if (dist(c, ss->xyz + 3 * i) < dist(c, ss->xyz + 3 * q))
@@ -206,7 +207,8 @@ int main(void)
     }
     vc_octree_options o;
     vc_octree_options_default(&o);
-    CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2 && o.far_from == 3 && o.far_lipschitz == 1,
+    CHECKF(o.lipschitz == 0.25 && o.diagonal_factor == 2 && o.far_from == 3 &&
+               o.far_lipschitz == 1 && o.clearance == VC_INTERIOR_CLEARANCE,
            "defaults");
 
     vc_seeds out[2];
@@ -287,7 +289,45 @@ int main(void)
         }
     }
 
+    /* The clearance: no seed within (1 + clearance) r of a ball's centre
+     * (check_forest's brute force), and without it, more seeds, some of
+     * them just outside a ball (leaf centres fall anywhere). */
+    {
+        vc_octree_options z = o;
+        z.max_size = 0;
+        z.clearance = 0;
+        vc_octree_stats s0, s1;
+        int r0 = vc_interior_octree(&b, &ss, &z, &out[0], &n_int[0], &s0, &lv, &err);
+        CHECKF(r0 == 0, "no clearance: %s", err.msg);
+        if (r0 == 0) {
+            check_forest(&b, &ss, &z, &out[0], n_int[0], &s0, &lv);
+            int64_t near = 0;
+            for (int64_t i = ss.n; i < out[0].n; i++)
+                for (int64_t k = 0; k < b.n; k++)
+                    near += dist(out[0].xyz + 3 * i, b.center + 3 * k) <
+                            (1 + VC_INTERIOR_CLEARANCE) * b.radius[k];
+            CHECKF(near > 0, "no seed within the clearance of a ball even without it");
+            vc_octree_leaves_free(&lv);
+            vc_seeds_free(&out[0]);
+            z.clearance = VC_INTERIOR_CLEARANCE;
+            int r1 = vc_interior_octree(&b, &ss, &z, &out[0], &n_int[0], &s1, NULL, &err);
+            CHECKF(r1 == 0 && s1.n_seeds < s0.n_seeds && s1.n_leaves == s0.n_leaves,
+                   "clearance %g: %lld seeds of %lld leaves; none: %lld of %lld", z.clearance,
+                   (long long)s1.n_seeds, (long long)s1.n_leaves, (long long)s0.n_seeds,
+                   (long long)s0.n_leaves);
+            printf("clearance 0: %lld seeds (%lld within %g of a radius of a sphere); %g: %lld\n",
+                   (long long)s0.n_seeds, (long long)near, VC_INTERIOR_CLEARANCE, z.clearance,
+                   (long long)s1.n_seeds);
+            if (r1 == 0)
+                vc_seeds_free(&out[0]);
+        }
+    }
+
     /* bad options and input */
+    o.clearance = -1;
+    CHECKF(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,
+           "negative clearance accepted");
+    o.clearance = VC_INTERIOR_CLEARANCE;
     o.max_size = 0;
     o.far_lipschitz = 0.1;
     CHECKF(vc_interior_octree(&b, &ss, &o, &out[0], &n_int[0], NULL, NULL, &err) == VC_EPARAM,

@@ -220,8 +220,8 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     if (opt->interior == VC_INTERIOR_OCTREE)
         fprintf(stderr,
                 "  interior: octree of %lld leaves (%lld before the 2:1 balance; %lld "
-                "trees, levels %d to %d), %lld interior seeds (leaves left out: %lld in a "
-                "ball, %lld outside, %lld next to a surface or pole seed), and %lld pole "
+                "trees, levels %d to %d), %lld interior seeds (leaves left out: %lld in or "
+                "next to a ball, %lld outside, %lld next to a surface or pole seed), and %lld pole "
                 "seeds, %.3f s\n",
                 (long long)ost->n_leaves, (long long)ost->n_refined_leaves,
                 (long long)ost->n_trees, ost->min_level, ost->max_level,

@@ -5,14 +5,15 @@
  *
  * vc_interior_lattice places them on a cubic lattice (a hex-dominant
  * interior, thesis 6.2.10). A lattice point becomes a seed when it lies
- * outside every ball, inside the domain and at least half a spacing away
+ * outside every ball by the clearance (VC_INTERIOR_CLEARANCE, below),
+ * inside the domain and at least half a spacing away
  * from every surface seed; inside means that its nearest surface seed is
  * an inside seed (the labels of the surface seeds decide, no second test).
  *
  * vc_interior_octree grades them instead (thesis 5.5.2): an octree (p4est)
  * over the bounding box, refined while a leaf's diagonal exceeds twice the
  * sizing at its centre (see vc_octree_options), 2:1 balanced, one seed at the centre of each leaf
- * that passes the same three tests (outside every ball, inside, at least
+ * that passes the same three tests (outside every ball by the clearance, inside, at least
  * half the leaf's side away from every surface seed). Cells then grow away
  * from the surface at the rate the Lipschitz constant allows.
  *
@@ -31,6 +32,20 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* How far outside every ball an interior seed lies: at least
+ * (1 + VC_INTERIOR_CLEARANCE) r from the centre of a ball of radius r.
+ * The surface seeds of a ball lie on its sphere, so their cells meet at
+ * its centre in a fan of cones, thin near the centre (a corner or edge
+ * ball has tens of seeds on its sphere). A seed at distance (1 + g) r
+ * from the centre, at an angle a from the nearest of those seeds, cuts
+ * the fan down to about g r / a from the centre: just outside a ball (g
+ * of 1e-3, as the leaf centres of an octree fall) it leaves tiny faces
+ * between cones whose bodies lie far away, the skew faces OpenFOAM's
+ * checkMesh counts (bunny.off: 781 above 4, at most 35, 631 of them at
+ * corner balls). 0.1: 223 above 4, at most 13.7, with no cell fatter
+ * than before; docs/solver-grade-cells.md has the measurements. */
+#define VC_INTERIOR_CLEARANCE 0.1
 
 /* The default lattice spacing: the largest surface-ball radius (so that
  * interior cells are about the size of the largest surface cells), capped
@@ -65,6 +80,9 @@ typedef struct vc_octree_options {
                                the sizing at its centre; default 2, thesis 5.5.2 (a leaf's
                                half-diagonal at most delta lfs(c), a ball radius being
                                delta lfs); 1 gives leaves half as large, 8 times as many */
+    double clearance; /* a leaf centre within (1 + clearance) r of the centre of a
+                         ball of radius r is no seed; default VC_INTERIOR_CLEARANCE,
+                         >= 0 */
     int threads;      /* for the seed tests; <= 0: OpenMP's default; the output
                          does not depend on it */
 } vc_octree_options;
@@ -76,7 +94,7 @@ typedef struct vc_octree_stats {
     int64_t n_leaves;        /* after refinement and 2:1 balance */
     int64_t n_refined_leaves;/* before the balance */
     int64_t n_seeds;         /* interior seeds placed */
-    int64_t n_covered;       /* leaves whose centre lies in a surface ball */
+    int64_t n_covered;       /* leaves whose centre lies in a surface ball grown by the clearance */
     int64_t n_outside;       /* leaves whose centre's nearest surface seed is outside */
     int64_t n_near_seed;     /* leaves with a surface seed closer than half their side */
     int min_level, max_level;

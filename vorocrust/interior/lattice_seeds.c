@@ -67,7 +67,7 @@ int vc_interior_lattice(const vc_balls *balls, const vc_seeds *ss, double spacin
             for (int64_t i = 0; i < n[0] && !rc; i++) {
                 double x[3] = {off[0] + (double)i * spacing, off[1] + (double)j * spacing,
                                off[2] + (double)k * spacing};
-                if (vc_ball_tree_covers(&tree, x))
+                if (vc_ball_tree_covers_scaled(&tree, x, 1 + VC_INTERIOR_CLEARANCE))
                     continue;
                 double dn;
                 int64_t q = vc_nearest_seed(&g, x, &dn);

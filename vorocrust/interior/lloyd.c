@@ -120,7 +120,7 @@ int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
             int64_t q = vc_nearest_seed(&grid, g, &dn);
             /* nor may it leave its region */
             if (q < 0 || seeds->label[q] != seeds->label[n_surface + i] ||
-                vc_ball_tree_covers(&tree, g))
+                vc_ball_tree_covers_scaled(&tree, g, 1 + VC_INTERIOR_CLEARANCE))
                 continue;
             moved[i] = 1;
             memcpy(y, g, sizeof(double) * 3);

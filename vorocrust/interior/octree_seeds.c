@@ -46,6 +46,7 @@ void vc_octree_options_default(vc_octree_options *opt)
     opt->far_lipschitz = 1;
     opt->max_size = 0;
     opt->diagonal_factor = 2;
+    opt->clearance = VC_INTERIOR_CLEARANCE;
     opt->threads = 0;
 }
 
@@ -251,6 +252,9 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     if (!(opt->diagonal_factor > 0) || !isfinite(opt->diagonal_factor))
         return vc_error_set(err, VC_EPARAM, "the octree's diagonal factor must be positive, got %g",
                             opt->diagonal_factor);
+    if (!(opt->clearance >= 0) || !isfinite(opt->clearance))
+        return vc_error_set(err, VC_EPARAM, "the octree's clearance from the balls must be a "
+                            "number >= 0, got %g", opt->clearance);
     if (balls->n == 0)
         return vc_error_set(err, VC_EINPUT, "no surface balls to grade the octree by");
     if (ss->n == 0)
@@ -327,7 +331,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
     }
 
     /* The seed tests, leaf by leaf (independent, so any thread count gives
-     * the same verdicts): 0 seed, 1 in a ball, 2 outside, 3 too near a
+     * the same verdicts): 0 seed, 1 in a ball (grown by the clearance), 2 outside, 3 too near a
      * surface seed. A surface seed closer than half the side lies inside
      * the leaf's inscribed ball: it already gives that region its cell,
      * and a seed at the centre would split it into two thin cells. Half the
@@ -336,7 +340,7 @@ int vc_interior_octree(const vc_balls *balls, const vc_seeds *ss, const vc_octre
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t k = 0; k < nl; k++) {
         const double *c = center + 3 * k;
-        if (vc_ball_tree_covers(&tree, c)) {
+        if (vc_ball_tree_covers_scaled(&tree, c, 1 + opt->clearance)) {
             verdict[k] = 1;
             continue;
         }
