@@ -110,7 +110,7 @@ if PART in ("graded", "icosphere"):
             continue
         print("%s: %s leaves, %s interior seeds, %s cells, fatness max %s (interior %s)"
               % (tag, m.group(1), m.group(2), v.group(1), f.group(1), f.group(3)))
-        poles = re.search(r"and (\d+) pole seeds", err)
+        poles = re.search(r"and (\d+) sphere seeds", err)
         n_int = int(m.group(2)) + (int(poles.group(1)) if poles else 0)
         seeds = [(tuple(map(float, r[:3])), int(r[3])) for r in read_rows(out["seeds"])]
         n_surface = len(seeds) - n_int

@@ -143,7 +143,7 @@ if base_rc == 0 and "1" in prot:
         check(sorted(v0) == [1, 2, 3] and sorted(v1) == [1, 2, 3] and
               all(abs(v1[k] - v0[k]) <= 1e-9 * v0[k] and abs(v0[k] - 9) <= 0.05 for k in v0),
               "region volumes %s without --protect, %s with" % (v0, v1))
-        check(re.search(r"and (\d+) pole seeds", err) is not None, "no pole seeds in the summary")
+        check(re.search(r"and (\d+) sphere seeds", err) is not None, "no sphere seeds in the summary")
     a, b = surface_polygons(base["surface"]), surface_polygons(out["surface"])
     check(a == b, "the surface changed with --protect (%d and %d polygons, %d in common)"
           % (len(a), len(b), len(a & b)))

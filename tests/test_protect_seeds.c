@@ -1,5 +1,5 @@
 /* Short-edge protection of interior seeds (vc_interior_protect) and pole
- * seeds (vc_interior_pole_seeds), on seed sets built here:
+ * seeds (vc_interior_sphere_seeds: poles and caps), on seed sets built here:
  * - random interior seeds inside a shell of fixed "surface" seeds: the
  *   Voronoi mesh before and after, its cells' shortest edges over their
  *   radius (the share below 1e-2 falls from about 40% to almost none), the
@@ -8,7 +8,8 @@
  * - a pole seed in a cluster made to be near-co-spherical moves, and stays
  *   on its ball's sphere;
  * - the pole seeds of a row of balls on a plane: one below each ball, on
- *   its sphere, outside the others, labelled as the inside seeds. */
+ *   its sphere, outside the others, labelled as the inside seeds;
+ * - the caps of a corner ball ringed by small balls (caps_of_a_corner). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -231,6 +232,7 @@ static void poles_of_a_row(void)
     signed char kind[5] = {0};
     int64_t element[5] = {0};
     for (int i = 0; i < 5; i++) {
+        kind[i] = VC_BALL_SURFACE;
         centre[3 * i] = i;
         centre[3 * i + 1] = centre[3 * i + 2] = 0;
         radius[i] = 0.7;
@@ -253,7 +255,13 @@ static void poles_of_a_row(void)
         }
     vc_seeds poles;
     int64_t *ball_of = NULL;
-    CHECK(vc_interior_pole_seeds(&balls, &surf, 0.04, &poles, &ball_of, &err) == 0);
+    vc_sphere_seed_options so;
+    vc_sphere_seed_options_default(&so);
+    CHECK(so.caps == 1 && so.poles == 0);
+    so.poles = 1;
+    so.pole_gap = 0.04;
+    so.caps = 1; /* surface balls: no caps */
+    CHECK(vc_interior_sphere_seeds(&balls, &surf, &so, &poles, &ball_of, &err) == 0);
     CHECKF(poles.n == 5, "%lld poles", (long long)poles.n);
     for (int64_t k = 0; k < poles.n && ball_of; k++) {
         const double *q = poles.xyz + 3 * k, *c = centre + 3 * ball_of[k];
@@ -270,7 +278,94 @@ static void poles_of_a_row(void)
     free(ball_of);
     vc_seeds_free(&poles);
     /* a bad gap */
-    CHECK(vc_interior_pole_seeds(&balls, &surf, 1.5, &poles, &ball_of, &err) == VC_EPARAM);
+    so.pole_gap = 1.5;
+    CHECK(vc_interior_sphere_seeds(&balls, &surf, &so, &poles, &ball_of, &err) == VC_EPARAM);
+    vc_seeds_free(&surf);
+}
+
+/* Caps: a corner ball of radius 1 at the origin (normal +z) with a ring of
+ * 16 small surface balls (radius 0.15) around its equator; the surface
+ * seeds on the corner's sphere where the ring crosses it, inside ones
+ * (label 1) below the equator, outside ones above. The caps lie on the
+ * corner's sphere, inside (below), outside every ring ball by the interior
+ * clearance, at least half a radius from every surface seed and a quarter
+ * radius from each other; none without caps or for a surface ball. */
+static void caps_of_a_corner(void)
+{
+    enum { RING = 16 };
+    double centre[3 * (RING + 1)], radius[RING + 1], normal[3 * (RING + 1)];
+    signed char kind[RING + 1];
+    int64_t element[RING + 1] = {0};
+    const double pi = acos(-1.0);
+    centre[0] = centre[1] = centre[2] = 0;
+    radius[0] = 1;
+    kind[0] = VC_BALL_CORNER;
+    for (int i = 0; i <= RING; i++) {
+        normal[3 * i] = normal[3 * i + 1] = 0;
+        normal[3 * i + 2] = 1;
+        if (i == 0)
+            continue;
+        const double a = 2 * pi * (i - 1) / RING;
+        centre[3 * i] = cos(a);
+        centre[3 * i + 1] = sin(a);
+        centre[3 * i + 2] = 0;
+        radius[i] = 0.15;
+        kind[i] = VC_BALL_SURFACE;
+    }
+    vc_balls balls = {RING + 1, centre, radius, kind, element, normal};
+    vc_error err;
+    vc_seeds surf;
+    CHECK(vc_seeds_alloc(&surf, 2 * RING, &err) == 0);
+    for (int i = 0; i < RING; i++)
+        for (int side = 0; side < 2; side++) {
+            /* on the corner's sphere, between two ring balls, 0.1 off the
+             * equator */
+            const double a = 2 * pi * (i + 0.5) / RING, z = side ? 0.1 : -0.1, rr = sqrt(1 - z * z);
+            double *x = surf.xyz + 3 * (2 * i + side);
+            x[0] = rr * cos(a);
+            x[1] = rr * sin(a);
+            x[2] = z;
+            surf.label[2 * i + side] = side ? 0 : 1;
+        }
+    vc_sphere_seed_options so;
+    vc_sphere_seed_options_default(&so);
+    vc_seeds caps;
+    int64_t *ball_of = NULL;
+    CHECK(vc_interior_sphere_seeds(&balls, &surf, &so, &caps, &ball_of, &err) == 0);
+    CHECKF(caps.n >= 8, "%lld caps", (long long)caps.n);
+    for (int64_t k = 0; k < caps.n && ball_of; k++) {
+        const double *q = caps.xyz + 3 * k;
+        CHECK(ball_of[k] == 0 && caps.label[k] == 1 && q[2] < 0);
+        CHECK(fabs(sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]) - 1) < 1e-12);
+        for (int j = 1; j <= RING; j++) {
+            const double *c = centre + 3 * j;
+            const double d = sqrt((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) +
+                                  (q[2] - c[2]) * (q[2] - c[2]));
+            CHECKF(d > (1 + VC_INTERIOR_CLEARANCE) * radius[j], "cap %lld at %g of ring ball %d",
+                   (long long)k, d / radius[j], j);
+        }
+        for (int64_t i = 0; i < surf.n; i++) {
+            const double *x = surf.xyz + 3 * i;
+            CHECK((q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]) +
+                      (q[2] - x[2]) * (q[2] - x[2]) >= 0.25);
+        }
+        for (int64_t m = 0; m < k; m++) {
+            const double *p = caps.xyz + 3 * m;
+            CHECK((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                      (q[2] - p[2]) * (q[2] - p[2]) >= 0.25 * 0.25);
+        }
+    }
+    printf("caps of a corner ball: %lld\n", (long long)caps.n);
+    free(ball_of);
+    vc_seeds_free(&caps);
+    /* none without caps, none on a surface ball */
+    so.caps = 0;
+    CHECK(vc_interior_sphere_seeds(&balls, &surf, &so, &caps, &ball_of, &err) == 0 && caps.n == 0 &&
+          !ball_of);
+    so.caps = 1;
+    kind[0] = VC_BALL_SURFACE;
+    CHECK(vc_interior_sphere_seeds(&balls, &surf, &so, &caps, &ball_of, &err) == 0 && caps.n == 0 &&
+          !ball_of);
     vc_seeds_free(&surf);
 }
 
@@ -279,6 +374,7 @@ int main(void)
     random_interior();
     pole_on_sphere();
     poles_of_a_row();
+    caps_of_a_corner();
     if (failures)
         fprintf(stderr, "test_protect_seeds: %d failure(s)\n", failures);
     return failures != 0;

@@ -221,16 +221,16 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
         fprintf(stderr,
                 "  interior: octree of %lld leaves (%lld before the 2:1 balance; %lld "
                 "trees, levels %d to %d), %lld interior seeds (leaves left out: %lld in or "
-                "next to a ball, %lld outside, %lld next to a surface or pole seed), and %lld pole "
+                "next to a ball, %lld outside, %lld next to a surface or sphere seed), and %lld sphere "
                 "seeds, %.3f s\n",
                 (long long)ost->n_leaves, (long long)ost->n_refined_leaves,
                 (long long)ost->n_trees, ost->min_level, ost->max_level,
                 (long long)ost->n_seeds, (long long)ost->n_covered, (long long)ost->n_outside,
-                (long long)ost->n_near_seed, (long long)r->n_pole_seeds, t->interior);
+                (long long)ost->n_near_seed, (long long)r->n_sphere_seeds, t->interior);
     else
-        fprintf(stderr, "  interior: %s, %lld interior seeds (%lld pole seeds), %.3f s\n",
+        fprintf(stderr, "  interior: %s, %lld interior seeds (%lld sphere seeds), %.3f s\n",
                 opt->interior == VC_INTERIOR_LATTICE ? "lattice" : "none",
-                (long long)r->n_interior_seeds, (long long)r->n_pole_seeds, t->interior);
+                (long long)r->n_interior_seeds, (long long)r->n_sphere_seeds, t->interior);
     const vc_lloyd_stats *lst = &r->lloyd;
     if (opt->lloyd_iterations > 0)
         fprintf(stderr,

@@ -149,21 +149,43 @@ typedef struct vc_lloyd_stats {
 int vc_interior_lloyd(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface, int iterations,
                       int threads, vc_lloyd_stats *stats, vc_error *err);
 
-/* Pole seeds (docs/solver-grade-cells.md): for every surface ball, the two
- * points of its sphere on its normal (centre +- radius normal) that lie
- * outside every other ball scaled by sqrt(1 + gap) and whose nearest
- * surface seed is an inside seed, labelled as that seed (one per side on
- * an interface between regions), less those within a quarter of the
- * ball's radius of an earlier one. The surface seeds of a side of a ball
- * lie nearly on one circle of its sphere; the pole ends the nearly
- * degenerate fan their cells make below the ball centre at the centre
- * itself (co-spherical by construction: one vertex), instead of wherever
- * an interior seed cuts it (short edges). out gets the poles in ball
- * order (nothing when there are none), *ball_of (malloc'ed, NULL when
- * none) the ball of each. Fails with VC_EPARAM (gap outside [0, 1)),
+/* Seeds on the balls' spheres (docs/solver-grade-cells.md), inside the
+ * domain: each a point of a ball's sphere that lies outside every other
+ * ball by a margin and whose nearest surface seed is an inside seed, whose
+ * label it takes (one per side on an interface between regions), less
+ * those within a quarter of the ball's radius of an earlier one. On its
+ * own sphere a seed is co-spherical with the ball's surface seeds (one
+ * vertex at the centre for the engine), and outside the other balls it
+ * leaves the reconstructed surface as it is.
+ *  - poles (--protect): both points on every ball's normal (centre +-
+ *    radius normal), outside the other balls scaled by sqrt(1 + pole_gap).
+ *    The surface seeds of a side of a ball lie nearly on one circle of its
+ *    sphere; the pole ends the nearly degenerate fan their cells make
+ *    below the ball centre at the centre itself, instead of wherever an
+ *    interior seed cuts it (short edges).
+ *  - caps (default): 48 points spread over the sphere of every corner and
+ *    edge ball, outside the other balls by the interior clearance
+ *    (VC_INTERIOR_CLEARANCE) and at least half the ball's radius from
+ *    every surface seed. Such a ball's seeds lie on the rings where the
+ *    small balls around it cross its sphere; without caps their cells
+ *    reach across the ball and the interior seeds cut them unevenly,
+ *    leaving skew faces near its centre (bunny.off: 223 faces above
+ *    checkMesh's skewness 4 without caps, 5 with them).
+ * out gets the poles in ball order, then the caps in ball order (nothing
+ * when there are none), *ball_of (malloc'ed, NULL when none) the ball of
+ * each. Fails with VC_EPARAM (pole_gap outside [0, 1) with poles),
  * VC_ENOMEM. */
-int vc_interior_pole_seeds(const vc_balls *balls, const vc_seeds *surface_seeds, double gap,
-                           vc_seeds *out, int64_t **ball_of, vc_error *err);
+typedef struct vc_sphere_seed_options {
+    int poles;       /* both poles of every ball; default 0 */
+    double pole_gap; /* 0 <= pole_gap < 1; default 0 */
+    int caps;        /* caps on every corner and edge ball; default 1 */
+} vc_sphere_seed_options;
+
+void vc_sphere_seed_options_default(vc_sphere_seed_options *opt);
+
+int vc_interior_sphere_seeds(const vc_balls *balls, const vc_seeds *surface_seeds,
+                             const vc_sphere_seed_options *opt, vc_seeds *out,
+                             int64_t **ball_of, vc_error *err);
 
 /* Short-edge protection of the interior seeds (issue 20;
  * docs/solver-grade-cells.md). A Voronoi edge is short when five seeds lie
@@ -187,8 +209,9 @@ int vc_interior_pole_seeds(const vc_balls *balls, const vc_seeds *surface_seeds,
  * neighbours is picked before them (seed order) search at once, and their
  * moves are taken in seed order, each only when no seed whose cell it
  * changes has moved in the round; the seeds a move took neighbours from
- * are measured again when nothing else is left; up to 12 rounds. A pole
- * seed (opt->n_poles of them, seeds n_surface .. n_surface + n_poles - 1)
+ * are measured again when nothing else is left; up to 12 rounds. A seed
+ * on a ball's sphere (vc_interior_sphere_seeds: a pole or a cap; opt->n_poles
+ * of them, seeds n_surface .. n_surface + n_poles - 1)
  * moves on its ball's sphere (the point of the sphere nearest each random
  * point), so the ball centre stays a vertex of its cell. The surface seeds
  * never move: their own near-ties (two triplets of a near-quartet of
@@ -197,7 +220,7 @@ typedef struct vc_protect_options {
     double min_edge;      /* 0 <= min_edge < 0.25 (0: nothing moves); default 0.01 */
     uint64_t random_seed; /* default 1 */
     int64_t n_poles;
-    const int64_t *pole_ball; /* n_poles: the ball of each pole seed */
+    const int64_t *pole_ball; /* n_poles: the ball of each sphere seed */
     /* Seeds from this index on are unmoved lattice points (the octree's
      * leaf centres, or the cubic lattice): one whose 32 nearest seeds all
      * are is not measured (its cell's ties are exact, its edges long).

@@ -131,7 +131,7 @@ typedef struct vc_mesh_options {
     double interior_spacing; /* lattice spacing; <= 0: vc_interior_default_spacing */
     int lloyd_iterations;    /* 0 to 1000, default 0 */
     /* Short-edge protection (docs/solver-grade-cells.md), 0 <= E < 0.25:
-     * with E > 0, pole seeds (vc_interior_pole_seeds) join the interior
+     * with E > 0, pole seeds (vc_interior_sphere_seeds) join the interior
      * seeds, and the interior seeds at short Voronoi edges are moved a
      * little (vc_interior_protect) until every edge at their cells'
      * vertices is at least E times the cell's radius. 0.01 is the
@@ -283,8 +283,9 @@ typedef struct vc_mesh_result {
     vc_octree_stats octree;     /* with the octree interior */
     vc_lloyd_stats lloyd;       /* with lloyd_iterations > 0 */
     vc_protect_stats protect;   /* with protect_edge > 0 and interior seeds */
-    int64_t n_pole_seeds;       /* the first of the interior seeds */
-    int64_t *pole_ball;         /* n_pole_seeds: the ball of each */
+    int64_t n_sphere_seeds;     /* the first of the interior seeds: on the balls'
+                                   spheres (vc_interior_sphere_seeds) */
+    int64_t *sphere_ball;       /* n_sphere_seeds: the ball of each */
 
     vc_mesh_times time;
 } vc_mesh_result;

@@ -105,7 +105,7 @@ void vc_mesh_result_free(vc_mesh_result *r)
     vc_polysurface_free(&r->surface);
     vc_polymesh_free(&r->mesh);
     free(r->region_mesh);
-    free(r->pole_ball);
+    free(r->sphere_ball);
     memset(r, 0, sizeof *r);
 }
 
@@ -641,37 +641,39 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
 
 /* The surface seeds followed by the interior seeds of opt->interior
  * (octree or lattice) into *all, their count into *n_interior; nothing
- * for VC_INTERIOR_NONE. The pole seeds (vc_interior_pole_seeds) come
- * first among the interior seeds, and the octree or lattice keeps away
- * from them as from the surface seeds. */
+ * for VC_INTERIOR_NONE. The seeds on the balls' spheres
+ * (vc_interior_sphere_seeds: caps on corner and edge balls, and poles
+ * with --protect) come first among the interior seeds, and the octree or
+ * lattice keeps away from them as from the surface seeds. */
 static int interior_seeds(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
                           vc_seeds *all, int64_t *n_interior, vc_octree_stats *octree,
                           vc_error *err)
 {
     *n_interior = 0;
-    out->n_pole_seeds = 0;
-    free(out->pole_ball);
-    out->pole_ball = NULL;
+    out->n_sphere_seeds = 0;
+    free(out->sphere_ball);
+    out->sphere_ball = NULL;
     if (opt->interior == VC_INTERIOR_NONE)
         return 0;
-    /* the surface seeds and the poles: what the interior keeps away from */
-    vc_seeds base = out->seeds, poles = {0, NULL, NULL}, joined = {0, NULL, NULL};
-    if (opt->protect_edge > 0) {
-        /* the poles keep clear of the other balls as the moved seeds do */
-        if (vc_interior_pole_seeds(&out->balls, &out->seeds,
-                                   vc_protect_ball_gap(opt->protect_edge), &poles,
-                                   &out->pole_ball, err))
+    /* the surface seeds and the sphere seeds: what the interior keeps away
+     * from */
+    vc_seeds base = out->seeds, sphere = {0, NULL, NULL}, joined = {0, NULL, NULL};
+    vc_sphere_seed_options so;
+    vc_sphere_seed_options_default(&so);
+    so.poles = opt->protect_edge > 0;
+    /* the poles keep clear of the other balls as the moved seeds do */
+    so.pole_gap = so.poles ? vc_protect_ball_gap(opt->protect_edge) : 0;
+    if (vc_interior_sphere_seeds(&out->balls, &out->seeds, &so, &sphere, &out->sphere_ball, err))
+        return named(err, name, NULL);
+    if (sphere.n > 0) {
+        if (vc_seeds_concat(&out->seeds, &sphere, &joined, err)) {
+            vc_seeds_free(&sphere);
             return named(err, name, NULL);
-        if (poles.n > 0) {
-            if (vc_seeds_concat(&out->seeds, &poles, &joined, err)) {
-                vc_seeds_free(&poles);
-                return named(err, name, NULL);
-            }
-            base = joined;
         }
-        out->n_pole_seeds = poles.n;
-        vc_seeds_free(&poles);
+        base = joined;
     }
+    out->n_sphere_seeds = sphere.n;
+    vc_seeds_free(&sphere);
     int rc = 0;
     if (opt->interior == VC_INTERIOR_OCTREE) {
         vc_octree_options oo;
@@ -691,7 +693,7 @@ static int interior_seeds(const vc_mesh_options *opt, const char *name, vc_mesh_
     }
     vc_seeds_free(&joined);
     if (!rc)
-        *n_interior += out->n_pole_seeds;
+        *n_interior += out->n_sphere_seeds;
     return rc;
 }
 
@@ -773,11 +775,11 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
         po.threads = opt->threads;
         vc_log(opt->log, VC_LOG_INFO, "mesh: protecting %lld interior seeds from short edges",
                (long long)out->n_interior_seeds);
-        po.n_poles = out->n_pole_seeds;
-        po.pole_ball = out->pole_ball;
+        po.n_poles = out->n_sphere_seeds;
+        po.pole_ball = out->sphere_ball;
         /* the octree's or lattice's seeds, unless Lloyd moved them */
         if (opt->lloyd_iterations == 0)
-            po.lattice_begin = out->n_surface_seeds + out->n_pole_seeds;
+            po.lattice_begin = out->n_surface_seeds + out->n_sphere_seeds;
         if (vc_interior_protect(&out->balls, &out->seeds, out->n_surface_seeds, &po,
                                 &out->protect, err))
             return named(err, name, NULL);
