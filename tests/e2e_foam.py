@@ -535,6 +535,23 @@ if PART == "synthetic":
 SKEW_EXACT = {"torus.obj": 4.4, "bracket.obj": 4.2, "fandisk.off": 4.0,
               "fertility.off": 5.2, "bunny.off": 5.0}
 FULL_READBACK = ("torus.obj", "bracket.obj", "fandisk.off")  # fertility: too slow in Python
+# Exact cases that pass every check of `checkMesh -allGeometry -allTopology`
+# (issue 20's acceptance), since session 34's caps.
+EXACT_ALL_CHECKS = ("fandisk.off",)
+
+
+def checkmesh_all(name, case):
+    """checkMesh -allGeometry -allTopology: "Mesh OK.", no failed check."""
+    p = subprocess.run([CHECKMESH, "-allGeometry", "-allTopology", "-case", case],
+                       capture_output=True, text=True, env=FOAM_ENV, cwd=TMP, timeout=600)
+    out = p.stdout + p.stderr
+    with open(os.path.join(TMP, name + ".checkMesh-all.log"), "w") as f:
+        f.write(out)
+    failed = [ln.strip() for ln in out.split("\n") if ln.strip().startswith("***")]
+    if check(p.returncode == 0 and "\nMesh OK." in out and not failed,
+             "%s: checkMesh -allGeometry -allTopology exit %d, failed: %r"
+             % (name, p.returncode, failed)):
+        summary.append("%s: checkMesh -allGeometry -allTopology: Mesh OK." % name)
 
 
 def vtu_total_volume(grid):
@@ -642,6 +659,8 @@ for model, skew_rec in SKEW_EXACT.items():
                  % (model, p.returncode, p.stderr[-2000:])):
             cells = vtkcheck.read_vtu(vtu).GetNumberOfCells()
             out = checkmesh(name + "_exact", exact, cells, allow_skew=True)
+            if model in EXACT_ALL_CHECKS:
+                checkmesh_all(name + "_exact", exact)
             m = re.search(r"Max skewness = ([\d.e+-]+)", out)
             skew = float(m.group(1)) if m else float("inf")
             check(skew <= 1.05 * skew_rec, "%s: exact case: checkMesh skewness max %g above the "
