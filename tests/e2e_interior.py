@@ -83,9 +83,11 @@ def summary(err):
 
 
 def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls_csv):
-    """Every interior seed outside every ball, its nearest surface seed inside."""
+    """Every interior seed outside every ball by the clearance (0.1 of its
+    radius, VC_INTERIOR_CLEARANCE; the ball of a sphere seed aside), its
+    nearest surface seed inside."""
     balls = [(tuple(map(float, r[:3])), float(r[3])) for r in read_rows(balls_csv)]
-    e2eutil.seeds_outside_balls_and_inside(tag, seeds, n_surface, balls)
+    e2eutil.seeds_outside_balls_and_inside(tag, seeds, n_surface, balls, clearance=0.1)
 
 
 def mesh_run(model, tag, *extra):

@@ -287,14 +287,16 @@ def locator(points):
     return loc
 
 
-def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls):
+def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls, clearance=0.0):
     """Checks that every interior seed (seeds: ((x, y, z), label), the first
     n_surface the surface seeds) lies outside every ball (balls: ((x, y, z),
-    radius); on a sphere is allowed: a pole seed, a tie at the ball centre)
-    and that its nearest surface seed is an inside seed of its own label."""
+    radius)) grown by the clearance (1 + clearance times its radius: the
+    interior seeds' VC_INTERIOR_CLEARANCE), except the ball on whose sphere
+    it lies, if any (a pole or cap seed, a tie at the ball centre), and that
+    its nearest surface seed is an inside seed of its own label."""
     import math
     import vtk
-    rmax = max(r for _, r in balls)
+    rmax = max(r for _, r in balls) * (1 + clearance)
     ball_loc = locator([c for c, _ in balls])
     surf_loc = locator([s[0] for s in seeds[:n_surface]])
     near = vtk.vtkIdList()
@@ -303,9 +305,13 @@ def seeds_outside_balls_and_inside(tag, seeds, n_surface, balls):
         ball_loc.FindPointsWithinRadius(rmax, x, near)
         for k in range(near.GetNumberOfIds()):
             c, r = balls[near.GetId(k)]
-            in_ball += math.dist(c, x) < r * (1 - 1e-9)
+            d = math.dist(c, x)
+            if abs(d - r) <= 1e-9 * r:
+                continue  # on this ball's sphere
+            in_ball += d < r * (1 + clearance) * (1 - 1e-9)
         q = surf_loc.FindClosestPoint(x)
         outside += seeds[q][1] != lab or lab == 0
-    check(in_ball == 0, "%s: %d interior seeds inside a surface ball" % (tag, in_ball))
+    check(in_ball == 0, "%s: %d interior seeds inside a surface ball grown by %g of its radius"
+          % (tag, in_ball, clearance))
     check(outside == 0, "%s: %d interior seeds whose nearest surface seed is outside or of "
           "another region" % (tag, outside))
