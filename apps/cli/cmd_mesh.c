@@ -779,15 +779,27 @@ static int run_mesh(int argc, char **argv)
          * not an output */
         if (foam_path && foam_max_skew > 0 && foam_max_skew <= CHECKMESH_MAX_SKEW &&
             foam_skew.max_skew_after > CHECKMESH_MAX_SKEW) {
-            int64_t n_over = 0;
-            for (int64_t f = 0; f < r.mesh.n_interior_faces; f++)
-                n_over += vc_polymesh_face_skewness(&r.mesh, f) > CHECKMESH_MAX_SKEW;
+            /* how many, and where the worst is (a user can look there) */
+            int64_t n_over = 0, worst = -1;
+            double worst_skew = 0;
+            for (int64_t f = 0; f < r.mesh.n_interior_faces; f++) {
+                const double sk = vc_polymesh_face_skewness(&r.mesh, f);
+                n_over += sk > CHECKMESH_MAX_SKEW;
+                if (sk > worst_skew) {
+                    worst_skew = sk;
+                    worst = f;
+                }
+            }
+            const double *at = worst >= 0 && r.mesh.face_centroid
+                                   ? r.mesh.face_centroid + 3 * worst
+                                   : (const double[3]){0, 0, 0};
             vc_error_set(&err, VC_EINPUT,
                          "%s: the OpenFOAM case would fail checkMesh: after collapsing %lld skew "
-                         "faces, %lld keep a skewness above %g (at most %.3g); --foam-max-skew 0 "
-                         "writes the exact Voronoi cells, which fail checkMesh's skewness check only",
+                         "faces, %lld keep a skewness above %g (at most %.3g, at %.6g %.6g %.6g); "
+                         "--foam-max-skew 0 writes the exact Voronoi cells, which fail checkMesh's "
+                         "skewness check only",
                          in_path, (long long)foam_skew.n_collapsed, (long long)n_over,
-                         (double)CHECKMESH_MAX_SKEW, foam_skew.max_skew_after);
+                         (double)CHECKMESH_MAX_SKEW, foam_skew.max_skew_after, at[0], at[1], at[2]);
             goto write_failed;
         }
         if (foam_path &&
