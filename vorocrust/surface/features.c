@@ -300,22 +300,21 @@ static void promote_visible_folds(const vc_surface *s, vc_features *f, double sc
             continue;
         const double d = input_fold_cos(s, f, e, t1, t2);
         const double sin_fold = sqrt(fmax(0.0, 1 - d * d));
-        /* the heights of the two triangles over the edge: twice their
-         * areas over its length */
+        /* each triangle's height over the edge: its apex's distance from
+         * the edge's line */
         const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
-        const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
-                                (b[2] - a[2]) * (b[2] - a[2]));
+        double dir[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const double len = sqrt(dot3(dir, dir));
         if (!(len > 0))
             continue;
+        for (int k = 0; k < 3; k++)
+            dir[k] /= len;
         double height = INFINITY;
         for (int k = 0; k < 2; k++) {
-            const int64_t *v = s->tri + 3 * (k ? t2 : t1);
-            const double *p = s->xyz + 3 * v[0], *q = s->xyz + 3 * v[1], *r = s->xyz + 3 * v[2];
-            const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-            const double w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-            const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                 u[0] * w[1] - u[1] * w[0]};
-            height = fmin(height, sqrt(dot3(c, c)) / len);
+            const int64_t t = k ? t2 : t1;
+            const double *p = s->xyz + 3 * s->tri[3 * t + (side_of(f, t, e) + 2) % 3];
+            const double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]}, along = dot3(ap, dir);
+            height = fmin(height, sqrt(fmax(0.0, dot3(ap, ap) - along * along)));
         }
         if (sin_fold * height > VC_VISIBLE_FOLD * scale) {
             f->edge_sharp[e] = VC_SHARP_FOLD;
