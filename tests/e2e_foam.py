@@ -632,6 +632,13 @@ for model, skew_rec in SKEW_EXACT.items():
         if not mode:
             grid = vtkcheck.read_vtu(vtu)
             cells = grid.GetNumberOfCells()
+            # the steps after the cells take seconds on large meshes: each
+            # says so (issue 16's progress lines, from 50,000 cells: bunny)
+            for line in ("mesh: ordering and checking %d cells" % cells,
+                         "mesh: %d cells valid; measuring them" % cells,
+                         "mesh: writing %s, %s" % (vtu, case)):
+                check((line in p.stderr) == (cells >= 50000), "%s: %d cells, progress line %r %s"
+                      % (model, cells, line, "missing" if cells >= 50000 else "printed"))
             out = checkmesh(name, case, cells)
             m = re.search(r"Total volume = ([\d.e+-]+?)\.?\s", out)
             total = vtu_total_volume(grid)

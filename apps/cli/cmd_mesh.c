@@ -24,6 +24,8 @@
 #define FOAM_COLLAPSE_ROUNDS 60
 /* checkMesh fails a mesh with a face more skew than this */
 #define CHECKMESH_MAX_SKEW 4
+/* meshes from this many cells say that they are being written */
+#define WRITE_PROGRESS_CELLS 50000
 /* input surfaces of one run (closed surfaces that share interfaces) */
 #define MAX_INPUTS 64
 #define MAX_PATCH_TYPES 64
@@ -742,6 +744,16 @@ static int run_mesh(int argc, char **argv)
     const double t_write_surface = vc_cli_now() - tw;
     if (out_path) {
         const double tm = vc_cli_now();
+        /* large meshes take seconds to write (and the OpenFOAM case's
+         * collapse): a progress line */
+        if (r.mesh.n_cells >= WRITE_PROGRESS_CELLS)
+            vc_log(&log, VC_LOG_INFO, "mesh: writing %s%s%s%s%s%s%s", out_path,
+                   conn_path ? ", " : "", conn_path ? conn_path : "", uge_path ? ", " : "",
+                   uge_path ? uge_path : "", tough_path || foam_path ? ", " : "",
+                   tough_path && foam_path ? "TOUGH MESH and OpenFOAM case"
+                   : tough_path            ? tough_path
+                   : foam_path             ? foam_path
+                                           : "");
         if (vc_write_vtu(&r.mesh, out_path, VC_VTU_ZLIB, &err))
             goto write_failed;
         /* and its boundary faces with their patches: OUT_boundary.vtu */

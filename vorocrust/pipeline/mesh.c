@@ -30,6 +30,10 @@
 #define SMOOTH_ANGLE 120.0/* theta_sharp after Loop smoothing: only edges folded
                              back beyond 120 degrees stay creases */
 
+/* Meshes from this many cells get a progress line for each step after
+ * the cells (ordering, checks, measures: about a second per 200,000). */
+#define PROGRESS_CELLS 50000
+
 /* The model sizes vc_mesh accepts (see vc_voronoi_build's seed extent). */
 #define VC_MESH_MIN_SIZE 1e-60
 #define VC_MESH_MAX_SIZE 1e60
@@ -795,6 +799,11 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))
         return named(err, name, NULL);
     out->has_mesh = 1;
+    /* what follows takes a second or more on a few hundred thousand
+     * cells: a progress line */
+    if (out->mesh.n_cells >= PROGRESS_CELLS)
+        vc_log(opt->log, VC_LOG_INFO, "mesh: ordering and checking %lld cells",
+               (long long)out->mesh.n_cells);
     const double t_order = now();
     /* the cells in a solver's order (reverse Cuthill-McKee), for every
      * output alike: the engine numbers them by seed, and the surface seeds
@@ -831,6 +840,9 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
                             (long long)out->mesh_problems, out->mesh_problem);
     }
     const double t_validated = now();
+    if (m->n_cells >= PROGRESS_CELLS)
+        vc_log(opt->log, VC_LOG_INFO, "mesh: %lld cells valid; measuring them",
+               (long long)m->n_cells);
     /* per-cell fatness goes into the .vtu as well */
     m->cell_fatness = malloc(sizeof(double) * (size_t)(m->n_cells ? m->n_cells : 1));
     if (!m->cell_fatness || vc_cell_quality_compute(m, &out->cell_quality, m->cell_fatness, opt->threads))

@@ -753,15 +753,21 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
                     vc_polymesh *out, vc_error *err)
 {
     const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
-    double t0 = wall_time(), tp = t0;
+    const int progress = vc_log_enabled(log, VC_LOG_INFO);
+    double t0 = wall_time(), tp = t0, t_info = t0;
+    /* a progress line after a pass when the last one is a second old (a
+     * million cells stitch in about 14 s on one thread) */
 #define PHASE(name)                                                                               \
     do {                                                                                          \
-        if (timing) {                                                                             \
-            const double now_ = wall_time();                                                      \
+        const double now_ = wall_time();                                                          \
+        if (timing)                                                                               \
             vc_log(log, VC_LOG_DEBUG, "  stitch: %-10s %.3f s, resident %.0f MiB", name,         \
                    now_ - tp, resident_mib());                                                    \
-            tp = now_;                                                                            \
+        if (progress && now_ - t_info >= 1.0) {                                                   \
+            vc_log(log, VC_LOG_INFO, "voronoi: stitching, %s done, %.1f s", name, now_ - t0);     \
+            t_info = now_;                                                                        \
         }                                                                                         \
+        tp = now_;                                                                                \
     } while (0)
     memset(out, 0, sizeof *out);
     stitch st;
