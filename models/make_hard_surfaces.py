@@ -884,6 +884,71 @@ def case_scan_sphere():
     return jitter(pts, 0.002, 23), tris
 
 
+def normal_jitter(pts, tris, amplitude, seed):
+    """Every vertex moved along its area-weighted normal by seeded uniform
+    noise of +-amplitude."""
+    nrm = [[0.0, 0.0, 0.0] for _ in pts]
+    for t in tris:
+        a, b, c = (pts[i] for i in t)
+        n = cross(sub(b, a), sub(c, a))
+        for i in t:
+            for d in range(3):
+                nrm[i][d] += n[d]
+    rng = random.Random(seed)
+    out = []
+    for p, n in zip(pts, nrm):
+        ln = math.sqrt(dot(n, n)) or 1.0
+        t = rng.uniform(-amplitude, amplitude)
+        out.append(tuple(p[d] + t * n[d] / ln for d in range(3)))
+    return out
+
+
+def case_rough_blob():
+    """An icosahedron Loop-subdivided 5 times (20,480 triangles), projected
+    onto a bumpy star-shaped surface, every vertex moved radially by up to
+    0.7 of the default error bound: noise at the facets' own scale (a rough
+    scan). A radial graph: the noise cannot make it intersect itself."""
+    ico = vtk.vtkPlatonicSolidSource()
+    ico.SetSolidTypeToIcosahedron()
+    loop = vtk.vtkLoopSubdivisionFilter()
+    loop.SetInputConnection(ico.GetOutputPort())
+    loop.SetNumberOfSubdivisions(5)
+    loop.Update()
+    pts, tris = clean(*polydata_to_lists(loop.GetOutput()))
+
+    def radius(u):
+        x, y, z = u
+        return 1.0 + 0.22 * math.sin(3 * x + 1) * math.cos(2 * y) + 0.15 * math.sin(4 * z + 2 * x)
+
+    bumpy = []
+    for p in pts:
+        n = math.sqrt(dot(p, p))
+        u = tuple(c / n for c in p)
+        bumpy.append(tuple(c * radius(u) for c in u))
+    amp = 0.7 * 0.004 * bbox_diag(bumpy)
+    rng = random.Random(37)
+    out = []
+    for q in bumpy:
+        n = math.sqrt(dot(q, q))
+        t = rng.uniform(-amp, amp)
+        out.append(tuple(c + t * c / n for c in q))
+    return out, tris
+
+
+def case_noisy_plate():
+    """csg_plate Loop-subdivided once (marching-cubes staircases and a
+    hole, 40k triangles), every vertex moved along its normal by up to 0.4
+    of the default error bound: folds everywhere between facets smaller
+    than the bound (a jittered fine tessellation)."""
+    pts, tris = clean(*case_csg_plate())
+    loop = vtk.vtkLoopSubdivisionFilter()
+    loop.SetInputData(lists_to_polydata(pts, tris))
+    loop.SetNumberOfSubdivisions(1)
+    loop.Update()
+    pts, tris = clean(*polydata_to_lists(loop.GetOutput()))
+    return normal_jitter(pts, tris, 0.4 * 0.004 * bbox_diag(pts), 41), tris
+
+
 def case_turned_needles():
     """A UV sphere with eight pleats: in eight triangles (u, v, o) a point w
     near the middle of the edge u v, moved across it onto the neighbouring
@@ -1067,6 +1132,8 @@ CASES = [
     ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),
+    ("rough_blob", case_rough_blob, "bumpy star-shaped subdivided icosahedron, every vertex moved radially by up to 0.7 of the default error bound: noise at the facets' scale", 2),
+    ("noisy_plate", case_noisy_plate, "csg_plate Loop-subdivided, every vertex moved along its normal by up to 0.4 of the default error bound", 0),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

@@ -26,6 +26,10 @@ with default options, and the test checks:
  - turned_needles: the repair said (EXPECTED_REPAIR);
  - box_speck: the summary's peak memory below 100 MiB (PEAK_MIB);
  - mc_needles: the planted needles' folds judged noise, no edge ball (SPECKS);
+ - rough_blob, noisy_plate, uv_noisy: noise at the error bound, a copy smoothed
+   within half the bound sampled instead (DENOISED; checked against the
+   input like every case), and with --denoise off the input's balls at
+   least 1.5 times the copy's;
  - uv_tight: meshed at --max-error 1e-4 (OPTIONS), its folds made creases
    from the first sampling (VISIBLE_FOLDS), the Hausdorff distance within
    5/4 of that bound;
@@ -63,7 +67,7 @@ WITHIN_ERROR_BOUND = {"prism12"}
 # Where a pass of the sampler acts that no shared model reaches (the
 # input-vertex check): the same .vtu on one thread as on two.
 # uv_noisy: the folds judged in parallel (session 27).
-THREAD_COUNT_CHECKED = {"prism12", "scan_sphere", "uv_noisy", "uv_tight"}
+THREAD_COUNT_CHECKED = {"prism12", "scan_sphere", "uv_noisy", "uv_tight", "rough_blob"}
 # Folds over theta_sharp that are noise at the error bound (session 26):
 # the marching-cubes sphere with noise 1/7 of the bound has 1,261 of them;
 # judged as features they made 1,800 corners and radius bounds of 1e-4
@@ -85,6 +89,16 @@ SPECKS = {"mc_needles": 12}
 # of a marching-cubes union, creases drawn as staircases of folds partly
 # below theta_sharp, stalled it (15 folds added on csg_animal).
 FOLDS_RESAMPLED = {"csg_animal"}
+# Noise at the error bound (session 35, vorocrust/pipeline/denoise_choice.c):
+# the input's facets fold everywhere at a fraction of the bound, the sizing
+# predicts 1.5 times more balls or more than for a copy smoothed within half
+# the bound, which is sampled within the other half. rough_blob: 1.44e4
+# predicted against 4.6e3 (the input sampled: 14,036 balls, Q min 0.246,
+# 5.2 s; the copy: 3,252, Q min 0.405, 1.0 s); noisy_plate: 1.9e4 against
+# 9.0e3 (the input: 19,320 balls, Q min 0.185; the copy: 7,978, Q min
+# 0.401); uv_noisy, whose noisy poles are also judged noise: 5.0e3 against
+# 2.2e3 (3,363 balls before, 1,290 with the copy, Q min 0.404).
+DENOISED = {"rough_blob", "noisy_plate", "uv_noisy"}
 # Options beyond the defaults, and the error bound (a fraction of the
 # diagonal) the Hausdorff distance is then held to (5/4 of it, as 0.5% for
 # the default 0.4%).
@@ -183,6 +197,25 @@ def main():
         check(m is not None and m.group(2) == m.group(3) == "0" and int(m.group(1)) <= NOISE_JUDGED[name],
               "%s: balls %s (corner and edge balls, or more than %d)"
               % (name, m and m.group(0), NOISE_JUDGED[name]))
+    m = re.search(r"mesh: noise at the error bound: the input would take about ([0-9.e+]+) balls, a "
+                  r"copy smoothed within ([0-9.e+-]+) \(([0-9.]+) of the bound; vertices moved "
+                  r"[0-9.e+-]+ on average\) ([0-9.e+]+) within the rest of the bound: sampling the copy", e)
+    if name in DENOISED:
+        check(m is not None and float(m.group(1)) >= 1.5 * float(m.group(4)) and
+              float(m.group(3)) <= 0.5 + 1e-9,
+              "%s: the denoised copy not sampled, or not as said: %s" % (name, m and m.group(0)))
+        if name == "noisy_plate":
+            # the input itself takes more balls and makes worse triangles
+            p0 = subprocess.run([BIN, "mesh", src, "--surface-only", "--surface",
+                                 os.path.join(tmp, "input_surface.obj"), "--threads", "2",
+                                 "--denoise", "off"], capture_output=True, text=True, timeout=900)
+            b0 = re.search(r"balls: (\d+) ", p0.stderr)
+            b1 = re.search(r"balls: (\d+) ", e)
+            check(p0.returncode == 0 and b0 and b1 and int(b0.group(1)) >= 1.5 * int(b1.group(1)),
+                  "%s --denoise off: exit %d, balls %s against %s with the copy"
+                  % (name, p0.returncode, b0 and b0.group(1), b1 and b1.group(1)))
+    else:
+        check(m is None, "%s: a denoised copy sampled: %s" % (name, m and m.group(0)))
     if name in VISIBLE_FOLDS:
         m = re.search(r"mesh: (\d+) folds below 60 degrees are creases", e)
         check(m is not None and int(m.group(1)) >= VISIBLE_FOLDS[name],

@@ -82,6 +82,10 @@ static void usage(FILE *f)
         "                      thesis uses %d, but Loop moves the surface off the input)\n"
         "  --max-error E       approximation error bound, a fraction of the bounding-box\n"
         "                      diagonal, 0 <= E < 1 (default %g; 0: none, as in the thesis)\n"
+        "  --denoise auto|on|off  noise at the error bound: sample a copy of the input\n"
+        "                      smoothed within half the bound (Taubin), within the other\n"
+        "                      half; auto (default): when the sizing predicts that the\n"
+        "                      input would take at least 1.5 times the copy's balls\n"
         "  --smooth-width K    experimental: centre the surface balls on a smooth surface\n"
         "                      near the input (moving least squares, kernel K times the\n"
         "                      error bound; 4 is a good start) instead of on its facets,\n"
@@ -123,7 +127,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing", "--foam", "--lloyd", "--protect", "--quartet-gap",
+                                             "--interior-spacing", "--foam", "--lloyd", "--protect", "--quartet-gap", "--denoise",
                                              "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough",
                                              "--patch-type", "--patches"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
@@ -201,6 +205,16 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             sq->q_mean, sq->pct_below_30, sq->pct_above_90, (long long)sq->n_triangles, t_read,
             t->features, t->sizing, t->corners, t->edges, t->surface, t->lipschitz, t->slivers,
             t->seeds, t->reconstruct, t_write_surface, failed_time);
+    if (r->denoise.used) {
+        const double bound = r->denoise.bound + r->denoise.moved.max_move;
+        fprintf(stderr,
+                "  denoised copy sampled: vertices moved at most %.3g (%.2f of the error bound), "
+                "%.3g on average; the copy's error bound %.3g; balls predicted for the input %.3g, "
+                "for the copy %.3g; %.3f s\n",
+                r->denoise.moved.max_move, bound > 0 ? r->denoise.moved.max_move / bound : 0,
+                r->denoise.moved.mean_move, r->denoise.bound, r->denoise.n_input,
+                r->denoise.n_denoised, t->denoise);
+    }
     for (int64_t k = 0; r->multi_material && k < r->n_regions; k++) {
         const vc_region_mesh *g = &r->region_mesh[k];
         if (g->label == 0) {
@@ -484,6 +498,18 @@ static int run_mesh(int argc, char **argv)
                 opt.interior = VC_INTERIOR_NONE;
             else {
                 fprintf(stderr, "vorocrust: --interior: '%s' is not octree, lattice or none\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--denoise")) {
+            if (!strcmp(v, "auto"))
+                opt.denoise = 0;
+            else if (!strcmp(v, "on"))
+                opt.denoise = 1;
+            else if (!strcmp(v, "off"))
+                opt.denoise = -1;
+            else {
+                fprintf(stderr, "vorocrust: --denoise: '%s' is not auto, on or off\n", v);
                 return 2;
             }
             i++;

@@ -88,6 +88,30 @@ extern "C" {
 int vc_surface_smooth(const vc_surface *in, const vc_features *f, int iterations,
                       double flat_angle_deg, vc_surface *out, vc_error *err);
 
+/* Denoising within a bound (vorocrust/surface/denoise.c): `iterations`
+ * pairs of Taubin's lambda|mu steps of the umbrella Laplacian (lambda 0.5,
+ * mu -0.53: frequencies above about a ninth of the mesh's own decay, the
+ * shape below stays, without shrinking), every vertex held within
+ * max_move of its input position after each step. Every vertex moves,
+ * corners and creases too: the bound is what protects them. The
+ * triangles, their order and groups are the input's, so a closed,
+ * oriented input stays one with the same topology (the surface may come
+ * to touch itself only where two sheets are closer than 2 max_move).
+ * The result does not depend on the thread count. out is allocated (free
+ * with vc_surface_free); rep (may be NULL) gets the moves. Fails (out
+ * zeroed) with VC_EPARAM (max_move negative or not finite, iterations
+ * outside 0..VC_DENOISE_MAX_ITERATIONS), VC_EINPUT (a vertex index out
+ * of range), VC_ENOMEM. */
+#define VC_DENOISE_MAX_ITERATIONS 1000
+typedef struct vc_denoise_report {
+    double max_move;  /* largest distance of a vertex from its input position */
+    double mean_move;
+    int64_t n_held;   /* vertices that ended max_move away (held by the bound) */
+} vc_denoise_report;
+
+int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, int threads,
+                       vc_surface *out, vc_denoise_report *rep, vc_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -43,6 +43,7 @@
 #include "vorocrust/regions.h"
 #include "vorocrust/sampling.h"
 #include "vorocrust/seeds.h"
+#include "vorocrust/smoothing.h"
 #include "vorocrust/surface.h"
 #include "vorocrust/version.h"
 
@@ -139,6 +140,13 @@ typedef struct vc_mesh_options {
      * the Voronoi cells). */
     double protect_edge;
     double quartet_gap;      /* vc_sampling_options.quartet_gap; default 0 */
+    /* Noise at the error bound (docs/sampling-convergence.md, session 35):
+     * 0 (default): the input is sampled, or a copy of it smoothed within
+     * half the error bound (vc_surface_denoise) and sampled within the
+     * other half when the sizing predicts that the input would take at
+     * least 1.5 times the copy's balls; 1: the copy always; -1: the input
+     * always. Not with smooth_iterations or smooth_width. */
+    int denoise;
     int threads;             /* <= 0: OpenMP's default */
     /* A sampling predicted (from the sizing) to need more balls than this
      * is refused before it starts, and one that reaches it stops, both with
@@ -156,6 +164,14 @@ void vc_mesh_options_default(vc_mesh_options *opt);
  * holds with a margin (about 16 KiB per ball for the balls, seeds, surface
  * and volume mesh). */
 int64_t vc_mesh_default_max_balls(void);
+
+/* Whether a denoised copy of the input was sampled (vc_mesh_options.denoise). */
+typedef struct vc_denoise_choice {
+    int used;                   /* the copy was sampled */
+    double n_input, n_denoised; /* balls predicted for each (0 when not predicted) */
+    double bound;               /* the copy's absolute error bound: the input's less max_move */
+    vc_denoise_report moved;    /* how far the copy's vertices are from the input's */
+} vc_denoise_choice;
 
 /* Quality of the reconstructed surface: polygons fanned from their
  * centroid (triangles as they are), Q = the triangle quality of
@@ -210,6 +226,7 @@ typedef struct vc_mesh_times {
     double features;        /* detection and smoothing of the kept attempt */
     double sizing, corners, edges, surface, lipschitz, slivers; /* the sampling */
     double failed_sampling; /* the attempt that diverged, when resampled */
+    double denoise;         /* the denoised copy and the two predictions */
     double seeds, reconstruct, interior, lloyd, protect, voronoi, quality;
     double total;
 } vc_mesh_times;
@@ -247,6 +264,7 @@ typedef struct vc_mesh_result {
     double sharp_angle;         /* the angle of the kept one */
     int resampled;              /* 1 when the first attempt diverged */
     int smooth_iterations;      /* rounds applied before the kept sampling */
+    vc_denoise_choice denoise;  /* the denoised copy, when sampled instead of the input */
     int64_t n_sampled_triangles;/* triangles of the sampled (maybe smoothed) surface */
     vc_balls balls;
     vc_sampling_stats sampling;

@@ -20,6 +20,7 @@
 #include "vorocrust/features.h"
 #include "vorocrust/regions.h"
 #include "boundary_groups.h"
+#include "denoise_choice.h"
 #include "materials.h"
 #include "vorocrust/features.h"
 #include "vorocrust/smoothing.h"
@@ -486,11 +487,51 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     if (opt->patches == VC_PATCHES_GROUPS && s->tri_group && s->n_groups > 1 &&
         (rc = group_borders(s, opt->sharp_angle, &extra, err)) != 0)
         return named(err, name, NULL);
+    /* noise at the error bound: sample a copy smoothed within half of it
+     * when the sizing says the noise costs (denoise_choice.c); not with
+     * the smoothing options, which have their own surface */
+    vc_surface denoised;
+    memset(&denoised, 0, sizeof denoised);
+    vc_denoise_choice *dc = &out->denoise;
+    memset(dc, 0, sizeof *dc);
+    if (smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0) {
+        const double t_choice = now();
+        if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
+                                     opt->max_size, opt->denoise, opt->threads, &denoised, dc,
+                                     err)) != 0) {
+            free(extra);
+            return named(err, name, NULL);
+        }
+        out->time.denoise = now() - t_choice;
+        vc_log(opt->log, VC_LOG_DEBUG,
+               "  mesh: balls predicted for the input %.4g, for a copy smoothed within %.4g "
+               "(mean move %.3g) %.4g; %.3f s", dc->n_input, dc->moved.max_move,
+               dc->moved.mean_move, dc->n_denoised, out->time.denoise);
+        if (dc->used) {
+            so.max_error = dc->bound / vc_surface_diagonal(&denoised);
+            if (opt->denoise > 0)
+                vc_log(opt->log, VC_LOG_INFO,
+                       "mesh: sampling a copy smoothed within %.3g (--denoise on: %.2f of the "
+                       "error bound, vertices moved %.3g on average)",
+                       dc->moved.max_move, dc->moved.max_move / error_bound_of(s, opt->max_error),
+                       dc->moved.mean_move);
+            else
+                vc_log(opt->log, VC_LOG_INFO,
+                       "mesh: noise at the error bound: the input would take about %.3g balls, a "
+                       "copy smoothed within %.3g (%.2f of the bound; vertices moved %.3g on "
+                       "average) %.3g within the rest of the bound: sampling the copy",
+                       dc->n_input, dc->moved.max_move,
+                       dc->moved.max_move / error_bound_of(s, opt->max_error),
+                       dc->moved.mean_move, dc->n_denoised);
+        }
+    }
+    const vc_surface *base = dc->used ? &denoised : s;
     int fold_round = 0;
     if (folds) {
         stuck = calloc((size_t)s->n_triangles + 1, 1);
         if (!stuck) {
             free(extra);
+            vc_surface_free(&denoised);
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
         }
         so.stuck_tri = stuck;
@@ -498,14 +539,14 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     }
     for (int attempt = 0;; attempt++) {
         const double t1 = now();
-        const vc_surface *sampled = s;
+        const vc_surface *sampled = base;
         /* said first: on a fine noisy surface the folds judged at the
          * error bound take seconds (a 198,400-triangle UV sphere: 7 s) */
-        const double bound = error_bound_of(s, opt->max_error);
+        const double bound = dc->used ? dc->bound : error_bound_of(s, opt->max_error);
         if (attempt == 0)
             vc_log(opt->log, VC_LOG_INFO, "mesh: sharp features of %lld triangles at %g degrees, "
                    "judged at the error bound %g", (long long)s->n_triangles, so.sharp_angle, bound);
-        if (vc_features_detect_scaled(s, so.sharp_angle, extra, bound, &f, err)) {
+        if (vc_features_detect_scaled(base, so.sharp_angle, extra, bound, &f, err)) {
             rc = named(err, name, NULL);
             break;
         }
@@ -527,7 +568,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                    "after)", smooth, (long long)s->n_triangles,
                    (long long)s->n_triangles << (2 * smooth));
             vc_surface_free(&smoothed);
-            if (vc_surface_smooth(s, &f, smooth, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &smoothed, err)) {
+            if (vc_surface_smooth(base, &f, smooth, VC_SMOOTH_DEFAULT_FLAT_ANGLE, &smoothed, err)) {
                 rc = named(err, name, "smoothing");
                 break;
             }
@@ -593,7 +634,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
          * left) is sampled again as a diverged one is */
         int plan = (out->sampling.diverged || refused_creases || unresolved) &&
                            (!folds || attempt == 0)
-                       ? resample_plan(s, sampled == s ? &f : NULL, so.sharp_angle,
+                       ? resample_plan(base, sampled == base ? &f : NULL, so.sharp_angle,
                                        /* smoothing would move the interfaces off the
                                           regions the seeds are located in */
                                        mm ? opt->resample & ~VC_RESAMPLE_SMOOTH : opt->resample,
@@ -638,6 +679,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     }
     vc_features_free(&f);
     vc_surface_free(&smoothed);
+    vc_surface_free(&denoised);
     free(stuck);
     free(extra);
     return rc;

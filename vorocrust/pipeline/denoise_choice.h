@@ -1,0 +1,29 @@
+/* Whether the sampling takes a denoised copy of the input (see
+ * denoise_choice.c). Internal to the pipeline. */
+#ifndef VC_PIPELINE_DENOISE_CHOICE_H
+#define VC_PIPELINE_DENOISE_CHOICE_H
+
+#include "vorocrust/vorocrust.h"
+
+/* Smoothing moves no vertex farther than this share of the error bound;
+ * the denoised surface is then sampled within the rest of it. */
+#define VC_DENOISE_SHARE 0.5
+/* Taubin lambda|mu pairs of steps */
+#define VC_DENOISE_ITERATIONS 40
+/* The denoised copy is taken when the input's predicted balls are at
+ * least this many times the copy's. */
+#define VC_DENOISE_GAIN 1.5
+
+/* Predicts the balls of a sampling of s at theta_sharp sharp_angle (extra:
+ * the edges that are creases whatever their angle, or NULL), the absolute
+ * error bound `bound` (> 0) and largest radius max_size (<= 0: the
+ * diagonal), then of a denoised copy (vc_surface_denoise by
+ * VC_DENOISE_SHARE of the bound) sampled within the rest of the bound. The
+ * copy is kept in *denoised and ch->used set when it takes VC_DENOISE_GAIN
+ * times fewer balls (force > 0: always; force < 0: never, nothing done).
+ * Returns 0, or an error code (VC_ENOMEM) with *denoised zeroed. */
+int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
+                       double bound, double max_size, int force, int threads,
+                       vc_surface *denoised, vc_denoise_choice *ch, vc_error *err);
+
+#endif

@@ -1,0 +1,134 @@
+/* Denoising within a bound (see vorocrust/smoothing.h, vc_surface_denoise).
+ *
+ * Taubin's lambda|mu smoothing: a step of the umbrella Laplacian with
+ * lambda > 0 (shrinks every frequency), then one with mu < -lambda
+ * (grows them back), so frequencies below the pass band k_pb = 1 / lambda
+ * + 1 / mu keep their amplitude and those above it decay: the noise goes,
+ * the shape stays, with no overall shrinking. Each vertex is then held
+ * within max_move of where it was in the input, which bounds what the
+ * smoothing may do to anything that is not noise (a crease, a thin wall,
+ * a coarse facet): never more than max_move.
+ *
+ * Updates are Jacobi steps (new positions from the previous ones), in
+ * parallel over the vertices; each vertex's sum runs over its triangles in
+ * a fixed order, so the result does not depend on the thread count. */
+#include "vorocrust/smoothing.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/csr_group.h"
+
+#define TAUBIN_LAMBDA 0.5
+#define TAUBIN_MU -0.53 /* pass band 1 / 0.5 + 1 / -0.53 = 0.11 */
+
+/* One umbrella step of weight w from x into y, each vertex held within
+ * max_move of its input position x0. */
+static void umbrella_step(const vc_surface *s, const int64_t *vstart, const int64_t *vtri,
+                          const double *x0, const double *x, double *y, double w, double max_move,
+                          int threads)
+{
+    const int64_t n = s->n_vertices;
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > 4096)
+    for (int64_t v = 0; v < n; v++) {
+        double sum[3] = {0, 0, 0};
+        int64_t k = 0;
+        for (int64_t j = vstart[v]; j < vstart[v + 1]; j++) {
+            const int64_t *t = s->tri + 3 * vtri[j];
+            for (int c = 0; c < 3; c++) {
+                if (t[c] == v)
+                    continue;
+                for (int d = 0; d < 3; d++)
+                    sum[d] += x[3 * t[c] + d];
+                k++;
+            }
+        }
+        double p[3];
+        for (int d = 0; d < 3; d++)
+            p[d] = k > 0 ? x[3 * v + d] + w * (sum[d] / (double)k - x[3 * v + d]) : x[3 * v + d];
+        /* held within max_move of the input */
+        const double dx = p[0] - x0[3 * v], dy = p[1] - x0[3 * v + 1], dz = p[2] - x0[3 * v + 2];
+        const double m = sqrt(dx * dx + dy * dy + dz * dz);
+        if (m > max_move) {
+            const double f = max_move / m;
+            p[0] = x0[3 * v] + f * dx;
+            p[1] = x0[3 * v + 1] + f * dy;
+            p[2] = x0[3 * v + 2] + f * dz;
+        }
+        memcpy(y + 3 * v, p, sizeof p);
+    }
+}
+
+int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, int threads,
+                       vc_surface *out, vc_denoise_report *rep, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (rep)
+        memset(rep, 0, sizeof *rep);
+    if (!(max_move >= 0) || !isfinite(max_move))
+        return vc_error_set(err, VC_EPARAM, "denoising: largest move %g: needs a finite number >= 0",
+                            max_move);
+    if (iterations < 0 || iterations > VC_DENOISE_MAX_ITERATIONS)
+        return vc_error_set(err, VC_EPARAM, "denoising: %d iterations: needs 0 to %d", iterations,
+                            VC_DENOISE_MAX_ITERATIONS);
+    const int64_t nv = in->n_vertices, nt = in->n_triangles;
+    for (int64_t i = 0; i < 3 * nt; i++)
+        if (in->tri[i] < 0 || in->tri[i] >= nv)
+            return vc_error_set(err, VC_EINPUT, "denoising: triangle %lld refers to vertex %lld of %lld",
+                                (long long)(i / 3), (long long)in->tri[i], (long long)nv);
+    int64_t *vstart = NULL, *vtri = NULL;
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(nv ? nv : 1));
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt ? nt : 1));
+    double *tmp = malloc(sizeof(double) * 3 * (size_t)(nv ? nv : 1));
+    if (in->tri_group) {
+        out->tri_group = malloc(sizeof(int32_t) * (size_t)(nt ? nt : 1));
+        out->group_name = malloc(sizeof *out->group_name * (size_t)(in->n_groups ? in->n_groups : 1));
+    }
+    if (!out->xyz || !out->tri || !tmp || (in->tri_group && (!out->tri_group || !out->group_name)) ||
+        vc_csr_group(in->tri, nt, 3, nv, NULL, &vstart, &vtri)) {
+        free(tmp);
+        vc_surface_free(out);
+        return vc_error_set(err, VC_ENOMEM, "denoising: out of memory");
+    }
+    out->n_vertices = nv;
+    out->n_triangles = nt;
+    memcpy(out->tri, in->tri, sizeof(int64_t) * 3 * (size_t)nt);
+    if (in->tri_group) {
+        memcpy(out->tri_group, in->tri_group, sizeof(int32_t) * (size_t)nt);
+        memcpy(out->group_name, in->group_name, sizeof *out->group_name * (size_t)in->n_groups);
+        out->n_groups = in->n_groups;
+    }
+    memcpy(out->xyz, in->xyz, sizeof(double) * 3 * (size_t)nv);
+    for (int i = 0; i < iterations; i++) {
+        /* x -> tmp (lambda), tmp -> x (mu) */
+        umbrella_step(in, vstart, vtri, in->xyz, out->xyz, tmp, TAUBIN_LAMBDA, INFINITY, threads);
+        umbrella_step(in, vstart, vtri, in->xyz, tmp, out->xyz, TAUBIN_MU, INFINITY, threads);
+    }
+    /* each vertex's move scaled down to max_move at most */
+    for (int64_t v = 0; v < nv; v++) {
+        double *p = out->xyz + 3 * v;
+        const double *q = in->xyz + 3 * v;
+        const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+        const double m = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (m > max_move)
+            for (int k = 0; k < 3; k++)
+                p[k] = q[k] + d[k] * (max_move / m);
+    }
+    free(tmp);
+    free(vstart);
+    free(vtri);
+    if (rep) {
+        double sum = 0;
+        for (int64_t v = 0; v < nv; v++) {
+            const double *a = in->xyz + 3 * v, *b = out->xyz + 3 * v;
+            const double m = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                  (a[2] - b[2]) * (a[2] - b[2]));
+            rep->max_move = fmax(rep->max_move, m);
+            sum += m;
+            rep->n_held += m >= max_move * (1 - 1e-12) && max_move > 0 && m > 0;
+        }
+        rep->mean_move = nv ? sum / (double)nv : 0;
+    }
+    return 0;
+}
