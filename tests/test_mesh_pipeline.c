@@ -403,6 +403,41 @@ int main(void)
         vc_mesh_result_free(&alone);
     }
 
+    /* the denoised copy (vc_mesh_options.denoise): a clean icosphere keeps
+     * its input by default (both predicted), always takes the copy with 1,
+     * and predicts nothing with -1; the copy stays within half the bound */
+    {
+        const double bound = d.max_error * vc_surface_diagonal(&ico);
+        const int modes[3] = {0, 1, -1};
+        for (int k = 0; k < 3; k++) {
+            o = d;
+            o.surface_only = 1;
+            o.denoise = modes[k];
+            if (vc_mesh(&ico, &o, &r, &err) != 0) {
+                CHECKF(0, "icosphere, denoise %d: %s", modes[k], err.msg);
+                continue;
+            }
+            const vc_denoise_choice *c = &r.denoise;
+            if (modes[k] == 0)
+                CHECKF(!c->used && c->n_input > 0 && c->n_denoised > 0 &&
+                           c->n_input < 1.5 * c->n_denoised,
+                       "denoise auto: used %d, predicted %g and %g", c->used, c->n_input,
+                       c->n_denoised);
+            else if (modes[k] == 1)
+                CHECKF(c->used && c->moved.max_move > 0 && c->moved.max_move <= 0.5 * bound * (1 + 1e-12) &&
+                           fabs(c->bound - (bound - c->moved.max_move)) <= 1e-12 * bound &&
+                           r.surface_closed && fabs(r.surface_volume - in.volume) <= 0.01 * in.volume,
+                       "denoise on: used %d, moved %g (bound %g), copy's bound %g, closed %d, "
+                       "volume %g (input %g)", c->used, c->moved.max_move, bound, c->bound,
+                       r.surface_closed, r.surface_volume, in.volume);
+            else
+                CHECKF(!c->used && c->n_input == 0 && c->n_denoised == 0,
+                       "denoise off: used %d, predicted %g and %g", c->used, c->n_input,
+                       c->n_denoised);
+            vc_mesh_result_free(&r);
+        }
+    }
+
     /* lattice and no interior: no MPI needed either */
     o = d;
     o.interior = VC_INTERIOR_LATTICE;
