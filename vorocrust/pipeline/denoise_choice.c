@@ -75,7 +75,5 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
         return rc;
     }
     ch->used = force > 0 || ch->n_input >= VC_DENOISE_GAIN * ch->n_denoised;
-    if (!ch->used)
-        vc_surface_free(denoised);
     return 0;
 }

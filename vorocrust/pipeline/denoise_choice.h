@@ -19,9 +19,11 @@
  * error bound `bound` (> 0) and largest radius max_size (<= 0: the
  * diagonal), then of a denoised copy (vc_surface_denoise by
  * VC_DENOISE_SHARE of the bound) sampled within the rest of the bound. The
- * copy is kept in *denoised and ch->used set when it takes VC_DENOISE_GAIN
- * times fewer balls (force > 0: always; force < 0: never, nothing done).
- * Returns 0, or an error code (VC_ENOMEM) with *denoised zeroed. */
+ * copy is left in *denoised (the caller frees it; kept for a sampling of
+ * the input that diverges), and ch->used set when it takes
+ * VC_DENOISE_GAIN times fewer balls (force > 0: always, nothing
+ * predicted; force < 0: never, nothing done, *denoised zeroed). Returns
+ * 0, or an error code (VC_ENOMEM) with *denoised zeroed. */
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
                        double bound, double max_size, int force, int threads,
                        vc_surface *denoised, vc_denoise_choice *ch, vc_error *err);

@@ -525,7 +525,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                        dc->moved.mean_move, dc->n_denoised);
         }
     }
-    const vc_surface *base = dc->used ? &denoised : s;
+    const vc_surface *base = dc->used ? &denoised : s; /* changes if the input diverges */
     int fold_round = 0;
     if (folds) {
         stuck = calloc((size_t)s->n_triangles + 1, 1);
@@ -596,6 +596,29 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         int new_smooth = smooth;
         int64_t n_folds = 0, n_edges = 0;
         vc_error why = *err;
+        /* Sliver elimination fought the input's folds without end: the
+         * copy smoothed within half the bound is sampled next (once; the
+         * fold rounds below then act on it). A clean marching-cubes part
+         * whose sharp rims are staircases of folds needs it: the copy's
+         * prediction is close to the input's, but its rims are smooth at
+         * the bound's scale. */
+        if (out->sampling.diverged && !dc->used && denoised.xyz && smooth == 0 && fold_round == 0) {
+            dc->used = 1;
+            base = &denoised;
+            so.max_error = dc->bound / vc_surface_diagonal(&denoised);
+            vc_log(opt->log, VC_LOG_INFO, "mesh: %s", why.msg);
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: sampling again a copy smoothed within %.3g (%.2f of the error bound; "
+                   "vertices moved %.3g on average), within the rest of the bound",
+                   dc->moved.max_move, dc->moved.max_move / error_bound_of(s, opt->max_error),
+                   dc->moved.mean_move);
+            vc_features_free(&f);
+            if (stuck)
+                memset(stuck, 0, (size_t)s->n_triangles + 1);
+            out->resampled = 1;
+            out->time.failed_sampling += now() - t1;
+            continue;
+        }
         if (folds && out->sampling.diverged && fold_round <= FOLD_LOCAL_ROUNDS) {
             if (!extra && !(extra = calloc((size_t)f.n_edges + 1, 1))) {
                 rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
