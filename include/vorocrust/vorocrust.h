@@ -145,7 +145,10 @@ typedef struct vc_mesh_options {
      * half the error bound (vc_surface_denoise) and sampled within the
      * other half when the sizing predicts that the input would take at
      * least 1.5 times the copy's balls; 1: the copy always; -1: the input
-     * always. Not with smooth_iterations or smooth_width. */
+     * always. A sampling of the input that diverges is followed by the
+     * copy's (unless -1). Not with smooth_iterations or smooth_width, nor
+     * on multi-material inputs (the seeds are located in the input's
+     * regions). */
     int denoise;
     int threads;             /* <= 0: OpenMP's default */
     /* A sampling predicted (from the sizing) to need more balls than this

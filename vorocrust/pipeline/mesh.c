@@ -489,12 +489,14 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         return named(err, name, NULL);
     /* noise at the error bound: sample a copy smoothed within half of it
      * when the sizing says the noise costs (denoise_choice.c); not with
-     * the smoothing options, which have their own surface */
+     * the smoothing options, which have their own surface, nor on several
+     * regions (the seeds are located in the input's regions: a copy would
+     * move the interfaces off them) */
     vc_surface denoised;
     memset(&denoised, 0, sizeof denoised);
     vc_denoise_choice *dc = &out->denoise;
     memset(dc, 0, sizeof *dc);
-    if (smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0) {
+    if (smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0 && !mm) {
         const double t_choice = now();
         if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
                                      opt->max_size, opt->denoise, opt->threads, &denoised, dc,
