@@ -24,43 +24,73 @@
 
 #include "util/csr_group.h"
 
-#define TAUBIN_LAMBDA 0.5
-#define TAUBIN_MU -0.53 /* pass band 1 / 0.5 + 1 / -0.53 = 0.11 */
+/* Taubin's own choice: pass band 1 / lambda + 1 / mu = 0.1 */
+#define TAUBIN_LAMBDA 0.6307
+#define TAUBIN_MU -0.6732
 
-/* One umbrella step of weight w from x into y, each vertex held within
- * max_move of its input position x0. */
-static void umbrella_step(const vc_surface *s, const int64_t *vstart, const int64_t *vtri,
-                          const double *x0, const double *x, double *y, double w, double max_move,
-                          int threads)
+/* The neighbours of every vertex (the other corners of its triangles,
+ * each once, ascending) in compressed rows; -1 when out of memory. */
+static int neighbours(const vc_surface *s, int64_t **start, int64_t **list)
 {
-    const int64_t n = s->n_vertices;
+    const int64_t nv = s->n_vertices;
+    int64_t *vstart = NULL, *vtri = NULL;
+    *start = *list = NULL;
+    if (vc_csr_group(s->tri, s->n_triangles, 3, nv, NULL, &vstart, &vtri))
+        return -1;
+    /* at most two per triangle at the vertex */
+    int64_t *st = malloc(sizeof(int64_t) * (size_t)(nv + 1));
+    int64_t *ls = malloc(sizeof(int64_t) * (size_t)(2 * vstart[nv] + 1));
+    if (!st || !ls) {
+        free(st);
+        free(ls);
+        free(vstart);
+        free(vtri);
+        return -1;
+    }
+    int64_t n = 0;
+    for (int64_t v = 0; v < nv; v++) {
+        st[v] = n;
+        for (int64_t j = vstart[v]; j < vstart[v + 1]; j++)
+            for (int c = 0; c < 3; c++) {
+                const int64_t u = s->tri[3 * vtri[j] + c];
+                if (u == v)
+                    continue;
+                /* insertion into the vertex's sorted run, once */
+                int64_t k = n;
+                while (k > st[v] && ls[k - 1] > u)
+                    k--;
+                if (k > st[v] && ls[k - 1] == u)
+                    continue;
+                memmove(ls + k + 1, ls + k, sizeof(int64_t) * (size_t)(n - k));
+                ls[k] = u;
+                n++;
+            }
+    }
+    st[nv] = n;
+    free(vstart);
+    free(vtri);
+    *start = st;
+    *list = ls;
+    return 0;
+}
+
+/* One umbrella step of weight w from x into y. */
+static void umbrella_step(int64_t n, const int64_t *start, const int64_t *list, const double *x,
+                          double *y, double w, int threads)
+{
 #pragma omp parallel for schedule(static) num_threads(threads) if (n > 4096)
     for (int64_t v = 0; v < n; v++) {
         double sum[3] = {0, 0, 0};
-        int64_t k = 0;
-        for (int64_t j = vstart[v]; j < vstart[v + 1]; j++) {
-            const int64_t *t = s->tri + 3 * vtri[j];
-            for (int c = 0; c < 3; c++) {
-                if (t[c] == v)
-                    continue;
-                for (int d = 0; d < 3; d++)
-                    sum[d] += x[3 * t[c] + d];
-                k++;
-            }
+        for (int64_t j = start[v]; j < start[v + 1]; j++) {
+            const double *q = x + 3 * list[j];
+            sum[0] += q[0];
+            sum[1] += q[1];
+            sum[2] += q[2];
         }
-        double p[3];
+        const int64_t k = start[v + 1] - start[v];
         for (int d = 0; d < 3; d++)
-            p[d] = k > 0 ? x[3 * v + d] + w * (sum[d] / (double)k - x[3 * v + d]) : x[3 * v + d];
-        /* held within max_move of the input */
-        const double dx = p[0] - x0[3 * v], dy = p[1] - x0[3 * v + 1], dz = p[2] - x0[3 * v + 2];
-        const double m = sqrt(dx * dx + dy * dy + dz * dz);
-        if (m > max_move) {
-            const double f = max_move / m;
-            p[0] = x0[3 * v] + f * dx;
-            p[1] = x0[3 * v + 1] + f * dy;
-            p[2] = x0[3 * v + 2] + f * dz;
-        }
-        memcpy(y + 3 * v, p, sizeof p);
+            y[3 * v + d] = k > 0 ? x[3 * v + d] + w * (sum[d] / (double)k - x[3 * v + d])
+                                 : x[3 * v + d];
     }
 }
 
@@ -81,7 +111,7 @@ int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, in
         if (in->tri[i] < 0 || in->tri[i] >= nv)
             return vc_error_set(err, VC_EINPUT, "denoising: triangle %lld refers to vertex %lld of %lld",
                                 (long long)(i / 3), (long long)in->tri[i], (long long)nv);
-    int64_t *vstart = NULL, *vtri = NULL;
+    int64_t *vstart = NULL, *vnb = NULL;
     out->xyz = malloc(sizeof(double) * 3 * (size_t)(nv ? nv : 1));
     out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt ? nt : 1));
     double *tmp = malloc(sizeof(double) * 3 * (size_t)(nv ? nv : 1));
@@ -91,7 +121,7 @@ int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, in
         out->group_name = malloc(sizeof *out->group_name * (size_t)(in->n_groups ? in->n_groups : 1));
     }
     if (!out->xyz || !out->tri || !tmp || !twice || (in->tri_group && (!out->tri_group || !out->group_name)) ||
-        vc_csr_group(in->tri, nt, 3, nv, NULL, &vstart, &vtri)) {
+        neighbours(in, &vstart, &vnb)) {
         free(tmp);
         free(twice);
         vc_surface_free(out);
@@ -109,13 +139,13 @@ int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, in
     memcpy(out->xyz, in->xyz, sizeof(double) * 3 * (size_t)nv);
     for (int i = 0; i < iterations; i++) {
         /* x -> tmp (lambda), tmp -> x (mu) */
-        umbrella_step(in, vstart, vtri, in->xyz, out->xyz, tmp, TAUBIN_LAMBDA, INFINITY, threads);
-        umbrella_step(in, vstart, vtri, in->xyz, tmp, out->xyz, TAUBIN_MU, INFINITY, threads);
+        umbrella_step(nv, vstart, vnb, out->xyz, tmp, TAUBIN_LAMBDA, threads);
+        umbrella_step(nv, vstart, vnb, tmp, out->xyz, TAUBIN_MU, threads);
     }
     memcpy(twice, out->xyz, sizeof(double) * 3 * (size_t)nv);
     for (int i = 0; i < iterations; i++) {
-        umbrella_step(in, vstart, vtri, in->xyz, twice, tmp, TAUBIN_LAMBDA, INFINITY, threads);
-        umbrella_step(in, vstart, vtri, in->xyz, tmp, twice, TAUBIN_MU, INFINITY, threads);
+        umbrella_step(nv, vstart, vnb, twice, tmp, TAUBIN_LAMBDA, threads);
+        umbrella_step(nv, vstart, vnb, tmp, twice, TAUBIN_MU, threads);
     }
     for (int64_t i = 0; i < 3 * nv; i++)
         out->xyz[i] = 2 * out->xyz[i] - twice[i];
@@ -132,7 +162,7 @@ int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, in
     free(tmp);
     free(twice);
     free(vstart);
-    free(vtri);
+    free(vnb);
     if (rep) {
         double sum = 0;
         for (int64_t v = 0; v < nv; v++) {
