@@ -9,7 +9,7 @@
  * the denoised surface is then sampled within the rest of it. */
 #define VC_DENOISE_SHARE 0.5
 /* Taubin lambda|mu pairs of steps */
-#define VC_DENOISE_ITERATIONS 40
+#define VC_DENOISE_ITERATIONS 80
 /* The denoised copy is taken when the input's predicted balls are at
  * least this many times the copy's. */
 #define VC_DENOISE_GAIN 1.5
