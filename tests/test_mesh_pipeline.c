@@ -407,8 +407,9 @@ int main(void)
     }
 
     /* the denoised copy (vc_mesh_options.denoise): a clean icosphere keeps
-     * its input by default (both predicted), always takes the copy with 1,
-     * and predicts nothing with -1; the copy stays within half the bound */
+     * its input by default (not rough: nothing predicted), always takes the
+     * copy with 1, and does nothing with -1; the copy stays within half
+     * the bound */
     {
         const double bound = d.max_error * vc_surface_diagonal(&ico);
         const int modes[3] = {0, 1, -1};
@@ -421,11 +422,10 @@ int main(void)
                 continue;
             }
             const vc_denoise_choice *c = &r.denoise;
-            if (modes[k] == 0)
-                CHECKF(!c->used && c->n_input > 0 && c->n_denoised > 0 &&
-                           c->n_input < 1.5 * c->n_denoised,
-                       "denoise auto: used %d, predicted %g and %g", c->used, c->n_input,
-                       c->n_denoised);
+            if (modes[k] == 0) /* clean: no vertex's normals spread by 20 degrees */
+                CHECKF(!c->used && c->rough_share <= 0.01 && c->n_input == 0 && c->n_denoised == 0,
+                       "denoise auto: used %d, rough vertices %g, predicted %g and %g", c->used,
+                       c->rough_share, c->n_input, c->n_denoised);
             else if (modes[k] == 1)
                 CHECKF(c->used && c->moved.max_move > 0 && c->moved.max_move <= 0.5 * bound * (1 + 1e-12) &&
                            fabs(c->bound - (bound - c->moved.max_move)) <= 1e-12 * bound &&

@@ -143,9 +143,10 @@ typedef struct vc_mesh_options {
     /* Noise at the error bound (docs/sampling-convergence.md, session 35):
      * 0 (default): the input is sampled, or a copy of it smoothed within
      * half the error bound (vc_surface_denoise) and sampled within the
-     * other half when the sizing predicts that the input would take at
-     * least 1.5 times the copy's balls; 1: the copy always; -1: the input
-     * always. A sampling of the input that diverges is followed by the
+     * other half when the input is rough (over 1% of its vertices with a
+     * triangle normal 20 degrees off their mean) and the sizing predicts
+     * that it would take at least 1.5 times the copy's balls; 1: the copy
+     * always; -1: the input always. A sampling of the input that diverges is followed by the
      * copy's (unless -1). Not with smooth_iterations or smooth_width, nor
      * on multi-material inputs (the seeds are located in the input's
      * regions). */
@@ -171,6 +172,8 @@ int64_t vc_mesh_default_max_balls(void);
 /* Whether a denoised copy of the input was sampled (vc_mesh_options.denoise). */
 typedef struct vc_denoise_choice {
     int used;                   /* the copy was sampled */
+    double rough_share;         /* vertices whose triangles' normals spread by over 20
+                                   degrees; 1% or less: nothing predicted, no copy made */
     double n_input, n_denoised; /* balls predicted for each (0 when not predicted) */
     double bound;               /* the copy's absolute error bound: the input's less max_move */
     vc_denoise_report moved;    /* how far the copy's vertices are from the input's */

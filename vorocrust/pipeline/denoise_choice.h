@@ -17,13 +17,19 @@
 /* Predicts the balls of a sampling of s at theta_sharp sharp_angle (extra:
  * the edges that are creases whatever their angle, or NULL), the absolute
  * error bound `bound` (> 0) and largest radius max_size (<= 0: the
- * diagonal), then of a denoised copy (vc_surface_denoise by
- * VC_DENOISE_SHARE of the bound) sampled within the rest of the bound. The
- * copy is left in *denoised (the caller frees it; kept for a sampling of
- * the input that diverges), and ch->used set when it takes
+ * diagonal), then, when the input's balls where its radius bound is below
+ * the error bound could make the difference, of a denoised copy
+ * (vc_make_denoised) sampled within the rest of the bound. A copy made
+ * is left in *denoised (the caller frees it; kept for a sampling of the
+ * input that diverges; none: zeroed), and ch->used set when it takes
  * VC_DENOISE_GAIN times fewer balls (force > 0: always, nothing
- * predicted; force < 0: never, nothing done, *denoised zeroed). Returns
- * 0, or an error code (VC_ENOMEM) with *denoised zeroed. */
+ * predicted; force < 0: never, nothing done). Returns 0, or an error code
+ * (VC_ENOMEM) with *denoised zeroed. */
+/* The copy alone: vc_surface_denoise of s by VC_DENOISE_SHARE of the
+ * absolute bound into *denoised, ch->moved and ch->bound set. */
+int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface *denoised,
+                     vc_denoise_choice *ch, vc_error *err);
+
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
                        double bound, double max_size, int force, int threads,
                        vc_surface *denoised, vc_denoise_choice *ch, vc_error *err);

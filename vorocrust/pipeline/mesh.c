@@ -604,7 +604,13 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
          * whose sharp rims are staircases of folds needs it: the copy's
          * prediction is close to the input's, but its rims are smooth at
          * the bound's scale. */
-        if (out->sampling.diverged && !dc->used && denoised.xyz && smooth == 0 && fold_round == 0) {
+        if (out->sampling.diverged && !dc->used && opt->denoise >= 0 && opt->max_error > 0 && !mm &&
+            !(opt->smooth_width > 0) && smooth == 0 && fold_round == 0) {
+            if (!denoised.xyz && vc_make_denoised(s, error_bound_of(s, opt->max_error), opt->threads,
+                                                  &denoised, dc, err)) {
+                rc = named(err, name, NULL);
+                break;
+            }
             dc->used = 1;
             base = &denoised;
             so.max_error = dc->bound / vc_surface_diagonal(&denoised);
