@@ -129,7 +129,7 @@ static void lengths(const double *a, const double *b, const double *c, double *a
 /* The balls predicted on the part abc of triangle t; lowers *r_min (and
  * sets where) by the bounds met. */
 static double patch_balls(const estimate_ctx *e, int64_t t, const double *a, const double *b, const double *c,
-                          int depth, double *r_min, double where[3], double *below)
+                          int depth, double *r_min, double where[3])
 {
     double x[3], area, longest;
     for (int d = 0; d < 3; d++)
@@ -150,17 +150,14 @@ static double patch_balls(const estimate_ctx *e, int64_t t, const double *a, con
             m[1][d] = 0.5 * (b[d] + c[d]);
             m[2][d] = 0.5 * (c[d] + a[d]);
         }
-        return patch_balls(e, t, a, m[0], m[2], depth + 1, r_min, where, below) +
-               patch_balls(e, t, m[0], b, m[1], depth + 1, r_min, where, below) +
-               patch_balls(e, t, m[2], m[1], c, depth + 1, r_min, where, below) +
-               patch_balls(e, t, m[0], m[1], m[2], depth + 1, r_min, where, below);
+        return patch_balls(e, t, a, m[0], m[2], depth + 1, r_min, where) +
+               patch_balls(e, t, m[0], b, m[1], depth + 1, r_min, where) +
+               patch_balls(e, t, m[2], m[1], c, depth + 1, r_min, where) +
+               patch_balls(e, t, m[0], m[1], m[2], depth + 1, r_min, where);
     }
     if (under_lower_strata(e, x))
         return 0;
-    const double n = r > 0 ? PATCH_DENSITY * area / (r * r) : INFINITY;
-    if (r < e->z->eps)
-        *below += n;
-    return n;
+    return r > 0 ? PATCH_DENSITY * area / (r * r) : INFINITY;
 }
 
 int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball_estimate *out)
@@ -171,17 +168,14 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     const int64_t nt = s->n_triangles, ne = f->n_edges, nv = s->n_vertices;
     double *tri_n = malloc(sizeof(double) * (size_t)(nt > 0 ? nt : 1));
     double *tri_r = malloc(sizeof(double) * (size_t)(nt > 0 ? nt : 1));
-    double *tri_below = malloc(sizeof(double) * (size_t)(nt > 0 ? nt : 1));
     double *tri_at = malloc(sizeof(double) * 3 * (size_t)(nt > 0 ? nt : 1));
     double *edge_n = malloc(sizeof(double) * (size_t)(ne > 0 ? ne : 1));
     double *edge_r = malloc(sizeof(double) * (size_t)(ne > 0 ? ne : 1));
     double *edge_ball = calloc((size_t)(ne > 0 ? ne : 1), sizeof(double));
     double *corner_r = calloc((size_t)(nv > 0 ? nv : 1), sizeof(double));
     int64_t *edge_rank = malloc(sizeof(int64_t) * (size_t)(ne > 0 ? ne : 1)); /* among sharp edges */
-    if (!tri_n || !tri_r || !tri_below || !tri_at || !edge_n || !edge_r || !edge_ball || !corner_r ||
-        !edge_rank) {
+    if (!tri_n || !tri_r || !tri_at || !edge_n || !edge_r || !edge_ball || !corner_r || !edge_rank) {
         free(tri_n);
-        free(tri_below);
         free(tri_r);
         free(tri_at);
         free(edge_n);
@@ -254,13 +248,12 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
 #pragma omp parallel for schedule(dynamic, 16) num_threads(nth)
     for (int64_t t = 0; t < nt; t++) {
         tri_n[t] = 0;
-        tri_below[t] = 0;
         tri_r[t] = INFINITY;
         if (fail || t % tri_stride != 0)
             continue;
         const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                      *c = s->xyz + 3 * s->tri[3 * t + 2];
-        tri_n[t] = patch_balls(&ec, t, a, b, c, 0, &tri_r[t], tri_at + 3 * t, &tri_below[t]);
+        tri_n[t] = patch_balls(&ec, t, a, b, c, 0, &tri_r[t], tri_at + 3 * t);
     }
     /* the evaluated ones stand for all: weights by area and length */
     double area_all = 0, area_eval = 0, len_all = 0, len_eval = 0;
@@ -286,10 +279,9 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     const double edge_weight = edge_stride > 1 && len_eval > 0 ? len_all / len_eval : 1;
     /* summed in index order: the same figure for any thread count */
     double n = 0, r_min = INFINITY;
-    double n_tri = 0, n_edge = 0, below_tri = 0, below_edge = 0;
+    double n_tri = 0, n_edge = 0;
     for (int64_t t = 0; t < nt; t++) {
         n_tri += tri_n[t];
-        below_tri += tri_below[t];
         if (tri_r[t] < r_min) {
             r_min = tri_r[t];
             memcpy(out->r_min_at, tri_at + 3 * t, sizeof out->r_min_at);
@@ -297,8 +289,6 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
     }
     for (int64_t e = 0; e < ne; e++) {
         n_edge += edge_n[e];
-        if (edge_r[e] < z->eps)
-            below_edge += edge_n[e];
         if (edge_r[e] < r_min) {
             r_min = edge_r[e];
             const double *a = s->xyz + 3 * f->edge_vertex[2 * e], *b = s->xyz + 3 * f->edge_vertex[2 * e + 1];
@@ -307,13 +297,11 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
         }
     }
     n += SAMPLING_EXCESS * (tri_weight * n_tri + edge_weight * n_edge);
-    out->n_below_bound = SAMPLING_EXCESS * (tri_weight * below_tri + edge_weight * below_edge);
     for (int64_t v = 0; v < nv; v++)
         n += f->vertex_corner[v] != 0;
     out->n_balls = n;
     out->r_min = r_min;
     free(tri_n);
-    free(tri_below);
     free(tri_r);
     free(tri_at);
     free(edge_n);

@@ -11,9 +11,6 @@
 
 typedef struct vc_ball_estimate {
     double n_balls;      /* predicted balls: corners + creases + patches */
-    double n_below_bound; /* of them, on creases and patches where the radius bound is below
-                             the error bound (z->eps): facets folded at a finer scale than
-                             the error bound, or features, thin parts */
     double r_min;        /* the smallest radius bound met */
     double r_min_at[3];  /* where */
 } vc_ball_estimate;

@@ -81,14 +81,12 @@ static double rough_share(const vc_surface *s, int threads)
     return nv > 0 ? (double)rough / (double)nv : 0;
 }
 
-/* The predicted balls of sampling s at the absolute error bound, and of
- * them those where the radius bound is below the error bound (0 and an
+/* The predicted balls of sampling s at the absolute error bound (0 and an
  * error code when out of memory). */
 static int predict(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                   double bound, double max_size, int threads, double *n, double *below,
-                   vc_error *err)
+                   double bound, double max_size, int threads, double *n, vc_error *err)
 {
-    *n = *below = 0;
+    *n = 0;
     vc_features f;
     int rc = vc_features_detect_scaled(s, sharp_angle, extra, bound, &f, err);
     if (rc)
@@ -106,7 +104,6 @@ static int predict(const vc_surface *s, double sharp_angle, const unsigned char 
     if (rc)
         return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
     *n = est.n_balls;
-    *below = est.n_below_bound;
     return 0;
 }
 
@@ -141,12 +138,11 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     ch->rough_share = rough_share(s, threads);
     if (!(ch->rough_share > VC_ROUGH_SHARE))
         return 0;
-    double below, below_copy;
-    if ((rc = predict(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &below, err)))
+    if ((rc = predict(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, err)))
         return rc;
     if ((rc = vc_make_denoised(s, bound, threads, denoised, ch, err)) != 0 ||
         (rc = predict(denoised, sharp_angle, extra, ch->bound, max_size, threads, &ch->n_denoised,
-                      &below_copy, err)) != 0) {
+                      err)) != 0) {
         vc_surface_free(denoised);
         return rc;
     }
