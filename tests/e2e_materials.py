@@ -218,6 +218,18 @@ if PART == "boxes":
                                                  -1000 + 50 * float(w[3]))
             g.write(line)
     cases["two_boxes_utm"] = ([utm], {1: (8 * 50 ** 3, 2), 2: (8 * 50 ** 3, 2)})
+    # a denoised copy asked for on several regions is refused (the seeds are
+    # located in the input's regions): one error line after the regions'
+    # progress line, nothing written
+    out = os.path.join(TMP, "denoise_on.vtu")
+    p = subprocess.run([BIN, "mesh", os.path.join(TMP, "two_boxes.obj"), "-o", out, "--denoise", "on"],
+                       capture_output=True, text=True, timeout=300)
+    lines = p.stderr.strip().splitlines()
+    errors = [ln for ln in lines if ln.startswith("vorocrust: ")]
+    check(p.returncode == 1 and errors == lines[-1:] and
+          "--denoise on: the input bounds 2 regions" in lines[-1] and "two_boxes.obj" in lines[-1] and
+          not os.path.exists(out),
+          "--denoise on with two regions: exit %d, %r" % (p.returncode, p.stderr[-300:]))
 elif PART == "spheres":
     # a sphere inside a cube: an inclusion (both outward) and a cavity (inward)
     cube = os.path.join(TMP, "cube4.obj")

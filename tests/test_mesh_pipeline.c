@@ -295,6 +295,23 @@ int main(void)
         b.smooth_iterations = bad[k].smooth;
         CHECKF(vc_mesh(&box, &b, &r, &err) == VC_EPARAM, "bad option set %zu accepted", k);
     }
+    /* a denoised copy that cannot be made is refused, not ignored */
+    {
+        const struct {
+            int denoise, smooth;
+            double width, max_error;
+        } nd[] = {{2, 0, 0, 0.004}, {-2, 0, 0, 0.004}, {1, 1, 0, 0.004}, {1, 0, 4, 0.004},
+                  {1, 0, 0, 0}};
+        for (size_t k = 0; k < sizeof nd / sizeof *nd; k++) {
+            vc_mesh_options b = o;
+            b.denoise = nd[k].denoise;
+            b.smooth_iterations = nd[k].smooth;
+            b.smooth_width = nd[k].width;
+            b.max_error = nd[k].max_error;
+            CHECKF(vc_mesh(&box, &b, &r, &err) == VC_EPARAM && strstr(err.msg, "denoise"),
+                   "denoise option set %zu: %s", k, err.msg);
+        }
+    }
     /* the octree interior needs the program's MPI */
     CHECKF(vc_mesh(&box, &o, &r, &err) == VC_EPARAM && strstr(err.msg, "initialise MPI"),
            "octree without MPI: %s", err.msg);

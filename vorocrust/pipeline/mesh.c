@@ -138,6 +138,16 @@ static int check_options(const vc_mesh_options *o, vc_error *err)
     if (o->smooth_iterations < 0 || o->smooth_iterations > VC_SMOOTH_MAX_ITERATIONS)
         return vc_error_set(err, VC_EPARAM, "%d smoothing rounds: 0 to %d are allowed",
                             o->smooth_iterations, VC_SMOOTH_MAX_ITERATIONS);
+    if (o->denoise < -1 || o->denoise > 1)
+        return vc_error_set(err, VC_EPARAM, "denoise %d: needs -1 (off), 0 (auto) or 1 (on)",
+                            o->denoise);
+    /* a copy asked for that cannot be made is an error, not ignored */
+    if (o->denoise > 0 && (o->smooth_iterations > 0 || o->smooth_width > 0 || !(o->max_error > 0)))
+        return vc_error_set(err, VC_EPARAM, "denoise on: not with %s (the copy is smoothed within "
+                            "half the error bound)",
+                            o->smooth_iterations > 0 ? "smoothing rounds"
+                            : o->smooth_width > 0    ? "a smooth width"
+                                                     : "max error 0");
     if (o->max_sliver_iterations < 0 || o->max_sliver_iterations > 100000)
         return vc_error_set(err, VC_EPARAM, "%d sliver passes: 0 (the default) to 100000 are "
                             "allowed", o->max_sliver_iterations);
@@ -496,6 +506,13 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     memset(&denoised, 0, sizeof denoised);
     vc_denoise_choice *dc = &out->denoise;
     memset(dc, 0, sizeof *dc);
+    if (opt->denoise > 0 && mm) {
+        free(extra);
+        return vc_error_set(err, VC_EPARAM,
+                            "%s: --denoise on: the input bounds %lld regions, whose seeds are "
+                            "located in the input's own; a denoised copy would move their "
+                            "interfaces", name, (long long)mm->n_regions);
+    }
     if (smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0 && !mm) {
         const double t_choice = now();
         if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
