@@ -81,28 +81,30 @@ static double rough_share(const vc_surface *s, int threads)
     return nv > 0 ? (double)rough / (double)nv : 0;
 }
 
-/* The predicted balls of sampling s at the absolute error bound (0 and an
- * error code when out of memory). */
+/* The predicted balls of sampling s at the absolute error bound, and the
+ * features that took, into *f (0 and an error code when out of memory, *f
+ * then empty). */
 static int predict(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                   double bound, double max_size, int threads, double *n, vc_error *err)
+                   double bound, double max_size, int threads, double *n, vc_features *f,
+                   vc_error *err)
 {
     *n = 0;
-    vc_features f;
-    int rc = vc_features_detect_scaled(s, sharp_angle, extra, bound, &f, err);
+    int rc = vc_features_detect_scaled(s, sharp_angle, extra, bound, f, err);
     if (rc)
         return rc;
     const double diag = vc_surface_diagonal(s);
     vc_sizing z;
-    if (vc_sizing_init(&z, s, &f, sharp_angle, diag > 0 ? bound / diag : 0)) {
-        vc_features_free(&f);
+    if (vc_sizing_init(&z, s, f, sharp_angle, diag > 0 ? bound / diag : 0)) {
+        vc_features_free(f);
         return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
     }
     vc_ball_estimate est;
     rc = vc_ball_estimate_compute(&z, max_size > 0 ? max_size : z.diag, threads, &est);
     vc_sizing_free(&z);
-    vc_features_free(&f);
-    if (rc)
+    if (rc) {
+        vc_features_free(f);
         return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
+    }
     *n = est.n_balls;
     return 0;
 }
@@ -120,10 +122,12 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
 
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
                        double bound, double max_size, int force, int threads,
-                       vc_surface *denoised, vc_denoise_choice *ch, vc_error *err)
+                       vc_surface *denoised, vc_denoise_choice *ch, vc_features *f_chosen,
+                       vc_error *err)
 {
     memset(denoised, 0, sizeof *denoised);
     memset(ch, 0, sizeof *ch);
+    memset(f_chosen, 0, sizeof *f_chosen);
     if (force < 0 || !(bound > 0))
         return 0;
     int rc;
@@ -138,14 +142,20 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     ch->rough_share = rough_share(s, threads);
     if (!(ch->rough_share > VC_ROUGH_SHARE))
         return 0;
-    if ((rc = predict(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, err)))
+    vc_features f_input, f_copy;
+    if ((rc = predict(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &f_input, err)))
         return rc;
     if ((rc = vc_make_denoised(s, bound, threads, denoised, ch, err)) != 0 ||
         (rc = predict(denoised, sharp_angle, extra, ch->bound, max_size, threads, &ch->n_denoised,
-                      err)) != 0) {
+                      &f_copy, err)) != 0) {
+        vc_features_free(&f_input);
         vc_surface_free(denoised);
         return rc;
     }
     ch->used = ch->n_input >= VC_DENOISE_GAIN * ch->n_denoised;
+    /* the sampling's first attempt takes the features of the surface it
+     * samples from here (they take seconds on a fine noisy input) */
+    *f_chosen = ch->used ? f_copy : f_input;
+    vc_features_free(ch->used ? &f_input : &f_copy);
     return 0;
 }

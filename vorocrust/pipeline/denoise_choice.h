@@ -23,8 +23,11 @@
  * is left in *denoised (the caller frees it; kept for a sampling of the
  * input that diverges; none: zeroed), and ch->used set when it takes
  * VC_DENOISE_GAIN times fewer balls (force > 0: always, nothing
- * predicted; force < 0: never, nothing done). Returns 0, or an error code
- * (VC_ENOMEM) with *denoised zeroed. */
+ * predicted; force < 0: never, nothing done). When both were predicted,
+ * *f_chosen gets the features (vc_features_detect_scaled at the bound it
+ * is sampled at) of the surface chosen, for the caller to sample with and
+ * free; otherwise it is zeroed (n_triangles 0). Returns 0, or an error
+ * code (VC_ENOMEM) with *denoised and *f_chosen zeroed. */
 /* The copy alone: vc_surface_denoise of s by VC_DENOISE_SHARE of the
  * absolute bound into *denoised, ch->moved and ch->bound set. */
 int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface *denoised,
@@ -32,6 +35,7 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
 
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
                        double bound, double max_size, int force, int threads,
-                       vc_surface *denoised, vc_denoise_choice *ch, vc_error *err);
+                       vc_surface *denoised, vc_denoise_choice *ch, vc_features *f_chosen,
+                       vc_error *err);
 
 #endif

@@ -513,11 +513,16 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                             "located in the input's own; a denoised copy would move their "
                             "interfaces", name, (long long)mm->n_regions);
     }
-    if (smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0 && !mm) {
+    /* the features of the first attempt, when the choice made them */
+    vc_features f_first;
+    memset(&f_first, 0, sizeof f_first);
+    const int copy_allowed =
+        smooth == 0 && !(opt->smooth_width > 0) && opt->denoise >= 0 && opt->max_error > 0 && !mm;
+    if (copy_allowed) {
         const double t_choice = now();
         if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
                                      opt->max_size, opt->denoise, opt->threads, &denoised, dc,
-                                     err)) != 0) {
+                                     &f_first, err)) != 0) {
             free(extra);
             return named(err, name, NULL);
         }
@@ -551,6 +556,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         if (!stuck) {
             free(extra);
             vc_surface_free(&denoised);
+            vc_features_free(&f_first);
             return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
         }
         so.stuck_tri = stuck;
@@ -565,7 +571,10 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         if (attempt == 0)
             vc_log(opt->log, VC_LOG_INFO, "mesh: sharp features of %lld triangles at %g degrees, "
                    "judged at the error bound %g", (long long)s->n_triangles, so.sharp_angle, bound);
-        if (vc_features_detect_scaled(base, so.sharp_angle, extra, bound, &f, err)) {
+        if (attempt == 0 && f_first.n_triangles > 0) {
+            f = f_first; /* made by the choice, for this surface and bound */
+            memset(&f_first, 0, sizeof f_first);
+        } else if (vc_features_detect_scaled(base, so.sharp_angle, extra, bound, &f, err)) {
             rc = named(err, name, NULL);
             break;
         }
@@ -621,8 +630,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
          * whose sharp rims are staircases of folds needs it: the copy's
          * prediction is close to the input's, but its rims are smooth at
          * the bound's scale. */
-        if (out->sampling.diverged && !dc->used && opt->denoise >= 0 && opt->max_error > 0 && !mm &&
-            !(opt->smooth_width > 0) && smooth == 0 && fold_round == 0) {
+        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0) {
             if (!denoised.xyz && vc_make_denoised(s, error_bound_of(s, opt->max_error), opt->threads,
                                                   &denoised, dc, err)) {
                 rc = named(err, name, NULL);
@@ -728,6 +736,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     vc_features_free(&f);
     vc_surface_free(&smoothed);
     vc_surface_free(&denoised);
+    vc_features_free(&f_first);
     free(stuck);
     free(extra);
     return rc;
