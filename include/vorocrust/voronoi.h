@@ -27,6 +27,19 @@
 extern "C" {
 #endif
 
+/* Spheres that pass through seeds by construction (VoroCrust's balls: a
+ * surface seed is a point where three of their spheres meet, so every
+ * seed on a ball's sphere is equidistant from its centre). Seed s lies on
+ * the spheres id[start[s]] .. id[start[s + 1] - 1] (start has one entry
+ * per seed and one more); sphere a is sphere[4a .. 4a + 3]: centre,
+ * radius. */
+typedef struct vc_seed_spheres {
+    int64_t n_spheres;
+    const double *sphere;
+    const int64_t *start;
+    const int64_t *id;
+} vc_seed_spheres;
+
 typedef struct vc_voronoi_options {
     /* Clip every cell to the box [box[0],box[3]] x [box[1],box[4]] x
      * [box[2],box[5]] when has_box; otherwise cells are bounded by a box
@@ -45,6 +58,15 @@ typedef struct vc_voronoi_options {
      * seeds crowd the bins), VC_NEIGHBOURS_GRID or VC_NEIGHBOURS_TREE. The
      * cells are the same either way; only the time differs. */
     int neighbours;
+    /* NULL, or the spheres the seeds lie on: a Voronoi vertex whose four
+     * seeds lie on one of them (and that lies within 1e-4 of its radius
+     * of its centre) is its centre. More than four seeds on one sphere
+     * are co-spherical only to rounding in doubles, which splits their
+     * common vertex into a cluster of vertices; where two of the seeds
+     * are nearly coincident the cluster spans more than the engine's
+     * merge distance (1e-8 of the radius) and leaves edges and faces of
+     * that size. The lists make it one vertex, at the centre. */
+    const vc_seed_spheres *spheres;
 } vc_voronoi_options;
 
 enum { VC_NEIGHBOURS_AUTO = 0, VC_NEIGHBOURS_GRID = 1, VC_NEIGHBOURS_TREE = 2 };

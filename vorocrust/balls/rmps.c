@@ -1206,6 +1206,39 @@ static int64_t enforce_lipschitz(sampler *S, double *old_r, unsigned char *shrun
     return changed;
 }
 
+/* After a pass shrank balls (sliver elimination, flat facets, pinches,
+ * facets off the input; marked in shrunk, their radii before in old_r),
+ * the Lipschitz condition those balls now impose, applied before the
+ * ground they uncovered is sampled again: the balls it shrinks join the
+ * same resampling, which a separate Lipschitz round after it would redo
+ * (every pass of sliver elimination took one more round of sampling for
+ * them). old_r keeps the radius before either shrinking. Returns the
+ * balls shrunk, or -1 when out of memory. */
+static int64_t enforce_lipschitz_after(sampler *S, double *old_r, unsigned char *shrunk)
+{
+    const int64_t n = S->bs.b.n;
+    double *before = malloc(sizeof(double) * (size_t)(n ? n : 1));
+    unsigned char *now = malloc((size_t)(n ? n : 1));
+    if (!before || !now) {
+        free(before);
+        free(now);
+        return -1;
+    }
+    memcpy(before, old_r, sizeof(double) * (size_t)n);
+    memset(now, 0, (size_t)n);
+    const int64_t nl = enforce_lipschitz(S, old_r, now);
+    for (int64_t i = 0; nl > 0 && i < n; i++) {
+        if (shrunk[i])
+            old_r[i] = before[i];
+        shrunk[i] |= now[i];
+    }
+    if (nl <= 0)
+        memcpy(old_r, before, sizeof(double) * (size_t)n);
+    free(before);
+    free(now);
+    return nl;
+}
+
 /* ---------------------------------------------------------------------
  * Sliver elimination (6.2.7): for every triplet with exactly one of its two
  * points covered by a fourth ball, the covering ball that needs the least
@@ -1932,6 +1965,23 @@ static int grow_scratch(double **old_r, unsigned char **shrunk, int64_t n)
     return 0;
 }
 
+/* enforce_lipschitz_after, then the resampling of what the shrunk balls
+ * uncovered; 0, or -1 when out of memory. */
+static int lipschitz_then_resample(sampler *S, double *old_r, unsigned char *shrunk)
+{
+    const double ta = vc_clock_seconds();
+    const int64_t nl = enforce_lipschitz_after(S, old_r, shrunk);
+    S->st->t_lipschitz += vc_clock_seconds() - ta;
+    if (nl < 0)
+        return -1;
+    S->st->n_shrunk_lipschitz += nl;
+    const double tr = vc_clock_seconds();
+    const int rc = resample_around(S, old_r, shrunk);
+    vc_log(S->opt.log, VC_LOG_DEBUG, "  sampling: %lld more balls shrunk for Lipschitz, resampled "
+           "to %lld balls (%.3f s)", (long long)nl, (long long)S->bs.b.n, vc_clock_seconds() - tr);
+    return rc;
+}
+
 /* The thesis' safe mode (6.2.8): deep coverage at alpha / 2, under which
  * sliver elimination terminates. Returns the pass it began at. */
 static int enter_safe_mode(sampler *S, int iter)
@@ -2143,7 +2193,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 st->n_shrunk_flat += nf;
                 vc_log(opt->log, VC_LOG_INFO, "mesh: flat facets %d: %lld balls shrunk",
                        flat_passes, (long long)nf);
-                rc = resample_around(&S, old_r, shrunk);
+                rc = lipschitz_then_resample(&S, old_r, shrunk);
                 continue;
             }
         }
@@ -2163,7 +2213,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 vc_log(opt->log, VC_LOG_INFO,
                        "mesh: facets and input farther apart than the error bound %d: %lld balls "
                        "shrunk", deviation_passes, (long long)nd);
-                rc = resample_around(&S, old_r, shrunk);
+                rc = lipschitz_then_resample(&S, old_r, shrunk);
                 continue;
             }
         }
@@ -2178,7 +2228,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 st->n_shrunk_pinch += np;
                 vc_log(opt->log, VC_LOG_INFO, "mesh: pinches %d: %lld balls shrunk", pinch_passes,
                        (long long)np);
-                rc = resample_around(&S, old_r, shrunk);
+                rc = lipschitz_then_resample(&S, old_r, shrunk);
                 continue;
             }
         }
@@ -2267,10 +2317,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
             diverged = 1;
             break;
         }
-        const double tr = vc_clock_seconds();
-        rc = resample_around(&S, old_r, shrunk);
-        vc_log(opt->log, VC_LOG_DEBUG, "  sampling: resampled to %lld balls (%.3f s)",
-               (long long)S.bs.b.n, vc_clock_seconds() - tr);
+        rc = lipschitz_then_resample(&S, old_r, shrunk);
     }
     if (diverged && opt->stuck_tri)
         mark_stuck(&S, shrunk, old_r, opt->stuck_tri);

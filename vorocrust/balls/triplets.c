@@ -16,6 +16,48 @@
  * elimination leaves points 1% of their distance outside, well clear of it. */
 #define INSIDE_MARGIN 1e-9
 
+/* Newton steps on the three sphere equations |p - c|^2 = r^2: the frame
+ * above rounds in several places, and a point of a triplet must lie on
+ * its three spheres as nearly as doubles allow (every seed of a ball's
+ * sphere is then co-spherical about its centre to rounding, and the
+ * Voronoi vertex there is one point for the engine's merge rule). */
+static void refine_on_spheres(const double *ca, double ra, const double *cb, double rb,
+                              const double *cc, double rc, double p[3])
+{
+    const double *c[3] = {ca, cb, cc};
+    const double r[3] = {ra, rb, rc};
+    for (int it = 0; it < 2; it++) {
+        double J[3][3], F[3];
+        for (int i = 0; i < 3; i++) {
+            double d[3] = {p[0] - c[i][0], p[1] - c[i][1], p[2] - c[i][2]};
+            F[i] = fma(d[0], d[0], fma(d[1], d[1], fma(d[2], d[2], -r[i] * r[i])));
+            for (int k = 0; k < 3; k++)
+                J[i][k] = 2 * d[k];
+        }
+        const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                           J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                           J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+        if (!(fabs(det) > 0))
+            return;
+        double x[3];
+        for (int k = 0; k < 3; k++) {
+            double M[3][3];
+            memcpy(M, J, sizeof M);
+            for (int i = 0; i < 3; i++)
+                M[i][k] = -F[i];
+            x[k] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+                    M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                    M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) / det;
+        }
+        /* a step far larger than rounding means the solve is not to be
+         * trusted (nearly tangent spheres): keep the point */
+        if (!(fabs(x[0]) + fabs(x[1]) + fabs(x[2]) < 1e-6 * ra))
+            return;
+        for (int k = 0; k < 3; k++)
+            p[k] += x[k];
+    }
+}
+
 int vc_sphere_triple_points(const double *ca, double ra, const double *cb, double rb,
                             const double *cc, double rc, double up[3], double down[3])
 {
@@ -51,6 +93,8 @@ int vc_sphere_triple_points(const double *ca, double ra, const double *cb, doubl
         up[k] = base + w * e3[k];
         down[k] = base - w * e3[k];
     }
+    refine_on_spheres(ca, ra, cb, rb, cc, rc, up);
+    refine_on_spheres(ca, ra, cb, rb, cc, rc, down);
     return 1;
 }
 

@@ -21,6 +21,7 @@
 #include "vorocrust/regions.h"
 #include "boundary_groups.h"
 #include "denoise_choice.h"
+#include "seed_spheres.h"
 #include "materials.h"
 #include "vorocrust/features.h"
 #include "vorocrust/smoothing.h"
@@ -895,7 +896,21 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     vo.threads = opt->threads;
     vo.log = opt->log;
     vc_log(opt->log, VC_LOG_INFO, "mesh: Voronoi cells of %lld seeds", (long long)out->seeds.n);
-    if (vc_voronoi_build(&out->seeds, &vo, &out->mesh, err))
+    /* the vertex at a ball's centre is one point (vc_seed_spheres) */
+    vc_seed_spheres_owned on_spheres;
+    const double t_spheres = now();
+    if (vc_seed_spheres_find(&out->balls, &out->seeds,
+                             out->n_surface_seeds + out->n_sphere_seeds, opt->threads,
+                             &on_spheres)) {
+        vc_error_set(err, VC_ENOMEM, "out of memory for the seeds' spheres");
+        return named(err, name, NULL);
+    }
+    vc_log(opt->log, VC_LOG_DEBUG, "  mesh: the spheres of %lld seeds, %.3f s",
+           (long long)out->seeds.n, now() - t_spheres);
+    vo.spheres = &on_spheres.view;
+    const int built = vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
+    vc_seed_spheres_free(&on_spheres);
+    if (built)
         return named(err, name, NULL);
     out->has_mesh = 1;
     /* what follows takes a second or more on a few hundred thousand

@@ -23,6 +23,15 @@
 #include "util/small_sort.h"
 #include "util/union_find.h"
 
+/* A vertex is a sphere's centre (vc_seed_spheres) only within this share
+ * of the radius of it. Rounding moves it further the nearer two seeds of
+ * the sphere are (any four seeds with two nearly coincident are nearly
+ * co-circular, and their vertex slides along the circle's axis): seeds
+ * 1e-9 of the radius apart spread the cluster beyond 1e-6 of it
+ * (test_voronoi_spheres). The balls' centres lie a sizeable share of a
+ * radius apart, so no vertex of another centre comes this near. */
+#define VC_SPHERE_CENTRE_REACH 1e-4
+
 static inline int omp_thread(void)
 {
 #ifdef _OPENMP
@@ -747,10 +756,92 @@ static void free_stitch_arrays(stitch *st)
     st->n_splits = 0;
 }
 
+/* The common sphere of a vertex's four seeds (see vc_seed_spheres), or -1:
+ * the lowest-numbered sphere every seed of the key lies on whose centre
+ * is within VC_SPHERE_CENTRE_REACH of its radius from the vertex. */
+static int64_t common_sphere(const stitch *st, const vc_seed_spheres *sp, const int64_t key[4],
+                             const double p[3])
+{
+    for (int j = 0; j < 4; j++)
+        if (key[j] < 0)
+            return -1; /* a wall */
+    const int64_t s0 = key[0];
+    for (int64_t q = sp->start[s0]; q < sp->start[s0 + 1]; q++) {
+        const int64_t a = sp->id[q];
+        int all = 1;
+        for (int j = 1; j < 4 && all; j++) {
+            int found = 0;
+            for (int64_t r = sp->start[key[j]]; r < sp->start[key[j] + 1] && !found; r++)
+                found = sp->id[r] == a;
+            all = found;
+        }
+        if (!all)
+            continue;
+        const double *c = sp->sphere + 4 * a;
+        const double d = sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                              (p[2] - c[2]) * (p[2] - c[2]));
+        if (d <= VC_SPHERE_CENTRE_REACH * c[3])
+            return a;
+    }
+    (void)st;
+    return -1;
+}
+
+/* A vertex whose four seeds lie on one sphere of the list is that sphere's
+ * centre: its point becomes the centre, and the vertices of each centre
+ * are one class. Returns the unions made, or -1 when out of memory. */
+static int64_t unite_at_sphere_centres(stitch *st, const vc_seed_spheres *sp, int threads)
+{
+    const int64_t ng = st->n_gid;
+    int64_t *at = malloc((size_t)(ng + 1) * sizeof(int64_t));
+    if (!at)
+        return -1;
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads)
+    for (int64_t g = 0; g < ng; g++) {
+        at[g] = common_sphere(st, sp, st->gkey + 4 * g, st->gp + 3 * g);
+        if (at[g] >= 0)
+            memcpy(st->gp + 3 * g, sp->sphere + 4 * at[g], 3 * sizeof(double));
+    }
+    /* the first vertex met of each centre, by a hash of the centre's id */
+    int64_t cap = 1024;
+    while (cap < 2 * ng)
+        cap *= 2;
+    int64_t *slot_sphere = malloc((size_t)cap * sizeof(int64_t));
+    int64_t *slot_vertex = malloc((size_t)cap * sizeof(int64_t));
+    if (!slot_sphere || !slot_vertex) {
+        free(at);
+        free(slot_sphere);
+        free(slot_vertex);
+        return -1;
+    }
+    for (int64_t i = 0; i < cap; i++)
+        slot_sphere[i] = -1;
+    int64_t n_united = 0;
+    for (int64_t g = 0; g < ng; g++) {
+        if (at[g] < 0)
+            continue;
+        uint64_t h = (uint64_t)at[g] * 0x9E3779B97F4A7C15ull;
+        int64_t i = (int64_t)(h >> 20) & (cap - 1);
+        while (slot_sphere[i] >= 0 && slot_sphere[i] != at[g])
+            i = (i + 1) & (cap - 1);
+        if (slot_sphere[i] < 0) {
+            slot_sphere[i] = at[g];
+            slot_vertex[i] = g;
+        } else if (vc_uf_find(st->root, slot_vertex[i]) != vc_uf_find(st->root, g)) {
+            vc_uf_unite(st->root, slot_vertex[i], g);
+            n_united++;
+        }
+    }
+    free(at);
+    free(slot_sphere);
+    free(slot_vertex);
+    return n_united;
+}
+
 int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
                     const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                    vc_cell_store *store, double merge_tol, int threads, const vc_logger *log,
-                    vc_polymesh *out, vc_error *err)
+                    vc_cell_store *store, double merge_tol, const vc_seed_spheres *spheres,
+                    int threads, const vc_logger *log, vc_polymesh *out, vc_error *err)
 {
     const int timing = vc_log_enabled(log, VC_LOG_DEBUG);
     const int progress = vc_log_enabled(log, VC_LOG_INFO);
@@ -963,6 +1054,12 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
         n_collapsed += pairs[t].n;
         free(pairs[t].v);
         pairs[t] = (pair_buf){NULL, 0, 0};
+    }
+    if (spheres && spheres->n_spheres > 0) {
+        const int64_t n_centred = unite_at_sphere_centres(&st, spheres, threads);
+        if (n_centred < 0)
+            goto nomem;
+        n_collapsed += n_centred;
     }
     const int64_t n_matched = match_boundary_points(&st, threads, merge_tol);
     if (n_matched < 0)

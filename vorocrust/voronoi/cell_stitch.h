@@ -16,6 +16,10 @@
  *    merge_tol times their distance to their seeds (seeds co-spherical to
  *    rounding, as VoroCrust's are); the decision is a function of the
  *    edge's two vertices alone, so every cell collapses it alike;
+ *  - a vertex whose four seeds lie on one of the spheres given (spheres
+ *    may be NULL; see vc_seed_spheres) is that sphere's centre: its point
+ *    becomes the centre and every such vertex of the centre joins one
+ *    class, decided by the seeds' lists, not by distances;
  *  - faces whose cycle collapses below three points disappear from both
  *    cells, a cycle that folds back on itself (x, a, x) loses the fold,
  *    a face whose points all lie on one segment (zero area) leaves both
@@ -33,6 +37,7 @@
 
 #include "cell_result.h"
 #include "power_side.h"
+#include "vorocrust/voronoi.h"
 
 /* cells[m] is the cell of kept seed kept_seed[order[m]] (kept_seed
  * ascending, n_kept of them). store (may be NULL): where the cells' data
@@ -42,7 +47,7 @@
  * read after the call then. */
 int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cell_result *cells,
                     const int64_t *kept_seed, int64_t n_kept, const int64_t *order,
-                    vc_cell_store *store, double merge_tol, int threads, const vc_logger *log,
-                    vc_polymesh *out, vc_error *err);
+                    vc_cell_store *store, double merge_tol, const vc_seed_spheres *spheres,
+                    int threads, const vc_logger *log, vc_polymesh *out, vc_error *err);
 
 #endif

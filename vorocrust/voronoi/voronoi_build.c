@@ -1040,7 +1040,7 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
                "  cells: %lld side tests past the filter; so far %lld exact (%lld in expansions)",
                (long long)n_exact, vc_power_exact_count(), vc_power_expansion_count());
         rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, &store,
-                             MERGE_TOL, threads, opt.log, out, err);
+                             MERGE_TOL, opt.spheres, threads, opt.log, out, err);
     }
     vc_region_pool_free(&store.topo);
     free(cells);
