@@ -57,7 +57,7 @@ static void sample(const vc_surface *s, const vc_features *f, double max_error, 
     vc_seeds seeds;
     CHECK_MSG(vc_balls_seeds(&out->balls, 1, &seeds, &out->n_half, &err) == 0, err.msg);
     vc_polysurface ps;
-    CHECK_MSG(vc_reconstruct_surface(&seeds, 0, threads, NULL, &ps, &err) == 0, err.msg);
+    CHECK_MSG(vc_reconstruct_surface(&seeds, 0, NULL, threads, NULL, &ps, &err) == 0, err.msg);
     vc_polysurface_topology top;
     CHECK_MSG(vc_polysurface_topology_compute(&ps, &top, &err) == 0, err.msg);
     out->euler = top.euler;

@@ -153,9 +153,12 @@ void vc_polysurface_free(vc_polysurface *p);
  * dropped). Seeds from n_surface on must have label 0: they only bound
  * the cells (interior seeds, away from the balls, keep the inside cells
  * from reaching across the whole solid), and the facets toward them are
- * not the surface. The Voronoi engine's progress and phase times go to
- * log (may be NULL). */
-int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface, int threads,
+ * not the surface. spheres (may be NULL): the balls' spheres the seeds
+ * lie on, so that every ball centre is one vertex (vc_voronoi_options).
+ * The Voronoi engine's progress and phase times go to log (may be NULL). */
+struct vc_seed_spheres;
+int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface,
+                           const struct vc_seed_spheres *spheres, int threads,
                            const vc_logger *log, vc_polysurface *out, vc_error *err);
 
 /* Topology of a polygonal surface: edges used by exactly two polygons in

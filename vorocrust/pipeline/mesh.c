@@ -822,8 +822,16 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
     const vc_seeds *seeds = n_interior > 0 ? &all : &out->seeds;
     for (int64_t i = out->n_surface_seeds; i < seeds->n; i++)
         seeds->label[i] = 0; /* bounding seeds: not kept */
-    const int rc = vc_reconstruct_surface(seeds, out->n_surface_seeds, opt->threads, opt->log,
-                                          &out->surface, err);
+    vc_seed_spheres_owned on_spheres;
+    if (vc_seed_spheres_find(&out->balls, seeds, out->n_surface_seeds + out->n_sphere_seeds,
+                             opt->threads, &on_spheres)) {
+        vc_seeds_free(&all);
+        vc_error_set(err, VC_ENOMEM, "out of memory for the seeds' spheres");
+        return named(err, name, NULL);
+    }
+    const int rc = vc_reconstruct_surface(seeds, out->n_surface_seeds, &on_spheres.view,
+                                          opt->threads, opt->log, &out->surface, err);
+    vc_seed_spheres_free(&on_spheres);
     vc_seeds_free(&all);
     return rc ? named(err, name, "reconstructing the surface") : 0;
 }

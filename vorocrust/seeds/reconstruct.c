@@ -29,7 +29,8 @@ static int on_surface(const vc_polymesh *m, int64_t f, int64_t n_surface)
     return o >= 0 && o < n_surface;
 }
 
-int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface, int threads,
+int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface,
+                           const struct vc_seed_spheres *spheres, int threads,
                            const vc_logger *log, vc_polysurface *out, vc_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -44,6 +45,7 @@ int vc_reconstruct_surface(const vc_seeds *seeds, int64_t n_surface, int threads
     vc_voronoi_options_default(&vo);
     vo.threads = threads;
     vo.log = log;
+    vo.spheres = spheres;
     vc_polymesh m;
     int rc = vc_voronoi_build(seeds, &vo, &m, err);
     if (rc)
