@@ -1,13 +1,17 @@
-/* Filtered orientation predicates for the surface checks (internal).
+/* Orientation predicates for the surface checks (internal), exact.
  *
  * orient3d and orient2d evaluate the usual determinants in floating point
  * and compare them with Shewchuk's a-priori error bounds (stage A of his
- * adaptive predicates: the bound covers the rounding of the differences,
- * products and sums). A determinant whose magnitude is within the bound
- * has an uncertain sign and is reported as 0: the points are taken as
- * coplanar (collinear) within rounding. The callers treat 0 as "touching",
- * so an uncertain case can only turn into a reported contact, never hide a
- * certain crossing.
+ * adaptive predicates); only when the sign is uncertain is the
+ * determinant evaluated exactly (vc_orient3d_exact, in expansions). 0
+ * means exactly coplanar (collinear): the callers treat it as touching.
+ * Until session 36 an uncertain sign was reported as 0, which made two
+ * disjoint, nearly coplanar triangles "touch": a rotated plate with
+ * parallel faces 0.3% of its size apart, a rotated and decimated bracket,
+ * a stretched and rotated cup, all free of intersections in exact
+ * arithmetic, were refused as self-intersecting (5 of 43 random surfaces).
+ * Out of memory in the exact path, a sign is reported as 0 (touching), as
+ * before: an unknown case is reported, a crossing never hidden.
  *
  * The bounds are relative, hence scale-free, as long as the products of
  * three coordinate differences neither overflow nor underflow: the caller
@@ -18,11 +22,13 @@
 
 #include <math.h>
 
+#include "util/exact_predicates.h"
+
 /* (3 + 16 eps) eps and (7 + 56 eps) eps, eps = 2^-53 (Shewchuk 1997). */
 #define VC_CCW_ERRBOUND_A 3.3306690738754716e-16
 #define VC_O3D_ERRBOUND_A 7.7715611723761027e-16
 
-/* Sign of det[a - d; b - d; c - d]: +1, -1, or 0 when within rounding. */
+/* Sign of det[a - d; b - d; c - d]: +1, -1, or 0 (coplanar). */
 static inline int vc_orient3d(const double *a, const double *b, const double *c, const double *d)
 {
     double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
@@ -35,18 +41,36 @@ static inline int vc_orient3d(const double *a, const double *b, const double *c,
     double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * fabs(adz) + (fabs(cdxady) + fabs(adxcdy)) * fabs(bdz) +
                   (fabs(adxbdy) + fabs(bdxady)) * fabs(cdz);
     double bound = VC_O3D_ERRBOUND_A * perm;
-    return det > bound ? 1 : det < -bound ? -1 : 0;
+    if (det > bound)
+        return 1;
+    if (det < -bound)
+        return -1;
+    if (perm == 0)
+        return 0; /* every product is zero: so is the determinant */
+    const int s = vc_orient3d_exact(a, b, c, d);
+    return s == VC_PREDICATE_NOMEM ? 0 : s;
 }
 
 /* Sign of the orientation of (a, b, c) projected on the coordinate axes
- * i and j: +1 counter-clockwise, -1 clockwise, 0 collinear within rounding. */
+ * i and j: +1 counter-clockwise, -1 clockwise, 0 collinear. */
 static inline int vc_orient2d(const double *a, const double *b, const double *c, int i, int j)
 {
     double detleft = (a[i] - c[i]) * (b[j] - c[j]);
     double detright = (a[j] - c[j]) * (b[i] - c[i]);
     double det = detleft - detright;
     double bound = VC_CCW_ERRBOUND_A * (fabs(detleft) + fabs(detright));
-    return det > bound ? 1 : det < -bound ? -1 : 0;
+    if (det > bound)
+        return 1;
+    if (det < -bound)
+        return -1;
+    if (detleft == 0 && detright == 0)
+        return 0;
+    /* exactly: lifted to 3D, det[A - D; B - D; C - D] with A = (a_i, a_j, 0),
+     * B, C alike and D = (c_i, c_j, 1) is minus the 2D determinant */
+    const double A[3] = {a[i], a[j], 0}, B[3] = {b[i], b[j], 0}, C[3] = {c[i], c[j], 0},
+                 D[3] = {c[i], c[j], 1};
+    const int s = vc_orient3d_exact(A, B, C, D);
+    return s == VC_PREDICATE_NOMEM ? 0 : -s;
 }
 
 #endif

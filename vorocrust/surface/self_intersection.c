@@ -17,8 +17,8 @@
  *     likewise).
  *   - a shared edge ab, A = (a, b, c), B = (a, b, d): they overlap iff they
  *     are coplanar and c, d lie on the same side of ab.
- * An orientation within rounding counts as zero (touching): an uncertain
- * case is reported, a certain crossing is never missed. */
+ * The orientations are exact (predicates.h): zero only for points exactly
+ * coplanar, which counts as touching. */
 #include "surface/self_intersection.h"
 #include "surface/predicates.h"
 
@@ -89,7 +89,7 @@ static int seg_tri(const double *p, const double *q, int sp, int sq, const doubl
         return 0;
     int i, j;
     if (sp == 0 || sq == 0) {
-        /* An end in the plane within rounding: it is where the segment
+        /* An end in the plane (exactly): it is where the segment
          * meets the plane (a line test would follow a nearly parallel
          * line to a crossing far away). */
         plane_axes(a, b, c, &i, &j);
@@ -101,7 +101,7 @@ static int seg_tri(const double *p, const double *q, int sp, int sq, const doubl
     int pos = o1 > 0 || o2 > 0 || o3 > 0, neg = o1 < 0 || o2 < 0 || o3 < 0;
     if (pos && neg)
         return 0;
-    if (!pos && !neg) { /* the line lies in the plane within rounding */
+    if (!pos && !neg) { /* the line lies in the plane */
         plane_axes(a, b, c, &i, &j);
         return seg_tri_2d(p, q, a, b, c, i, j);
     }
