@@ -18,7 +18,7 @@
  *
  * A bounding-volume hierarchy over the triangles' boxes (Morton order,
  * balanced) gives the candidate pairs; each candidate is decided with the
- * filtered orientation predicates of predicates.h. O(n log n + k) for k
+ * exact orientation predicates of predicates.h. O(n log n + k) for k
  * candidate pairs; parallel over triangles with OpenMP, the result does not
  * depend on the thread count.
  *
