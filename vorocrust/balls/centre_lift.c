@@ -18,6 +18,8 @@
 #define DAMPED_ATTEMPTS 3
 /* checks in all: the lift's cost stays a few triplet scans */
 #define MAX_CHECKS 24
+/* ball sets from this size on get progress lines through the lift */
+#define LARGE_LIFT 50000
 /* Passes of the lift: each measures the sags of the facets as the last
  * pass left them and moves the balls by what remains. One pass removes the
  * bias to first order; where the sag is a large share of the radius of
@@ -375,10 +377,17 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
                     int threads, const vc_logger *log, vc_lift_result *res)
 {
     const double t0 = vc_clock_seconds();
+    /* a line before each stage that can take seconds on a large ball set
+     * (a 169,000-ball cup was silent for 4 s here), then at most every 2 s */
+    double t_line = t0;
     memset(res, 0, sizeof *res);
     const int64_t n = b->n;
     if (n == 0 || n_facets == 0)
         return 0;
+    const int large = n >= LARGE_LIFT;
+    if (large)
+        vc_log(log, VC_LOG_INFO, "mesh: centre lift of %lld balls: the seeds as sampled",
+               (long long)n);
     threads = vc_threads_or_default(threads);
     double *fn = malloc(sizeof(double) * 5 * (size_t)n_facets); /* normal, area, sag */
     unsigned char *fok = malloc((size_t)n_facets);
@@ -419,6 +428,11 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
     for (int pass = 1; pass <= MAX_PASSES; pass++) {
         /* every facet's sag, as the centres are now, independently (so any
          * thread count gives the same) */
+        if (large && vc_clock_seconds() - t_line >= 1.0) {
+            t_line = vc_clock_seconds();
+            vc_log(log, VC_LOG_INFO, "mesh: centre lift, pass %d: the sags of %lld facets, %.0f s",
+                   pass, (long long)n_facets, t_line - t0);
+        }
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
         for (int64_t t = 0; t < n_facets; t++)
             fok[t] = (unsigned char)facet_sag(b, z, facet_v + 3 * t, pass > 1 ? FAR_REACH : SAG_REACH,
@@ -451,10 +465,12 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
                     goto done;
                 }
                 res->rounds++;
-                if (vc_clock_seconds() - t0 >= 2.0)
+                if (vc_clock_seconds() - t_line >= 2.0 || (large && vc_clock_seconds() - t_line >= 1.0)) {
+                    t_line = vc_clock_seconds();
                     vc_log(log, VC_LOG_INFO,
                            "mesh: centre lift, pass %d, check %d: %lld balls to reduce, %.0f s",
                            pass, res->rounds, (long long)n_bad, vc_clock_seconds() - t0);
+                }
                 if (n_bad == 0) {
                     held = 1;
                     break;

@@ -70,6 +70,8 @@
 #define FLAT_MAX_SHRINK 0.2
 #define FLAT_SEED_DEPTH 0.01
 #define FLAT_PASSES 3
+/* ball sets from this size on say when they scan every triplet again */
+#define LARGE_SCAN 50000
 /* subfaces whose midpoints lie this close to S' (times the kernel width)
  * are subdivided without projecting them */
 #define SAG_TOLERANCE 1e-2
@@ -2234,6 +2236,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         }
         if (ns == 0) {
             tb = vc_clock_seconds();
+            /* seconds on a large ball set (a cup's 169,000 balls) */
+            if (S.bs.b.n >= LARGE_SCAN)
+                vc_log(opt->log, VC_LOG_INFO, "mesh: sliver elimination: every triplet of %lld "
+                       "balls once more", (long long)S.bs.b.n);
             ns = eliminate_slivers(&S, old_r, shrunk, &n_half, where, &facets, 1);
             st->t_slivers += vc_clock_seconds() - tb;
             if (ns < 0) {

@@ -348,6 +348,8 @@ static int reconstruct(const vc_surface *s, const vc_mesh_options *opt, const ch
     out->has_mesh = 0;
     out->n_inside_seeds = 0;
     double t = now();
+    if (out->balls.n >= PROGRESS_CELLS / 2)
+        vc_log(opt->log, VC_LOG_INFO, "mesh: seeds of %lld balls", (long long)out->balls.n);
     if (vc_balls_seeds(&out->balls, opt->threads, &out->seeds, &out->n_half_covered, err) != 0)
         return named(err, name, NULL);
     out->n_surface_seeds = out->seeds.n;
@@ -822,6 +824,9 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
     const vc_seeds *seeds = n_interior > 0 ? &all : &out->seeds;
     for (int64_t i = out->n_surface_seeds; i < seeds->n; i++)
         seeds->label[i] = 0; /* bounding seeds: not kept */
+    if (seeds->n >= PROGRESS_CELLS)
+        vc_log(opt->log, VC_LOG_INFO, "mesh: the surface: Voronoi cells of %lld seeds",
+               (long long)seeds->n);
     vc_seed_spheres_owned on_spheres;
     if (vc_seed_spheres_find(&out->balls, seeds, out->n_surface_seeds + out->n_sphere_seeds,
                              opt->threads, &on_spheres)) {
