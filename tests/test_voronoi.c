@@ -10,6 +10,7 @@
 #include "vorocrust/voronoi.h"
 
 #include "test_check.h"
+#include "test_polymesh_compare.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -65,23 +66,6 @@ static int build_checked(const char *name, const vc_seeds *s, const double *box,
            (long long)m->n_cells, (long long)m->n_faces, (long long)m->n_interior_faces,
            (long long)m->n_points, total_volume(m));
     return 0;
-}
-
-static int same_mesh(const vc_polymesh *a, const vc_polymesh *b)
-{
-    if (a->n_points != b->n_points || a->n_faces != b->n_faces || a->n_cells != b->n_cells)
-        return 0;
-    if (memcmp(a->points, b->points, (size_t)a->n_points * 3 * sizeof(double)))
-        return 0;
-    if (memcmp(a->face_offsets, b->face_offsets, (size_t)(a->n_faces + 1) * sizeof(int64_t)))
-        return 0;
-    if (memcmp(a->face_vertices, b->face_vertices,
-               (size_t)a->face_offsets[a->n_faces] * sizeof(int64_t)))
-        return 0;
-    if (memcmp(a->cell_faces, b->cell_faces,
-               (size_t)a->cell_offsets[a->n_cells] * sizeof(int64_t)))
-        return 0;
-    return 1;
 }
 
 static void test_random(int64_t n, uint64_t seed)

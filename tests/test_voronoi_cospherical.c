@@ -21,6 +21,7 @@
 #include "vorocrust/voronoi.h"
 
 #include "test_check.h"
+#include "test_polymesh_compare.h"
 
 static double total_volume(const vc_polymesh *m)
 {
@@ -28,17 +29,6 @@ static double total_volume(const vc_polymesh *m)
     for (int64_t c = 0; c < m->n_cells; c++)
         v += m->cell_volume[c];
     return v;
-}
-
-static int same_mesh(const vc_polymesh *a, const vc_polymesh *b)
-{
-    return a->n_points == b->n_points && a->n_faces == b->n_faces && a->n_cells == b->n_cells &&
-           !memcmp(a->points, b->points, (size_t)a->n_points * 3 * sizeof(double)) &&
-           !memcmp(a->face_offsets, b->face_offsets, (size_t)(a->n_faces + 1) * sizeof(int64_t)) &&
-           !memcmp(a->face_vertices, b->face_vertices,
-                   (size_t)a->face_offsets[a->n_faces] * sizeof(int64_t)) &&
-           !memcmp(a->cell_faces, b->cell_faces,
-                   (size_t)a->cell_offsets[a->n_cells] * sizeof(int64_t));
 }
 
 /* Builds on 1 and 2 threads in the box, validates both, checks the volume

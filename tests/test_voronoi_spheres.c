@@ -14,6 +14,7 @@
 #include "vorocrust/voronoi.h"
 
 #include "test_check.h"
+#include "test_polymesh_compare.h"
 
 static const double CENTRE[3] = {0.123456789, 0.234567891, 0.345678912};
 static const double RADIUS = 0.3;
@@ -74,17 +75,6 @@ static int make_seeds(vc_seeds *s)
             s->xyz[3 * i + d] = CENTRE[d] + rr * u[d];
     }
     return 0;
-}
-
-static int same_mesh(const vc_polymesh *a, const vc_polymesh *b)
-{
-    return a->n_points == b->n_points && a->n_faces == b->n_faces && a->n_cells == b->n_cells &&
-           !memcmp(a->points, b->points, (size_t)a->n_points * 3 * sizeof(double)) &&
-           !memcmp(a->face_offsets, b->face_offsets, (size_t)(a->n_faces + 1) * sizeof(int64_t)) &&
-           !memcmp(a->face_vertices, b->face_vertices,
-                   (size_t)a->face_offsets[a->n_faces] * sizeof(int64_t)) &&
-           !memcmp(a->cell_faces, b->cell_faces,
-                   (size_t)a->cell_offsets[a->n_cells] * sizeof(int64_t));
 }
 
 static int build(const char *name, const vc_seeds *s, const vc_seed_spheres *sp, int threads,
