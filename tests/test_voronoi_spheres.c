@@ -189,6 +189,22 @@ int main(void)
         }
         vc_polymesh_free(&plain);
     }
+    /* lists naming a sphere that is not there are refused */
+    {
+        int64_t start_bad[N_ON + N_OUT + 1], id_bad[1] = {1};
+        for (int i = 0; i <= N_ON + N_OUT; i++)
+            start_bad[i] = i == 0 ? 0 : 1;
+        const vc_seed_spheres bad = {1, sphere, start_bad, id_bad};
+        vc_voronoi_options opt;
+        vc_voronoi_options_default(&opt);
+        opt.spheres = &bad;
+        vc_polymesh m;
+        vc_error err = {0, ""};
+        const int rc = vc_voronoi_build(&s, &opt, &m, &err);
+        CHECKF(rc == VC_EPARAM, "lists naming sphere 1 of 1: code %d (%s)", rc, err.msg);
+        if (rc == 0)
+            vc_polymesh_free(&m);
+    }
     vc_seeds_free(&s);
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);

@@ -30,9 +30,10 @@ extern "C" {
 /* Spheres that pass through seeds by construction (VoroCrust's balls: a
  * surface seed is a point where three of their spheres meet, so every
  * seed on a ball's sphere is equidistant from its centre). Seed s lies on
- * the spheres id[start[s]] .. id[start[s + 1] - 1] (start has one entry
- * per seed and one more); sphere a is sphere[4a .. 4a + 3]: centre,
- * radius. */
+ * the spheres id[start[s]] .. id[start[s + 1] - 1], ascending (start has
+ * one entry per seed and one more, non-decreasing from 0; every id below
+ * n_spheres: vc_voronoi_build checks both); sphere a is sphere[4a ..
+ * 4a + 3]: centre, radius. */
 typedef struct vc_seed_spheres {
     int64_t n_spheres;
     const double *sphere;

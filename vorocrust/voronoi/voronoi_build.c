@@ -758,6 +758,20 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     const int64_t n = seeds->n;
     if (n <= 0)
         return vc_error_set(err, VC_EINPUT, "no seeds");
+    if (opt.spheres) {
+        const vc_seed_spheres *sp = opt.spheres;
+        int bad = sp->n_spheres < 0 || !sp->start || (sp->n_spheres > 0 && !sp->sphere) ||
+                  (sp->start && sp->start[0] != 0);
+        for (int64_t s = 0; s < n && !bad; s++) {
+            bad = sp->start[s + 1] < sp->start[s] || (sp->start[s + 1] > sp->start[s] && !sp->id);
+            for (int64_t q = sp->start[s]; q < sp->start[s + 1] && !bad; q++)
+                bad = sp->id[q] < 0 || sp->id[q] >= sp->n_spheres ||
+                      (q > sp->start[s] && sp->id[q] <= sp->id[q - 1]);
+        }
+        if (bad)
+            return vc_error_set(err, VC_EPARAM, "the seeds' sphere lists are not valid (start "
+                                "non-decreasing from 0, ids ascending and below n_spheres)");
+    }
     if (n > INT32_MAX)
         return vc_error_set(err, VC_EPARAM, "%lld seeds: at most %d are supported", (long long)n,
                             INT32_MAX);
