@@ -759,8 +759,7 @@ static void free_stitch_arrays(stitch *st)
 /* The common sphere of a vertex's four seeds (see vc_seed_spheres), or -1:
  * the lowest-numbered sphere every seed of the key lies on whose centre
  * is within VC_SPHERE_CENTRE_REACH of its radius from the vertex. */
-static int64_t common_sphere(const stitch *st, const vc_seed_spheres *sp, const int64_t key[4],
-                             const double p[3])
+static int64_t common_sphere(const vc_seed_spheres *sp, const int64_t key[4], const double p[3])
 {
     for (int j = 0; j < 4; j++)
         if (key[j] < 0)
@@ -783,7 +782,6 @@ static int64_t common_sphere(const stitch *st, const vc_seed_spheres *sp, const 
         if (d <= VC_SPHERE_CENTRE_REACH * c[3])
             return a;
     }
-    (void)st;
     return -1;
 }
 
@@ -798,7 +796,7 @@ static int64_t unite_at_sphere_centres(stitch *st, const vc_seed_spheres *sp, in
         return -1;
 #pragma omp parallel for schedule(dynamic, 1024) num_threads(threads)
     for (int64_t g = 0; g < ng; g++) {
-        at[g] = common_sphere(st, sp, st->gkey + 4 * g, st->gp + 3 * g);
+        at[g] = common_sphere(sp, st->gkey + 4 * g, st->gp + 3 * g);
         if (at[g] >= 0)
             memcpy(st->gp + 3 * g, sp->sphere + 4 * at[g], 3 * sizeof(double));
     }
