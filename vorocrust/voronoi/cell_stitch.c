@@ -800,39 +800,27 @@ static int64_t unite_at_sphere_centres(stitch *st, const vc_seed_spheres *sp, in
         if (at[g] >= 0)
             memcpy(st->gp + 3 * g, sp->sphere + 4 * at[g], 3 * sizeof(double));
     }
-    /* the first vertex met of each centre, by a hash of the centre's id */
-    int64_t cap = 1024;
-    while (cap < 2 * ng)
-        cap *= 2;
-    int64_t *slot_sphere = malloc((size_t)cap * sizeof(int64_t));
-    int64_t *slot_vertex = malloc((size_t)cap * sizeof(int64_t));
-    if (!slot_sphere || !slot_vertex) {
+    /* the first vertex met of each centre (the ids are dense: an array) */
+    int64_t *first = malloc((size_t)(sp->n_spheres + 1) * sizeof(int64_t));
+    if (!first) {
         free(at);
-        free(slot_sphere);
-        free(slot_vertex);
         return -1;
     }
-    for (int64_t i = 0; i < cap; i++)
-        slot_sphere[i] = -1;
+    for (int64_t a = 0; a < sp->n_spheres; a++)
+        first[a] = -1;
     int64_t n_united = 0;
     for (int64_t g = 0; g < ng; g++) {
         if (at[g] < 0)
             continue;
-        uint64_t h = (uint64_t)at[g] * 0x9E3779B97F4A7C15ull;
-        int64_t i = (int64_t)(h >> 20) & (cap - 1);
-        while (slot_sphere[i] >= 0 && slot_sphere[i] != at[g])
-            i = (i + 1) & (cap - 1);
-        if (slot_sphere[i] < 0) {
-            slot_sphere[i] = at[g];
-            slot_vertex[i] = g;
-        } else if (vc_uf_find(st->root, slot_vertex[i]) != vc_uf_find(st->root, g)) {
-            vc_uf_unite(st->root, slot_vertex[i], g);
+        if (first[at[g]] < 0)
+            first[at[g]] = g;
+        else if (vc_uf_find(st->root, first[at[g]]) != vc_uf_find(st->root, g)) {
+            vc_uf_unite(st->root, first[at[g]], g);
             n_united++;
         }
     }
     free(at);
-    free(slot_sphere);
-    free(slot_vertex);
+    free(first);
     return n_united;
 }
 
