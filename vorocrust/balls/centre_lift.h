@@ -19,8 +19,11 @@
  * scanned again, and accepted when no seed pair is half covered and the
  * facets are the same triplets (the same triangulation, moved), none with
  * a seed much nearer a fourth sphere than before (a short edge). Where the
- * check fails, the lift of the balls involved is halved, then removed with
- * that of their neighbours, and after MAX_ROUNDS all lifts are dropped:
+ * check fails, the balls of each failing configuration (a near-quartet)
+ * first move together, by the mean of their lifts (a translation keeps
+ * what sliver elimination left among them); where that fails too, the
+ * lift of the balls involved is halved, then removed with that of their
+ * neighbours, and after MAX_ROUNDS all lifts are dropped:
  * the result is never worse than the unlifted sampling. Further passes
  * measure the lifted facets again and move by what remains (a thin tube's
  * second-order remainder), each checked against the sampled facets the
