@@ -109,6 +109,92 @@ static int64_t cell_coord(double x, double h)
     return (int64_t)c;
 }
 
+/* Empty slots hold this key: no cell has it (the level takes 6 bits, and
+ * levels stop at 47). */
+#define NO_KEY UINT64_MAX
+
+/* A table of n free slots, or NULL. */
+static vc_ball_cell *cells_alloc(int64_t n)
+{
+    vc_ball_cell *c = malloc(sizeof(vc_ball_cell) * (size_t)n);
+    if (!c)
+        return NULL;
+    for (int64_t i = 0; i < n; i++) {
+        c[i].key = NO_KEY;
+        c[i].n = c[i].cap = 0;
+        c[i].rec = NULL;
+    }
+    return c;
+}
+
+/* The cell of key (hash h), or NULL when it has no slot. */
+static vc_ball_cell *find_cell(const vc_ball_set *bs, uint64_t key, uint64_t h)
+{
+    const uint64_t mask = (uint64_t)bs->table_size - 1;
+    for (uint64_t s = h & mask;; s = (s + 1) & mask) {
+        vc_ball_cell *c = &bs->cell[s];
+        if (c->key == key)
+            return c;
+        if (c->key == NO_KEY)
+            return NULL;
+    }
+}
+
+/* The cell of key, given a slot if it has none (the table has room: see
+ * grow). */
+static vc_ball_cell *cell_for(vc_ball_set *bs, uint64_t key, uint64_t h)
+{
+    const uint64_t mask = (uint64_t)bs->table_size - 1;
+    for (uint64_t s = h & mask;; s = (s + 1) & mask) {
+        vc_ball_cell *c = &bs->cell[s];
+        if (c->key == key)
+            return c;
+        if (c->key == NO_KEY) {
+            c->key = key;
+            bs->n_slots_used++;
+            return c;
+        }
+    }
+}
+
+/* The table again at size ts, with the cells that hold balls (their ball
+ * lists moved, not copied). Returns 0, or -1 when out of memory (the table
+ * unchanged). */
+static int rehash(vc_ball_set *bs, int64_t ts)
+{
+    vc_ball_cell *fresh = cells_alloc(ts);
+    uint64_t *f = filter_alloc(ts);
+    if (!fresh || !f) {
+        free(fresh);
+        free(f);
+        return -1;
+    }
+    vc_ball_cell *old = bs->cell;
+    const int64_t old_size = bs->table_size;
+    bs->cell = fresh;
+    bs->table_size = ts;
+    bs->n_slots_used = 0;
+    free(bs->filter);
+    bs->filter = f;
+    bs->n_unlinked = 0;
+    for (int64_t i = 0; i < old_size; i++) {
+        if (old[i].key == NO_KEY)
+            continue;
+        if (old[i].n == 0) {
+            free(old[i].rec);
+            continue;
+        }
+        const uint64_t h = hash64(old[i].key);
+        vc_ball_cell *c = cell_for(bs, old[i].key, h);
+        c->n = old[i].n;
+        c->cap = old[i].cap;
+        c->rec = old[i].rec;
+        filter_set(bs, h);
+    }
+    free(old);
+    return 0;
+}
+
 int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag)
 {
     memset(bs, 0, sizeof *bs);
@@ -118,21 +204,21 @@ int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag)
     for (int d = 0; d < 3; d++)
         bs->origin[d] = lo[d] - (diag > 0 ? diag : 1.0);
     bs->table_size = 1 << 12;
-    bs->head = malloc(sizeof(int64_t) * (size_t)bs->table_size);
-    if (!bs->head || filter_reset(bs))
+    bs->cell = cells_alloc(bs->table_size);
+    if (!bs->cell || filter_reset(bs))
         return -1;
-    for (int64_t i = 0; i < bs->table_size; i++)
-        bs->head[i] = -1;
     return 0;
 }
 
 void vc_ball_set_free(vc_ball_set *bs)
 {
     vc_balls_free(&bs->b);
-    free(bs->head);
+    for (int64_t i = 0; bs->cell && i < bs->table_size; i++)
+        free(bs->cell[i].rec);
+    free(bs->cell);
     free(bs->filter);
-    free(bs->entry);
-    free(bs->prev);
+    free(bs->key);
+    free(bs->pos);
     free(bs->level);
     free(bs->level_pos);
     free(bs->changed_reach);
@@ -141,51 +227,65 @@ void vc_ball_set_free(vc_ball_set *bs)
     memset(bs, 0, sizeof *bs);
 }
 
-/* Entry 2 i is ball i in its cell, entry 2 i + 1 in its coarse cell. The
- * chains are doubly linked (prev: the entry before, or -2 - slot at the
- * head): a coarse cell holds thousands of balls where the surface is
- * dense (a thin shell: 240,000 balls of one size), and unlinking by
- * walking its chain took 15% of the run when the centre lift moved
- * 160,000 of them. */
-static void link_ball(vc_ball_set *bs, int64_t i)
+/* Ball i joins the ends of its cell's and its coarse cell's lists (the
+ * table has a free slot for each: grow). Returns 0, or -1 when out of
+ * memory. */
+static int link_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        const uint64_t h = hash64(bs->entry[e].key);
-        int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
+        const uint64_t h = hash64(bs->key[e]);
+        vc_ball_cell *c = cell_for(bs, bs->key[e], h);
+        if (c->n == c->cap) {
+            const int32_t cap = c->cap ? 2 * c->cap : 4;
+            vc_ball_rec *q = realloc(c->rec, sizeof(vc_ball_rec) * (size_t)cap);
+            if (!q)
+                return -1;
+            c->rec = q;
+            c->cap = cap;
+        }
+        vc_ball_rec *r = &c->rec[c->n];
+        memcpy(r->c, bs->b.center + 3 * i, sizeof r->c);
+        r->r = bs->b.radius[i];
+        r->id = i;
+        bs->pos[e] = c->n++;
         filter_set(bs, h);
-        const int64_t first = bs->head[slot];
-        bs->entry[e].next = first;
-        bs->prev[e] = -2 - slot;
-        if (first >= 0)
-            bs->prev[first] = e;
-        bs->head[slot] = e;
     }
+    return 0;
 }
 
+/* Ball i leaves its two lists, the balls after it moving up (the order of
+ * the others kept). */
 static void unlink_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
-        const int64_t before = bs->prev[e], after = bs->entry[e].next;
-        if (before >= 0)
-            bs->entry[before].next = after;
-        else
-            bs->head[-2 - before] = after;
-        if (after >= 0)
-            bs->prev[after] = before;
+        vc_ball_cell *c = find_cell(bs, bs->key[e], hash64(bs->key[e]));
+        const int32_t at = bs->pos[e];
+        for (int32_t m = at + 1; m < c->n; m++) {
+            c->rec[m - 1] = c->rec[m];
+            bs->pos[2 * c->rec[m - 1].id + (e & 1)] = m - 1;
+        }
+        c->n--;
     }
-    bs->n_unlinked += 2;
+    bs->n_unlinked++;
 }
 
-/* After many unlinks, the filter again from the linked entries only
- * (every ball but skip, which the caller links next). */
-static void filter_refresh(vc_ball_set *bs, int64_t skip)
+/* Ball i's radius in its two lists. */
+static void relist_radius(vc_ball_set *bs, int64_t i)
+{
+    for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
+        vc_ball_cell *c = find_cell(bs, bs->key[e], hash64(bs->key[e]));
+        c->rec[bs->pos[e]].r = bs->b.radius[i];
+    }
+}
+
+/* After many unlinks, the filter again from the cells that hold balls. */
+static void filter_refresh(vc_ball_set *bs)
 {
     if (bs->n_unlinked < bs->table_size || filter_reset(bs))
         return;
-    for (int64_t i = 0; i < bs->b.n; i++)
-        if (i != skip)
-            for (int64_t e = 2 * i; e <= 2 * i + 1; e++)
-                filter_set(bs, hash64(bs->entry[e].key));
+    for (int64_t s = 0; s < bs->table_size; s++)
+        if (bs->cell[s].key != NO_KEY && bs->cell[s].n > 0)
+            filter_set(bs, hash64(bs->cell[s].key));
 }
 
 static int level_push(vc_ball_set *bs, int l, int64_t i)
@@ -219,13 +319,39 @@ static void set_key(vc_ball_set *bs, int64_t i)
     int64_t x[3];
     for (int d = 0; d < 3; d++)
         x[d] = cell_coord(c[d] - bs->origin[d], h);
-    bs->entry[2 * i].key = cell_key(l, x[0], x[1], x[2]);
-    bs->entry[2 * i + 1].key = cell_key(l, x[0] >> COARSE_SHIFT, x[1] >> COARSE_SHIFT,
+    bs->key[2 * i] = cell_key(l, x[0], x[1], x[2]);
+    bs->key[2 * i + 1] = cell_key(l, x[0] >> COARSE_SHIFT, x[1] >> COARSE_SHIFT,
                                   x[2] >> COARSE_SHIFT) | COARSE_BIT;
 }
 
-static int grow(vc_ball_set *bs)
+/* Orders every list by ball index, the largest last (a query reads a
+ * list from its end). The lists are put in this order whenever the ball
+ * arrays grow from 4,096 balls on: the order the index always had, so
+ * that queries meet balls, and the sampler makes them, as before. */
+static int rec_by_id_desc(const void *a, const void *b)
 {
+    const int64_t x = ((const vc_ball_rec *)a)->id, y = ((const vc_ball_rec *)b)->id;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
+static void order_lists(vc_ball_set *bs)
+{
+    for (int64_t s = 0; s < bs->table_size; s++) {
+        vc_ball_cell *c = &bs->cell[s];
+        if (c->key == NO_KEY || c->n == 0)
+            continue;
+        qsort(c->rec, (size_t)c->n, sizeof(vc_ball_rec), rec_by_id_desc);
+        const int coarse = (c->key & COARSE_BIT) != 0;
+        for (int32_t m = 0; m < c->n; m++)
+            bs->pos[2 * c->rec[m].id + coarse] = m;
+    }
+}
+
+/* Room for one more ball. */
+static int grow_balls(vc_ball_set *bs)
+{
+    if (bs->b.n < bs->cap)
+        return 0;
     int64_t c = bs->cap ? 2 * bs->cap : 1024;
     vc_balls *b = &bs->b;
 #define GROW(ptr, type, k)                                                  \
@@ -240,43 +366,37 @@ static int grow(vc_ball_set *bs)
     GROW(b->kind, signed char, 1);
     GROW(b->element, int64_t, 1);
     GROW(b->normal, double, 3);
-    GROW(bs->entry, vc_ball_entry, 2);
-    GROW(bs->prev, int64_t, 2);
+    GROW(bs->key, uint64_t, 2);
+    GROW(bs->pos, int32_t, 2);
     GROW(bs->level, int, 1);
     GROW(bs->level_pos, int64_t, 1);
     GROW(bs->changed_reach, double, 1);
 #undef GROW
     bs->cap = c;
-    /* keep the table at least as large as the entry count (two per ball) */
-    if (2 * c > bs->table_size) {
-        int64_t ts = bs->table_size;
-        while (ts < 2 * c)
-            ts *= 2;
-        int64_t *h = malloc(sizeof(int64_t) * (size_t)ts);
-        uint64_t *f = filter_alloc(ts);
-        if (!h || !f) {
-            free(h);
-            free(f);
-            return -1;
-        }
-        free(bs->head);
-        free(bs->filter);
-        bs->head = h;
-        bs->filter = f;
-        bs->n_unlinked = 0;
-        bs->table_size = ts;
-        for (int64_t i = 0; i < ts; i++)
-            h[i] = -1;
-        for (int64_t i = b->n - 1; i >= 0; i--)
-            link_ball(bs, i);
-    }
+    if (c >= 4096)
+        order_lists(bs);
     return 0;
+}
+
+/* Slots for two more cells with the table at most half full. */
+static int table_room(vc_ball_set *bs)
+{
+    if (2 * (bs->n_slots_used + 2) <= bs->table_size)
+        return 0;
+    /* four times the cells in use: the slots of emptied cells go */
+    int64_t in_use = 0;
+    for (int64_t s = 0; s < bs->table_size; s++)
+        in_use += bs->cell[s].key != NO_KEY && bs->cell[s].n > 0;
+    int64_t ts = 1 << 12;
+    while (ts < 4 * (in_use + 2))
+        ts *= 2;
+    return rehash(bs, ts);
 }
 
 int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, int64_t element,
                         const double normal[3])
 {
-    if (bs->b.n == bs->cap && grow(bs))
+    if (grow_balls(bs) || table_room(bs))
         return -1;
     int64_t i = bs->b.n++;
     vc_balls *b = &bs->b;
@@ -291,8 +411,7 @@ int64_t vc_ball_set_add(vc_ball_set *bs, const double c[3], double r, int kind, 
     b->element[i] = element;
     bs->level[i] = level_of(bs, r);
     set_key(bs, i);
-    link_ball(bs, i);
-    if (level_push(bs, bs->level[i], i))
+    if (link_ball(bs, i) || level_push(bs, bs->level[i], i))
         return -1;
     return i;
 }
@@ -334,14 +453,19 @@ int vc_ball_set_resize(vc_ball_set *bs, int64_t i, double r)
     bs->changed_reach[i] = fmax(bs->changed_reach[i], fmax(bs->b.radius[i], r));
     bs->b.radius[i] = r;
     int l = level_of(bs, r);
-    if (l == bs->level[i])
+    if (l == bs->level[i]) {
+        relist_radius(bs, i);
         return 0;
+    }
+    if (table_room(bs))
+        return -1;
     unlink_ball(bs, i);
-    filter_refresh(bs, i);
+    filter_refresh(bs);
     level_remove(bs, bs->level[i], i);
     bs->level[i] = l;
     set_key(bs, i);
-    link_ball(bs, i);
+    if (link_ball(bs, i))
+        return -1;
     return level_push(bs, l, i);
 }
 
@@ -355,12 +479,27 @@ int vc_ball_set_move(vc_ball_set *bs, int64_t i, const double c[3])
     /* what it reached before lies within its radius plus the move of
      * where it is now */
     bs->changed_reach[i] = fmax(bs->changed_reach[i], bs->b.radius[i] + d);
+    if (table_room(bs))
+        return -1;
     unlink_ball(bs, i);
-    filter_refresh(bs, i);
+    filter_refresh(bs);
     memcpy(p, c, sizeof(double) * 3);
     set_key(bs, i);
-    link_ball(bs, i);
-    return 0;
+    return link_ball(bs, i);
+}
+
+/* Is a ball of radius r centred at c within reach + radius_factor r of p
+ * (to a relative 1e-9 more, and 1e-9 of the cell size h: the rounding of
+ * the callers' own tests)? */
+static inline int within(const double c[3], double r, const double p[3], double reach,
+                         double radius_factor, double h)
+{
+    const double R = reach + radius_factor * r;
+    if (R < 0)
+        return 0;
+    const double Rs = R * (1 + 1e-9) + 1e-9 * h;
+    const double d[3] = {c[0] - p[0], c[1] - p[1], c[2] - p[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= Rs * Rs;
 }
 
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
@@ -395,37 +534,33 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
         }
         if (cells > (double)bs->level_n[l]) {
             for (int64_t m = 0; m < bs->level_n[l]; m++) {
-                int r = fn(ctx, bs->level_list[l][m]);
+                const int64_t i = bs->level_list[l][m];
+                if (!within(bs->b.center + 3 * i, bs->b.radius[i], p, reach, radius_factor, h))
+                    continue;
+                int r = fn(ctx, i);
                 if (r)
                     return r;
             }
             continue;
         }
         if (coarse) {
-            /* the coarse cells, and in them the balls whose own cell is
-             * in the range */
+            /* the coarse cells of the range, and in them the balls near
+             * enough */
             const int64_t clo[3] = {lo[0] >> COARSE_SHIFT, lo[1] >> COARSE_SHIFT, lo[2] >> COARSE_SHIFT};
             const int64_t chi[3] = {hi[0] >> COARSE_SHIFT, hi[1] >> COARSE_SHIFT, hi[2] >> COARSE_SHIFT};
-            const uint64_t mask = ((uint64_t)1 << COORD_BITS) - 1;
             for (int64_t i = clo[0]; i <= chi[0]; i++)
                 for (int64_t j = clo[1]; j <= chi[1]; j++)
                     for (int64_t k = clo[2]; k <= chi[2]; k++) {
                         const uint64_t key = cell_key(l, i, j, k) | COARSE_BIT;
-                        const uint64_t h = hash64(key);
-                        if (!filter_has(bs, h))
+                        const uint64_t hk = hash64(key);
+                        if (!filter_has(bs, hk))
                             continue;
-                        int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
-                        for (int64_t e = bs->head[slot]; e >= 0; e = bs->entry[e].next) {
-                            if (bs->entry[e].key != key)
+                        const vc_ball_cell *c = find_cell(bs, key, hk);
+                        for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
+                            const vc_ball_rec *e = &c->rec[m];
+                            if (!within(e->c, e->r, p, reach, radius_factor, h))
                                 continue;
-                            const uint64_t fine = bs->entry[e - 1].key;
-                            const int64_t x = (int64_t)(fine & mask),
-                                          y = (int64_t)((fine >> COORD_BITS) & mask),
-                                          z = (int64_t)((fine >> (2 * COORD_BITS)) & mask);
-                            if (x < lo[0] || x > hi[0] || y < lo[1] || y > hi[1] || z < lo[2] ||
-                                z > hi[2])
-                                continue;
-                            int r = fn(ctx, e >> 1);
+                            int r = fn(ctx, e->id);
                             if (r)
                                 return r;
                         }
@@ -462,15 +597,16 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                 for (int64_t k = lo[2]; k <= hi[2]; k++) {
                     if (gap2[0][i - lo[0]] + gap2[1][j - lo[1]] + gap2[2][k - lo[2]] > R2)
                         continue;
-                    uint64_t key = cell_key(l, i, j, k);
-                    const uint64_t h = hash64(key);
-                    if (!filter_has(bs, h))
+                    const uint64_t key = cell_key(l, i, j, k);
+                    const uint64_t hk = hash64(key);
+                    if (!filter_has(bs, hk))
                         continue;
-                    int64_t slot = (int64_t)(h & (uint64_t)(bs->table_size - 1));
-                    for (int64_t e = bs->head[slot]; e >= 0; e = bs->entry[e].next) {
-                        if (bs->entry[e].key != key)
+                    const vc_ball_cell *c = find_cell(bs, key, hk);
+                    for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
+                        const vc_ball_rec *e = &c->rec[m];
+                        if (!within(e->c, e->r, p, reach, radius_factor, h))
                             continue;
-                        int r = fn(ctx, e >> 1);
+                        int r = fn(ctx, e->id);
                         if (r)
                             return r;
                     }

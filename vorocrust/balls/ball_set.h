@@ -18,25 +18,37 @@
 
 #define VC_BALL_LEVELS 48
 
-/* An entry of a hash chain: its cell's key and the next entry, side by side
- * (a chain walk reads both; apart they were two cache misses per step). */
-typedef struct vc_ball_entry {
+/* A ball as its cell lists it: the centre and radius a query filters by
+ * (the cell's balls side by side: walking a cell reads consecutive memory,
+ * where a chain through the balls' arrays was a cache miss per ball, most
+ * of the sampler's time), and the ball's index. */
+typedef struct vc_ball_rec {
+    double c[3], r;
+    int64_t id;
+} vc_ball_rec;
+
+/* A cell of the hash grid (open addressing): its key (VC_BALL_NO_KEY when
+ * the slot is free) and its balls, in the order they were linked. A cell
+ * left empty keeps its slot until the table is rebuilt. */
+typedef struct vc_ball_cell {
     uint64_t key;
-    int64_t next;
-} vc_ball_entry;
+    int32_t n, cap;
+    vc_ball_rec *rec;
+} vc_ball_cell;
 
 typedef struct vc_ball_set {
     vc_balls b;          /* the balls (center, radius, kind, element, normal) */
     int64_t cap;
     double unit;         /* radius of level 0 */
     double origin[3];    /* cell coordinates count from here */
-    /* hash grid: cell key -> first ball, then next[] */
+    /* hash grid: cell key -> the cell's balls */
     int64_t table_size;  /* power of two */
-    int64_t *head;
+    int64_t n_slots_used; /* slots holding a key (cells, empty or not) */
+    vc_ball_cell *cell;
     uint64_t *filter;    /* occupancy bits of the cell keys (ball_set.c) */
-    int64_t n_unlinked;  /* entries unlinked since the filter was made */
-    vc_ball_entry *entry; /* 2 i for ball i's cell, 2 i + 1 for its coarse cell */
-    int64_t *prev;       /* per entry: the entry before it in its chain, or -2 - slot */
+    int64_t n_unlinked;  /* balls unlinked since the filter was made */
+    uint64_t *key;       /* 2 i: ball i's cell, 2 i + 1: its coarse cell */
+    int32_t *pos;        /* its place in each of the two cells' lists */
     int *level;
     /* per-level lists */
     int64_t *level_pos;  /* position of the ball in its level's list */
@@ -74,9 +86,12 @@ int vc_ball_set_move(vc_ball_set *bs, int64_t i, const double c[3]);
 void vc_ball_set_forget_changes(vc_ball_set *bs);
 
 /* Calls fn(ctx, i) for every ball whose centre is within distance
- * reach + its radius * radius_factor of p (a superset filter: fn tests the
- * exact condition; levels where that distance is negative for every radius
- * are skipped; so are levels whose radii are all below min_radius). Stops early when fn returns non-zero, and returns that. */
+ * reach + its radius * radius_factor of p, and for no ball farther than
+ * that by more than a relative 1e-9 (fn tests its exact condition, which
+ * must not accept a ball beyond that distance); balls whose radius is
+ * below min_radius may be left out. Cell by cell, the most recently linked
+ * ball of a cell first: the same order for the same calls. Stops early
+ * when fn returns non-zero, and returns that. */
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                       double radius_factor, double min_radius, int (*fn)(void *ctx, int64_t i),
                       void *ctx);
