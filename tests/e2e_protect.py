@@ -52,12 +52,13 @@ BIN = os.environ["VC_BIN"]
 # and the protection moved other seeds: 2.67e-4 (cells with an edge below
 # 1e-2 of their radius: 7.2% with --protect, 32% without). blobby met 1e-3
 # (1.09e-3) until session 37, when the centre lift's near-quartets moved
-# together: its shortest edge is then 7.5e-4, on an edge whose five seeds
-# are three surface seeds and two interior ones next to the balls; every
-# candidate place the protection tries for the interior seed of that cell
-# (8 per round, all clear of the balls) leaves its cell an edge of 6.2e-4 to
-# 6.4e-4 of its radius by its own measure (a defect of the protection in the
-# layer between surface and interior seeds, issue 20).
+# together: its shortest edge is then 7.5e-4, from a vertex at a ball's
+# centre to one 1e-4 of the radius away, whose five seeds are three surface
+# seeds and two sphere seeds (poles); the protection moves a pole only on
+# its ball's sphere, and every candidate place it tries (8 per round, all
+# clear of the balls) leaves an edge of 6.2e-4 to 6.4e-4 of the cell's
+# radius by its own measure (a defect of the protection where interior and
+# surface seeds meet, issue 20).
 PARTS = {"icosphere": (os.path.join(os.environ["VC_SOURCE"], "models", "icosphere.obj"), 1e-3),
          "materials": (None, 2.5e-4), "blobby": (None, 5e-4), "torus": (None, 1e-4)}
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
