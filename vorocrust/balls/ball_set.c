@@ -121,7 +121,7 @@ static vc_ball_cell *cells_alloc(int64_t n)
         return NULL;
     for (int64_t i = 0; i < n; i++) {
         c[i].key = NO_KEY;
-        c[i].n = c[i].cap = 0;
+        c[i].n = c[i].cap = c[i].n_dead = 0;
         c[i].rec = NULL;
     }
     return c;
@@ -180,13 +180,14 @@ static int rehash(vc_ball_set *bs, int64_t ts)
     for (int64_t i = 0; i < old_size; i++) {
         if (old[i].key == NO_KEY)
             continue;
-        if (old[i].n == 0) {
+        if (old[i].n == old[i].n_dead) {
             free(old[i].rec);
             continue;
         }
         const uint64_t h = hash64(old[i].key);
         vc_ball_cell *c = cell_for(bs, old[i].key, h);
         c->n = old[i].n;
+        c->n_dead = old[i].n_dead;
         c->cap = old[i].cap;
         c->rec = old[i].rec;
         filter_set(bs, h);
@@ -227,6 +228,23 @@ void vc_ball_set_free(vc_ball_set *bs)
     memset(bs, 0, sizeof *bs);
 }
 
+/* Drops the unlinked records of a list, the others keeping their order
+ * (and their balls' places updated). */
+static void compact(vc_ball_set *bs, vc_ball_cell *c)
+{
+    const int coarse = (c->key & COARSE_BIT) != 0;
+    int32_t m = 0;
+    for (int32_t k = 0; k < c->n; k++) {
+        if (c->rec[k].id < 0)
+            continue;
+        c->rec[m] = c->rec[k];
+        bs->pos[2 * c->rec[m].id + coarse] = m;
+        m++;
+    }
+    c->n = m;
+    c->n_dead = 0;
+}
+
 /* Ball i joins the ends of its cell's and its coarse cell's lists (the
  * table has a free slot for each: grow). Returns 0, or -1 when out of
  * memory. */
@@ -253,18 +271,21 @@ static int link_ball(vc_ball_set *bs, int64_t i)
     return 0;
 }
 
-/* Ball i leaves its two lists, the balls after it moving up (the order of
- * the others kept). */
+/* Ball i leaves its two lists: its record is marked unlinked (id -1), and
+ * a list is compacted once half of it is such records, so that an unlink
+ * costs O(1) on average however many balls a coarse cell holds (a thin
+ * shell's: thousands, all moved by the centre lift) and the order of the
+ * others is kept. */
 static void unlink_ball(vc_ball_set *bs, int64_t i)
 {
     for (int64_t e = 2 * i; e <= 2 * i + 1; e++) {
         vc_ball_cell *c = find_cell(bs, bs->key[e], hash64(bs->key[e]));
-        const int32_t at = bs->pos[e];
-        for (int32_t m = at + 1; m < c->n; m++) {
-            c->rec[m - 1] = c->rec[m];
-            bs->pos[2 * c->rec[m - 1].id + (e & 1)] = m - 1;
-        }
-        c->n--;
+        c->rec[bs->pos[e]].id = -1;
+        c->n_dead++;
+        if (c->n_dead == c->n)
+            c->n = c->n_dead = 0;
+        else if (2 * c->n_dead > c->n)
+            compact(bs, c);
     }
     bs->n_unlinked++;
 }
@@ -284,7 +305,7 @@ static void filter_refresh(vc_ball_set *bs)
     if (bs->n_unlinked < bs->table_size || filter_reset(bs))
         return;
     for (int64_t s = 0; s < bs->table_size; s++)
-        if (bs->cell[s].key != NO_KEY && bs->cell[s].n > 0)
+        if (bs->cell[s].key != NO_KEY && bs->cell[s].n > bs->cell[s].n_dead)
             filter_set(bs, hash64(bs->cell[s].key));
 }
 
@@ -340,6 +361,7 @@ static void order_lists(vc_ball_set *bs)
         vc_ball_cell *c = &bs->cell[s];
         if (c->key == NO_KEY || c->n == 0)
             continue;
+        compact(bs, c);
         qsort(c->rec, (size_t)c->n, sizeof(vc_ball_rec), rec_by_id_desc);
         const int coarse = (c->key & COARSE_BIT) != 0;
         for (int32_t m = 0; m < c->n; m++)
@@ -386,7 +408,7 @@ static int table_room(vc_ball_set *bs)
     /* four times the cells in use: the slots of emptied cells go */
     int64_t in_use = 0;
     for (int64_t s = 0; s < bs->table_size; s++)
-        in_use += bs->cell[s].key != NO_KEY && bs->cell[s].n > 0;
+        in_use += bs->cell[s].key != NO_KEY && bs->cell[s].n > bs->cell[s].n_dead;
     int64_t ts = 1 << 12;
     while (ts < 4 * (in_use + 2))
         ts *= 2;
@@ -558,7 +580,7 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                         const vc_ball_cell *c = find_cell(bs, key, hk);
                         for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
                             const vc_ball_rec *e = &c->rec[m];
-                            if (!within(e->c, e->r, p, reach, radius_factor, h))
+                            if (e->id < 0 || !within(e->c, e->r, p, reach, radius_factor, h))
                                 continue;
                             int r = fn(ctx, e->id);
                             if (r)
@@ -604,7 +626,7 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                     const vc_ball_cell *c = find_cell(bs, key, hk);
                     for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
                         const vc_ball_rec *e = &c->rec[m];
-                        if (!within(e->c, e->r, p, reach, radius_factor, h))
+                        if (e->id < 0 || !within(e->c, e->r, p, reach, radius_factor, h))
                             continue;
                         int r = fn(ctx, e->id);
                         if (r)

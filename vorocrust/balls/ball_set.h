@@ -27,12 +27,13 @@ typedef struct vc_ball_rec {
     int64_t id;
 } vc_ball_rec;
 
-/* A cell of the hash grid (open addressing): its key (VC_BALL_NO_KEY when
- * the slot is free) and its balls, in the order they were linked. A cell
- * left empty keeps its slot until the table is rebuilt. */
+/* A cell of the hash grid (open addressing): its key (UINT64_MAX when the
+ * slot is free) and its balls, in the order they were linked; n_dead of
+ * the n records are of balls unlinked since (id -1). A cell left empty
+ * keeps its slot until the table is rebuilt. */
 typedef struct vc_ball_cell {
     uint64_t key;
-    int32_t n, cap;
+    int32_t n, cap, n_dead;
     vc_ball_rec *rec;
 } vc_ball_cell;
 
