@@ -197,9 +197,8 @@ static void check_thin_torus(void)
 /* Thinner tubes, 3 to 4 balls across: the lifts that turn a near-quartet
  * of balls over are not halved away but taken by the quartet's balls
  * together (reduce_lifts), and the volume error stays well inside 0.5%
- * (before: -0.65% on the tube of radius 0.1, -0.54% on a generated torus
- * of tube radius 0.05 and -2.5% on a capped cylinder, see
- * docs/sampling-convergence.md). */
+ * (before: -0.52% on the tube of radius 0.1, -0.30% on the one of radius
+ * 0.05; -2.5% on a capped cylinder, see docs/sampling-convergence.md). */
 static void check_thinner_tube(double r, int nu, int nv)
 {
     builder b = {0};

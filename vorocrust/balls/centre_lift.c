@@ -17,7 +17,7 @@
 /* attempts of a pass, each with half the steps of the one before */
 #define DAMPED_ATTEMPTS 3
 /* checks in all: the lift's cost stays a few triplet scans */
-#define MAX_CHECKS 24
+#define MAX_CHECKS 48
 /* ball sets from this size on get progress lines through the lift */
 #define LARGE_LIFT 50000
 /* Passes of the lift: each measures the sags of the facets as the last
