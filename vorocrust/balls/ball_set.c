@@ -524,6 +524,23 @@ static inline int within(const double c[3], double r, const double p[3], double 
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= Rs * Rs;
 }
 
+/* fn for the balls of cell c near enough (within), the latest linked
+ * first; stops at fn's first non-zero answer and returns it. */
+static inline int walk_cell(const vc_ball_cell *c, const double p[3], double reach,
+                            double radius_factor, double h, int (*fn)(void *ctx, int64_t i),
+                            void *ctx)
+{
+    for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
+        const vc_ball_rec *e = &c->rec[m];
+        if (e->id < 0 || !within(e->c, e->r, p, reach, radius_factor, h))
+            continue;
+        const int r = fn(ctx, e->id);
+        if (r)
+            return r;
+    }
+    return 0;
+}
+
 int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                       double radius_factor, double min_radius, int (*fn)(void *ctx, int64_t i),
                       void *ctx)
@@ -577,15 +594,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                         const uint64_t hk = hash64(key);
                         if (!filter_has(bs, hk))
                             continue;
-                        const vc_ball_cell *c = find_cell(bs, key, hk);
-                        for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
-                            const vc_ball_rec *e = &c->rec[m];
-                            if (e->id < 0 || !within(e->c, e->r, p, reach, radius_factor, h))
-                                continue;
-                            int r = fn(ctx, e->id);
-                            if (r)
-                                return r;
-                        }
+                        const int r = walk_cell(find_cell(bs, key, hk), p, reach, radius_factor,
+                                                h, fn, ctx);
+                        if (r)
+                            return r;
                     }
             continue;
         }
@@ -623,15 +635,10 @@ int vc_ball_set_query(const vc_ball_set *bs, const double p[3], double reach,
                     const uint64_t hk = hash64(key);
                     if (!filter_has(bs, hk))
                         continue;
-                    const vc_ball_cell *c = find_cell(bs, key, hk);
-                    for (int32_t m = c ? c->n - 1 : -1; m >= 0; m--) {
-                        const vc_ball_rec *e = &c->rec[m];
-                        if (e->id < 0 || !within(e->c, e->r, p, reach, radius_factor, h))
-                            continue;
-                        int r = fn(ctx, e->id);
-                        if (r)
-                            return r;
-                    }
+                    const int r = walk_cell(find_cell(bs, key, hk), p, reach, radius_factor, h,
+                                            fn, ctx);
+                    if (r)
+                        return r;
                 }
     }
     return 0;

@@ -268,6 +268,21 @@ static int64_t promote_folds(const vc_features *f, const unsigned char *stuck_tr
     return added;
 }
 
+/* The balls' spheres the surface and sphere seeds of seeds lie on (the
+ * engine makes each ball's centre one vertex from them). Returns 0, or
+ * VC_ENOMEM with err set. */
+static int find_seed_spheres(const vc_mesh_options *opt, const vc_mesh_result *out,
+                             const vc_seeds *seeds, vc_seed_spheres_owned *on, vc_error *err)
+{
+    const double t = now();
+    if (vc_seed_spheres_find(&out->balls, seeds, out->n_surface_seeds + out->n_sphere_seeds,
+                             opt->threads, on))
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the seeds' spheres");
+    vc_log(opt->log, VC_LOG_DEBUG, "  mesh: the spheres of %lld seeds, %.3f s",
+           (long long)seeds->n, now() - t);
+    return 0;
+}
+
 static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
                        vc_mesh_result *out, vc_error *err);
 static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
@@ -828,10 +843,8 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
         vc_log(opt->log, VC_LOG_INFO, "mesh: the surface: Voronoi cells of %lld seeds",
                (long long)seeds->n);
     vc_seed_spheres_owned on_spheres;
-    if (vc_seed_spheres_find(&out->balls, seeds, out->n_surface_seeds + out->n_sphere_seeds,
-                             opt->threads, &on_spheres)) {
+    if (find_seed_spheres(opt, out, seeds, &on_spheres, err)) {
         vc_seeds_free(&all);
-        vc_error_set(err, VC_ENOMEM, "out of memory for the seeds' spheres");
         return named(err, name, NULL);
     }
     const int rc = vc_reconstruct_surface(seeds, out->n_surface_seeds, &on_spheres.view,
@@ -911,15 +924,8 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     vc_log(opt->log, VC_LOG_INFO, "mesh: Voronoi cells of %lld seeds", (long long)out->seeds.n);
     /* the vertex at a ball's centre is one point (vc_seed_spheres) */
     vc_seed_spheres_owned on_spheres;
-    const double t_spheres = now();
-    if (vc_seed_spheres_find(&out->balls, &out->seeds,
-                             out->n_surface_seeds + out->n_sphere_seeds, opt->threads,
-                             &on_spheres)) {
-        vc_error_set(err, VC_ENOMEM, "out of memory for the seeds' spheres");
+    if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
         return named(err, name, NULL);
-    }
-    vc_log(opt->log, VC_LOG_DEBUG, "  mesh: the spheres of %lld seeds, %.3f s",
-           (long long)out->seeds.n, now() - t_spheres);
     vo.spheres = &on_spheres.view;
     const int built = vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
     vc_seed_spheres_free(&on_spheres);

@@ -47,23 +47,21 @@ int vc_seed_spheres_find(const vc_balls *balls, const vc_seeds *seeds, int64_t n
     const int64_t n = seeds->n;
     if (balls->n == 0 || n == 0)
         return 0;
+    if (n_near > n)
+        n_near = n;
     vc_ball_set bs;
     if (vc_ball_set_build(&bs, balls, NULL))
         return -1;
-    int64_t *ids = malloc(sizeof(int64_t) * MAX_PER_SEED * (size_t)n);
-    unsigned char *count = malloc((size_t)n);
+    /* scratch for the seeds looked up only (the others are on none) */
+    int64_t *ids = malloc(sizeof(int64_t) * MAX_PER_SEED * (size_t)(n_near > 0 ? n_near : 1));
+    unsigned char *count = calloc((size_t)n, 1);
     out->start = malloc(sizeof(int64_t) * (size_t)(n + 1));
     out->sphere = malloc(sizeof(double) * 4 * (size_t)balls->n);
+    int rc = 0;
     if (!ids || !count || !out->start || !out->sphere) {
-        free(ids);
-        free(count);
-        vc_ball_set_free(&bs);
-        vc_seed_spheres_free(out);
-        return -1;
+        rc = -1;
+        goto done;
     }
-    memset(count, 0, (size_t)n);
-    if (n_near > n)
-        n_near = n;
 #pragma omp parallel for schedule(dynamic, 1024) num_threads(threads > 0 ? threads : 1)
     for (int64_t s = 0; s < n_near; s++) {
         on_ctx c = {&bs.b, seeds->xyz + 3 * s, {0}, 0};
@@ -77,13 +75,10 @@ int vc_seed_spheres_find(const vc_balls *balls, const vc_seeds *seeds, int64_t n
         out->start[s + 1] = out->start[s] + count[s];
     out->id = malloc(sizeof(int64_t) * (size_t)(out->start[n] > 0 ? out->start[n] : 1));
     if (!out->id) {
-        free(ids);
-        free(count);
-        vc_ball_set_free(&bs);
-        vc_seed_spheres_free(out);
-        return -1;
+        rc = -1;
+        goto done;
     }
-    for (int64_t s = 0; s < n; s++)
+    for (int64_t s = 0; s < n_near; s++)
         memcpy(out->id + out->start[s], ids + MAX_PER_SEED * s, sizeof(int64_t) * count[s]);
     for (int64_t i = 0; i < balls->n; i++) {
         memcpy(out->sphere + 4 * i, balls->center + 3 * i, 3 * sizeof(double));
@@ -93,10 +88,13 @@ int vc_seed_spheres_find(const vc_balls *balls, const vc_seeds *seeds, int64_t n
     out->view.sphere = out->sphere;
     out->view.start = out->start;
     out->view.id = out->id;
+done:
     free(ids);
     free(count);
     vc_ball_set_free(&bs);
-    return 0;
+    if (rc)
+        vc_seed_spheres_free(out);
+    return rc;
 }
 
 void vc_seed_spheres_free(vc_seed_spheres_owned *s)
