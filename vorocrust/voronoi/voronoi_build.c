@@ -539,22 +539,32 @@ static int cut_with_hits(const cell_job *job, vc_convex_cell *cell, prune *pr, c
  * that meets a convex cell holds one of its vertices), so the balls of the
  * cell at the query stay valid while the candidates cut it. */
 typedef struct clearance {
-    const double *ball; /* 4 per vertex: x, y, z, squared radius */
+    const double *ball; /* 4 per vertex: x, y, z, squared radius; by
+                           decreasing radius */
     int n;
     const double *xs;
     double slack;
+    double lo[3], hi[3]; /* the balls' bounding box */
 } clearance;
 
 static int clearance_reaches(void *ctx, const double lo[3], const double hi[3])
 {
     const clearance *c = ctx;
-    double l[3], h[3];
+    double l[3], h[3], d2 = 0;
     for (int d = 0; d < 3; d++) {
         l[d] = lo[d] - c->xs[d] - c->slack;
         h[d] = hi[d] - c->xs[d] + c->slack;
+        if (l[d] > c->hi[d] || h[d] < c->lo[d])
+            return 0; /* outside every ball's bounding box */
+        const double e = l[d] > 0 ? l[d] : (h[d] < 0 ? -h[d] : 0);
+        d2 += e * e;
     }
     const double *x = c->ball;
     for (int v = 0; v < c->n; v++, x += 4) {
+        /* a ball through the seed reaches at most its diameter from it;
+         * the rest are smaller still */
+        if (4.0 * x[3] < d2)
+            break;
         double e2 = 0;
         for (int d = 0; d < 3; d++) {
             const double e = x[d] < l[d] ? l[d] - x[d] : (x[d] > h[d] ? x[d] - h[d] : 0);
@@ -566,8 +576,9 @@ static int clearance_reaches(void *ctx, const double lo[3], const double hi[3])
     return 0;
 }
 
-/* The clearance balls of every vertex of the cell into b (4 doubles each). */
-static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b)
+/* The clearance balls of every vertex of the cell into b (4 doubles each),
+ * by decreasing radius, and their bounding box into cl. */
+static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b, clearance *cl)
 {
     if (b->cap < cell->nt) {
         void *q = realloc(b->data, sizeof(double) * 4 * (size_t)(cell->nt + 64));
@@ -576,13 +587,28 @@ static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b)
         b->data = q;
         b->cap = cell->nt + 64;
     }
-    double *x = b->data;
-    for (int t = 0; t < cell->nt; t++, x += 4) {
-        x[0] = cell->px[t];
-        x[1] = cell->py[t];
-        x[2] = cell->pz[t];
-        x[3] = clearance_r2(cell, t, x);
+    double *bd = b->data;
+    for (int d = 0; d < 3; d++) {
+        cl->lo[d] = INFINITY;
+        cl->hi[d] = -INFINITY;
     }
+    for (int t = 0; t < cell->nt; t++) {
+        const double x[3] = {cell->px[t], cell->py[t], cell->pz[t]};
+        const double r2 = clearance_r2(cell, t, x), r = sqrt(r2);
+        for (int d = 0; d < 3; d++) {
+            cl->lo[d] = fmin(cl->lo[d], x[d] - r);
+            cl->hi[d] = fmax(cl->hi[d], x[d] + r);
+        }
+        int w = t;
+        for (; w > 0 && bd[4 * (w - 1) + 3] < r2; w--)
+            memcpy(bd + 4 * w, bd + 4 * (w - 1), 4 * sizeof(double));
+        bd[4 * w] = x[0];
+        bd[4 * w + 1] = x[1];
+        bd[4 * w + 2] = x[2];
+        bd[4 * w + 3] = r2;
+    }
+    cl->ball = bd;
+    cl->n = cell->nt;
     return 0;
 }
 
@@ -624,10 +650,10 @@ static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_b
         return CELL_NOMEM;
     hit = hit_buf->data;
     for (;;) {
-        if (clearance_balls(cell, &pr->ball) != 0)
+        clearance cl = {NULL, 0, xs, job->slack, {0, 0, 0}, {0, 0, 0}};
+        if (clearance_balls(cell, &pr->ball, &cl) != 0)
             return CELL_NOMEM;
         pr->dirty = 1; /* the grid's pruning lists its balls again */
-        clearance cl = {pr->ball.data, cell->nt, xs, job->slack};
         int truncated;
         const int n = vc_seed_kdtree_within(t, xs, 4.0 * cell->rmax2 * (1.0 + 1e-9), last, s,
                                             clearance_reaches, &cl, hit, RANGE_MAX, &truncated);
