@@ -1114,6 +1114,37 @@ def case_hex_prism():
     return capped_sweep([ring(0.0), ring(1.5)])
 
 
+def case_slot_block():
+    """A 1 x 0.4 x 0.15 block with a saw cut 0.006 wide and 0.15 deep across
+    its top (a profile extruded, vtkLinearExtrusionFilter): clean and sharp,
+    but its 8 long slot edges fold at right angles like noise would, and a
+    copy smoothed within half the error bound widens the slot (half the
+    balls predicted) and loses 1.9% of the volume (session 38)."""
+    L, H, w, depth, ext = 1.0, 0.4, 0.006, 0.15, 0.15
+    profile = [(0, 0), (L, 0), (L, H), (L / 2 + w / 2, H), (L / 2 + w / 2, H - depth),
+               (L / 2 - w / 2, H - depth), (L / 2 - w / 2, H), (0, H)]
+    pts = vtk.vtkPoints()
+    poly = vtk.vtkCellArray()
+    poly.InsertNextCell(len(profile))
+    for i, (x, y) in enumerate(profile):
+        pts.InsertNextPoint(x, y, 0)
+        poly.InsertCellPoint(i)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetPolys(poly)
+    tri = vtk.vtkTriangleFilter()
+    tri.SetInputData(pd)
+    e = vtk.vtkLinearExtrusionFilter()
+    e.SetInputConnection(tri.GetOutputPort())
+    e.SetExtrusionTypeToVectorExtrusion()
+    e.SetVector(0, 0, ext)
+    e.CappingOn()
+    tri2 = vtk.vtkTriangleFilter()
+    tri2.SetInputConnection(e.GetOutputPort())
+    tri2.Update()
+    return polydata_to_lists(tri2.GetOutput(), tolerance=1e-9)
+
+
 def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
@@ -1161,6 +1192,7 @@ CASES = [
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),
     ("rough_blob", case_rough_blob, "bumpy star-shaped subdivided icosahedron, every vertex moved radially by up to 0.7 of the default error bound: noise at the facets' scale", 2),
     ("noisy_plate", case_noisy_plate, "csg_plate Loop-subdivided, every vertex moved along its normal by up to 0.4 of the default error bound", 0),
+    ("slot_block", case_slot_block, "block with a saw cut 0.006 wide (0.6% of its size): clean and sharp, not noise; a smoothed copy would widen the cut", 2),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

@@ -131,6 +131,13 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *p
  * are fractions of. */
 double vc_surface_diagonal(const vc_surface *s);
 
+/* The signed volume a closed surface encloses: the sum over its triangles
+ * of det(a, b, c) / 6, positive when they are oriented outwards; summed
+ * relative to the bounding box's centre and scaled by a power of two, so
+ * that coordinates far from the origin lose no digits and models from
+ * 1e-300 to 1e300 neither overflow nor underflow. 0 without triangles. */
+double vc_surface_signed_volume(const vc_surface *s);
+
 /* Returns 0 when the checked surface has no open boundary edge, else
  * VC_EINPUT with "FILE: N open boundary edges (surface is not closed)". */
 int vc_surface_require_closed(const vc_surface_report *rep, vc_error *err);

@@ -177,6 +177,9 @@ typedef struct vc_denoise_choice {
     double n_input, n_denoised; /* balls predicted for each (0 when not predicted) */
     double bound;               /* the copy's absolute error bound: the input's less max_move */
     vc_denoise_report moved;    /* how far the copy's vertices are from the input's */
+    double volume_change;       /* the copy's enclosed volume over the input's, less 1
+                                   (0 when no copy was made) */
+    int copy_refused;           /* a copy made was not sampled for that change */
 } vc_denoise_choice;
 
 /* Quality of the reconstructed surface: polygons fanned from their

@@ -13,6 +13,13 @@
 /* The denoised copy is taken when the input's predicted balls are at
  * least this many times the copy's. */
 #define VC_DENOISE_GAIN 1.5
+/* ... and only when its enclosed volume is within this share of the
+ * input's: a copy that removes noise changes it by 1e-4 or less (noisy
+ * spheres and blobs, 2e4 to 8e4 triangles), one that moves real geometry
+ * (the corners and creases of a CAD part, its walls and gaps) by 2e-3 to
+ * 4e-2, most of or more than the 0.5% a mesh may be off
+ * (docs/sampling-convergence.md, session 38). */
+#define VC_DENOISE_MAX_VOLUME_CHANGE 1e-3
 
 /* Predicts the balls of a sampling of s at theta_sharp sharp_angle (extra:
  * the edges that are creases whatever their angle, or NULL), the absolute
@@ -23,13 +30,15 @@
  * is left in *denoised (the caller frees it; kept for a sampling of the
  * input that diverges; none: zeroed), and ch->used set when it takes
  * VC_DENOISE_GAIN times fewer balls (force > 0: always, nothing
- * predicted; force < 0: never, nothing done). When both were predicted,
+ * predicted; force < 0: never, nothing done) and changes the enclosed
+ * volume by at most VC_DENOISE_MAX_VOLUME_CHANGE. When both were predicted,
  * *f_chosen gets the features (vc_features_detect_scaled at the bound it
  * is sampled at) of the surface chosen, for the caller to sample with and
  * free; otherwise it is zeroed (n_triangles 0). Returns 0, or an error
  * code (VC_ENOMEM) with *denoised and *f_chosen zeroed. */
 /* The copy alone: vc_surface_denoise of s by VC_DENOISE_SHARE of the
- * absolute bound into *denoised, ch->moved and ch->bound set. */
+ * absolute bound into *denoised, ch->moved, ch->bound and ch->volume_change
+ * set. */
 int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface *denoised,
                      vc_denoise_choice *ch, vc_error *err);
 

@@ -547,8 +547,13 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         out->time.denoise = now() - t_choice;
         vc_log(opt->log, VC_LOG_DEBUG,
                "  mesh: balls predicted for the input %.4g, for a copy smoothed within %.4g "
-               "(mean move %.3g) %.4g; %.3f s", dc->n_input, dc->moved.max_move,
-               dc->moved.mean_move, dc->n_denoised, out->time.denoise);
+               "(mean move %.3g, volume %+.3f%%) %.4g; %.3f s", dc->n_input, dc->moved.max_move,
+               dc->moved.mean_move, 100 * dc->volume_change, dc->n_denoised, out->time.denoise);
+        if (!dc->used && dc->n_input >= VC_DENOISE_GAIN * dc->n_denoised && dc->n_denoised > 0)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: a copy smoothed within half the error bound would take about %.3g balls "
+                   "(the input %.3g) but change the volume by %+.2f%%: sampling the input",
+                   dc->n_denoised, dc->n_input, 100 * dc->volume_change);
         if (dc->used) {
             so.max_error = dc->bound / vc_surface_diagonal(&denoised);
             if (opt->denoise > 0)
@@ -648,12 +653,24 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
          * whose sharp rims are staircases of folds needs it: the copy's
          * prediction is close to the input's, but its rims are smooth at
          * the bound's scale. */
-        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0) {
+        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0 &&
+            !dc->copy_refused) {
             if (!denoised.xyz && vc_make_denoised(s, error_bound_of(s, opt->max_error), opt->threads,
                                                   &denoised, dc, err)) {
                 rc = named(err, name, NULL);
                 break;
             }
+            /* a copy that moves real geometry is no remedy: the fold
+             * rounds below act on the input instead */
+            if (!(fabs(dc->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE)) {
+                dc->copy_refused = 1;
+                vc_log(opt->log, VC_LOG_INFO,
+                       "mesh: %s; a copy smoothed within half the error bound would change the "
+                       "volume by %+.2f%%: not sampled", why.msg, 100 * dc->volume_change);
+            }
+        }
+        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0 &&
+            !dc->copy_refused) {
             dc->used = 1;
             base = &denoised;
             so.max_error = dc->bound / vc_surface_diagonal(&denoised);
@@ -1553,6 +1570,21 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = out->multi_material ? outer_volume(&out->mesh, &out->surface)
                                               : vc_polysurface_volume(&out->surface);
+    /* one solid: its volume against the input's, as every region's is
+     * (check_regions); not after Loop smoothing, asked for (or by
+     * --fallback), which moves the surface off the input by design */
+    const double meshed_volume = fabs(vc_surface_signed_volume(s)); /* reoriented, unioned */
+    if (!out->multi_material && out->smooth_iterations == 0 && meshed_volume > 0) {
+        const double rel = out->surface_volume / meshed_volume - 1;
+        if (!(fabs(rel) <= REGION_VOLUME_TOL)) {
+            rc = vc_error_set(err, VC_EINPUT,
+                              "%s: the reconstructed surface encloses %g, the input %g (%+.2f%%, "
+                              "more than %g%% off): the mesh is wrong; try a smaller --max-error",
+                              name, out->surface_volume, meshed_volume, 100 * rel,
+                              100 * REGION_VOLUME_TOL);
+            goto fail;
+        }
+    }
     if (centred.xyz)
         move_results(out, shift);
     out->time.total = now() - t0;

@@ -463,3 +463,35 @@ double vc_surface_diagonal(const vc_surface *s)
     return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
+
+double vc_surface_signed_volume(const vc_surface *s)
+{
+    if (s->n_vertices <= 0 || s->n_triangles <= 0)
+        return 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
+        }
+    const double c[3] = {0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1], 0.5 * lo[2] + 0.5 * hi[2]};
+    /* differences scaled by 2^-e, the box's largest extent about 2^e */
+    double emax = 0;
+    for (int d = 0; d < 3; d++)
+        emax = fmax(emax, hi[d] - lo[d]);
+    int e = 0;
+    if (emax > 0 && isfinite(emax))
+        frexp(emax, &e);
+    const double sc = ldexp(1.0, -e);
+    double vol6 = 0;
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        double r[3][3];
+        for (int j = 0; j < 3; j++)
+            for (int d = 0; d < 3; d++)
+                r[j][d] = (s->xyz[3 * s->tri[3 * t + j] + d] - c[d]) * sc;
+        vol6 += r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    }
+    return ldexp(vol6 / 6.0, 3 * e);
+}
