@@ -9,4 +9,11 @@
  * environment's VC_HUGE_PAGES=1 (the library's memory policy). */
 void vc_cli_logger_init(vc_logger *log, vc_log_level max_level);
 
+/* The keep-alive's period (vc_log_keepalive_start): a progress line at
+ * least every 2 s (issue 16), with room for the thread's wake-ups. */
+#define VC_CLI_KEEPALIVE 1.5
+/* Meshes of this many cells or more take a second or more to check and
+ * write: each step says so. */
+#define VC_CLI_PROGRESS_CELLS 50000
+
 #endif

@@ -24,8 +24,6 @@
 #define FOAM_COLLAPSE_ROUNDS 60
 /* checkMesh fails a mesh with a face more skew than this */
 #define CHECKMESH_MAX_SKEW 4
-/* meshes from this many cells say that they are being written */
-#define WRITE_PROGRESS_CELLS 50000
 /* input surfaces of one run (closed surfaces that share interfaces) */
 #define MAX_INPUTS 64
 #define MAX_PATCH_TYPES 64
@@ -380,6 +378,10 @@ static int read_inputs(const char *const *paths, int n, vc_surface *out, vc_erro
     return rc;
 }
 
+/* the keep-alive of the run (vorocrust/log.h): a static, so that
+ * vc_cmd_mesh stops it whichever way run_mesh returns */
+static vc_log_keepalive *keepalive;
+
 static int run_mesh(int argc, char **argv)
 {
     const char *inputs[MAX_INPUTS];
@@ -696,7 +698,6 @@ static int run_mesh(int argc, char **argv)
         opt.resample = fold_creases ? VC_RESAMPLE_FOLDS : 0;
     vc_logger log;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
-    opt.log = &log;
     /* several inputs: their names joined, for every message */
     char joined[1024];
     if (n_inputs > 1) {
@@ -709,6 +710,12 @@ static int run_mesh(int argc, char **argv)
     opt.surface_only = surface_only;
     if (opt.interior == VC_INTERIOR_OCTREE && vc_cli_mpi_start())
         return 1;
+    /* a line on stderr at least every VC_CLI_KEEPALIVE seconds, whatever
+     * the phase (a million cells' checks, quality and writing are seconds
+     * each); stopped before the summary, or by vc_cmd_mesh */
+    vc_logger relay;
+    keepalive = vc_log_keepalive_start(&log, VC_CLI_KEEPALIVE, &relay);
+    opt.log = &relay;
 
     vc_error err = {0, ""};
     vc_cli_outputs_begin(); /* a signal removes the temporary files and the outputs */
@@ -776,8 +783,8 @@ static int run_mesh(int argc, char **argv)
         const double tm = vc_cli_now();
         /* large meshes take seconds to write (and the OpenFOAM case's
          * collapse): a progress line */
-        if (r.mesh.n_cells >= WRITE_PROGRESS_CELLS)
-            vc_log(&log, VC_LOG_INFO, "mesh: writing %s%s%s%s%s%s%s", out_path,
+        if (r.mesh.n_cells >= VC_CLI_PROGRESS_CELLS)
+            vc_log(&relay, VC_LOG_INFO, "mesh: writing %s%s%s%s%s%s%s", out_path,
                    conn_path ? ", " : "", conn_path ? conn_path : "", uge_path ? ", " : "",
                    uge_path ? uge_path : "", tough_path || foam_path ? ", " : "",
                    tough_path && foam_path ? "TOUGH MESH and OpenFOAM case"
@@ -850,6 +857,8 @@ static int run_mesh(int argc, char **argv)
         t_write_mesh = vc_cli_now() - tm;
     }
     vc_cli_outputs_keep();
+    vc_log_keepalive_stop(keepalive);
+    keepalive = NULL;
     if (!quiet)
         print_summary(in_path, n_input_triangles, &opt, &r, foam_path && foam_max_skew > 0,
                       foam_max_skew, &foam_skew, t_read, t_write_surface, t_write_mesh,
@@ -867,6 +876,8 @@ out:
 int vc_cmd_mesh(int argc, char **argv)
 {
     int rc = run_mesh(argc, argv);
+    vc_log_keepalive_stop(keepalive); /* the error paths */
+    keepalive = NULL;
     vc_cli_mpi_stop();
     return rc;
 }

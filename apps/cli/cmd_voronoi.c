@@ -143,9 +143,11 @@ int vc_cmd_voronoi(int argc, char **argv)
         return 2;
     }
     vc_cli_outputs_begin();
-    vc_logger log;
+    vc_logger log, relay;
     vc_cli_logger_init(&log, quiet ? VC_LOG_WARNING : verbose ? VC_LOG_DEBUG : VC_LOG_INFO);
-    opt.log = &log;
+    /* a line at least every VC_CLI_KEEPALIVE seconds (cli_log.h) */
+    vc_log_keepalive *keepalive = vc_log_keepalive_start(&log, VC_CLI_KEEPALIVE, &relay);
+    opt.log = &relay;
 
     vc_error err = {0, ""};
     vc_seeds seeds = {0, NULL, NULL};
@@ -155,7 +157,7 @@ int vc_cmd_voronoi(int argc, char **argv)
     double t0 = vc_cli_now();
     if (vc_seeds_read_csv(seeds_path, &seeds, &err) != 0) {
         fprintf(stderr, "vorocrust: %s\n", err.msg);
-        return 1;
+        goto out;
     }
     double t1 = vc_cli_now();
     if (vc_voronoi_build(&seeds, &opt, &mesh, &err) != 0) {
@@ -166,6 +168,8 @@ int vc_cmd_voronoi(int argc, char **argv)
     int64_t problems = 0;
     char report[2048];
     if (validate) {
+        if (mesh.n_cells >= VC_CLI_PROGRESS_CELLS)
+            vc_log(&relay, VC_LOG_INFO, "voronoi: checking %lld cells", (long long)mesh.n_cells);
         problems = vc_polymesh_validate(&mesh, 0, report, sizeof report);
         if (problems) {
             fprintf(stderr, "vorocrust: %s: the mesh fails validation (%lld problems):\n%s",
@@ -174,6 +178,8 @@ int vc_cmd_voronoi(int argc, char **argv)
         }
     }
     double t3 = vc_cli_now();
+    if (mesh.n_cells >= VC_CLI_PROGRESS_CELLS)
+        vc_log(&relay, VC_LOG_INFO, "voronoi: writing %s", out_path);
     /* All outputs or none: a failed write or a signal removes the ones
      * already committed (vc_cli_outputs_begin, at the start). */
     if (vc_write_vtu(&mesh, out_path, enc, &err) != 0 ||
@@ -185,6 +191,8 @@ int vc_cmd_voronoi(int argc, char **argv)
     }
     vc_cli_outputs_keep();
     double t4 = vc_cli_now();
+    vc_log_keepalive_stop(keepalive);
+    keepalive = NULL;
     if (!quiet) {
         vc_polymesh_stats st;
         vc_polymesh_stats_compute(&mesh, &st);
@@ -203,6 +211,7 @@ int vc_cmd_voronoi(int argc, char **argv)
     }
     rc = 0;
 out:
+    vc_log_keepalive_stop(keepalive);
     vc_polymesh_free(&mesh);
     vc_seeds_free(&seeds);
     return rc;

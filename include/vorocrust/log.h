@@ -41,6 +41,21 @@ void vc_log(const vc_logger *log, vc_log_level level, const char *fmt, ...)
 /* 1 when vc_log(log, level, ...) would deliver the message. */
 int vc_log_enabled(const vc_logger *log, vc_log_level level);
 
+/* A keep-alive for long work (vorocrust/util/log_keepalive.c): *relay is
+ * set to a logger that forwards every message to log and notes each
+ * VC_LOG_INFO line; while the keep-alive runs, a thread of its own sends
+ * one more whenever `period` seconds (> 0) pass without one: the last line
+ * again, with how long it has been at it ("mesh: interior octree (still
+ * at it: 4 s)"), so that a phase that says nothing for a while (a large
+ * mesh's checks, its writing) is not mistaken for a hang. Pass *relay to
+ * the work; log itself must outlive the keep-alive. Returns NULL, with
+ * *relay a plain copy of log, when log would not deliver VC_LOG_INFO or
+ * the thread cannot be started. */
+typedef struct vc_log_keepalive vc_log_keepalive;
+vc_log_keepalive *vc_log_keepalive_start(const vc_logger *log, double period, vc_logger *relay);
+/* Stops the thread (no line after this returns) and frees k (NULL: nothing). */
+void vc_log_keepalive_stop(vc_log_keepalive *k);
+
 #ifdef __cplusplus
 }
 #endif
