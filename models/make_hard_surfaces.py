@@ -240,8 +240,8 @@ def lists_to_polydata(pts, tris):
     for x in pts:
         p.InsertNextPoint(*x)
     cells = vtk.vtkCellArray()
-    for t in tris:
-        cells.InsertNextCell(3)
+    for t in tris:  # triangles, or any polygons
+        cells.InsertNextCell(len(t))
         for v in t:
             cells.InsertCellPoint(v)
     pd = vtk.vtkPolyData()
@@ -1121,19 +1121,10 @@ def case_slot_block():
     copy smoothed within half the error bound widens the slot (half the
     balls predicted) and loses 1.9% of the volume (session 38)."""
     L, H, w, depth, ext = 1.0, 0.4, 0.006, 0.15, 0.15
-    profile = [(0, 0), (L, 0), (L, H), (L / 2 + w / 2, H), (L / 2 + w / 2, H - depth),
-               (L / 2 - w / 2, H - depth), (L / 2 - w / 2, H), (0, H)]
-    pts = vtk.vtkPoints()
-    poly = vtk.vtkCellArray()
-    poly.InsertNextCell(len(profile))
-    for i, (x, y) in enumerate(profile):
-        pts.InsertNextPoint(x, y, 0)
-        poly.InsertCellPoint(i)
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(pts)
-    pd.SetPolys(poly)
+    profile = [(0, 0, 0), (L, 0, 0), (L, H, 0), (L / 2 + w / 2, H, 0), (L / 2 + w / 2, H - depth, 0),
+               (L / 2 - w / 2, H - depth, 0), (L / 2 - w / 2, H, 0), (0, H, 0)]
     tri = vtk.vtkTriangleFilter()
-    tri.SetInputData(pd)
+    tri.SetInputData(lists_to_polydata(profile, [range(len(profile))]))
     e = vtk.vtkLinearExtrusionFilter()
     e.SetInputConnection(tri.GetOutputPort())
     e.SetExtrusionTypeToVectorExtrusion()

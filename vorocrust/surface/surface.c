@@ -450,16 +450,26 @@ int vc_surface_concat(const vc_surface *parts, int n_parts, const char *const *p
     return rc;
 }
 
-double vc_surface_diagonal(const vc_surface *s)
+/* The bounding box of s's vertices (at least one). */
+static void bounding_box(const vc_surface *s, double lo[3], double hi[3])
 {
-    if (s->n_vertices <= 0)
-        return 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int d = 0; d < 3; d++) {
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
+    }
     for (int64_t v = 0; v < s->n_vertices; v++)
         for (int d = 0; d < 3; d++) {
             lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
             hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
         }
+}
+
+double vc_surface_diagonal(const vc_surface *s)
+{
+    if (s->n_vertices <= 0)
+        return 0;
+    double lo[3], hi[3];
+    bounding_box(s, lo, hi);
     return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
@@ -468,12 +478,8 @@ double vc_surface_signed_volume(const vc_surface *s)
 {
     if (s->n_vertices <= 0 || s->n_triangles <= 0)
         return 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int64_t v = 0; v < s->n_vertices; v++)
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], s->xyz[3 * v + d]);
-            hi[d] = fmax(hi[d], s->xyz[3 * v + d]);
-        }
+    double lo[3], hi[3];
+    bounding_box(s, lo, hi);
     const double c[3] = {0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1], 0.5 * lo[2] + 0.5 * hi[2]};
     /* differences scaled by 2^-e, the box's largest extent about 2^e */
     double emax = 0;

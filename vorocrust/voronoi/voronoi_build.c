@@ -94,6 +94,19 @@ static inline double clearance_r2(const vc_convex_cell *cell, int t, const doubl
     return rr * rr * BALL_GROW;
 }
 
+/* Inserts the ball (x, r2) into the n balls of b (4 doubles each), kept in
+ * decreasing radius. */
+static void insert_by_radius(double *b, int n, const double x[3], double r2)
+{
+    int w = n;
+    for (; w > 0 && b[4 * (w - 1) + 3] < r2; w--)
+        memcpy(b + 4 * w, b + 4 * (w - 1), 4 * sizeof(double));
+    b[4 * w] = x[0];
+    b[4 * w + 1] = x[1];
+    b[4 * w + 2] = x[2];
+    b[4 * w + 3] = r2;
+}
+
 static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune *pr)
 {
     if (!pr->dirty)
@@ -121,15 +134,9 @@ static void prune_refresh(const cell_job *job, const vc_convex_cell *cell, prune
         const double r2 = clearance_r2(cell, t, x);
         if (4.0 * r2 < 0.9 * h2)
             continue;
-        /* Insertion by decreasing radius: a bin test stops at the first
-         * ball too small to reach the bin. */
-        int w = n++;
-        for (; w > 0 && b[4 * (w - 1) + 3] < r2; w--)
-            memcpy(b + 4 * w, b + 4 * (w - 1), 4 * sizeof(double));
-        b[4 * w] = x[0];
-        b[4 * w + 1] = x[1];
-        b[4 * w + 2] = x[2];
-        b[4 * w + 3] = r2;
+        /* by decreasing radius: a bin test stops at the first ball too
+         * small to reach the bin */
+        insert_by_radius(b, n++, x, r2);
     }
     pr->n = n;
     pr->dirty = 0;
@@ -599,13 +606,7 @@ static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b, clearance
             cl->lo[d] = fmin(cl->lo[d], x[d] - r);
             cl->hi[d] = fmax(cl->hi[d], x[d] + r);
         }
-        int w = t;
-        for (; w > 0 && bd[4 * (w - 1) + 3] < r2; w--)
-            memcpy(bd + 4 * w, bd + 4 * (w - 1), 4 * sizeof(double));
-        bd[4 * w] = x[0];
-        bd[4 * w + 1] = x[1];
-        bd[4 * w + 2] = x[2];
-        bd[4 * w + 3] = r2;
+        insert_by_radius(bd, t, x, r2);
     }
     cl->ball = bd;
     cl->n = cell->nt;
