@@ -788,6 +788,76 @@ static int64_t common_sphere(const vc_seed_spheres *sp, const int64_t key[4], co
 /* A vertex whose four seeds lie on one sphere of the list is that sphere's
  * centre: its point becomes the centre, and the vertices of each centre
  * are one class. Returns the unions made, or -1 when out of memory. */
+/* A vertex whose point a class took: its own point, put back before the
+ * classes are looked at again. */
+typedef struct saved_point {
+    int64_t g;
+    double p[3], ev, rad;
+} saved_point;
+
+typedef struct saved_points {
+    saved_point *v;
+    int64_t n, cap;
+} saved_points;
+
+/* Is key a (4 planes, ascending) before key b? */
+static int key_before(const int64_t *a, const int64_t *b)
+{
+    for (int j = 0; j < 4; j++)
+        if (a[j] != b[j])
+            return a[j] < b[j];
+    return 0;
+}
+
+/* Every class of vertices (st->root) at the point of its member with the
+ * smallest key: its root is its smallest id, and the ids follow the order
+ * the cells were built in, which must not show in the mesh (the points
+ * of a class differ by up to the merge distance, and which one the class
+ * takes decides what lies on one segment). The roots' own points are
+ * saved in *sv and put back first, so that a later round chooses from the
+ * members' own points again. 0, or -1 when out of memory. */
+static int class_points(stitch *st, saved_points *sv)
+{
+    for (int64_t i = 0; i < sv->n; i++) {
+        const saved_point *q = &sv->v[i];
+        memcpy(st->gp + 3 * q->g, q->p, sizeof q->p);
+        st->gev[q->g] = q->ev;
+        st->grad[q->g] = q->rad;
+    }
+    sv->n = 0;
+    const int64_t ng = st->n_gid;
+    int64_t *rep = malloc((size_t)(ng + 1) * sizeof(int64_t));
+    if (!rep)
+        return -1;
+    for (int64_t g = 0; g < ng; g++)
+        rep[g] = -1;
+    for (int64_t g = 0; g < ng; g++) {
+        const int64_t r = st->root[g];
+        if (r != g && (rep[r] < 0 || key_before(st->gkey + 4 * g, st->gkey + 4 * rep[r])))
+            rep[r] = g;
+    }
+    int failed = 0;
+    for (int64_t r = 0; r < ng && !failed; r++) {
+        const int64_t m = rep[r];
+        if (m < 0 || key_before(st->gkey + 4 * r, st->gkey + 4 * m))
+            continue; /* a single vertex, or the root's key is the smallest */
+        if (vc_reserve(&sv->v, &sv->cap, sv->n + 1, sizeof(saved_point))) {
+            failed = 1;
+            break;
+        }
+        saved_point *q = &sv->v[sv->n++];
+        q->g = r;
+        memcpy(q->p, st->gp + 3 * r, sizeof q->p);
+        q->ev = st->gev[r];
+        q->rad = st->grad[r];
+        memcpy(st->gp + 3 * r, st->gp + 3 * m, 3 * sizeof(double));
+        st->gev[r] = st->gev[m];
+        st->grad[r] = st->grad[m];
+    }
+    free(rep);
+    return failed ? -1 : 0;
+}
+
 static int64_t unite_at_sphere_centres(stitch *st, const vc_seed_spheres *sp, int threads)
 {
     const int64_t ng = st->n_gid;
@@ -863,6 +933,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     u64_buf *links = NULL;
     int64_t *fill = NULL;
     unsigned char *used = NULL;
+    saved_points class_saved = {NULL, 0, 0};
     int64_t *pid = NULL;
     volatile int failed = 0, inconsistent = 0;
     int64_t bad_m = -1;
@@ -1062,6 +1133,8 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
 reclass:
     for (int64_t g = 0; g < ng; g++)
         st.root[g] = vc_uf_find(st.root, g);
+    if (class_points(&st, &class_saved) != 0)
+        goto nomem;
     memset(st.nontrivial, 0, (size_t)ng + 1);
     memset(st.candidate, 0, (size_t)ng + 1);
     memset(st.straight, 0, (size_t)ng + 1);
@@ -1588,6 +1661,7 @@ done:
     free(fill);
     free(used);
     free(pid);
+    free(class_saved.v);
     return rc;
 #undef PHASE
 }
