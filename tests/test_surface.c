@@ -316,6 +316,34 @@ static void test_formats(void)
     sb_printf(&b, "endsolid box\n");
     check_box(write_file("box_ascii.stl", b.s, b.n), 1e-14, 0, 28);
 
+    /* ASCII STL in upper case, as some writers do (VTK reads it). */
+    b.n = 0;
+    sb_printf(&b, "SOLID BOX\r\n");
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        sb_printf(&b, "FACET NORMAL 0 0 0\r\nOUTER LOOP\r\n");
+        for (int k = 0; k < 3; k++) {
+            box_vertex(v[k], p);
+            sb_printf(&b, "VERTEX %.9g %.9g %.9g\r\n", p[0], p[1], p[2]);
+        }
+        sb_printf(&b, "ENDLOOP\r\nEndFacet\r\n");
+    }
+    sb_printf(&b, "ENDSOLID BOX\r\n");
+    check_box(write_file("box_upper_ascii.stl", b.s, b.n), 1e-14, 0, 28);
+
+    /* OBJ with long face lines continued by a backslash (LF and CRLF), a
+     * vertex line too. */
+    b.n = 0;
+    for (int i = 0; i < 8; i++) {
+        box_vertex(i, p);
+        sb_printf(&b, i == 3 ? "v %.17g \\\n %.17g %.17g\n" : "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        sb_printf(&b, t % 2 ? "f %d %d \\\n   %d\n" : "f %d \\\r\n%d %d\r\n", v[0] + 1, v[1] + 1, v[2] + 1);
+    }
+    check_box(write_file("box_continued.obj", b.s, b.n), 1e-14, 0, 0);
+
     /* Binary STL (float: tolerance of float rounding). The header starts
      * with "solid" as some exporters do. */
     b.n = 0;

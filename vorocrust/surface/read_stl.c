@@ -7,6 +7,7 @@
 #include "io/text_escape.h"
 
 #include <string.h>
+#include <strings.h>
 
 
 static int read_binary(const char *name, const unsigned char *b, uint32_t n, vc_soup *s, vc_error *err)
@@ -26,6 +27,13 @@ static int read_binary(const char *name, const unsigned char *b, uint32_t n, vc_
     return 0;
 }
 
+/* Keywords in any case: some writers use upper case ("SOLID", "FACET
+ * NORMAL"), and readers such as VTK's accept them. */
+static int keyword(const char *w, const char *k)
+{
+    return !strcasecmp(w, k);
+}
+
 static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s, vc_error *err)
 {
     vc_scan sc = {buf, buf + len, 1};
@@ -38,14 +46,14 @@ static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s,
         if (sc.p >= sc.end)
             break;
         size_t wl = vc_scan_word(&sc, w, sizeof w);
-        if (!strcmp(w, "facet")) {
+        if (keyword(w, "facet")) {
             if (n >= 0)
                 return vc_error_set(err, VC_EFORMAT, "%s: line %lld: 'facet' inside the facet of line %lld",
                                     name, (long long)sc.line, (long long)facet_line);
             n = 0;
             facet_line = sc.line;
             vc_scan_next_line(&sc); /* the normal */
-        } else if (!strcmp(w, "vertex")) {
+        } else if (keyword(w, "vertex")) {
             double x, y, z;
             if (n < 0 || n >= 3)
                 return vc_error_set(err, VC_EFORMAT, "%s: line %lld: 'vertex' %s", name, (long long)sc.line,
@@ -56,21 +64,21 @@ static int read_ascii(const char *name, const char *buf, size_t len, vc_soup *s,
             face[n++] = s->nv;
             if (vc_soup_add_vertex(s, x, y, z))
                 return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
-        } else if (!strcmp(w, "endfacet")) {
+        } else if (keyword(w, "endfacet")) {
             if (n != 3)
                 return vc_error_set(err, VC_EFORMAT, "%s: line %lld: facet with %lld vertices (3 needed)",
                                     name, (long long)facet_line, (long long)(n < 0 ? 0 : n));
             if (vc_soup_add_face(s, face, 3))
                 return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
             n = -1;
-        } else if (!strcmp(w, "solid")) {
+        } else if (keyword(w, "solid")) {
             /* each solid NAME block is a group of triangles (a patch) */
             if (vc_soup_set_group_rest(s, &sc))
                 return vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
             vc_scan_next_line(&sc);
-        } else if (!strcmp(w, "endsolid")) {
+        } else if (keyword(w, "endsolid")) {
             vc_scan_next_line(&sc); /* the solid's name */
-        } else if (!strcmp(w, "outer") || !strcmp(w, "loop") || !strcmp(w, "endloop")) {
+        } else if (keyword(w, "outer") || keyword(w, "loop") || keyword(w, "endloop")) {
             /* structure only */
         } else {
             char shown[64];
@@ -105,7 +113,7 @@ int vc_read_stl(const char *name, const char *buf, size_t len, vc_soup *s, vc_er
         if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v') || c == 0x7f)
             text = 0;
     }
-    if (text && len - i >= 5 && !memcmp(buf + i, "solid", 5))
+    if (text && len - i >= 5 && !strncasecmp(buf + i, "solid", 5))
         return read_ascii(name, buf, len, s, err);
     if (len >= 84)
         return vc_error_set(err, VC_EFORMAT,

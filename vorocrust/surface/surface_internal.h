@@ -67,11 +67,25 @@ typedef struct vc_scan {
 
 static inline int vc_scan_is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
-/* Skips blanks on the current line. */
+/* Whether p starts a line continuation: a backslash that ends its line
+ * (OBJ writers break long face lines so; before a CR of a CRLF too). */
+static inline int vc_scan_continues(const vc_scan *sc, const char *p)
+{
+    return p < sc->end && *p == '\\' &&
+           ((p + 1 < sc->end && p[1] == '\n') || (p + 2 < sc->end && p[1] == '\r' && p[2] == '\n'));
+}
+
+/* Skips blanks on the current line, and line continuations. */
 static inline void vc_scan_blanks(vc_scan *sc)
 {
-    while (sc->p < sc->end && vc_scan_is_blank(*sc->p))
-        sc->p++;
+    for (;;) {
+        while (sc->p < sc->end && vc_scan_is_blank(*sc->p))
+            sc->p++;
+        if (!vc_scan_continues(sc, sc->p))
+            return;
+        sc->p += sc->p[1] == '\n' ? 2 : 3;
+        sc->line++;
+    }
 }
 
 /* Moves to the start of the next line. */
@@ -95,17 +109,17 @@ static inline int vc_scan_at_eol(vc_scan *sc)
 /* Skips whitespace, newlines and '#' comments (when comments is set). */
 void vc_scan_space(vc_scan *sc, int comments);
 /* Parses a number on the current line (after blanks); the number must end
- * at a blank, a line end, a '#' or the end of the buffer ("2.7" is not an
+ * at a blank, a line end, a '#', a line continuation or the end of the buffer ("2.7" is not an
  * integer, "3abc" not a number). Return 1 on success. */
 int vc_scan_double(vc_scan *sc, double *v);
 int vc_scan_int(vc_scan *sc, int64_t *v);
 /* Copies the next blank-delimited word of the current line (truncated to
  * cap - 1 characters); returns its length, 0 at end of line. */
 size_t vc_scan_word(vc_scan *sc, char *w, size_t cap);
-/* Whether a number may end at p (blank, line end, '#' or end). */
+/* Whether a number may end at p (blank, line end, '#', continuation or end). */
 static inline int vc_scan_is_end(const vc_scan *sc, const char *p)
 {
-    return p >= sc->end || vc_scan_is_blank(*p) || *p == '\n' || *p == '#';
+    return p >= sc->end || vc_scan_is_blank(*p) || *p == '\n' || *p == '#' || vc_scan_continues(sc, p);
 }
 
 /* Little-endian fields of the binary formats (STL, binary OFF). */
