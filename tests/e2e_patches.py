@@ -2,8 +2,9 @@
 input names its inlet (x = 0), outlet (x = 4) and walls, as OBJ groups, as
 the solids of an ASCII STL, as a PLY face property, and as two input files
 (two regions); a group whose border crosses a flat face (borders are
-protected as creases, so its area is exact); and the sharp-feature patches
-(--patches features).
+protected as creases, so its area is exact); groups whose border zigzags
+over a sphere's facets (weighed and not made creases: the balls of the
+unsplit sphere); and the sharp-feature patches (--patches features).
 
 Checked on every output: the summary's patches and areas (inlet 1, outlet
 1, walls 16), OUT_boundary.vtu (read by VTK: patch names, per-patch area),
@@ -239,6 +240,63 @@ rc, err = mesh("split", [split])
 if rc == 0:
     check_outputs("split", err, {"walls": 9.3, "inlet": 0.7})
     print("split: the inlet, 0.7 of a flat face, has exactly its area (its border is a crease)", flush=True)
+
+# ---- groups whose border zigzags over a smooth surface: not creases ----------
+# An icosphere's triangles split by the sign of their centroid's x: as
+# creases the border turns at every vertex and runs next to itself (a
+# 404-triangle STL split so was predicted 5.6e5 balls and ran past 150 s).
+# The borders are weighed: the run says so, meshes with the balls of the
+# unsplit sphere, and its two patches still cover the boundary.
+def icosphere(levels):
+    t = (1 + 5 ** 0.5) / 2
+    pts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t),
+           (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    tris = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
+            (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
+            (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    pts = [tuple(c / sum(x * x for x in p) ** 0.5 for c in p) for p in pts]
+    for _ in range(levels):
+        mid, out = {}, []
+
+        def m(a, b):
+            k = (min(a, b), max(a, b))
+            if k not in mid:
+                q = [(pts[a][d] + pts[b][d]) / 2 for d in range(3)]
+                n = sum(x * x for x in q) ** 0.5
+                pts.append(tuple(x / n for x in q))
+                mid[k] = len(pts) - 1
+            return mid[k]
+        for a, b, c in tris:
+            ab, bc, ca = m(a, b), m(b, c), m(c, a)
+            out += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        tris = out
+    return pts, tris
+
+
+zig = os.path.join(TMP, "zigzag.obj")
+pts, tris = icosphere(3)
+with open(zig, "w") as f:
+    f.writelines("v %.17g %.17g %.17g\n" % p for p in pts)
+    for g in ("west", "east"):
+        f.write("g %s\n" % g)
+        f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in tris
+                     if (sum(pts[v][0] for v in (a, b, c)) > 0) == (g == "east"))
+rc, err = mesh("zigzag", [zig])
+if rc == 0:
+    m = re.search(r"mesh: the borders between the input's 2 groups as creases would take about "
+                  r"([0-9.e+]+) balls, ([0-9.e+]+) without: not creases", err)
+    check(m is not None and float(m.group(1)) > 2 * float(m.group(2)),
+          "zigzag: the borders' weighing not said: %r" % err[:600])
+    got = summary_patches(err)
+    check(set(got) == {"west", "east"} and min(got.values()) > 1.5,
+          "zigzag: patches %r" % got)
+    b = re.search(r"balls: (\d+) ", err)
+    rc1, err1 = mesh("zigzag_none", [zig], "--patches", "none")
+    b1 = re.search(r"balls: (\d+) ", err1)
+    check(b and b1 and int(b.group(1)) == int(b1.group(1)),
+          "zigzag: %s balls, %s with --patches none" % (b and b.group(1), b1 and b1.group(1)))
+    print("zigzag: the borders not made creases, the balls of the unsplit sphere, 2 patches %r" % got,
+          flush=True)
 
 # ---- sharp-feature patches -----------------------------------------------------
 rc, err = mesh("features", [obj], "--patches", "features")

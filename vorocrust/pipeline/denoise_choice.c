@@ -25,6 +25,7 @@
  * slot it widened the gap (fewer balls predicted) and took 1.6 to 2.4% of
  * the volume with it (session 38). */
 #include "denoise_choice.h"
+#include "predict_balls.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -86,34 +87,6 @@ static double rough_share(const vc_surface *s, int threads)
     return nv > 0 ? (double)rough / (double)nv : 0;
 }
 
-/* The predicted balls of sampling s at the absolute error bound, and the
- * features that took, into *f (0 and an error code when out of memory, *f
- * then empty). */
-static int predict(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                   double bound, double max_size, int threads, double *n, vc_features *f,
-                   vc_error *err)
-{
-    *n = 0;
-    int rc = vc_features_detect_scaled(s, sharp_angle, extra, bound, f, err);
-    if (rc)
-        return rc;
-    const double diag = vc_surface_diagonal(s);
-    vc_sizing z;
-    if (vc_sizing_init(&z, s, f, sharp_angle, diag > 0 ? bound / diag : 0)) {
-        vc_features_free(f);
-        return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
-    }
-    vc_ball_estimate est;
-    rc = vc_ball_estimate_compute(&z, max_size > 0 ? max_size : z.diag, threads, &est);
-    vc_sizing_free(&z);
-    if (rc) {
-        vc_features_free(f);
-        return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
-    }
-    *n = est.n_balls;
-    return 0;
-}
-
 int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface *denoised,
                      vc_denoise_choice *ch, vc_error *err)
 {
@@ -150,10 +123,10 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     if (!(ch->rough_share > VC_ROUGH_SHARE))
         return 0;
     vc_features f_input, f_copy;
-    if ((rc = predict(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &f_input, err)))
+    if ((rc = vc_predict_balls(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &f_input, err)))
         return rc;
     if ((rc = vc_make_denoised(s, bound, threads, denoised, ch, err)) != 0 ||
-        (rc = predict(denoised, sharp_angle, extra, ch->bound, max_size, threads, &ch->n_denoised,
+        (rc = vc_predict_balls(denoised, sharp_angle, extra, ch->bound, max_size, threads, &ch->n_denoised,
                       &f_copy, err)) != 0) {
         vc_features_free(&f_input);
         vc_surface_free(denoised);
