@@ -554,8 +554,10 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     if (opt->patches == VC_PATCHES_GROUPS && s->tri_group && s->n_groups > 1 &&
         (rc = group_borders(s, opt->sharp_angle, &extra, err)) != 0)
         return named(err, name, NULL);
-    if (extra && (rc = weigh_group_borders(s, opt, name, &extra, err)) != 0)
+    if (extra && (rc = weigh_group_borders(s, opt, name, &extra, err)) != 0) {
+        free(extra);
         return rc;
+    }
     /* noise at the error bound: sample a copy smoothed within half of it
      * when the sizing says the noise costs (denoise_choice.c); not with
      * the smoothing options, which have their own surface, nor on several
