@@ -21,6 +21,8 @@ with default options, and the test checks:
    both, VTK's locator: tests/surfacecheck.py) within 0.5% of the input's
    bounding-box diagonal, and its enclosed volume within 0.5% of the
    input's (computed here from both files);
+ - the summary's own Hausdorff distance (its "surface distance" line) within
+   the same bound and near this test's;
  - the volume mesh's volume equal to the reconstructed surface's (1e-9,
    from the summary) and the summary's surface Q min above 0 (no collapsed
    triangle; the noisy sphere excepted, a known defect: Q_ZERO_KNOWN);
@@ -294,6 +296,14 @@ def main():
               % (name, h, diag))
     check(abs(dv) <= 0.005, "%s: volume %.9g against the input's %.9g (%+.3f%%)"
           % (name, v_out, v_in, 100 * dv))
+    # the summary's own Hausdorff distance (vc_hausdorff, both sides sampled,
+    # a lower bound within its sampling error), against this one (VTK's)
+    m = re.search(r"surface distance: ([0-9.eE+-]+) to the input, two-sided Hausdorff "
+                  r"\(([0-9.]+)% of its diagonal; .* sampled within ([0-9.eE+-]+)\)", e)
+    check(m is not None and float(m.group(1)) <= 1.25 * bound * diag and
+          abs(float(m.group(1)) - h) <= float(m.group(3)) + 0.1 * h + 1e-12 * diag,
+          "%s: the summary's surface distance %s against %.4g here"
+          % (name, m and m.group(0), h))
     m = re.search(r"volume mesh: \d+ cells \(\d+ interior seeds\), volume ([0-9.eE+-]+) "
                   r"\(reconstructed surface ([0-9.eE+-]+), input", e)
     check(m is not None and abs(float(m.group(1)) / float(m.group(2)) - 1) < 1e-9,

@@ -207,6 +207,13 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
             sq->q_mean, sq->pct_below_30, sq->pct_above_90, (long long)sq->n_triangles, t_read,
             t->features, t->sizing, t->corners, t->edges, t->surface, t->lipschitz, t->slivers,
             t->seeds, t->reconstruct, t_write_surface, failed_time);
+    if (r->surface_distance.n_samples_a > 0)
+        fprintf(stderr,
+                "  surface distance: %.3g to the input, two-sided Hausdorff (%.3f%% of its "
+                "diagonal; input to surface %.3g, surface to input %.3g; sampled within %.2g)\n",
+                r->surface_distance.distance, 100 * r->surface_distance.normalised,
+                r->surface_distance.a_to_b, r->surface_distance.b_to_a,
+                r->surface_distance.error_bound);
     if (r->denoise.used) {
         const double bound = r->denoise.bound + r->denoise.moved.max_move;
         fprintf(stderr,

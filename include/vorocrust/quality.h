@@ -134,6 +134,9 @@ typedef struct vc_hausdorff_result {
  * VC_EINPUT for an empty surface, VC_ENOMEM. */
 int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
                  vc_hausdorff_result *out, vc_error *err);
+/* The same on `threads` threads (<= 0: OpenMP's default). */
+int vc_hausdorff_threads(const vc_surface *a, const vc_surface *b, double spacing, int threads,
+                         vc_hausdorff_result *out, vc_error *err);
 
 /* Exact distance from p to the triangle (a, b, c) (degenerate triangles
  * included). */

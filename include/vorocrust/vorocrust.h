@@ -40,6 +40,7 @@
 #include "vorocrust/io.h"
 #include "vorocrust/log.h"
 #include "vorocrust/polymesh.h"
+#include "vorocrust/quality.h"
 #include "vorocrust/regions.h"
 #include "vorocrust/sampling.h"
 #include "vorocrust/seeds.h"
@@ -297,6 +298,10 @@ typedef struct vc_mesh_result {
                                    vc_mesh fails otherwise) */
     double surface_volume;      /* enclosed by it (polygons fanned) */
     vc_surface_quality surface_quality;
+    /* its two-sided Hausdorff distance to the surface meshed (the input,
+     * or its union, its shells reoriented), sampled (vc_hausdorff);
+     * normalised by that surface's bounding-box diagonal */
+    vc_hausdorff_result surface_distance;
 
     /* The volume mesh (not with surface_only): the Voronoi cells of the
      * inside surface seeds and the interior seeds, cell_fatness set. */

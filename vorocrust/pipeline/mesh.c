@@ -1282,6 +1282,43 @@ static int boundary_patches(const vc_surface *s, const vc_mesh_options *opt, con
     return rc;
 }
 
+/* How far the reconstructed surface may lie from the input, in error
+ * bounds, before the result is an error. */
+#define SURFACE_DISTANCE_BOUNDS 2
+
+/* The two-sided Hausdorff distance between the surface meshed and the
+ * reconstructed one, its polygons fanned from their first corner (Voronoi
+ * facets: planar and convex). 0, or an error code. */
+static int surface_distance(const vc_surface *s, const vc_polysurface *p, int threads,
+                            vc_hausdorff_result *out, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int64_t nt = 0;
+    for (int64_t f = 0; f < p->n_polys; f++)
+        nt += p->poly_offsets[f + 1] - p->poly_offsets[f] - 2;
+    vc_surface t;
+    memset(&t, 0, sizeof t);
+    t.n_vertices = p->n_points;
+    t.xyz = p->points;
+    t.n_triangles = nt;
+    t.tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt > 0 ? nt : 1));
+    if (!t.tri)
+        return vc_error_set(err, VC_ENOMEM, "out of memory measuring the surface's distance");
+    int64_t k = 0;
+    for (int64_t f = 0; f < p->n_polys; f++) {
+        const int64_t *v = p->poly_vertices + p->poly_offsets[f];
+        const int64_t n = p->poly_offsets[f + 1] - p->poly_offsets[f];
+        for (int64_t j = 1; j + 1 < n; j++) {
+            t.tri[k++] = v[0];
+            t.tri[k++] = v[j];
+            t.tri[k++] = v[j + 1];
+        }
+    }
+    const int rc = nt > 0 ? vc_hausdorff_threads(s, &t, 0, threads, out, err) : 0;
+    free(t.tri);
+    return rc;
+}
+
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *out,
             vc_error *err)
 {
@@ -1613,6 +1650,25 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_quality_compute(&out->surface, &out->surface_quality);
     out->surface_volume = out->multi_material ? outer_volume(&out->mesh, &out->surface)
                                               : vc_polysurface_volume(&out->surface);
+    /* the reconstructed surface's distance to the surface meshed: more
+     * than twice the error bound is a wrong result (the sampling holds it
+     * within the bound; the tests within 5/4 of it) */
+    if ((rc = surface_distance(s, &out->surface, opt.threads, &out->surface_distance, err)) != 0) {
+        rc = named(err, name, NULL);
+        goto fail;
+    }
+    const double bound = error_bound_of(s, opt.max_error);
+    if (out->smooth_iterations == 0 && bound > 0 &&
+        !(out->surface_distance.distance <= SURFACE_DISTANCE_BOUNDS * bound)) {
+        rc = vc_error_set(err, VC_EINPUT,
+                          "%s: the reconstructed surface lies %g from the input (%.3g%% of its "
+                          "diagonal), more than %g times the error bound %g: the mesh is wrong; "
+                          "try a smaller --max-error",
+                          name, out->surface_distance.distance,
+                          100 * out->surface_distance.normalised, (double)SURFACE_DISTANCE_BOUNDS,
+                          bound);
+        goto fail;
+    }
     /* one solid: its volume against the input's, as every region's is
      * (check_regions); not after Loop smoothing, asked for (or by
      * --fallback), which moves the surface off the input by design */

@@ -23,6 +23,7 @@
 
 #include "quality/vec3.h"
 #include "quality/quality_internal.h"
+#include "util/threads.h"
 
 #define BVH_LEAF 4
 #define SAMPLE_BUDGET 1000000.0
@@ -134,7 +135,7 @@ static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count, const doubl
     return id;
 }
 
-static int bvh_build(bvh *h, const vc_surface *s)
+static int bvh_build(bvh *h, const vc_surface *s, int nth)
 {
     memset(h, 0, sizeof *h);
     h->s = s;
@@ -148,7 +149,7 @@ static int bvh_build(bvh *h, const vc_surface *s)
         free(cen);
         return VC_ENOMEM;
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(nth)
     for (int64_t t = 0; t < n; t++) {
         h->tri[t] = t;
         for (int d = 0; d < 3; d++) {
@@ -273,8 +274,8 @@ static double count_samples(const vc_surface *s, double spacing)
  * running maximum is skipped whole. Skipped samples and early-stopped
  * searches can never hold the maximum, so the result is exactly the
  * maximum over all samples, whatever the thread count or order. */
-static double one_sided(const vc_surface *from, const bvh *to, double spacing, int64_t *n_samples,
-                        double *sub_edge)
+static double one_sided(const vc_surface *from, const bvh *to, double spacing, int nth,
+                        int64_t *n_samples, double *sub_edge)
 {
     const int64_t nv = from->n_vertices, nt = from->n_triangles;
     double *dv = malloc(sizeof *dv * (size_t)(nv ? nv : 1));
@@ -289,7 +290,7 @@ static double one_sided(const vc_surface *from, const bvh *to, double spacing, i
     for (int64_t k = 0; k < 3 * nt; k++)
         near_tri[from->tri[k]] = -1;
     double vmax = 0;
-#pragma omp parallel for schedule(dynamic, 1024) reduction(max : vmax)
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : vmax) num_threads(nth)
     for (int64_t v = 0; v < nv; v++) {
         dv[v] = 0;
         if (near_tri[v] == -2)
@@ -300,7 +301,7 @@ static double one_sided(const vc_surface *from, const bvh *to, double spacing, i
     }
     double worst = 0, longest_sub = 0;
     int64_t count = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst, longest_sub) reduction(+ : count)
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : worst, longest_sub) reduction(+ : count) num_threads(nth)
     for (int64_t t = 0; t < nt; t++) {
         const int64_t *id = from->tri + 3 * t;
         const double *a = from->xyz + 3 * id[0], *b = from->xyz + 3 * id[1], *c = from->xyz + 3 * id[2];
@@ -351,6 +352,13 @@ static double bbox_diagonal(const vc_surface *s)
 int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
                  vc_hausdorff_result *out, vc_error *err)
 {
+    return vc_hausdorff_threads(a, b, spacing, 0, out, err);
+}
+
+int vc_hausdorff_threads(const vc_surface *a, const vc_surface *b, double spacing, int threads,
+                         vc_hausdorff_result *out, vc_error *err)
+{
+    const int nth = vc_threads_or_default(threads);
     memset(out, 0, sizeof *out);
     if (!a || !b || a->n_triangles < 1 || b->n_triangles < 1)
         return vc_error_set(err, VC_EINPUT, "Hausdorff distance: a surface has no triangle");
@@ -370,9 +378,9 @@ int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
         }
     }
     bvh ha, hb;
-    int rc = bvh_build(&ha, a);
+    int rc = bvh_build(&ha, a, nth);
     if (!rc)
-        rc = bvh_build(&hb, b);
+        rc = bvh_build(&hb, b, nth);
     else
         memset(&hb, 0, sizeof hb);
     if (rc) {
@@ -381,8 +389,8 @@ int vc_hausdorff(const vc_surface *a, const vc_surface *b, double spacing,
         return vc_error_set(err, VC_ENOMEM, "Hausdorff distance: out of memory");
     }
     double sub_a = 0, sub_b = 0;
-    out->a_to_b = one_sided(a, &hb, spacing, &out->n_samples_a, &sub_a);
-    out->b_to_a = one_sided(b, &ha, spacing, &out->n_samples_b, &sub_b);
+    out->a_to_b = one_sided(a, &hb, spacing, nth, &out->n_samples_a, &sub_a);
+    out->b_to_a = one_sided(b, &ha, spacing, nth, &out->n_samples_b, &sub_b);
     bvh_free(&ha);
     bvh_free(&hb);
     if (out->a_to_b < 0 || out->b_to_a < 0)
