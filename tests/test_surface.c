@@ -266,6 +266,29 @@ static void check_box(const char *path, double tol, int64_t polygons, int64_t du
     vc_surface_free(&s);
 }
 
+/* The box as ASCII STL into b (emptied first): lower case and LF, or
+ * upper case and CRLF. */
+static void ascii_stl(strbuf *b, int upper)
+{
+    const char *eol = upper ? "\r\n" : "\n";
+    double p[3];
+    int v[3];
+    b->n = 0;
+    sb_printf(b, "%s%s", upper ? "SOLID BOX" : "solid box", eol);
+    for (int t = 0; t < 12; t++) {
+        box_tri(t, v);
+        sb_printf(b, "  %s 0 0 0%s    %s%s", upper ? "FACET NORMAL" : "facet normal", eol,
+                  upper ? "OUTER LOOP" : "outer loop", eol);
+        for (int k = 0; k < 3; k++) {
+            box_vertex(v[k], p);
+            sb_printf(b, "      %s %.9g %.9g %.9g%s", upper ? "VERTEX" : "vertex", p[0], p[1], p[2], eol);
+        }
+        sb_printf(b, "    %s%s  %s%s", upper ? "ENDLOOP" : "endloop", eol, upper ? "EndFacet" : "endfacet",
+                  eol);
+    }
+    sb_printf(b, "%s%s", upper ? "ENDSOLID BOX" : "endsolid box", eol);
+}
+
 static void test_formats(void)
 {
     double p[3];
@@ -301,34 +324,11 @@ static void test_formats(void)
         sb_printf(&b, "4 %d %d %d %d\n", box_quads[f][0], box_quads[f][1], box_quads[f][2], box_quads[f][3]);
     check_box(write_file("box.off", b.s, b.n), 1e-14, 6, 0);
 
-    /* ASCII STL. */
-    b.n = 0;
-    sb_printf(&b, "solid box\n");
-    for (int t = 0; t < 12; t++) {
-        box_tri(t, v);
-        sb_printf(&b, "  facet normal 0 0 0\n    outer loop\n");
-        for (int k = 0; k < 3; k++) {
-            box_vertex(v[k], p);
-            sb_printf(&b, "      vertex %.9g %.9g %.9g\n", p[0], p[1], p[2]);
-        }
-        sb_printf(&b, "    endloop\n  endfacet\n");
-    }
-    sb_printf(&b, "endsolid box\n");
+    /* ASCII STL, and in upper case with CRLF, as some writers do (VTK
+     * reads it). */
+    ascii_stl(&b, 0);
     check_box(write_file("box_ascii.stl", b.s, b.n), 1e-14, 0, 28);
-
-    /* ASCII STL in upper case, as some writers do (VTK reads it). */
-    b.n = 0;
-    sb_printf(&b, "SOLID BOX\r\n");
-    for (int t = 0; t < 12; t++) {
-        box_tri(t, v);
-        sb_printf(&b, "FACET NORMAL 0 0 0\r\nOUTER LOOP\r\n");
-        for (int k = 0; k < 3; k++) {
-            box_vertex(v[k], p);
-            sb_printf(&b, "VERTEX %.9g %.9g %.9g\r\n", p[0], p[1], p[2]);
-        }
-        sb_printf(&b, "ENDLOOP\r\nEndFacet\r\n");
-    }
-    sb_printf(&b, "ENDSOLID BOX\r\n");
+    ascii_stl(&b, 1);
     check_box(write_file("box_upper_ascii.stl", b.s, b.n), 1e-14, 0, 28);
 
     /* OBJ with long face lines continued by a backslash (LF and CRLF), a

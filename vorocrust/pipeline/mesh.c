@@ -696,24 +696,21 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
          * whose sharp rims are staircases of folds needs it: the copy's
          * prediction is close to the input's, but its rims are smooth at
          * the bound's scale. */
-        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0 &&
-            !dc->copy_refused) {
-            if (!denoised.xyz && vc_make_denoised(s, error_bound_of(s, opt->max_error), opt->threads,
-                                                  &denoised, dc, err)) {
-                rc = named(err, name, NULL);
-                break;
-            }
-            /* a copy that moves real geometry is no remedy: the fold
-             * rounds below act on the input instead */
-            if (!(fabs(dc->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE)) {
-                dc->copy_refused = 1;
-                vc_log(opt->log, VC_LOG_INFO,
-                       "mesh: %s; a copy smoothed within half the error bound would change the "
-                       "volume by %+.2f%%: not sampled", why.msg, 100 * dc->volume_change);
-            }
+        const int copy_next = out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 &&
+                              fold_round == 0 && !dc->copy_refused;
+        if (copy_next && !denoised.xyz &&
+            vc_make_denoised(s, error_bound_of(s, opt->max_error), opt->threads, &denoised, dc, err)) {
+            rc = named(err, name, NULL);
+            break;
         }
-        if (out->sampling.diverged && !dc->used && copy_allowed && smooth == 0 && fold_round == 0 &&
-            !dc->copy_refused) {
+        /* a copy that moves real geometry is no remedy: the fold rounds
+         * below act on the input instead */
+        if (copy_next && !(fabs(dc->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE)) {
+            dc->copy_refused = 1;
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %s; a copy smoothed within half the error bound would change the "
+                   "volume by %+.2f%%: not sampled", why.msg, 100 * dc->volume_change);
+        } else if (copy_next) {
             dc->used = 1;
             base = &denoised;
             so.max_error = dc->bound / vc_surface_diagonal(&denoised);

@@ -17,7 +17,6 @@
 
 struct vc_log_keepalive {
     vc_logger log;    /* the caller's */
-    vc_logger relay;  /* what the work logs to */
     double period;
     pthread_t thread;
     pthread_mutex_t mu;
@@ -93,30 +92,25 @@ vc_log_keepalive *vc_log_keepalive_start(const vc_logger *log, double period, vc
     k->log = *log;
     k->period = period;
     k->t_last = k->t_phase = vc_clock_seconds();
+    /* the waits time out on the monotonic clock */
     pthread_condattr_t ca;
-    int ok = pthread_mutex_init(&k->mu, NULL) == 0;
-    if (ok && pthread_condattr_init(&ca) == 0) {
-        ok = pthread_condattr_setclock(&ca, CLOCK_MONOTONIC) == 0 &&
-             pthread_cond_init(&k->wake, &ca) == 0;
-        pthread_condattr_destroy(&ca);
-        if (ok && pthread_create(&k->thread, NULL, run, k) != 0) {
-            pthread_cond_destroy(&k->wake);
-            ok = 0;
-        }
-        if (!ok)
-            pthread_mutex_destroy(&k->mu);
-    } else if (ok) {
-        pthread_mutex_destroy(&k->mu);
-        ok = 0;
-    }
-    if (!ok) {
+    if (pthread_condattr_init(&ca) != 0) {
         free(k);
         return NULL;
     }
-    k->relay.fn = relay_fn;
-    k->relay.user = k;
-    k->relay.max_level = log->max_level;
-    *relay = k->relay;
+    const int cond_ok = pthread_condattr_setclock(&ca, CLOCK_MONOTONIC) == 0 &&
+                        pthread_cond_init(&k->wake, &ca) == 0;
+    pthread_condattr_destroy(&ca);
+    const int mutex_ok = cond_ok && pthread_mutex_init(&k->mu, NULL) == 0;
+    if (!mutex_ok || pthread_create(&k->thread, NULL, run, k) != 0) {
+        if (mutex_ok)
+            pthread_mutex_destroy(&k->mu);
+        if (cond_ok)
+            pthread_cond_destroy(&k->wake);
+        free(k);
+        return NULL;
+    }
+    *relay = (vc_logger){relay_fn, k, log->max_level};
     return k;
 }
 
