@@ -419,7 +419,45 @@ if PART == "determinism":
         rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det%s_%d" % (t, len(outs)), "--threads", t, "--quiet")
         check(rc == 0 and err == "", "determinism run: exit %d %r" % (rc, err))
         outs.append(b"".join(open(p, "rb").read() for p in (surf, balls_csv, seeds_csv)))
+    det_surf, det_seeds, det_balls = open(surf, "rb").read(), open(seeds_csv, "rb").read(), balls_csv
     check(outs[0] == outs[1] == outs[2], "bracket: outputs differ between runs or thread counts")
+    # The same solid numbered another way, as another exporter writes it
+    # (OFF, vertices renumbered, triangles shuffled and each started at
+    # another corner): the same outputs (the mesher samples the surface in
+    # the order of its geometry).
+    verts, tris = [], []
+    for line in open(os.path.join(MODELS, "bracket.obj")):
+        w = line.split()
+        if w and w[0] == "v":
+            verts.append(w[1:4])
+        elif w and w[0] == "f":
+            tris.append([int(x.split("/")[0]) - 1 for x in w[1:]])
+    nv = len(verts)
+    new_of = [(7 * v + 3) % nv for v in range(nv)]
+    check(len(set(new_of)) == nv, "bracket: the renumbering is no permutation")
+    placed = [None] * nv
+    for v in range(nv):
+        placed[new_of[v]] = verts[v]
+    renumbered = os.path.join(TMP, "mesh_bracket_renumbered.off")
+    with open(renumbered, "w") as f:
+        f.write("OFF\n%d %d 0\n" % (nv, len(tris)))
+        f.writelines(" ".join(p) + "\n" for p in placed)
+        for t, tri in enumerate(reversed(tris)):
+            r = t % len(tri)
+            tri = tri[r:] + tri[:r]
+            f.write("%d %s\n" % (len(tri), " ".join(str(new_of[v]) for v in tri)))
+    surf, balls_csv, seeds_csv = (os.path.join(TMP, "mesh_det_renumbered%s" % x)
+                                  for x in (".obj", "_balls.csv", "_seeds.csv"))
+    rc, _, err = run("mesh", renumbered, "--surface-only", "--surface", surf, "--balls", balls_csv,
+                     "--seeds", seeds_csv, "--quiet")
+    check(rc == 0 and err == "", "renumbered bracket: exit %d %r" % (rc, err))
+    # the balls name their corner vertex and triangle in each file's own
+    # numbering: that column aside, the same bytes
+    def without_elements(path):
+        return [",".join(w[:5] + w[6:]) for w in (line.split(",") for line in open(path))]
+    check(rc == 0 and open(surf, "rb").read() == det_surf and open(seeds_csv, "rb").read() == det_seeds
+          and without_elements(balls_csv) == without_elements(det_balls),
+          "bracket renumbered as OFF: outputs differ from the OBJ's")
     rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det_seed2", "--seed", "2", "--quiet")
     check(rc == 0 and open(balls_csv, "rb").read() not in outs[0], "--seed 2 gives the same balls")
 

@@ -12,6 +12,7 @@
 #include "vorocrust/surface.h"
 
 #include "test_check.h"
+#include "test_surface_util.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -651,6 +652,87 @@ static void test_bad_inputs(void)
     vc_surface_free(NULL);
 }
 
+/* vc_surface_canonical_order: a sphere with two groups, renumbered and its
+ * triangles shuffled and rotated, comes out as the same arrays as the
+ * original; orientation, groups and the map back to the input hold. */
+static void test_canonical_order(void)
+{
+    builder b = {0};
+    make_sphere(&b, 12, 7);
+    const int64_t nv = b.s.n_vertices, nt = b.s.n_triangles;
+    b.s.n_groups = 2;
+    b.s.group_name = calloc(2, sizeof *b.s.group_name);
+    b.s.tri_group = malloc(sizeof(int32_t) * (size_t)nt);
+    snprintf(b.s.group_name[0], 64, "north");
+    snprintf(b.s.group_name[1], 64, "south");
+    for (int64_t t = 0; t < nt; t++) {
+        double z = 0;
+        for (int k = 0; k < 3; k++)
+            z += b.s.xyz[3 * b.s.tri[3 * t + k] + 2];
+        b.s.tri_group[t] = z < 0;
+    }
+    /* the same surface, renumbered: vertex v becomes perm[v], triangle t
+     * goes to place order[t], starting at its corner t % 3 */
+    vc_surface p = b.s;
+    int64_t *perm = malloc(sizeof(int64_t) * (size_t)nv), *order = malloc(sizeof(int64_t) * (size_t)nt);
+    p.xyz = malloc(sizeof(double) * 3 * (size_t)nv);
+    p.tri = malloc(sizeof(int64_t) * 3 * (size_t)nt);
+    p.tri_group = malloc(sizeof(int32_t) * (size_t)nt);
+    CHECK(nv == 74 && nt == 144); /* 5 is prime to both: the maps are permutations */
+    for (int64_t v = 0; v < nv; v++)
+        perm[v] = (v * 5 + 11) % nv;
+    for (int64_t t = 0; t < nt; t++)
+        order[t] = (t * 5 + 3) % nt;
+    for (int64_t v = 0; v < nv; v++)
+        memcpy(p.xyz + 3 * perm[v], b.s.xyz + 3 * v, sizeof(double) * 3);
+    for (int64_t t = 0; t < nt; t++) {
+        for (int k = 0; k < 3; k++)
+            p.tri[3 * order[t] + k] = perm[b.s.tri[3 * t + (k + t) % 3]];
+        p.tri_group[order[t]] = b.s.tri_group[t];
+    }
+    vc_surface c0, c1;
+    int64_t *from0 = malloc(sizeof(int64_t) * (size_t)nt), *from1 = malloc(sizeof(int64_t) * (size_t)nt);
+    vc_error err = {0};
+    CHECK(vc_surface_canonical_order(&b.s, &c0, from0, NULL, &err) == 0);
+    int64_t *vfrom1 = malloc(sizeof(int64_t) * (size_t)nv);
+    CHECK(vc_surface_canonical_order(&p, &c1, from1, vfrom1, &err) == 0);
+    for (int64_t v = 0; v < nv; v++)
+        CHECK(!memcmp(c1.xyz + 3 * v, p.xyz + 3 * vfrom1[v], sizeof(double) * 3));
+    free(vfrom1);
+    CHECK(c0.n_vertices == nv && c1.n_vertices == nv && c0.n_triangles == nt && c1.n_triangles == nt);
+    CHECK(!memcmp(c0.xyz, c1.xyz, sizeof(double) * 3 * (size_t)nv));
+    CHECK(!memcmp(c0.tri, c1.tri, sizeof(int64_t) * 3 * (size_t)nt));
+    CHECK(!memcmp(c0.tri_group, c1.tri_group, sizeof(int32_t) * (size_t)nt));
+    CHECK(c0.n_groups == 2 && !strcmp(c0.group_name[1], "south"));
+    CHECK(fabs(vc_surface_signed_volume(&c0) - vc_surface_signed_volume(&b.s)) <=
+          1e-12 * vc_surface_signed_volume(&b.s));
+    int64_t bad = 0;
+    for (int64_t t = 0; t < nt; t++) {
+        /* the same corners in the same cyclic order as the input's */
+        const int64_t *a = c1.tri + 3 * t, *q = p.tri + 3 * from1[t];
+        int same = 0;
+        for (int r = 0; r < 3; r++) {
+            int all = 1;
+            for (int k = 0; k < 3; k++)
+                all &= !memcmp(c1.xyz + 3 * a[k], p.xyz + 3 * q[(k + r) % 3], sizeof(double) * 3);
+            same |= all;
+        }
+        bad += !same || c1.tri_group[t] != p.tri_group[from1[t]];
+        /* neighbours in memory: every triangle starts at its smallest vertex */
+        bad += !(a[0] < a[1] && a[0] < a[2]);
+    }
+    CHECKF(bad == 0, "%lld triangles not the input's", (long long)bad);
+    vc_surface_free(&c0);
+    vc_surface_free(&c1);
+    p.group_name = NULL; /* b's */
+    vc_surface_free(&p);
+    vc_surface_free(&b.s);
+    free(perm);
+    free(order);
+    free(from0);
+    free(from1);
+}
+
 int main(void)
 {
     const char *models = getenv("VC_MODELS");
@@ -663,6 +745,7 @@ int main(void)
         fprintf(stderr, "VC_MODELS not set: reference models skipped\n");
     test_formats();
     test_bad_inputs();
+    test_canonical_order();
     if (failures) {
         fprintf(stderr, "test_surface: %d failures\n", failures);
         return 1;

@@ -115,6 +115,18 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged,
                               int64_t *n_unused, int64_t *n_collapsed,
                               vc_error *err);
 
+/* *out = s in an order that depends on its geometry alone: vertices in
+ * Morton order of their position in the bounding box (exact coordinates
+ * breaking ties), each triangle starting at its smallest vertex (its
+ * orientation kept), triangles sorted by their vertices, then group; the
+ * groups and their names copied. The same solid read from any format or
+ * numbering then meshes the same (vc_mesh samples one solid so).
+ * input_triangle and input_vertex (optional, n_triangles and n_vertices
+ * entries) receive each triangle's and vertex's index in s. out is freed
+ * with vc_surface_free. Returns 0 or VC_ENOMEM. */
+int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *input_triangle,
+                               int64_t *input_vertex, vc_error *err);
+
 /* One surface of n_parts surfaces: their vertices and triangles in order
  * (part 0's triangles first), vertices with exactly equal positions merged
  * (so that parts meeting along an interface share its vertices, edges and

@@ -1336,6 +1336,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&opened, 0, sizeof opened);
     vc_surface union_opened; /* the same of the union */
     memset(&union_opened, 0, sizeof union_opened);
+    vc_surface canonical; /* in the order of its geometry (vc_surface_canonical_order) */
+    memset(&canonical, 0, sizeof canonical);
+    int64_t *input_triangle = NULL, *input_vertex = NULL; /* canonical's in s before it */
     vc_mesh_options opt;
     if (opt_in)
         opt = *opt_in;
@@ -1464,7 +1467,16 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         if (rc == VC_EINPUT && opt.self_union && solid.n_self_intersections > 0 && solid.n_zero_area == 0 &&
             solid.n_repeated_same == 0 && !(solid.coordinate_ratio > VC_SOLID_MAX_COORDINATE_RATIO)) {
             const double volume_before = out->input.volume;
-            if ((rc = vc_surface_self_union(s, name, &unioned, &out->self_union, err)) != 0)
+            /* cut and triangulated in the order of its geometry, so that
+             * the union does not depend on the input's numbering */
+            vc_surface ordered;
+            if ((rc = vc_surface_canonical_order(s, &ordered, NULL, NULL, err)) != 0) {
+                rc = named(err, name, NULL);
+                goto fail;
+            }
+            rc = vc_surface_self_union(&ordered, name, &unioned, &out->self_union, err);
+            vc_surface_free(&ordered);
+            if (rc)
                 goto fail;
             if ((rc = open_pinches(&unioned, name, &opt, -2, &union_opened, &out->pinches, err)) != 0)
                 goto fail;
@@ -1629,9 +1641,40 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         }
         vc_regions_free(&regions);
     }
+    /* One solid is sampled in an order that depends on its geometry
+     * alone: the sampling follows the triangles' and vertices' order, and
+     * one solid exported by two programs must mesh the same. (Several
+     * materials keep the input's order, which numbers their regions as
+     * `vorocrust info` does; reoriented cavities too, sampled without the
+     * groups s_input keeps in the input's order.) */
+    const int canonical_order = !out->multi_material && s == s_input;
+    if (canonical_order) {
+        input_triangle = malloc(sizeof(int64_t) * (size_t)(s->n_triangles + 1));
+        input_vertex = malloc(sizeof(int64_t) * (size_t)(s->n_vertices + 1));
+        if (!input_triangle || !input_vertex) {
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            goto fail;
+        }
+        if ((rc = vc_surface_canonical_order(s, &canonical, input_triangle, input_vertex, err)) != 0) {
+            rc = named(err, name, NULL);
+            goto fail;
+        }
+        s = &canonical;
+        s_input = &canonical;
+    }
     if ((rc = sample(out->multi_material ? &mm.surface : s, &opt, name,
                      out->multi_material ? &mm : NULL, out, err)) != 0)
         goto fail;
+    /* the balls' corner vertices and triangles in the numbering the
+     * surface had (a smoothed surface has its own) */
+    if (canonical_order && out->smooth_iterations == 0)
+        for (int64_t i = 0; i < out->balls.n; i++) {
+            int64_t *e = &out->balls.element[i];
+            if (out->balls.kind[i] == VC_BALL_CORNER)
+                *e = input_vertex[*e];
+            else if (out->balls.kind[i] == VC_BALL_SURFACE)
+                *e = input_triangle[*e];
+        }
     /* the boundary patches: each boundary face takes its input group */
     if (out->has_mesh && opt.patches != VC_PATCHES_NONE &&
         (rc = boundary_patches(s_input, &opt, name, out, err)) != 0)
@@ -1694,6 +1737,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     free(union_opened.xyz);
     free(union_opened.tri);
     vc_surface_free(&unioned);
+    vc_surface_free(&canonical);
+    free(input_triangle);
+    free(input_vertex);
     return 0;
 fail:
     free(oriented.tri);
@@ -1706,6 +1752,9 @@ fail:
     free(union_opened.xyz);
     free(union_opened.tri);
     vc_surface_free(&unioned);
+    vc_surface_free(&canonical);
+    free(input_triangle);
+    free(input_vertex);
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }

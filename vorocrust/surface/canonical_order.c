@@ -1,0 +1,141 @@
+/* The surface in an order that depends on its geometry alone.
+ *
+ * The sampler draws its darts over the triangles in their order and walks
+ * creases from the vertices in theirs, so one solid written as OBJ, OFF,
+ * STL or PLY (each exporter numbers it its own way) gave different meshes.
+ * Vertices are put in Morton order of their position in the bounding box
+ * (neighbours stay near in memory, which the coverage tests' runs of
+ * neighbouring subfaces rely on), exact coordinates breaking ties; each
+ * triangle starts at its smallest vertex (its orientation kept), and the
+ * triangles are sorted by their vertices. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vorocrust/surface.h"
+
+typedef struct vertex_key {
+    uint64_t morton;
+    const double *p;
+    int64_t index;
+} vertex_key;
+
+typedef struct triangle_key {
+    int64_t v[3];
+    int32_t group;
+    int64_t index;
+} triangle_key;
+
+/* The bits of x (below 2^21) spread to every third bit. */
+static uint64_t spread3(uint64_t x)
+{
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+}
+
+static int compare_vertices(const void *a, const void *b)
+{
+    const vertex_key *u = a, *v = b;
+    if (u->morton != v->morton)
+        return u->morton < v->morton ? -1 : 1;
+    for (int d = 0; d < 3; d++)
+        if (u->p[d] != v->p[d])
+            return u->p[d] < v->p[d] ? -1 : 1;
+    /* equal positions (not merged by the caller): the input decides */
+    return (u->index > v->index) - (u->index < v->index);
+}
+
+static int compare_triangles(const void *a, const void *b)
+{
+    const triangle_key *u = a, *v = b;
+    for (int k = 0; k < 3; k++)
+        if (u->v[k] != v->v[k])
+            return u->v[k] < v->v[k] ? -1 : 1;
+    if (u->group != v->group)
+        return u->group < v->group ? -1 : 1;
+    return (u->index > v->index) - (u->index < v->index);
+}
+
+int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *input_triangle,
+                               int64_t *input_vertex, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < nv; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
+        }
+    vertex_key *vk = malloc(sizeof *vk * (size_t)(nv + 1));
+    int64_t *new_of = malloc(sizeof *new_of * (size_t)(nv + 1));
+    triangle_key *tk = malloc(sizeof *tk * (size_t)(nt + 1));
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(nv + 1));
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt + 1));
+    if (s->tri_group) {
+        out->tri_group = malloc(sizeof(int32_t) * (size_t)(nt + 1));
+        out->group_name = malloc(sizeof *out->group_name * (size_t)(s->n_groups + 1));
+    }
+    if (!vk || !new_of || !tk || !out->xyz || !out->tri ||
+        (s->tri_group && (!out->tri_group || !out->group_name))) {
+        free(vk);
+        free(new_of);
+        free(tk);
+        vc_surface_free(out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory ordering the surface");
+    }
+    /* 2^21 cells per axis over the box (a flat axis: one cell) */
+    for (int64_t i = 0; i < nv; i++) {
+        uint64_t m = 0;
+        for (int d = 0; d < 3; d++) {
+            const double w = hi[d] - lo[d];
+            double t = w > 0 ? (s->xyz[3 * i + d] - lo[d]) / w * 2097151.0 : 0;
+            t = t < 0 ? 0 : (t > 2097151.0 ? 2097151.0 : t);
+            m |= spread3((uint64_t)t) << d;
+        }
+        vk[i].morton = m;
+        vk[i].p = s->xyz + 3 * i;
+        vk[i].index = i;
+    }
+    qsort(vk, (size_t)nv, sizeof *vk, compare_vertices);
+    for (int64_t i = 0; i < nv; i++) {
+        new_of[vk[i].index] = i;
+        if (input_vertex)
+            input_vertex[i] = vk[i].index;
+        memcpy(out->xyz + 3 * i, vk[i].p, sizeof(double) * 3);
+    }
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t w[3];
+        for (int k = 0; k < 3; k++)
+            w[k] = new_of[s->tri[3 * t + k]];
+        /* start at the smallest vertex, the cyclic order (orientation) kept */
+        const int f = w[0] < w[1] ? (w[0] < w[2] ? 0 : 2) : (w[1] < w[2] ? 1 : 2);
+        for (int k = 0; k < 3; k++)
+            tk[t].v[k] = w[(f + k) % 3];
+        tk[t].group = s->tri_group ? s->tri_group[t] : 0;
+        tk[t].index = t;
+    }
+    qsort(tk, (size_t)nt, sizeof *tk, compare_triangles);
+    for (int64_t t = 0; t < nt; t++) {
+        memcpy(out->tri + 3 * t, tk[t].v, sizeof(int64_t) * 3);
+        if (out->tri_group)
+            out->tri_group[t] = tk[t].group;
+        if (input_triangle)
+            input_triangle[t] = tk[t].index;
+    }
+    out->n_vertices = nv;
+    out->n_triangles = nt;
+    if (s->tri_group) {
+        out->n_groups = s->n_groups;
+        memcpy(out->group_name, s->group_name, sizeof *out->group_name * (size_t)s->n_groups);
+    }
+    free(vk);
+    free(new_of);
+    free(tk);
+    return 0;
+}
