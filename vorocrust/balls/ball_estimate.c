@@ -35,17 +35,20 @@
  * above such a feature's scale. */
 #define ADAPTIVE_BUDGET 65536
 #define MAX_DEPTH 24
-/* The sampling makes more balls than the packing densities of the graded
- * bounds: sliver elimination adds some, and the facets of a coarse or
- * sharp input more. Measured (session 39) on 49 surfaces (the shared
- * models, the generated ones and a unit box with a 0.2% chamfer), the
- * balls made were 0.72 to 3.6 times the graded integral, median 1.24: the
- * smooth ones near 1, the coarse and sharp ones (text, a 200-triangle
- * torus, the chamfer, a 12-sided prism) 2.5 to 3.6. This factor, their
- * geometric middle, predicts 0.45 to 2.2 times the balls made. (Session
- * 28's ungraded integral with a factor 1.8 predicted 0.40 to 1.77 on 40
- * surfaces, but the chamfer 0.16: its graded faces hold most balls.) */
-#define SAMPLING_EXCESS 1.6
+/* The sampling makes more balls than the packing densities of the bounds:
+ * the Lipschitz condition lowers radii between small and large balls, and
+ * sliver elimination adds about a fifth. Measured (session 28) on 18
+ * surfaces, the bare integral was 0.35 to 0.93 of the balls made, median
+ * 0.55; with this factor, on 40 surfaces (the shared models and the
+ * generated ones), 0.40 to 1.77; the same (session 39) with the pieces
+ * refined under one budget, and a unit cube with a 0.2% chamfer at 0.34
+ * (0.16 before). Grading the pieces' bounds by the Lipschitz condition
+ * (min over pieces j of r_j + L |x - x_j|, as the sampling grades its
+ * balls) was tried: the chamfer 0.52, but the bound's narrow minima at a
+ * scan's noise folds, where no ball sits, spread over the whole surface
+ * (scan_sphere 4.7 times the balls made, and its input then judged worth
+ * a denoised copy). */
+#define SAMPLING_EXCESS 1.8
 
 typedef struct estimate_ctx {
     const vc_sizing *z;
@@ -312,171 +315,23 @@ static int patch_pieces(const estimate_ctx *e, int64_t tri_stride, int nth, piec
     return rc;
 }
 
-/* ---------------------------------------------------------------------
- * The Lipschitz condition on the pieces' bounds: the sampling keeps a
- * patch ball's radius within r_j + L |c - c_j| of every other's, so where
- * a small feature sits in a large face the balls grade out from it; the
- * bounds alone counted a 0.2% chamfer on a unit box 1.2e3 balls for 7.9e3
- * made. Each piece takes min over pieces j of r_j + L |x - x_j|, found in
- * a k-d tree whose nodes know their smallest r (a nearest-neighbour search
- * under that weighted distance). */
-
-typedef struct grade_node {
-    double lo[3], hi[3];
-    double r_min;
-    int64_t begin, end; /* pieces order[begin..end) */
-} grade_node;
-
-typedef struct grade_tree {
-    const piece *p;
-    int64_t *order;
-    grade_node *node; /* heap order: children of k at 2k + 1, 2k + 2 */
-    int64_t n_nodes;
-    double L;
-} grade_tree;
-
-#define GRADE_LEAF 8
-
-typedef struct axis_key {
-    double v;
-    int64_t i;
-} axis_key;
-
-static int compare_keys(const void *a, const void *b)
+/* tri_n[t] = the balls of triangle t's pieces: 0.93 / r^2 per unit area,
+ * summed in the pieces' order (the same for any thread count). */
+static void integrate_pieces(const piece_list *pieces, int64_t nt, int nth, double *tri_n)
 {
-    const axis_key *u = a, *w = b;
-    if (u->v != w->v)
-        return u->v < w->v ? -1 : 1;
-    return (u->i > w->i) - (u->i < w->i);
-}
-
-/* Node k over order[begin..end), split at the median of its widest axis;
- * keys: scratch for end - begin entries. */
-static void grade_build(grade_tree *g, int64_t k, int64_t begin, int64_t end, axis_key *keys)
-{
-    grade_node *nd = &g->node[k];
-    nd->begin = begin;
-    nd->end = end;
-    nd->r_min = INFINITY;
-    for (int d = 0; d < 3; d++) {
-        nd->lo[d] = INFINITY;
-        nd->hi[d] = -INFINITY;
-    }
-    for (int64_t m = begin; m < end; m++) {
-        const piece *q = &g->p[g->order[m]];
-        nd->r_min = fmin(nd->r_min, q->r);
-        for (int d = 0; d < 3; d++) {
-            nd->lo[d] = fmin(nd->lo[d], q->x[d]);
-            nd->hi[d] = fmax(nd->hi[d], q->x[d]);
-        }
-    }
-    if (end - begin <= GRADE_LEAF || 2 * k + 2 >= g->n_nodes)
-        return;
-    int axis = 0;
-    for (int d = 1; d < 3; d++)
-        if (nd->hi[d] - nd->lo[d] > nd->hi[axis] - nd->lo[axis])
-            axis = d;
-    for (int64_t m = begin; m < end; m++) {
-        keys[m - begin].v = g->p[g->order[m]].x[axis];
-        keys[m - begin].i = g->order[m];
-    }
-    qsort(keys, (size_t)(end - begin), sizeof *keys, compare_keys);
-    for (int64_t m = begin; m < end; m++)
-        g->order[m] = keys[m - begin].i;
-    const int64_t mid = begin + (end - begin) / 2;
-    grade_build(g, 2 * k + 1, begin, mid, keys);
-    grade_build(g, 2 * k + 2, mid, end, keys);
-}
-
-static double box_dist(const grade_node *nd, const double x[3])
-{
-    double s = 0;
-    for (int d = 0; d < 3; d++) {
-        const double g = x[d] < nd->lo[d] ? nd->lo[d] - x[d] : (x[d] > nd->hi[d] ? x[d] - nd->hi[d] : 0);
-        s += g * g;
-    }
-    return sqrt(s);
-}
-
-static void grade_query(const grade_tree *g, int64_t k, const double x[3], double *best)
-{
-    const grade_node *nd = &g->node[k];
-    if (nd->end <= nd->begin || nd->r_min + g->L * box_dist(nd, x) >= *best)
-        return;
-    const int64_t l = 2 * k + 1;
-    if (l + 1 >= g->n_nodes || g->node[l].end == 0 || nd->end - nd->begin <= GRADE_LEAF) {
-        for (int64_t m = nd->begin; m < nd->end; m++) {
-            const piece *q = &g->p[g->order[m]];
-            const double d[3] = {q->x[0] - x[0], q->x[1] - x[1], q->x[2] - x[2]};
-            const double v = q->r + g->L * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            if (v < *best)
-                *best = v;
-        }
-        return;
-    }
-    /* the nearer child first: it is the likelier to lower best */
-    const double dl = box_dist(&g->node[l], x), dr = box_dist(&g->node[l + 1], x);
-    const int64_t first = dl <= dr ? l : l + 1;
-    grade_query(g, first, x, best);
-    grade_query(g, first == l ? l + 1 : l, x, best);
-}
-
-/* tri_n[t] = the balls of triangle t's pieces, each piece's bound graded
- * by L over every piece that makes balls. Returns 0, or -1 when out of
- * memory. */
-static int grade_pieces(const piece_list *pieces, int64_t nt, double L, int nth, double *tri_n)
-{
-    int64_t n = 0;
-    for (int64_t t = 0; t < nt; t++)
-        for (int64_t m = 0; m < pieces[t].n; m++)
-            n += pieces[t].p[m].area > 0;
-    int64_t leaves = 1;
-    while (n > GRADE_LEAF * leaves)
-        leaves *= 2;
-    grade_tree g = {.L = L, .n_nodes = 2 * leaves - 1};
-    piece *all = malloc(sizeof *all * (size_t)(n + 1));
-    g.order = malloc(sizeof(int64_t) * (size_t)(n + 1));
-    g.node = calloc((size_t)g.n_nodes, sizeof *g.node);
-    axis_key *keys = malloc(sizeof *keys * (size_t)(n + 1));
-    if (!all || !g.order || !g.node || !keys) {
-        free(all);
-        free(g.order);
-        free(g.node);
-        free(keys);
-        return -1;
-    }
-    n = 0;
-    for (int64_t t = 0; t < nt; t++)
-        for (int64_t m = 0; m < pieces[t].n; m++)
-            if (pieces[t].p[m].area > 0) {
-                g.order[n] = n;
-                all[n++] = pieces[t].p[m];
-            }
-    g.p = all;
-    grade_build(&g, 0, 0, n, keys);
-    free(keys);
-#pragma omp parallel for schedule(dynamic, 16) num_threads(nth)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(nth)
     for (int64_t t = 0; t < nt; t++) {
-        double sum = 0; /* in the pieces' order: the same for any thread count */
+        double sum = 0;
         for (int64_t m = 0; m < pieces[t].n; m++) {
             const piece *q = &pieces[t].p[m];
-            if (!(q->area > 0))
-                continue;
-            double r = q->r;
-            if (n > 0)
-                grade_query(&g, 0, q->x, &r);
-            sum += r > 0 ? PATCH_DENSITY * q->area / (r * r) : INFINITY;
+            if (q->area > 0)
+                sum += q->r > 0 ? PATCH_DENSITY * q->area / (q->r * q->r) : INFINITY;
         }
         tri_n[t] = sum;
     }
-    free(all);
-    free(g.order);
-    free(g.node);
-    return 0;
 }
 
-int vc_ball_estimate_compute(const vc_sizing *z, double sz, double lipschitz, int threads,
-                             vc_ball_estimate *out)
+int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball_estimate *out)
 {
     const vc_surface *s = z->s;
     const vc_features *f = z->f;
@@ -562,10 +417,8 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, double lipschitz, in
     }
     if (!pieces || (!fail && patch_pieces(&ec, tri_stride, nth, pieces, tri_r, tri_at)))
         fail = 1;
-    /* graded by the Lipschitz condition (the pieces that make balls are
-     * the sources), then integrated: 0.93 / r^2 per unit area */
-    if (!fail && grade_pieces(pieces, nt, lipschitz, nth, tri_n))
-        fail = 1;
+    if (!fail)
+        integrate_pieces(pieces, nt, nth, tri_n);
     for (int64_t t = 0; pieces && t < nt; t++)
         free(pieces[t].p);
     free(pieces);

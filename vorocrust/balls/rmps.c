@@ -2079,7 +2079,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         vc_log(opt->log, VC_LOG_INFO, "mesh: sizing %lld triangles: the radius bound at a sample of them",
                (long long)s->n_triangles);
     vc_ball_estimate est;
-    if (vc_ball_estimate_compute(&S.z, S.sz, opt->lipschitz, opt->threads, &est)) {
+    if (vc_ball_estimate_compute(&S.z, S.sz, opt->threads, &est)) {
         vc_ball_set_free(&S.bs);
         vc_smooth_surface_free(&S.ss);
         free(S.tri_on_smooth);

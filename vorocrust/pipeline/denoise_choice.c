@@ -101,7 +101,7 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
 }
 
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                       double bound, double max_size, double lipschitz, int force, int threads,
+                       double bound, double max_size, int force, int threads,
                        vc_surface *denoised, vc_denoise_choice *ch, vc_features *f_chosen,
                        vc_error *err)
 {
@@ -123,10 +123,10 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     if (!(ch->rough_share > VC_ROUGH_SHARE))
         return 0;
     vc_features f_input, f_copy;
-    if ((rc = vc_predict_balls(s, sharp_angle, extra, bound, max_size, lipschitz, threads, &ch->n_input, &f_input, err)))
+    if ((rc = vc_predict_balls(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &f_input, err)))
         return rc;
     if ((rc = vc_make_denoised(s, bound, threads, denoised, ch, err)) != 0 ||
-        (rc = vc_predict_balls(denoised, sharp_angle, extra, ch->bound, max_size, lipschitz, threads, &ch->n_denoised,
+        (rc = vc_predict_balls(denoised, sharp_angle, extra, ch->bound, max_size, threads, &ch->n_denoised,
                       &f_copy, err)) != 0) {
         vc_features_free(&f_input);
         vc_surface_free(denoised);

@@ -43,7 +43,7 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
                      vc_denoise_choice *ch, vc_error *err);
 
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                       double bound, double max_size, double lipschitz, int force, int threads,
+                       double bound, double max_size, int force, int threads,
                        vc_surface *denoised, vc_denoise_choice *ch, vc_features *f_chosen,
                        vc_error *err);
 

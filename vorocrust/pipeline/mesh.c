@@ -500,12 +500,12 @@ static int weigh_group_borders(const vc_surface *s, const vc_mesh_options *opt, 
     const double bound = error_bound_of(s, opt->max_error);
     double with = 0, without = 0;
     vc_features f;
-    int rc = vc_predict_balls(s, opt->sharp_angle, *extra, bound, opt->max_size, opt->lipschitz, opt->threads,
+    int rc = vc_predict_balls(s, opt->sharp_angle, *extra, bound, opt->max_size, opt->threads,
                               &with, &f, err);
     if (rc)
         return named(err, name, NULL);
     vc_features_free(&f);
-    if ((rc = vc_predict_balls(s, opt->sharp_angle, NULL, bound, opt->max_size, opt->lipschitz, opt->threads,
+    if ((rc = vc_predict_balls(s, opt->sharp_angle, NULL, bound, opt->max_size, opt->threads,
                                &without, &f, err)) != 0)
         return named(err, name, NULL);
     vc_features_free(&f);
@@ -582,8 +582,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
     if (copy_allowed) {
         const double t_choice = now();
         if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
-                                     opt->max_size, opt->lipschitz, opt->denoise, opt->threads,
-                                     &denoised, dc,
+                                     opt->max_size, opt->denoise, opt->threads, &denoised, dc,
                                      &f_first, err)) != 0) {
             free(extra);
             return named(err, name, NULL);

@@ -6,8 +6,7 @@
 #include "vorocrust/features.h"
 
 int vc_predict_balls(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                     double bound, double max_size, double lipschitz, int threads, double *n,
-                     vc_features *f,
+                     double bound, double max_size, int threads, double *n, vc_features *f,
                      vc_error *err)
 {
     *n = 0;
@@ -21,7 +20,7 @@ int vc_predict_balls(const vc_surface *s, double sharp_angle, const unsigned cha
         return vc_error_set(err, VC_ENOMEM, "out of memory predicting the balls");
     }
     vc_ball_estimate est;
-    rc = vc_ball_estimate_compute(&z, max_size > 0 ? max_size : z.diag, lipschitz, threads, &est);
+    rc = vc_ball_estimate_compute(&z, max_size > 0 ? max_size : z.diag, threads, &est);
     vc_sizing_free(&z);
     if (rc) {
         vc_features_free(f);

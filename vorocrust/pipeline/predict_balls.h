@@ -8,12 +8,11 @@
 
 /* The predicted balls of sampling s at theta_sharp sharp_angle, the
  * absolute error bound `bound` (> 0) and largest radius max_size (<= 0:
- * the diagonal), Lipschitz constant lipschitz, extra (or NULL) marking the edges that are creases
+ * the diagonal), extra (or NULL) marking the edges that are creases
  * whatever their angle, into *n, and the features that took into *f (the
  * caller frees them). Returns 0, or an error code (*n 0, *f empty). */
 int vc_predict_balls(const vc_surface *s, double sharp_angle, const unsigned char *extra,
-                     double bound, double max_size, double lipschitz, int threads, double *n,
-                     vc_features *f,
+                     double bound, double max_size, int threads, double *n, vc_features *f,
                      vc_error *err);
 
 #endif
