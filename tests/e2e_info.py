@@ -105,6 +105,57 @@ if PART == "cli":
           "vorocrust: %s: 3 open boundary edges (surface is not closed)" % tet_open,
           "--require-closed: exit %d, stderr %r" % (rc, err))
 
+    # A surface open only by rounding (a seam's vertices written twice, 1e-15
+    # apart, as VTK's parametric sources write them): info and mesh weld
+    # them and go on; a real gap (1e-4 of the size) stays open and is
+    # refused with one line.
+    def split_sphere(path, offset):
+        """A UV sphere whose meridian at longitude 0 is written twice, the
+        second copy moved by offset along y (the last column of quads
+        uses it)."""
+        import math
+        nu, nv = 16, 8
+        pts, tris = [(0, 0, 1), (0, 0, -1)], []
+        idx = {}
+        for j in range(1, nv):
+            for i in range(nu + 1):
+                th, ph = math.pi * j / nv, 2 * math.pi * (i % nu) / nu
+                p = (math.sin(th) * math.cos(ph), math.sin(th) * math.sin(ph) + (offset if i == nu else 0),
+                     math.cos(th))
+                idx[(i, j)] = len(pts)
+                pts.append(p)
+        for i in range(nu):
+            tris.append((0, idx[(i, 1)], idx[(i + 1, 1)]))
+            tris.append((1, idx[(i + 1, nv - 1)], idx[(i, nv - 1)]))
+            for j in range(1, nv - 1):
+                a, b, c, d = idx[(i, j)], idx[(i, j + 1)], idx[(i + 1, j + 1)], idx[(i + 1, j)]
+                tris += [(a, b, c), (a, c, d)]
+        with open(path, "w") as f:
+            f.writelines("v %.17g %.17g %.17g\n" % p for p in pts)
+            f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in tris)
+
+    seam = os.path.join(TMP, "e2e_info_seam.obj")
+    split_sphere(seam, 1e-15)
+    rc, out, err = run(seam, "--require-closed")
+    check(rc == 0 and (field(out, "seam welding") or "").startswith("16 open edges closed by welding 7 vertices")
+          and field(out, "boundary edges") == "0" and field(out, "solid") == "yes" and err == "",
+          "seam split by 1e-15: exit %d, stdout %r, stderr %r" % (rc, out[:600], err))
+    p = e2eutil.run([BIN, "mesh", seam, "-o", os.path.join(TMP, "e2e_info_seam.vtu")], timeout=120)
+    check(p[0] == 0 and "7 vertices within" in p[2] and "the surface closed" in p[2] and
+          "euler 2 (input 2), closed 2-manifold" in p[2],
+          "mesh of the seam split by 1e-15: exit %d, stderr %r" % (p[0], p[2][-800:]))
+    gap = os.path.join(TMP, "e2e_info_gap.obj")
+    split_sphere(gap, 2e-4)
+    rc, out, err = run(gap)
+    check(rc == 0 and field(out, "seam welding") is None and field(out, "boundary edges") == "16",
+          "seam split by 2e-4: exit %d, stdout %r" % (rc, out[:600]))
+    p = e2eutil.run([BIN, "mesh", gap, "-o", os.path.join(TMP, "e2e_info_gap.vtu")], timeout=120)
+    lines = p[2].strip().splitlines()
+    check(p[0] == 1 and len(lines) == 1 and "the surface is open: 16 boundary edges" in lines[0] and
+          "welding the vertices within" in lines[0] and "leaves 16" in lines[0] and
+          not os.path.exists(os.path.join(TMP, "e2e_info_gap.vtu")),
+          "mesh of the seam split by 2e-4: exit %d, stderr %r" % (p[0], p[2]))
+
     # A repeated option is refused with one line, exit 2, as in the other
     # commands (a second --sharp-angle must not silently win).
     tet = os.path.join(TMP, "e2e_info_tet.obj")

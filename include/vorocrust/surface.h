@@ -127,6 +127,23 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged,
 int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *input_triangle,
                                int64_t *input_vertex, vc_error *err);
 
+/* *out = s with the vertices of its open edges (edges of one triangle)
+ * that lie within tol of each other welded: each group becomes its
+ * lowest-numbered vertex, at that vertex's place; triangles that then
+ * repeat a vertex and vertices no longer used are dropped (and exactly
+ * coincident vertices merged, as vc_surface_merge_vertices does). For
+ * seams open only by rounding (a parametric surface whose seam vertices
+ * were computed twice). *n_welded receives the vertices welded into
+ * another. out is freed with vc_surface_free. Returns 0 or VC_ENOMEM.
+ * vc_mesh and `vorocrust info` weld an open surface so at
+ * VC_SURFACE_SEAM_WELD times its bounding-box diagonal, and take the
+ * result when it is closed: the copies of a seam vertex computed twice
+ * differ by a few ulps (4e-15 of VTK's parametric ellipsoid's diagonal),
+ * far below any error bound. */
+#define VC_SURFACE_SEAM_WELD 1e-9
+int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
+                               vc_error *err);
+
 /* One surface of n_parts surfaces: their vertices and triangles in order
  * (part 0's triangles first), vertices with exactly equal positions merged
  * (so that parts meeting along an interface share its vertices, edges and

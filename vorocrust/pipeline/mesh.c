@@ -1336,6 +1336,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&opened, 0, sizeof opened);
     vc_surface union_opened; /* the same of the union */
     memset(&union_opened, 0, sizeof union_opened);
+    vc_surface welded; /* open seams welded (vc_surface_weld_open_seams; its own arrays) */
+    memset(&welded, 0, sizeof welded);
     vc_surface canonical; /* in the order of its geometry (vc_surface_canonical_order) */
     memset(&canonical, 0, sizeof canonical);
     int64_t *input_triangle = NULL, *input_vertex = NULL; /* canonical's in s before it */
@@ -1362,11 +1364,33 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     snprintf(out->input.name, sizeof out->input.name, "%s", name);
     if ((rc = vc_surface_check(s, &out->input, err)) != 0)
         goto fail;
+    /* Open only by rounding (seam vertices computed twice, 1e-14 apart):
+     * welded, and said so; open beyond that: refused. */
     if (out->input.n_boundary_edges > 0) {
-        rc = vc_error_set(err, VC_EINPUT, "%s: the surface is open: %lld boundary edges "
-                          "(VoroCrust needs a closed surface)", name,
-                          (long long)out->input.n_boundary_edges);
-        goto fail;
+        const int64_t n_open = out->input.n_boundary_edges;
+        const double tol = VC_SURFACE_SEAM_WELD * vc_surface_diagonal(s);
+        int64_t n_welded = 0;
+        if ((rc = vc_surface_weld_open_seams(s, tol, &welded, &n_welded, err)) != 0)
+            goto fail;
+        vc_surface_report r_welded;
+        memset(&r_welded, 0, sizeof r_welded);
+        snprintf(r_welded.name, sizeof r_welded.name, "%s", name);
+        vc_error e_welded;
+        if (n_welded == 0 || vc_surface_check(&welded, &r_welded, &e_welded) != 0 ||
+            r_welded.n_boundary_edges > 0) {
+            rc = vc_error_set(err, VC_EINPUT, "%s: the surface is open: %lld boundary edges "
+                              "(VoroCrust needs a closed surface; welding the vertices within %.3g "
+                              "of each other leaves %lld)", name, (long long)n_open, tol,
+                              (long long)(n_welded == 0 ? n_open : r_welded.n_boundary_edges));
+            goto fail;
+        }
+        out->input = r_welded;
+        s = &welded;
+        s_input = &welded;
+        vc_log(opt.log, VC_LOG_WARNING,
+               "mesh: %s: open at %lld edges by rounding: %lld vertices within %.3g (%g of the "
+               "diagonal) of another welded, the surface closed", name, (long long)n_open,
+               (long long)n_welded, tol, (double)VC_SURFACE_SEAM_WELD);
     }
     /* Triangles that disagree on the orientation (an exporter's flipped
      * facets) are reversed, each component keeping the orientation most of
@@ -1738,6 +1762,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     free(union_opened.tri);
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
+    vc_surface_free(&welded);
     free(input_triangle);
     free(input_vertex);
     return 0;
@@ -1753,6 +1778,7 @@ fail:
     free(union_opened.tri);
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
+    vc_surface_free(&welded);
     free(input_triangle);
     free(input_vertex);
     vc_mesh_result_free(out);
