@@ -156,6 +156,36 @@ if PART == "cli":
           not os.path.exists(os.path.join(TMP, "e2e_info_gap.vtu")),
           "mesh of the seam split by 2e-4: exit %d, stderr %r" % (p[0], p[2]))
 
+    # T-junctions: a unit cube whose top face has three vertices on its front
+    # edge (1e-12 off it), which the front face does not have: info and mesh
+    # split the front face's triangle there; 1e-5 off the edge stays open.
+    def t_junction_cube(path, eps):
+        v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1),
+             (0.25, eps, 1), (0.5, -eps, 1), (0.75, 0, 1)]
+        t = []
+        for a, b, c, d in ((0, 3, 2, 1), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)):
+            t += [(a, b, c), (a, c, d)]
+        top = [4, 8, 9, 10, 5, 6, 7]
+        t += [(top[-1], top[i], top[i + 1]) for i in range(len(top) - 2)]
+        with open(path, "w") as f:
+            f.writelines("v %.17g %.17g %.17g\n" % p for p in v)
+            f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in t)
+
+    tj = os.path.join(TMP, "e2e_info_tjunction.obj")
+    t_junction_cube(tj, 1e-12)
+    rc, out, err = run(tj, "--require-closed")
+    check(rc == 0 and "splitting 1 triangles at vertices on their edges" in (field(out, "seam welding") or "")
+          and field(out, "solid") == "yes" and field(out, "enclosed volume") == "1",
+          "T-junction cube: exit %d, stdout %r, stderr %r" % (rc, out[:700], err))
+    p = e2eutil.run([BIN, "mesh", tj, "-o", os.path.join(TMP, "e2e_info_tjunction.vtu")], timeout=120)
+    check(p[0] == 0 and "1 triangles split at vertices on their edges (T-junctions)" in p[2] and
+          "euler 2 (input 2), closed 2-manifold" in p[2] and "volume 1 (reconstructed surface 1, input 1)" in p[2],
+          "mesh of the T-junction cube: exit %d, stderr %r" % (p[0], p[2][-800:]))
+    t_junction_cube(tj, 1e-5)
+    p = e2eutil.run([BIN, "mesh", tj, "-o", os.path.join(TMP, "e2e_info_tjunction_far.vtu")], timeout=120)
+    check(p[0] == 1 and "the surface is open: 5 boundary edges" in p[2] and len(p[2].strip().splitlines()) == 1,
+          "mesh of the cube with vertices 1e-5 off the edge: exit %d, stderr %r" % (p[0], p[2]))
+
     # A repeated option is refused with one line, exit 2, as in the other
     # commands (a second --sharp-angle must not silently win).
     tet = os.path.join(TMP, "e2e_info_tet.obj")

@@ -158,11 +158,12 @@ int vc_cmd_info(int argc, char **argv)
     }
     /* Open only by rounding: welded as vorocrust mesh welds it, and the
      * lines after describe that surface */
-    int64_t n_welded = 0, n_open_before = rep.n_boundary_edges;
+    int64_t n_welded = 0, n_split = 0, n_open_before = rep.n_boundary_edges;
     if (rep.n_boundary_edges > 0) {
         vc_surface welded;
         const double tol = VC_SURFACE_SEAM_WELD * vc_surface_diagonal(&s);
-        if (vc_surface_weld_open_seams(&s, tol, &welded, &n_welded, &err)) {
+        if (vc_surface_weld_open_seams(&s, tol, &welded, &n_welded, &err) ||
+            vc_surface_split_t_junctions(&welded, tol, &n_split, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
             vc_surface_free(&s);
             return 1;
@@ -170,13 +171,14 @@ int vc_cmd_info(int argc, char **argv)
         vc_surface_report r = rep;
         r.n_warnings = 0;
         vc_error e = {0, ""};
-        if (n_welded > 0 && vc_surface_check(&welded, &r, &e) == 0 && r.n_boundary_edges == 0) {
+        if (n_welded + n_split > 0 && vc_surface_check(&welded, &r, &e) == 0 && r.n_boundary_edges == 0 &&
+            r.n_nonmanifold_edges <= rep.n_nonmanifold_edges) {
             vc_surface_free(&s);
             s = welded;
             rep = r;
         } else {
             vc_surface_free(&welded);
-            n_welded = 0;
+            n_welded = n_split = 0;
         }
     }
     for (int i = 0; i < rep.n_warnings; i++)
@@ -247,10 +249,12 @@ int vc_cmd_info(int argc, char **argv)
         printf("duplicate vertices merged: %lld\n", (long long)rep.n_duplicate_vertices);
     printf("bounding box: [%.9g, %.9g] x [%.9g, %.9g] x [%.9g, %.9g]\n", b[0], b[3], b[1], b[4], b[2], b[5]);
     printf("size: %.9g x %.9g x %.9g\n", b[3] - b[0], b[4] - b[1], b[5] - b[2]);
-    if (n_welded > 0)
+    if (n_welded + n_split > 0)
         printf("seam welding: %lld open edges closed by welding %lld vertices within %g of the "
-               "diagonal of another, as vorocrust mesh welds them; the lines below describe that "
-               "surface\n", (long long)n_open_before, (long long)n_welded, (double)VC_SURFACE_SEAM_WELD);
+               "diagonal of another and splitting %lld triangles at vertices on their edges, as "
+               "vorocrust mesh does; the lines below describe that surface\n",
+               (long long)n_open_before, (long long)n_welded, (double)VC_SURFACE_SEAM_WELD,
+               (long long)n_split);
     printf("boundary edges: %lld\n", (long long)rep.n_boundary_edges);
     printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
     printf("inconsistently oriented edges: %lld\n", (long long)n_inconsistent);

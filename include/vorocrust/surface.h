@@ -135,12 +135,24 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
  * seams open only by rounding (a parametric surface whose seam vertices
  * were computed twice). *n_welded receives the vertices welded into
  * another. out is freed with vc_surface_free. Returns 0 or VC_ENOMEM.
- * vc_mesh and `vorocrust info` weld an open surface so at
- * VC_SURFACE_SEAM_WELD times its bounding-box diagonal, and take the
- * result when it is closed: the copies of a seam vertex computed twice
- * differ by a few ulps (4e-15 of VTK's parametric ellipsoid's diagonal),
- * far below any error bound. */
-#define VC_SURFACE_SEAM_WELD 1e-9
+ * vc_mesh and `vorocrust info` weld an open surface so, then split its
+ * T-junctions (vc_surface_split_t_junctions), at VC_SURFACE_SEAM_WELD
+ * times its bounding-box diagonal, and take the result when it is closed
+ * with no new edge of more than two triangles: the copies of a seam vertex
+ * computed twice differ by a few ulps (4e-15 of VTK's parametric
+ * ellipsoid's diagonal), coordinates rounded to single precision (binary
+ * STL) by 6e-8 of their magnitude, and any error bound is far above. */
+#define VC_SURFACE_SEAM_WELD 1e-7
+
+/* Splits, in place, every triangle with an open edge (an edge of one
+ * triangle) on which vertices of other open edges lie, within tol of the
+ * segment and farther than tol from its ends: the triangle becomes a fan
+ * from its third corner through those vertices, its orientation and
+ * group kept (a T-junction: two faces of a CAD model tessellated apart, one
+ * side's vertex on the other side's edge). Repeated while it splits, at
+ * most 8 passes. *n_split receives the triangles split. Returns 0 or
+ * VC_ENOMEM. */
+int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc_error *err);
 int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
                                vc_error *err);
 

@@ -1364,24 +1364,28 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     snprintf(out->input.name, sizeof out->input.name, "%s", name);
     if ((rc = vc_surface_check(s, &out->input, err)) != 0)
         goto fail;
-    /* Open only by rounding (seam vertices computed twice, 1e-14 apart):
-     * welded, and said so; open beyond that: refused. */
+    /* Open only by rounding (seam vertices computed twice, 1e-14 apart; a
+     * vertex of one face's tessellation on the edge of another's): welded
+     * and split, and said so; open beyond that: refused. */
     if (out->input.n_boundary_edges > 0) {
         const int64_t n_open = out->input.n_boundary_edges;
         const double tol = VC_SURFACE_SEAM_WELD * vc_surface_diagonal(s);
-        int64_t n_welded = 0;
-        if ((rc = vc_surface_weld_open_seams(s, tol, &welded, &n_welded, err)) != 0)
+        int64_t n_welded = 0, n_split = 0;
+        if ((rc = vc_surface_weld_open_seams(s, tol, &welded, &n_welded, err)) != 0 ||
+            (rc = vc_surface_split_t_junctions(&welded, tol, &n_split, err)) != 0)
             goto fail;
         vc_surface_report r_welded;
         memset(&r_welded, 0, sizeof r_welded);
         snprintf(r_welded.name, sizeof r_welded.name, "%s", name);
         vc_error e_welded;
-        if (n_welded == 0 || vc_surface_check(&welded, &r_welded, &e_welded) != 0 ||
-            r_welded.n_boundary_edges > 0) {
+        const int checked = n_welded + n_split > 0 && vc_surface_check(&welded, &r_welded, &e_welded) == 0;
+        if (!checked || r_welded.n_boundary_edges > 0 ||
+            r_welded.n_nonmanifold_edges > out->input.n_nonmanifold_edges) {
             rc = vc_error_set(err, VC_EINPUT, "%s: the surface is open: %lld boundary edges "
                               "(VoroCrust needs a closed surface; welding the vertices within %.3g "
-                              "of each other leaves %lld)", name, (long long)n_open, tol,
-                              (long long)(n_welded == 0 ? n_open : r_welded.n_boundary_edges));
+                              "of each other and splitting the edges they lie on leaves %lld)",
+                              name, (long long)n_open, tol,
+                              (long long)(checked ? r_welded.n_boundary_edges : n_open));
             goto fail;
         }
         out->input = r_welded;
@@ -1389,8 +1393,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         s_input = &welded;
         vc_log(opt.log, VC_LOG_WARNING,
                "mesh: %s: open at %lld edges by rounding: %lld vertices within %.3g (%g of the "
-               "diagonal) of another welded, the surface closed", name, (long long)n_open,
-               (long long)n_welded, tol, (double)VC_SURFACE_SEAM_WELD);
+               "diagonal) of another welded, %lld triangles split at vertices on their edges "
+               "(T-junctions), the surface closed", name, (long long)n_open, (long long)n_welded,
+               tol, (double)VC_SURFACE_SEAM_WELD, (long long)n_split);
     }
     /* Triangles that disagree on the orientation (an exporter's flipped
      * facets) are reversed, each component keeping the orientation most of

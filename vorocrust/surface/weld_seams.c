@@ -148,3 +148,219 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
         vc_surface_free(out);
     return rc;
 }
+
+/* ---------------------------------------------------------------------
+ * T-junctions: a vertex of one side's tessellation lying on an edge of
+ * the other side's (two faces of a CAD model tessellated apart). */
+
+typedef struct open_edge {
+    int64_t a, b; /* a < b */
+    int64_t t;    /* its triangle */
+    int k;        /* the edge runs from corner k to corner k + 1 of t */
+} open_edge;
+
+static int compare_open_edges(const void *p, const void *q)
+{
+    const open_edge *u = p, *v = q;
+    if (u->a != v->a)
+        return u->a < v->a ? -1 : 1;
+    if (u->b != v->b)
+        return u->b < v->b ? -1 : 1;
+    return (u->t > v->t) - (u->t < v->t);
+}
+
+typedef struct on_edge {
+    double u; /* where along the edge, 0 to 1 */
+    int64_t v;
+} on_edge;
+
+static int compare_on_edge(const void *p, const void *q)
+{
+    const on_edge *x = p, *y = q;
+    if (x->u != y->u)
+        return x->u < y->u ? -1 : 1;
+    return (x->v > y->v) - (x->v < y->v);
+}
+
+/* The edges of one triangle, and their vertices sorted by x. Returns the
+ * number of open edges, or -1 when out of memory. */
+static int64_t find_open(const vc_surface *s, open_edge **edges, by_x **verts, int64_t *n_verts)
+{
+    const int64_t nt = s->n_triangles;
+    open_edge *e = malloc(sizeof *e * (size_t)(3 * nt + 1));
+    unsigned char *open = calloc((size_t)(s->n_vertices + 1), 1);
+    by_x *bx = malloc(sizeof *bx * (size_t)(s->n_vertices + 1));
+    if (!e || !open || !bx) {
+        free(e);
+        free(open);
+        free(bx);
+        return -1;
+    }
+    for (int64_t t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++) {
+            const int64_t a = s->tri[3 * t + k], b = s->tri[3 * t + (k + 1) % 3];
+            e[3 * t + k] = (open_edge){a < b ? a : b, a < b ? b : a, t, k};
+        }
+    qsort(e, (size_t)(3 * nt), sizeof *e, compare_open_edges);
+    int64_t n = 0;
+    for (int64_t i = 0; i < 3 * nt;) {
+        int64_t j = i + 1;
+        while (j < 3 * nt && e[j].a == e[i].a && e[j].b == e[i].b)
+            j++;
+        if (j - i == 1) {
+            open[e[i].a] = open[e[i].b] = 1;
+            e[n++] = e[i];
+        }
+        i = j;
+    }
+    int64_t m = 0;
+    for (int64_t v = 0; v < s->n_vertices; v++)
+        if (open[v])
+            bx[m++] = (by_x){s->xyz[3 * v], v};
+    free(open);
+    qsort(bx, (size_t)m, sizeof *bx, compare_x);
+    *edges = e;
+    *verts = bx;
+    *n_verts = m;
+    return n;
+}
+
+/* Work at most this many vertex-edge tests (a pathological input's open
+ * edges all along x would make it quadratic). */
+#define T_JUNCTION_MAX_TESTS 100000000LL
+#define T_JUNCTION_MAX_PASSES 8
+
+int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc_error *err)
+{
+    *n_split = 0;
+    long long tests = 0;
+    for (int pass = 0; pass < T_JUNCTION_MAX_PASSES; pass++) {
+        open_edge *e;
+        by_x *bx;
+        int64_t n_bx;
+        const int64_t n_e = find_open(s, &e, &bx, &n_bx);
+        if (n_e < 0)
+            return vc_error_set(err, VC_ENOMEM, "out of memory splitting T-junctions");
+        /* per triangle, at most one edge split per pass: the vertices on it */
+        const int64_t nt = s->n_triangles;
+        int64_t *split_edge = malloc(sizeof(int64_t) * (size_t)(nt + 1)); /* index into e, or -1 */
+        on_edge *on = malloc(sizeof *on * (size_t)(n_bx + 1));
+        int64_t *on_start = malloc(sizeof(int64_t) * (size_t)(n_e + 2));
+        on_edge *all = NULL;
+        int64_t n_all = 0, cap_all = 0, n_new = 0;
+        int fail = !split_edge || !on || !on_start;
+        for (int64_t t = 0; !fail && t < nt; t++)
+            split_edge[t] = -1;
+        for (int64_t i = 0; !fail && i < n_e; i++) {
+            on_start[i] = n_all;
+            const open_edge *oe = &e[i];
+            if (split_edge[oe->t] >= 0)
+                continue;
+            const double *a = s->xyz + 3 * oe->a, *b = s->xyz + 3 * oe->b;
+            const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            const double len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+            if (!(len2 > 4 * tol * tol))
+                continue;
+            const double xlo = fmin(a[0], b[0]) - tol, xhi = fmax(a[0], b[0]) + tol;
+            int64_t lo = 0, hi = n_bx;
+            while (lo < hi) { /* the first vertex at xlo or beyond */
+                const int64_t mid = (lo + hi) / 2;
+                if (bx[mid].x < xlo)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            int64_t n_on = 0;
+            for (int64_t j = lo; j < n_bx && bx[j].x <= xhi && tests < T_JUNCTION_MAX_TESTS; j++, tests++) {
+                const int64_t v = bx[j].v;
+                if (v == oe->a || v == oe->b)
+                    continue;
+                const double *p = s->xyz + 3 * v;
+                const double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+                const double u = (ap[0] * ab[0] + ap[1] * ab[1] + ap[2] * ab[2]) / len2;
+                const double len = sqrt(len2);
+                if (u * len <= tol || (1 - u) * len <= tol)
+                    continue;
+                const double d[3] = {ap[0] - u * ab[0], ap[1] - u * ab[1], ap[2] - u * ab[2]};
+                if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= tol * tol)
+                    on[n_on++] = (on_edge){u, v};
+            }
+            if (n_on == 0)
+                continue;
+            qsort(on, (size_t)n_on, sizeof *on, compare_on_edge);
+            if (n_all + n_on > cap_all) {
+                cap_all = 2 * (n_all + n_on);
+                on_edge *q = realloc(all, sizeof *q * (size_t)cap_all);
+                if (!q) {
+                    fail = 1;
+                    break;
+                }
+                all = q;
+            }
+            memcpy(all + n_all, on, sizeof *on * (size_t)n_on);
+            n_all += n_on;
+            n_new += n_on;
+            split_edge[oe->t] = i;
+        }
+        on_start[n_e] = n_all;
+        free(on);
+        free(bx);
+        if (!fail && n_new > 0) {
+            /* each split triangle becomes a fan from its third corner */
+            int64_t *tri = malloc(sizeof(int64_t) * 3 * (size_t)(nt + n_new + 1));
+            int32_t *grp = s->tri_group ? malloc(sizeof(int32_t) * (size_t)(nt + n_new + 1)) : NULL;
+            if (!tri || (s->tri_group && !grp)) {
+                free(tri);
+                free(grp);
+                fail = 1;
+            } else {
+                int64_t m = 0;
+                for (int64_t t = 0; t < nt; t++) {
+                    const int64_t i = split_edge[t];
+                    if (i < 0) {
+                        memcpy(tri + 3 * m, s->tri + 3 * t, sizeof(int64_t) * 3);
+                        if (grp)
+                            grp[m] = s->tri_group[t];
+                        m++;
+                        continue;
+                    }
+                    const int k = e[i].k;
+                    const int64_t a = s->tri[3 * t + k], b = s->tri[3 * t + (k + 1) % 3],
+                                  c = s->tri[3 * t + (k + 2) % 3];
+                    /* the vertices on it from a to b (sorted from e[i].a) */
+                    const int64_t n_on = on_start[i + 1] - on_start[i];
+                    int64_t prev = a;
+                    for (int64_t q = 0; q <= n_on; q++) {
+                        const int64_t next = q == n_on ? b
+                                           : a == e[i].a ? all[on_start[i] + q].v
+                                                         : all[on_start[i] + n_on - 1 - q].v;
+                        tri[3 * m] = prev;
+                        tri[3 * m + 1] = next;
+                        tri[3 * m + 2] = c;
+                        if (grp)
+                            grp[m] = s->tri_group[t];
+                        m++;
+                        prev = next;
+                    }
+                    *n_split += 1;
+                }
+                free(s->tri);
+                s->tri = tri;
+                if (grp) {
+                    free(s->tri_group);
+                    s->tri_group = grp;
+                }
+                s->n_triangles = m;
+            }
+        }
+        free(e);
+        free(split_edge);
+        free(on_start);
+        free(all);
+        if (fail)
+            return vc_error_set(err, VC_ENOMEM, "out of memory splitting T-junctions");
+        if (n_new == 0)
+            break;
+    }
+    return 0;
+}
