@@ -186,6 +186,23 @@ if PART == "cli":
     check(p[0] == 1 and "the surface is open: 5 boundary edges" in p[2] and len(p[2].strip().splitlines()) == 1,
           "mesh of the cube with vertices 1e-5 off the edge: exit %d, stderr %r" % (p[0], p[2]))
 
+    # The same cube closed by three zero-area caps along that edge (an
+    # exporter's slivers): info and mesh split the front face's triangle at
+    # the caps' vertices instead; nothing else changes.
+    caps = os.path.join(TMP, "e2e_info_caps.obj")
+    t_junction_cube(caps, 0)
+    with open(caps, "a") as f:
+        f.write("f 5 6 11\nf 5 11 10\nf 5 10 9\n")
+    rc, out, err = run(caps, "--require-closed")
+    check(rc == 0 and (field(out, "zero-area repair") or "").startswith("3 of 3 zero-area triangles were caps")
+          and field(out, "degenerate triangles") == "0" and field(out, "solid") == "yes"
+          and field(out, "enclosed volume") == "1" and field(out, "seam welding") is None,
+          "capped cube: exit %d, stdout %r, stderr %r" % (rc, out[:800], err))
+    p = e2eutil.run([BIN, "mesh", caps, "-o", os.path.join(TMP, "e2e_info_caps.vtu")], timeout=120)
+    check(p[0] == 0 and "3 of its 3 zero-area triangles were caps" in p[2] and
+          "euler 2 (input 2), closed 2-manifold" in p[2] and "volume 1 (reconstructed surface 1, input 1)" in p[2],
+          "mesh of the capped cube: exit %d, stderr %r" % (p[0], p[2][-800:]))
+
     # A repeated option is refused with one line, exit 2, as in the other
     # commands (a second --sharp-angle must not silently win).
     tet = os.path.join(TMP, "e2e_info_tet.obj")

@@ -203,6 +203,25 @@ int vc_cmd_info(int argc, char **argv)
             n_flipped = -1;
         free(flip);
     }
+    /* Zero-area caps: the triangles across split at their vertex, as
+     * vorocrust mesh splits them, and the lines after describe that surface */
+    int64_t n_caps = 0, n_zero_before = rep.n_degenerate;
+    if (rep.n_degenerate > 0) {
+        int64_t n_left = 0;
+        if (vc_surface_flip_zero_area(&s, &n_caps, &n_left, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
+            vc_surface_free(&s);
+            return 1;
+        }
+        if (n_caps > 0) {
+            rep.n_warnings = 0; /* printed above */
+            if (vc_surface_check(&s, &rep, &err)) {
+                fprintf(stderr, "vorocrust: %s\n", err.msg);
+                vc_surface_free(&s);
+                return 1;
+            }
+        }
+    }
     /* Turned-over needles within half the error bound: flipped as vorocrust
      * mesh flips them (before its solid check), and the lines after
      * describe that surface */
@@ -255,6 +274,10 @@ int vc_cmd_info(int argc, char **argv)
                "vorocrust mesh does; the lines below describe that surface\n",
                (long long)n_open_before, (long long)n_welded, (double)VC_SURFACE_SEAM_WELD,
                (long long)n_split);
+    if (n_caps > 0)
+        printf("zero-area repair: %lld of %lld zero-area triangles were caps (a vertex on the opposite "
+               "edge), the triangles across split there, as vorocrust mesh does; the lines below "
+               "describe that surface\n", (long long)n_caps, (long long)n_zero_before);
     printf("boundary edges: %lld\n", (long long)rep.n_boundary_edges);
     printf("non-manifold edges: %lld\n", (long long)rep.n_nonmanifold_edges);
     printf("inconsistently oriented edges: %lld\n", (long long)n_inconsistent);

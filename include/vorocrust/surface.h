@@ -156,6 +156,17 @@ int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc
 int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
                                vc_error *err);
 
+/* Removes, in place, the zero-area triangles of s (vc_surface_check's
+ * degenerate ones: |cross| <= VC_SOLID_ZERO_AREA * (longest edge)^2) that
+ * are caps: the triangle across the longest edge a -> b (the edge of
+ * exactly these two) is split at the cap's third vertex c, and the two
+ * become (b, c, d) and (c, a, d), d that triangle's third vertex: the
+ * same area and orientation, every edge shared as before. A flip that would
+ * make another zero-area triangle waits for a later pass (at most 16).
+ * *n_flipped receives the caps removed, *n_left the zero-area triangles
+ * left. Returns 0 or VC_ENOMEM. */
+int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left, vc_error *err);
+
 /* One surface of n_parts surfaces: their vertices and triangles in order
  * (part 0's triangles first), vertices with exactly equal positions merged
  * (so that parts meeting along an interface share its vertices, edges and

@@ -1338,6 +1338,9 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&union_opened, 0, sizeof union_opened);
     vc_surface welded; /* open seams welded (vc_surface_weld_open_seams; its own arrays) */
     memset(&welded, 0, sizeof welded);
+    vc_surface capped; /* zero-area caps flipped (own triangles and groups, vertices borrowed) */
+    memset(&capped, 0, sizeof capped);
+    int32_t *capped_group = NULL;
     vc_surface canonical; /* in the order of its geometry (vc_surface_canonical_order) */
     memset(&canonical, 0, sizeof canonical);
     int64_t *input_triangle = NULL, *input_vertex = NULL; /* canonical's in s before it */
@@ -1433,6 +1436,37 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                "mesh: %s: %lld inconsistently oriented edges: %lld triangles reversed (each "
                "component keeps the orientation most of its triangles have)",
                name, (long long)n_bad, (long long)out->n_flipped);
+    }
+    /* Zero-area caps (a vertex on the opposite edge: a CAD exporter's
+     * sliver closing a T-junction) cannot bound anything: the triangle
+     * across that edge is split at the vertex instead, which changes no
+     * area. Those that are not caps are refused by the solid check. */
+    if (out->input.n_degenerate > 0) {
+        if ((rc = copy_triangles(s, &capped, err)) != 0)
+            goto fail;
+        if (s->tri_group) {
+            capped_group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));
+            if (!capped_group) {
+                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+                goto fail;
+            }
+            memcpy(capped_group, s->tri_group, sizeof(int32_t) * (size_t)s->n_triangles);
+            capped.tri_group = capped_group;
+        }
+        int64_t n_caps = 0, n_left = 0;
+        if ((rc = vc_surface_flip_zero_area(&capped, &n_caps, &n_left, err)) != 0)
+            goto fail;
+        if (n_caps > 0) {
+            const int64_t n_zero = out->input.n_degenerate;
+            s = &capped;
+            s_input = &capped;
+            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+                goto fail;
+            vc_log(opt.log, VC_LOG_WARNING,
+                   "mesh: %s: %lld of its %lld zero-area triangles were caps (a vertex on the "
+                   "opposite edge): the triangles across split there instead (the surface unchanged)",
+                   name, (long long)n_caps, (long long)n_zero);
+        }
     }
     /* Pleats of the tessellation below the error bound (a needle whose
      * apex crossed its long edge: cow.off has two) are flipped away before
@@ -1768,6 +1802,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
     vc_surface_free(&welded);
+    free(capped.tri);
+    free(capped_group);
     free(input_triangle);
     free(input_vertex);
     return 0;
@@ -1784,6 +1820,8 @@ fail:
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
     vc_surface_free(&welded);
+    free(capped.tri);
+    free(capped_group);
     free(input_triangle);
     free(input_vertex);
     vc_mesh_result_free(out);
