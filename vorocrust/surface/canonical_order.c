@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "vorocrust/surface.h"
+#include "util/morton.h"
 
 typedef struct vertex_key {
     uint64_t morton;
@@ -25,18 +26,6 @@ typedef struct triangle_key {
     int32_t group;
     int64_t index;
 } triangle_key;
-
-/* The bits of x (below 2^21) spread to every third bit. */
-static uint64_t spread3(uint64_t x)
-{
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-}
 
 static int compare_vertices(const void *a, const void *b)
 {
@@ -96,7 +85,7 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
             const double w = hi[d] - lo[d];
             double t = w > 0 ? (s->xyz[3 * i + d] - lo[d]) / w * 2097151.0 : 0;
             t = t < 0 ? 0 : (t > 2097151.0 ? 2097151.0 : t);
-            m |= spread3((uint64_t)t) << d;
+            m |= vc_morton_spread3((uint64_t)t) << d;
         }
         vk[i].morton = m;
         vk[i].p = s->xyz + 3 * i;

@@ -21,6 +21,7 @@
  * coplanar, which counts as touching. */
 #include "surface/self_intersection.h"
 #include "surface/predicates.h"
+#include "util/morton.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -253,18 +254,6 @@ static int64_t build(node *nodes, int64_t *n_nodes, const box *items, int64_t lo
     return id;
 }
 
-/* Spreads the low 21 bits of x to every third bit. */
-static uint64_t spread3(uint64_t x)
-{
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-}
-
 /* Sorts idx by key (both of length n), stable LSD radix on bytes. */
 static int radix_sort(uint64_t *key, int64_t *idx, int64_t n)
 {
@@ -385,7 +374,7 @@ static int scan(const double *xyz, const int64_t *tri, int64_t nt, const unsigne
             double cen = 0.5 * tbox[q].lo[k] + 0.5 * tbox[q].hi[k];
             double f = ext > 0 ? (cen - all.lo[k]) / ext : 0;
             uint64_t g = (uint64_t)(dmin(dmax(f, 0), 1) * 2097151.0);
-            code |= spread3(g) << k;
+            code |= vc_morton_spread3(g) << k;
         }
         key[q] = code;
         order[q] = q; /* position in tbox for now */

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/union_find.h"
 #include "vorocrust/surface.h"
 
 typedef struct edge_key {
@@ -32,27 +33,6 @@ static int compare_x(const void *p, const void *q)
     if (u->x != w->x)
         return u->x < w->x ? -1 : 1;
     return (u->v > w->v) - (u->v < w->v);
-}
-
-static int64_t find_root(int64_t *parent, int64_t v)
-{
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
-/* Joins the classes of u and v under the smaller index: the result does
- * not depend on the order of the unions. */
-static void join(int64_t *parent, int64_t u, int64_t v)
-{
-    u = find_root(parent, u);
-    v = find_root(parent, v);
-    if (u < v)
-        parent[v] = u;
-    else if (v < u)
-        parent[u] = v;
 }
 
 static int copy_surface(const vc_surface *s, vc_surface *out)
@@ -116,8 +96,8 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
     free(e);
     /* those within tol of each other, by a sweep along x */
     int64_t n_open = 0;
+    vc_uf_init(parent, nv);
     for (int64_t v = 0; v < nv; v++) {
-        parent[v] = v;
         if (open[v]) {
             bx[n_open].x = s->xyz[3 * v];
             bx[n_open++].v = v;
@@ -130,16 +110,16 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
             const double *p = s->xyz + 3 * bx[i].v, *q = s->xyz + 3 * bx[j].v;
             const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
             if (dx * dx + dy * dy + dz * dz <= tol * tol)
-                join(parent, bx[i].v, bx[j].v);
+                vc_uf_unite(parent, bx[i].v, bx[j].v);
         }
     free(bx);
     /* each class becomes its lowest vertex, at that vertex's place */
     for (int64_t v = 0; v < nv; v++) {
-        const int64_t r = find_root(parent, v);
+        const int64_t r = vc_uf_find(parent, v);
         *n_welded += r != v;
     }
     for (int64_t k = 0; k < 3 * nt; k++)
-        out->tri[k] = find_root(parent, s->tri[k]);
+        out->tri[k] = vc_uf_find(parent, s->tri[k]);
     free(parent);
     /* triangles that collapsed (a sliver across the seam) and vertices no
      * longer used are dropped */
