@@ -203,6 +203,27 @@ if PART == "cli":
           "euler 2 (input 2), closed 2-manifold" in p[2] and "volume 1 (reconstructed surface 1, input 1)" in p[2],
           "mesh of the capped cube: exit %d, stderr %r" % (p[0], p[2][-800:]))
 
+    # An assembly with one part inside out (two unit cubes apart, the second
+    # one's triangles reversed): its signed volume sums to 0, which read as
+    # "a flat surface encloses no volume"; each part's volume counts now, and
+    # mesh reverses a shell with nothing around it whose normals point in.
+    cube_v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    cube_f = [(1, 3, 2), (1, 4, 3), (5, 6, 7), (5, 7, 8), (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6),
+              (3, 4, 8), (3, 8, 7), (4, 1, 5), (4, 5, 8)]
+    two = os.path.join(TMP, "e2e_info_inside_out.obj")
+    with open(two, "w") as f:
+        f.writelines("v %g %g %g\n" % (x + dx, y, z) for dx in (0, 2) for x, y, z in cube_v)
+        f.writelines("f %d %d %d\n" % t for t in cube_f)
+        f.writelines("f %d %d %d\n" % (a + 8, c + 8, b + 8) for a, b, c in cube_f)
+    rc, out, err = run(two, "--require-closed")
+    check(rc == 0 and field(out, "solid") == "yes" and
+          (field(out, "inside out") or "").startswith("1 of 2 components"),
+          "cubes, one inside out: exit %d, stdout %r, stderr %r" % (rc, out[-600:], err))
+    p = e2eutil.run([BIN, "mesh", two, "-o", os.path.join(TMP, "e2e_info_inside_out.vtu")], timeout=120)
+    check(p[0] == 0 and "1 of its 2 surface components were inside out" in p[2] and
+          "volume 2 (reconstructed surface 2, input 2)" in p[2],
+          "mesh of the cubes, one inside out: exit %d, stderr %r" % (p[0], p[2][-800:]))
+
     # A repeated option is refused with one line, exit 2, as in the other
     # commands (a second --sharp-angle must not silently win).
     tet = os.path.join(TMP, "e2e_info_tet.obj")

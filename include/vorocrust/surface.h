@@ -228,7 +228,9 @@ typedef struct vc_solid_report {
     int64_t first_repeated_opposite[2];
     int64_t n_self_intersections;  /* pairs of triangles that cut or touch each other improperly */
     int64_t first_self_intersection[2];
-    double volume_ratio;           /* |enclosed volume| / bounding-box volume; NaN when not checked */
+    double volume_ratio;           /* the sum over components (connected through vertices) of
+                                      |the volume each encloses| / bounding-box volume (a part
+                                      inside out counts); NaN when not checked */
     int solid;                     /* 1 when every check passed */
 } vc_solid_report;
 

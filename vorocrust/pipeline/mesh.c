@@ -1338,6 +1338,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&union_opened, 0, sizeof union_opened);
     vc_surface welded; /* open seams welded (vc_surface_weld_open_seams; its own arrays) */
     memset(&welded, 0, sizeof welded);
+    vc_surface turned_out; /* parts inside out reversed (own triangles, the rest borrowed) */
+    memset(&turned_out, 0, sizeof turned_out);
     vc_surface capped; /* zero-area caps flipped (own triangles and groups, vertices borrowed) */
     memset(&capped, 0, sizeof capped);
     int32_t *capped_group = NULL;
@@ -1666,6 +1668,43 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                 }
             }
         }
+        /* A shell whose normals point in with nothing around it is no
+         * cavity of anything: a part exported inside out. Reversed (with
+         * --cavities the even-odd rule above did so already). */
+        if (!opt.cavities && regions.closed_shells) {
+            int64_t n_inside_out = 0;
+            for (int64_t c = 0; c < regions.n_components; c++)
+                n_inside_out += regions.component_depth[c] == 0 && !regions.component_outward[c];
+            if (n_inside_out > 0) {
+                unsigned char *flip = malloc((size_t)s->n_triangles + 1);
+                if (!flip) {
+                    rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+                    vc_regions_free(&regions);
+                    goto fail;
+                }
+                for (int64_t t = 0; t < s->n_triangles; t++) {
+                    const int64_t c = regions.component_of[t];
+                    flip[t] = regions.component_depth[c] == 0 && !regions.component_outward[c];
+                }
+                const int64_t n_components = regions.n_components;
+                rc = reversed_copy(s, flip, &turned_out, err);
+                free(flip);
+                vc_regions_free(&regions);
+                if (rc)
+                    goto fail;
+                vc_log(opt.log, VC_LOG_WARNING,
+                       "mesh: %s: %lld of its %lld surface components were inside out (normals "
+                       "pointing in, nothing around them): reversed", name, (long long)n_inside_out,
+                       (long long)n_components);
+                s = &turned_out;
+                s_input = &turned_out;
+                if ((rc = vc_surface_check(s, &out->input, err)) != 0 ||
+                    (rc = vc_surface_regions(s, &regions, err)) != 0) {
+                    rc = named(err, name, NULL);
+                    goto fail;
+                }
+            }
+        }
         const int one = vc_regions_single_solid(&regions);
         out->n_regions = regions.n_regions;
         if (regions.n_walls > 0) {
@@ -1804,6 +1843,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_free(&welded);
     free(capped.tri);
     free(capped_group);
+    free(turned_out.tri);
     free(input_triangle);
     free(input_vertex);
     return 0;
@@ -1822,6 +1862,7 @@ fail:
     vc_surface_free(&welded);
     free(capped.tri);
     free(capped_group);
+    free(turned_out.tri);
     free(input_triangle);
     free(input_vertex);
     vc_mesh_result_free(out);

@@ -5,6 +5,7 @@
  * the verdicts are scale-free. docs/input-checks.md describes the checks. */
 #include "vorocrust/surface.h"
 #include "surface/self_intersection.h"
+#include "util/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -151,9 +152,11 @@ int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc
     int shift = -(eM + eD); /* scaled diagonal in [0.5, 1) */
     double *xyz = malloc((size_t)nv * 3 * sizeof *xyz);
     unsigned char *zero = calloc((size_t)nt, 1);
+    double *tri_vol6 = malloc(sizeof(double) * (size_t)nt); /* NULL: the whole sum only */
     if (!xyz || !zero) {
         free(xyz);
         free(zero);
+        free(tri_vol6);
         return vc_error_set(err, VC_ENOMEM, "%s: out of memory checking the surface", name);
     }
     /* Two factors, each representable; the product is exact (the middle
@@ -193,14 +196,38 @@ int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc
             if (o->n_zero_area++ == 0)
                 o->first_zero_area = t;
         }
-        vol6 += r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
-                r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
-                r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        const double d6 = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                          r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                          r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+        vol6 += d6;
+        if (tri_vol6)
+            tri_vol6[t] = d6;
     }
     int check_volume = !rep || (rep->n_boundary_edges == 0 && rep->n_inconsistent_edges == 0);
     double box_volume = box[0] * box[1] * box[2];
-    if (check_volume)
-        o->volume_ratio = box_volume > 0 ? fabs(vol6) / 6.0 / box_volume : 0;
+    /* Each component's volume counts whatever its orientation: an assembly
+     * with one part inside out sums to the difference (two equal cubes, one
+     * reversed, to 0), yet encloses volume; vc_mesh reverses such a part. */
+    double enclosed6 = fabs(vol6);
+    if (check_volume) {
+        int64_t *parent = malloc(sizeof(int64_t) * (size_t)nv);
+        double *part6 = calloc((size_t)nv, sizeof(double));
+        if (parent && part6 && tri_vol6) {
+            vc_uf_init(parent, nv);
+            for (int64_t t = 0; t < nt; t++) {
+                vc_uf_unite(parent, s->tri[3 * t], s->tri[3 * t + 1]);
+                vc_uf_unite(parent, s->tri[3 * t], s->tri[3 * t + 2]);
+            }
+            for (int64_t t = 0; t < nt; t++)
+                part6[vc_uf_find(parent, s->tri[3 * t])] += tri_vol6[t];
+            enclosed6 = 0;
+            for (int64_t v = 0; v < nv; v++)
+                enclosed6 += fabs(part6[v]);
+        }
+        free(parent);
+        free(part6);
+        o->volume_ratio = box_volume > 0 ? enclosed6 / 6.0 / box_volume : 0;
+    }
 
     int rc = 0;
     if (repeated_triangles(s, o) ||
@@ -208,6 +235,7 @@ int vc_surface_check_solid(const vc_surface *s, const vc_surface_report *rep, vc
         rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory checking the surface", name);
     free(xyz);
     free(zero);
+    free(tri_vol6);
     if (rc)
         return rc;
 
