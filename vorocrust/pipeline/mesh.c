@@ -1668,14 +1668,18 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                 }
             }
         }
-        /* A shell whose normals point in with nothing around it is no
-         * cavity of anything: a part exported inside out. Reversed (with
-         * --cavities the even-odd rule above did so already). */
+        /* A shell whose normals point in with nothing around it, next to
+         * one that points out, is no cavity of anything: a part of an
+         * assembly exported inside out. Reversed (with --cavities the
+         * even-odd rule above did so already). A model all inside out is
+         * one solid oriented inward, meshed as it is. */
         if (!opt.cavities && regions.closed_shells) {
-            int64_t n_inside_out = 0;
-            for (int64_t c = 0; c < regions.n_components; c++)
+            int64_t n_inside_out = 0, n_outermost = 0;
+            for (int64_t c = 0; c < regions.n_components; c++) {
+                n_outermost += regions.component_depth[c] == 0;
                 n_inside_out += regions.component_depth[c] == 0 && !regions.component_outward[c];
-            if (n_inside_out > 0) {
+            }
+            if (n_inside_out > 0 && n_inside_out < n_outermost) {
                 unsigned char *flip = malloc((size_t)s->n_triangles + 1);
                 if (!flip) {
                     rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
