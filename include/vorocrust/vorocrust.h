@@ -276,6 +276,10 @@ typedef struct vc_mesh_result {
     int smooth_iterations;      /* rounds applied before the kept sampling */
     vc_denoise_choice denoise;  /* the denoised copy, when sampled instead of the input */
     int64_t n_sampled_triangles;/* triangles of the sampled (maybe smoothed) surface */
+    /* The balls; a corner ball's element is a vertex and a surface ball's
+     * a triangle of the input as checked (after the repairs the log names:
+     * welded seams, split T-junctions and caps, a union), unless smoothed;
+     * an edge ball's indexes the sampled surface's sharp edges. */
     vc_balls balls;
     vc_sampling_stats sampling;
     int64_t n_half_covered;     /* seed pairs left half covered (0 on success) */
