@@ -278,7 +278,8 @@ typedef struct vc_mesh_result {
     int64_t n_sampled_triangles;/* triangles of the sampled (maybe smoothed) surface */
     /* The balls; a corner ball's element is a vertex and a surface ball's
      * a triangle of the input as checked (after the repairs the log names:
-     * welded seams, split T-junctions and caps, a union), unless smoothed;
+     * welded seams, split T-junctions and caps, a union; several materials:
+     * their surface with each interface once), unless smoothed;
      * an edge ball's indexes the sampled surface's sharp edges. */
     vc_balls balls;
     vc_sampling_stats sampling;
