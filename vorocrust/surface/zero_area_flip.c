@@ -74,9 +74,12 @@ int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left
 {
     *n_flipped = 0;
     *n_left = 0;
+    if (s->n_triangles <= 0)
+        return 0;
     const int64_t nt = s->n_triangles;
+    const size_t n_bytes = (size_t)nt;
     dir_edge *e = malloc(sizeof *e * (size_t)(3 * nt + 1));
-    unsigned char *touched = malloc((size_t)(nt + 1));
+    unsigned char *touched = malloc(n_bytes);
     if (!e || !touched) {
         free(e);
         free(touched);
@@ -87,7 +90,7 @@ int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left
             for (int k = 0; k < 3; k++)
                 e[3 * t + k] = (dir_edge){s->tri[3 * t + k], s->tri[3 * t + (k + 1) % 3], t};
         qsort(e, (size_t)(3 * nt), sizeof *e, compare_dir);
-        memset(touched, 0, (size_t)nt);
+        memset(touched, 0, n_bytes);
         int64_t flips = 0;
         for (int64_t t = 0; t < nt; t++) {
             int64_t *v = s->tri + 3 * t;
