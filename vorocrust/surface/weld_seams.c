@@ -10,18 +10,6 @@
 #include "util/union_find.h"
 #include "vorocrust/surface.h"
 
-typedef struct edge_key {
-    int64_t a, b; /* a < b */
-} edge_key;
-
-static int compare_edges(const void *p, const void *q)
-{
-    const edge_key *u = p, *v = q;
-    if (u->a != v->a)
-        return u->a < v->a ? -1 : 1;
-    return (u->b > v->b) - (u->b < v->b);
-}
-
 typedef struct by_x {
     double x;
     int64_t v;
@@ -34,104 +22,6 @@ static int compare_x(const void *p, const void *q)
         return u->x < w->x ? -1 : 1;
     return (u->v > w->v) - (u->v < w->v);
 }
-
-static int copy_surface(const vc_surface *s, vc_surface *out)
-{
-    memset(out, 0, sizeof *out);
-    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
-    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
-    if (s->tri_group) {
-        out->tri_group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));
-        out->group_name = malloc(sizeof *out->group_name * (size_t)(s->n_groups + 1));
-    }
-    if (!out->xyz || !out->tri || (s->tri_group && (!out->tri_group || !out->group_name))) {
-        vc_surface_free(out);
-        return -1;
-    }
-    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
-    memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
-    if (s->tri_group) {
-        memcpy(out->tri_group, s->tri_group, sizeof(int32_t) * (size_t)s->n_triangles);
-        memcpy(out->group_name, s->group_name, sizeof *out->group_name * (size_t)s->n_groups);
-    }
-    out->n_vertices = s->n_vertices;
-    out->n_triangles = s->n_triangles;
-    out->n_groups = s->n_groups;
-    return 0;
-}
-
-int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
-                               vc_error *err)
-{
-    *n_welded = 0;
-    const int64_t nv = s->n_vertices, nt = s->n_triangles;
-    edge_key *e = malloc(sizeof *e * (size_t)(3 * nt + 1));
-    unsigned char *open = calloc((size_t)(nv + 1), 1);
-    int64_t *parent = malloc(sizeof(int64_t) * (size_t)(nv + 1));
-    by_x *bx = malloc(sizeof *bx * (size_t)(nv + 1));
-    if (!e || !open || !parent || !bx || copy_surface(s, out)) {
-        free(e);
-        free(open);
-        free(parent);
-        free(bx);
-        memset(out, 0, sizeof *out);
-        return vc_error_set(err, VC_ENOMEM, "out of memory welding the surface's seams");
-    }
-    /* the vertices of edges that only one triangle has */
-    for (int64_t t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++) {
-            const int64_t a = s->tri[3 * t + k], b = s->tri[3 * t + (k + 1) % 3];
-            e[3 * t + k].a = a < b ? a : b;
-            e[3 * t + k].b = a < b ? b : a;
-        }
-    qsort(e, (size_t)(3 * nt), sizeof *e, compare_edges);
-    for (int64_t i = 0; i < 3 * nt;) {
-        int64_t j = i + 1;
-        while (j < 3 * nt && e[j].a == e[i].a && e[j].b == e[i].b)
-            j++;
-        if (j - i == 1)
-            open[e[i].a] = open[e[i].b] = 1;
-        i = j;
-    }
-    free(e);
-    /* those within tol of each other, by a sweep along x */
-    int64_t n_open = 0;
-    vc_uf_init(parent, nv);
-    for (int64_t v = 0; v < nv; v++) {
-        if (open[v]) {
-            bx[n_open].x = s->xyz[3 * v];
-            bx[n_open++].v = v;
-        }
-    }
-    free(open);
-    qsort(bx, (size_t)n_open, sizeof *bx, compare_x);
-    for (int64_t i = 0; i < n_open; i++)
-        for (int64_t j = i + 1; j < n_open && bx[j].x - bx[i].x <= tol; j++) {
-            const double *p = s->xyz + 3 * bx[i].v, *q = s->xyz + 3 * bx[j].v;
-            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-            if (dx * dx + dy * dy + dz * dz <= tol * tol)
-                vc_uf_unite(parent, bx[i].v, bx[j].v);
-        }
-    free(bx);
-    /* each class becomes its lowest vertex, at that vertex's place */
-    for (int64_t v = 0; v < nv; v++) {
-        const int64_t r = vc_uf_find(parent, v);
-        *n_welded += r != v;
-    }
-    for (int64_t k = 0; k < 3 * nt; k++)
-        out->tri[k] = vc_uf_find(parent, s->tri[k]);
-    free(parent);
-    /* triangles that collapsed (a sliver across the seam) and vertices no
-     * longer used are dropped */
-    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
-    if (rc)
-        vc_surface_free(out);
-    return rc;
-}
-
-/* ---------------------------------------------------------------------
- * T-junctions: a vertex of one side's tessellation lying on an edge of
- * the other side's (two faces of a CAD model tessellated apart). */
 
 typedef struct open_edge {
     int64_t a, b; /* a < b */
@@ -162,8 +52,10 @@ static int compare_on_edge(const void *p, const void *q)
     return (x->v > y->v) - (x->v < y->v);
 }
 
-/* The edges of one triangle, and their vertices sorted by x. Returns the
- * number of open edges, or -1 when out of memory. */
+/* The open edges of s (of one triangle each: *edges, with that triangle)
+ * and their vertices sorted by x (*verts, *n_verts of them); the caller
+ * frees both. Returns the number of open edges, or -1 when out of
+ * memory. */
 static int64_t find_open(const vc_surface *s, open_edge **edges, by_x **verts, int64_t *n_verts)
 {
     const int64_t nt = s->n_triangles;
@@ -204,6 +96,79 @@ static int64_t find_open(const vc_surface *s, open_edge **edges, by_x **verts, i
     *n_verts = m;
     return n;
 }
+
+static int copy_surface(const vc_surface *s, vc_surface *out)
+{
+    memset(out, 0, sizeof *out);
+    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
+    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
+    if (s->tri_group) {
+        out->tri_group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));
+        out->group_name = malloc(sizeof *out->group_name * (size_t)(s->n_groups + 1));
+    }
+    if (!out->xyz || !out->tri || (s->tri_group && (!out->tri_group || !out->group_name))) {
+        vc_surface_free(out);
+        return -1;
+    }
+    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
+    memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
+    if (s->tri_group) {
+        memcpy(out->tri_group, s->tri_group, sizeof(int32_t) * (size_t)s->n_triangles);
+        memcpy(out->group_name, s->group_name, sizeof *out->group_name * (size_t)s->n_groups);
+    }
+    out->n_vertices = s->n_vertices;
+    out->n_triangles = s->n_triangles;
+    out->n_groups = s->n_groups;
+    return 0;
+}
+
+int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
+                               vc_error *err)
+{
+    *n_welded = 0;
+    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    int64_t *parent = malloc(sizeof(int64_t) * (size_t)(nv + 1));
+    open_edge *e = NULL;
+    by_x *bx = NULL;
+    int64_t n_open = 0;
+    if (!parent || find_open(s, &e, &bx, &n_open) < 0 || copy_surface(s, out)) {
+        free(parent);
+        free(e);
+        free(bx);
+        memset(out, 0, sizeof *out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory welding the surface's seams");
+    }
+    free(e);
+    /* the vertices of open edges within tol of each other, by a sweep
+     * along x */
+    vc_uf_init(parent, nv);
+    for (int64_t i = 0; i < n_open; i++)
+        for (int64_t j = i + 1; j < n_open && bx[j].x - bx[i].x <= tol; j++) {
+            const double *p = s->xyz + 3 * bx[i].v, *q = s->xyz + 3 * bx[j].v;
+            const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+            if (dx * dx + dy * dy + dz * dz <= tol * tol)
+                vc_uf_unite(parent, bx[i].v, bx[j].v);
+        }
+    free(bx);
+    /* each class becomes its lowest vertex, at that vertex's place */
+    for (int64_t v = 0; v < nv; v++) {
+        const int64_t r = vc_uf_find(parent, v);
+        *n_welded += r != v;
+    }
+    for (int64_t k = 0; k < 3 * nt; k++)
+        out->tri[k] = vc_uf_find(parent, s->tri[k]);
+    free(parent);
+    /* triangles that collapsed (a sliver across the seam) and vertices no
+     * longer used are dropped */
+    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
+    if (rc)
+        vc_surface_free(out);
+    return rc;
+}
+
+/* ---------------------------------------------------------------------
+ * T-junctions: a vertex of one side's tessellation lying on an edge of
+ * the other side's (two faces of a CAD model tessellated apart). */
 
 /* Work at most this many vertex-edge tests (a pathological input's open
  * edges all along x would make it quadratic). */
