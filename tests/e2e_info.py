@@ -181,6 +181,29 @@ if PART == "cli":
     check(p[0] == 0 and "1 triangles split at vertices on their edges (T-junctions)" in p[2] and
           "euler 2 (input 2), closed 2-manifold" in p[2] and "volume 1 (reconstructed surface 1, input 1)" in p[2],
           "mesh of the T-junction cube: exit %d, stderr %r" % (p[0], p[2][-800:]))
+    # the same far from the origin in single precision (a binary STL's
+    # rounding: half a float ulp at 10,000 is 5e-4, 2e-6 of the part): the
+    # tolerance grows with the coordinates' magnitude
+    import math
+    import struct
+    t_junction_cube(tj, 0)
+    with open(tj) as f:
+        lines = f.read().splitlines()
+    f32 = lambda x: struct.unpack("f", struct.pack("f", x))[0]
+    far = os.path.join(TMP, "e2e_info_tjunction_far_f32.obj")
+    with open(far, "w") as f:
+        for line in lines:
+            w = line.split()
+            if w[0] == "v":
+                x, y, z = map(float, w[1:])
+                x, y = x * math.cos(0.7) - y * math.sin(0.7), x * math.sin(0.7) + y * math.cos(0.7)
+                y, z = y * math.cos(0.3) - z * math.sin(0.3), y * math.sin(0.3) + z * math.cos(0.3)
+                line = "v %.9g %.9g %.9g" % (f32(137 * x + 10000), f32(137 * y + 2000), f32(137 * z - 300))
+            f.write(line + "\n")
+    p = e2eutil.run([BIN, "mesh", far, "-o", os.path.join(TMP, "e2e_info_tjunction_far_f32.vtu")], timeout=120)
+    check(p[0] == 0 and "1 triangles split at vertices on their edges (T-junctions)" in p[2] and
+          "euler 2 (input 2), closed 2-manifold" in p[2],
+          "mesh of the T-junction cube far away in single precision: exit %d, stderr %r" % (p[0], p[2][-800:]))
     t_junction_cube(tj, 1e-5)
     p = e2eutil.run([BIN, "mesh", tj, "-o", os.path.join(TMP, "e2e_info_tjunction_far.vtu")], timeout=120)
     check(p[0] == 1 and "the surface is open: 5 boundary edges" in p[2] and len(p[2].strip().splitlines()) == 1,

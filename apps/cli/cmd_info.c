@@ -167,9 +167,11 @@ int vc_cmd_info(int argc, char **argv)
     /* Open only by rounding: welded as vorocrust mesh welds it, and the
      * lines after describe that surface */
     int64_t n_welded = 0, n_split = 0, n_open_before = rep.n_boundary_edges;
+    double seam_tol = 0;
     if (rep.n_boundary_edges > 0) {
         vc_surface welded;
-        const double tol = VC_SURFACE_SEAM_WELD * vc_surface_diagonal(&s);
+        const double tol = vc_surface_seam_tolerance(&s);
+        seam_tol = tol / vc_surface_diagonal(&s);
         if (vc_surface_weld_open_seams(&s, tol, &welded, &n_welded, &err) ||
             vc_surface_split_t_junctions(&welded, tol, &n_split, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
@@ -277,11 +279,10 @@ int vc_cmd_info(int argc, char **argv)
     printf("bounding box: [%.9g, %.9g] x [%.9g, %.9g] x [%.9g, %.9g]\n", b[0], b[3], b[1], b[4], b[2], b[5]);
     printf("size: %.9g x %.9g x %.9g\n", b[3] - b[0], b[4] - b[1], b[5] - b[2]);
     if (n_welded + n_split > 0)
-        printf("seam welding: %lld open edges closed by welding %lld vertices within %g of the "
+        printf("seam welding: %lld open edges closed by welding %lld vertices within %.2g of the "
                "diagonal of another and splitting %lld triangles at vertices on their edges, as "
                "vorocrust mesh does; the lines below describe that surface\n",
-               (long long)n_open_before, (long long)n_welded, (double)VC_SURFACE_SEAM_WELD,
-               (long long)n_split);
+               (long long)n_open_before, (long long)n_welded, seam_tol, (long long)n_split);
     if (n_caps > 0)
         printf("zero-area repair: %lld of %lld zero-area triangles were caps (a vertex on the opposite "
                "edge), the triangles across split there, as vorocrust mesh does; the lines below "

@@ -136,13 +136,20 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
  * were computed twice). *n_welded receives the vertices welded into
  * another. out is freed with vc_surface_free. Returns 0 or VC_ENOMEM.
  * vc_mesh and `vorocrust info` weld an open surface so, then split its
- * T-junctions (vc_surface_split_t_junctions), at VC_SURFACE_SEAM_WELD
- * times its bounding-box diagonal, and take the result when it is closed
- * with no new edge of more than two triangles: the copies of a seam vertex
- * computed twice differ by a few ulps (4e-15 of VTK's parametric
- * ellipsoid's diagonal), coordinates rounded to single precision (binary
- * STL) by 6e-8 of their magnitude, and any error bound is far above. */
+ * T-junctions (vc_surface_split_t_junctions), at vc_surface_seam_tolerance,
+ * and take the result when it is closed with no new edge of more than two
+ * triangles. */
 #define VC_SURFACE_SEAM_WELD 1e-7
+
+/* The distance below which the vertices of open edges are one, or lie on
+ * an edge: VC_SURFACE_SEAM_WELD times the bounding-box diagonal plus four
+ * single-precision ulps of the largest |coordinate|. The copies of a seam
+ * vertex computed twice differ by a few double ulps (4e-15 of VTK's
+ * parametric ellipsoid's diagonal); coordinates written in single
+ * precision (binary STL, "%.9g") are off by half a float ulp each, which
+ * far from the origin is far more than 1e-7 of the model (a part 237 wide
+ * at x = 10,000: 5e-4); any error bound is far above both. */
+double vc_surface_seam_tolerance(const vc_surface *s);
 
 /* Splits, in place, every triangle with an open edge (an edge of one
  * triangle) on which vertices of other open edges lie, within tol of the

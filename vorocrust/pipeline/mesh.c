@@ -1374,7 +1374,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * and split, and said so; open beyond that: refused. */
     if (out->input.n_boundary_edges > 0) {
         const int64_t n_open = out->input.n_boundary_edges;
-        const double tol = VC_SURFACE_SEAM_WELD * vc_surface_diagonal(s);
+        const double tol = vc_surface_seam_tolerance(s);
         int64_t n_welded = 0, n_split = 0;
         if ((rc = vc_surface_weld_open_seams(s, tol, &welded, &n_welded, err)) != 0 ||
             (rc = vc_surface_split_t_junctions(&welded, tol, &n_split, err)) != 0)
@@ -1397,10 +1397,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         s = &welded;
         s_input = &welded;
         vc_log(opt.log, VC_LOG_WARNING,
-               "mesh: %s: open at %lld edges by rounding: %lld vertices within %.3g (%g of the "
+               "mesh: %s: open at %lld edges by rounding: %lld vertices within %.3g (%.2g of the "
                "diagonal) of another welded, %lld triangles split at vertices on their edges "
                "(T-junctions), the surface closed", name, (long long)n_open, (long long)n_welded,
-               tol, (double)VC_SURFACE_SEAM_WELD, (long long)n_split);
+               tol, tol / vc_surface_diagonal(s), (long long)n_split);
     }
     /* Triangles that disagree on the orientation (an exporter's flipped
      * facets) are reversed, each component keeping the orientation most of

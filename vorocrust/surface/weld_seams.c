@@ -3,6 +3,7 @@
  * computed twice (sin(2 pi) is not 0: VTK's parametric ellipsoid leaves
  * them 1e-14 apart) is open only by rounding; merging exactly equal
  * positions, as the readers do, cannot close it. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -120,6 +121,14 @@ static int copy_surface(const vc_surface *s, vc_surface *out)
     out->n_triangles = s->n_triangles;
     out->n_groups = s->n_groups;
     return 0;
+}
+
+double vc_surface_seam_tolerance(const vc_surface *s)
+{
+    double m = 0;
+    for (int64_t i = 0; i < 3 * s->n_vertices; i++)
+        m = fmax(m, fabs(s->xyz[i]));
+    return VC_SURFACE_SEAM_WELD * vc_surface_diagonal(s) + 4 * FLT_EPSILON * m;
 }
 
 int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
