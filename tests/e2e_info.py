@@ -226,6 +226,23 @@ if PART == "cli":
           "euler 2 (input 2), closed 2-manifold" in p[2] and "volume 1 (reconstructed surface 1, input 1)" in p[2],
           "mesh of the capped cube: exit %d, stderr %r" % (p[0], p[2][-800:]))
 
+    # A vertex given twice 1e-13 apart (not merged: not exactly equal),
+    # the bottom face on one copy, the rest on the other, closed by two
+    # zero-area needles: info and mesh weld the copies and drop the needles.
+    needle = os.path.join(TMP, "e2e_info_needles.obj")
+    with open(needle, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nv 0 0 1e-13\n"
+                "f 9 3 2\nf 9 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\n"
+                "f 3 8 7\nf 4 1 5\nf 4 5 8\nf 2 1 9\nf 9 1 4\n")
+    rc, out, err = run(needle, "--require-closed")
+    check(rc == 0 and (field(out, "zero-area needles") or "").startswith("2 of 2 zero-area triangles")
+          and field(out, "degenerate triangles") == "0" and field(out, "solid") == "yes",
+          "cube with two needles: exit %d, stdout %r, stderr %r" % (rc, out[:800], err))
+    p = e2eutil.run([BIN, "mesh", needle, "-o", os.path.join(TMP, "e2e_info_needles.vtu")], timeout=120)
+    check(p[0] == 0 and "2 zero-area needles" in p[2] and
+          "volume 1 (reconstructed surface 1, input 1)" in p[2],
+          "mesh of the cube with two needles: exit %d, stderr %r" % (p[0], p[2][-800:]))
+
     # An assembly with one part inside out (two unit cubes apart, the second
     # one's triangles reversed): its signed volume sums to 0, which read as
     # "a flat surface encloses no volume"; each part's volume counts now, and

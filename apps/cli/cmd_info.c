@@ -232,6 +232,29 @@ int vc_cmd_info(int argc, char **argv)
             }
         }
     }
+    /* Zero-area needles: their two coincident vertices welded, as vorocrust
+     * mesh welds them */
+    int64_t n_needles = 0, n_zero_needles = rep.n_degenerate;
+    if (rep.n_degenerate > 0) {
+        vc_surface needled;
+        int64_t n_welds = 0;
+        if (vc_surface_weld_needles(&s, vc_surface_seam_tolerance(&s), &needled, &n_welds, &err)) {
+            fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
+            vc_surface_free(&s);
+            return 1;
+        }
+        vc_surface_report r = rep;
+        r.n_warnings = 0;
+        vc_error e = {0, ""};
+        if (n_welds > 0 && vc_surface_check(&needled, &r, &e) == 0 && r.n_boundary_edges == 0 &&
+            r.n_degenerate < rep.n_degenerate && r.n_nonmanifold_edges <= rep.n_nonmanifold_edges) {
+            n_needles = rep.n_degenerate - r.n_degenerate;
+            vc_surface_free(&s);
+            s = needled;
+            rep = r;
+        } else
+            vc_surface_free(&needled);
+    }
     /* Turned-over needles within half the error bound: flipped as vorocrust
      * mesh flips them (before its solid check), and the lines after
      * describe that surface */
@@ -283,6 +306,10 @@ int vc_cmd_info(int argc, char **argv)
                "diagonal of another and splitting %lld triangles at vertices on their edges, as "
                "vorocrust mesh does; the lines below describe that surface\n",
                (long long)n_open_before, (long long)n_welded, seam_tol, (long long)n_split);
+    if (n_needles > 0)
+        printf("zero-area needles: %lld of %lld zero-area triangles removed by welding their two "
+               "coincident vertices, as vorocrust mesh does; the lines below describe that "
+               "surface\n", (long long)n_needles, (long long)n_zero_needles);
     if (n_caps > 0)
         printf("zero-area repair: %lld of %lld zero-area triangles were caps (a vertex on the opposite "
                "edge), the triangles across split there, as vorocrust mesh does; the lines below "

@@ -163,6 +163,20 @@ int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc
 int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
                                vc_error *err);
 
+/* *out = s with the two ends of the shortest edge of every zero-area
+ * triangle (vc_surface_check's degenerate test) welded when that edge is
+ * at most tol long (a needle: two vertices that coincide to rounding, not
+ * merged because not exactly equal), each group becoming its lowest
+ * vertex; the triangles that then repeat a vertex (the needles) and the
+ * unused vertices are dropped. *n_welded receives the welds (0: out is
+ * left empty). vc_mesh and `vorocrust info` do it, at
+ * vc_surface_seam_tolerance, for the zero-area triangles that are not caps
+ * (vc_surface_flip_zero_area), and take the result when it has fewer
+ * zero-area triangles, no open edge and no new edge of more than two
+ * triangles. Returns 0 or VC_ENOMEM. */
+int vc_surface_weld_needles(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
+                            vc_error *err);
+
 /* Removes, in place, the zero-area triangles of s (vc_surface_check's
  * degenerate ones: |cross| <= VC_SOLID_ZERO_AREA * (longest edge)^2) that
  * are caps: the triangle across the longest edge a -> b (the edge of

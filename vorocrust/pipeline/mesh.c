@@ -1340,6 +1340,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     memset(&welded, 0, sizeof welded);
     vc_surface turned_out; /* parts inside out reversed (own triangles, the rest borrowed) */
     memset(&turned_out, 0, sizeof turned_out);
+    vc_surface needled; /* zero-area needles welded (vc_surface_weld_needles; its own arrays) */
+    memset(&needled, 0, sizeof needled);
     vc_surface capped; /* zero-area caps flipped (own triangles and groups, vertices borrowed) */
     memset(&capped, 0, sizeof capped);
     int32_t *capped_group = NULL;
@@ -1468,6 +1470,30 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                    "mesh: %s: %lld of its %lld zero-area triangles were caps (a vertex on the "
                    "opposite edge): the triangles across split there instead (the surface unchanged)",
                    name, (long long)n_caps, (long long)n_zero);
+        }
+    }
+    /* Zero-area needles (two of their vertices coincide to rounding): those
+     * two welded, the needles dropped. What is left is refused by the
+     * solid check. */
+    if (out->input.n_degenerate > 0) {
+        int64_t n_needles = 0;
+        if ((rc = vc_surface_weld_needles(s, vc_surface_seam_tolerance(s), &needled, &n_needles, err)) != 0)
+            goto fail;
+        vc_surface_report r_needled;
+        memset(&r_needled, 0, sizeof r_needled);
+        snprintf(r_needled.name, sizeof r_needled.name, "%s", name);
+        vc_error e_needled;
+        if (n_needles > 0 && vc_surface_check(&needled, &r_needled, &e_needled) == 0 &&
+            r_needled.n_boundary_edges == 0 && r_needled.n_degenerate < out->input.n_degenerate &&
+            r_needled.n_nonmanifold_edges <= out->input.n_nonmanifold_edges) {
+            vc_log(opt.log, VC_LOG_WARNING,
+                   "mesh: %s: %lld zero-area needles (two vertices %.3g apart or closer) removed by "
+                   "welding those vertices; %lld zero-area triangles left", name,
+                   (long long)(out->input.n_degenerate - r_needled.n_degenerate),
+                   vc_surface_seam_tolerance(s), (long long)r_needled.n_degenerate);
+            out->input = r_needled;
+            s = &needled;
+            s_input = &needled;
         }
     }
     /* Pleats of the tessellation below the error bound (a needle whose
@@ -1845,6 +1871,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
     vc_surface_free(&welded);
+    vc_surface_free(&needled);
     free(capped.tri);
     free(capped_group);
     free(turned_out.tri);
@@ -1864,6 +1891,7 @@ fail:
     vc_surface_free(&unioned);
     vc_surface_free(&canonical);
     vc_surface_free(&welded);
+    vc_surface_free(&needled);
     free(capped.tri);
     free(capped_group);
     free(turned_out.tri);

@@ -175,6 +175,69 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
     return rc;
 }
 
+/* vc_surface_check's degenerate test: |cross| <= VC_SOLID_ZERO_AREA *
+ * (longest edge)^2; the shortest edge's ends into *a, *b. */
+static int needle(const vc_surface *s, int64_t t, int64_t *a, int64_t *b, double *shortest)
+{
+    const int64_t *v = s->tri + 3 * t;
+    double l2[3], n2 = 0, lmax = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *p = s->xyz + 3 * v[k], *q = s->xyz + 3 * v[(k + 1) % 3];
+        l2[k] = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
+        lmax = fmax(lmax, l2[k]);
+    }
+    const double *p0 = s->xyz + 3 * v[0], *p1 = s->xyz + 3 * v[1], *p2 = s->xyz + 3 * v[2];
+    const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    if (!(sqrt(n2) <= VC_SOLID_ZERO_AREA * lmax))
+        return 0;
+    int k = 0;
+    for (int j = 1; j < 3; j++)
+        if (l2[j] < l2[k])
+            k = j;
+    *a = v[k];
+    *b = v[(k + 1) % 3];
+    *shortest = sqrt(l2[k]);
+    return 1;
+}
+
+int vc_surface_weld_needles(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
+                            vc_error *err)
+{
+    *n_welded = 0;
+    memset(out, 0, sizeof *out);
+    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    int64_t *parent = malloc(sizeof(int64_t) * (size_t)(nv + 1));
+    if (!parent)
+        return vc_error_set(err, VC_ENOMEM, "out of memory welding needle triangles");
+    vc_uf_init(parent, nv);
+    for (int64_t t = 0; t < nt; t++) {
+        int64_t a, b;
+        double l;
+        if (needle(s, t, &a, &b, &l) && l <= tol && vc_uf_find(parent, a) != vc_uf_find(parent, b)) {
+            vc_uf_unite(parent, a, b);
+            ++*n_welded;
+        }
+    }
+    if (*n_welded == 0) {
+        free(parent);
+        return 0;
+    }
+    if (copy_surface(s, out)) {
+        free(parent);
+        return vc_error_set(err, VC_ENOMEM, "out of memory welding needle triangles");
+    }
+    for (int64_t k = 0; k < 3 * nt; k++)
+        out->tri[k] = vc_uf_find(parent, s->tri[k]);
+    free(parent);
+    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
+    if (rc)
+        vc_surface_free(out);
+    return rc;
+}
+
 /* ---------------------------------------------------------------------
  * T-junctions: a vertex of one side's tessellation lying on an edge of
  * the other side's (two faces of a CAD model tessellated apart). */
