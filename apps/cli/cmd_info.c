@@ -170,25 +170,17 @@ int vc_cmd_info(int argc, char **argv)
     double seam_tol = 0;
     if (rep.n_boundary_edges > 0) {
         vc_surface welded;
-        const double tol = vc_surface_seam_tolerance(&s);
-        seam_tol = tol / vc_surface_diagonal(&s);
-        if (vc_surface_weld_open_seams(&s, tol, &welded, &n_welded, &err) ||
-            vc_surface_split_t_junctions(&welded, tol, &n_split, &err)) {
+        vc_surface_report r;
+        seam_tol = vc_surface_seam_tolerance(&s) / vc_surface_diagonal(&s);
+        if (vc_surface_close_by_rounding(&s, &rep, &welded, &r, &n_welded, &n_split, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
             vc_surface_free(&s);
             return 1;
         }
-        vc_surface_report r = rep;
-        r.n_warnings = 0;
-        vc_error e = {0, ""};
-        if (n_welded + n_split > 0 && vc_surface_check(&welded, &r, &e) == 0 && r.n_boundary_edges == 0 &&
-            r.n_nonmanifold_edges <= rep.n_nonmanifold_edges) {
+        if (welded.xyz) {
             vc_surface_free(&s);
             s = welded;
             rep = r;
-        } else {
-            vc_surface_free(&welded);
-            n_welded = n_split = 0;
         }
     }
     for (int i = 0; i < rep.n_warnings; i++)
@@ -237,23 +229,18 @@ int vc_cmd_info(int argc, char **argv)
     int64_t n_needles = 0, n_zero_needles = rep.n_degenerate;
     if (rep.n_degenerate > 0) {
         vc_surface needled;
-        int64_t n_welds = 0;
-        if (vc_surface_weld_needles(&s, vc_surface_seam_tolerance(&s), &needled, &n_welds, &err)) {
+        vc_surface_report r;
+        if (vc_surface_drop_needles(&s, &rep, &needled, &r, &err)) {
             fprintf(stderr, "vorocrust: %s: %s\n", path, err.msg);
             vc_surface_free(&s);
             return 1;
         }
-        vc_surface_report r = rep;
-        r.n_warnings = 0;
-        vc_error e = {0, ""};
-        if (n_welds > 0 && vc_surface_check(&needled, &r, &e) == 0 && r.n_boundary_edges == 0 &&
-            r.n_degenerate < rep.n_degenerate && r.n_nonmanifold_edges <= rep.n_nonmanifold_edges) {
+        if (needled.xyz) {
             n_needles = rep.n_degenerate - r.n_degenerate;
             vc_surface_free(&s);
             s = needled;
             rep = r;
-        } else
-            vc_surface_free(&needled);
+        }
     }
     /* Turned-over needles within half the error bound: flipped as vorocrust
      * mesh flips them (before its solid check), and the lines after

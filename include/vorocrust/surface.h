@@ -177,6 +177,23 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
 int vc_surface_weld_needles(const vc_surface *s, double tol, vc_surface *out, int64_t *n_welded,
                             vc_error *err);
 
+/* The rounding repairs vc_mesh and `vorocrust info` make, each taken only
+ * when it helps (rep: vc_surface_check's report of s):
+ *  - open: vc_surface_weld_open_seams then vc_surface_split_t_junctions at
+ *    vc_surface_seam_tolerance, taken when the result is closed with no
+ *    more edges of three or more triangles than s;
+ *  - needles: vc_surface_weld_needles at that tolerance, taken when the
+ *    result has fewer zero-area triangles, no open edge and no more edges
+ *    of three or more triangles.
+ * Returns 0 with *out the repaired surface and *out_rep its report (name
+ * and reading fields copied from rep) and the counts set when it is taken;
+ * 0 with *out empty when not; VC_ENOMEM. */
+int vc_surface_close_by_rounding(const vc_surface *s, const vc_surface_report *rep, vc_surface *out,
+                                 vc_surface_report *out_rep, int64_t *n_welded, int64_t *n_split,
+                                 vc_error *err);
+int vc_surface_drop_needles(const vc_surface *s, const vc_surface_report *rep, vc_surface *out,
+                            vc_surface_report *out_rep, vc_error *err);
+
 /* Removes, in place, the zero-area triangles of s (vc_surface_check's
  * degenerate ones: |cross| <= VC_SOLID_ZERO_AREA * (longest edge)^2) that
  * are caps: the triangle across the longest edge a -> b (the edge of

@@ -1378,21 +1378,15 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
         const int64_t n_open = out->input.n_boundary_edges;
         const double tol = vc_surface_seam_tolerance(s);
         int64_t n_welded = 0, n_split = 0;
-        if ((rc = vc_surface_weld_open_seams(s, tol, &welded, &n_welded, err)) != 0 ||
-            (rc = vc_surface_split_t_junctions(&welded, tol, &n_split, err)) != 0)
-            goto fail;
         vc_surface_report r_welded;
-        memset(&r_welded, 0, sizeof r_welded);
-        snprintf(r_welded.name, sizeof r_welded.name, "%s", name);
-        vc_error e_welded;
-        const int checked = n_welded + n_split > 0 && vc_surface_check(&welded, &r_welded, &e_welded) == 0;
-        if (!checked || r_welded.n_boundary_edges > 0 ||
-            r_welded.n_nonmanifold_edges > out->input.n_nonmanifold_edges) {
+        if ((rc = vc_surface_close_by_rounding(s, &out->input, &welded, &r_welded, &n_welded, &n_split,
+                                               err)) != 0)
+            goto fail;
+        if (!welded.xyz) {
             rc = vc_error_set(err, VC_EINPUT, "%s: the surface is open: %lld boundary edges "
                               "(VoroCrust needs a closed surface; welding the vertices within %.3g "
-                              "of each other and splitting the edges they lie on leaves %lld)",
-                              name, (long long)n_open, tol,
-                              (long long)(checked ? r_welded.n_boundary_edges : n_open));
+                              "of each other and splitting the edges they lie on does not close it)",
+                              name, (long long)n_open, tol);
             goto fail;
         }
         out->input = r_welded;
@@ -1476,16 +1470,10 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
      * two welded, the needles dropped. What is left is refused by the
      * solid check. */
     if (out->input.n_degenerate > 0) {
-        int64_t n_needles = 0;
-        if ((rc = vc_surface_weld_needles(s, vc_surface_seam_tolerance(s), &needled, &n_needles, err)) != 0)
-            goto fail;
         vc_surface_report r_needled;
-        memset(&r_needled, 0, sizeof r_needled);
-        snprintf(r_needled.name, sizeof r_needled.name, "%s", name);
-        vc_error e_needled;
-        if (n_needles > 0 && vc_surface_check(&needled, &r_needled, &e_needled) == 0 &&
-            r_needled.n_boundary_edges == 0 && r_needled.n_degenerate < out->input.n_degenerate &&
-            r_needled.n_nonmanifold_edges <= out->input.n_nonmanifold_edges) {
+        if ((rc = vc_surface_drop_needles(s, &out->input, &needled, &r_needled, err)) != 0)
+            goto fail;
+        if (needled.xyz) {
             vc_log(opt.log, VC_LOG_WARNING,
                    "mesh: %s: %lld zero-area needles (two vertices %.3g apart or closer) removed by "
                    "welding those vertices; %lld zero-area triangles left", name,

@@ -11,6 +11,8 @@
 #include "util/union_find.h"
 #include "vorocrust/surface.h"
 
+/* A vertex with a key: its x (the sweeps), or where it lies along an edge
+ * (0 to 1, the T-junctions). */
 typedef struct by_x {
     double x;
     int64_t v;
@@ -38,19 +40,6 @@ static int compare_open_edges(const void *p, const void *q)
     if (u->b != v->b)
         return u->b < v->b ? -1 : 1;
     return (u->t > v->t) - (u->t < v->t);
-}
-
-typedef struct on_edge {
-    double u; /* where along the edge, 0 to 1 */
-    int64_t v;
-} on_edge;
-
-static int compare_on_edge(const void *p, const void *q)
-{
-    const on_edge *x = p, *y = q;
-    if (x->u != y->u)
-        return x->u < y->u ? -1 : 1;
-    return (x->v > y->v) - (x->v < y->v);
 }
 
 /* The open edges of s (of one triangle each: *edges, with that triangle)
@@ -261,9 +250,9 @@ int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc
         /* per triangle, at most one edge split per pass: the vertices on it */
         const int64_t nt = s->n_triangles;
         int64_t *split_edge = malloc(sizeof(int64_t) * (size_t)(nt + 1)); /* index into e, or -1 */
-        on_edge *on = malloc(sizeof *on * (size_t)(n_bx + 1));
+        by_x *on = malloc(sizeof *on * (size_t)(n_bx + 1));
         int64_t *on_start = malloc(sizeof(int64_t) * (size_t)(n_e + 2));
-        on_edge *all = NULL;
+        by_x *all = NULL;
         int64_t n_all = 0, cap_all = 0, n_new = 0;
         int fail = !split_edge || !on || !on_start;
         for (int64_t t = 0; !fail && t < nt; t++)
@@ -300,14 +289,14 @@ int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc
                     continue;
                 const double d[3] = {ap[0] - u * ab[0], ap[1] - u * ab[1], ap[2] - u * ab[2]};
                 if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= tol * tol)
-                    on[n_on++] = (on_edge){u, v};
+                    on[n_on++] = (by_x){u, v};
             }
             if (n_on == 0)
                 continue;
-            qsort(on, (size_t)n_on, sizeof *on, compare_on_edge);
+            qsort(on, (size_t)n_on, sizeof *on, compare_x);
             if (n_all + n_on > cap_all) {
                 cap_all = 2 * (n_all + n_on);
-                on_edge *q = realloc(all, sizeof *q * (size_t)cap_all);
+                by_x *q = realloc(all, sizeof *q * (size_t)cap_all);
                 if (!q) {
                     fail = 1;
                     break;
@@ -379,5 +368,69 @@ int vc_surface_split_t_junctions(vc_surface *s, double tol, int64_t *n_split, vc
         if (n_new == 0)
             break;
     }
+    return 0;
+}
+
+/* Takes *cand (own arrays) into *out when its report passes `accept`;
+ * frees it otherwise. */
+static int checked(const vc_surface_report *rep, vc_surface *cand, vc_surface_report *out_rep,
+                   int (*accept)(const vc_surface_report *before, const vc_surface_report *after))
+{
+    vc_surface_report r = *rep;
+    r.n_warnings = 0;
+    vc_error e = {0, ""};
+    if (cand->n_triangles > 0 && vc_surface_check(cand, &r, &e) == 0 && accept(rep, &r)) {
+        *out_rep = r;
+        return 1;
+    }
+    vc_surface_free(cand);
+    return 0;
+}
+
+static int closed_no_new_nonmanifold(const vc_surface_report *before, const vc_surface_report *after)
+{
+    return after->n_boundary_edges == 0 && after->n_nonmanifold_edges <= before->n_nonmanifold_edges;
+}
+
+static int fewer_zero_area(const vc_surface_report *before, const vc_surface_report *after)
+{
+    return closed_no_new_nonmanifold(before, after) && after->n_degenerate < before->n_degenerate;
+}
+
+int vc_surface_close_by_rounding(const vc_surface *s, const vc_surface_report *rep, vc_surface *out,
+                                 vc_surface_report *out_rep, int64_t *n_welded, int64_t *n_split,
+                                 vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    *n_welded = *n_split = 0;
+    if (rep->n_boundary_edges == 0)
+        return 0;
+    const double tol = vc_surface_seam_tolerance(s);
+    int rc = vc_surface_weld_open_seams(s, tol, out, n_welded, err);
+    if (!rc)
+        rc = vc_surface_split_t_junctions(out, tol, n_split, err);
+    if (rc) {
+        vc_surface_free(out);
+        return rc;
+    }
+    if (*n_welded + *n_split == 0)
+        vc_surface_free(out);
+    else if (!checked(rep, out, out_rep, closed_no_new_nonmanifold))
+        *n_welded = *n_split = 0;
+    return 0;
+}
+
+int vc_surface_drop_needles(const vc_surface *s, const vc_surface_report *rep, vc_surface *out,
+                            vc_surface_report *out_rep, vc_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (rep->n_degenerate == 0)
+        return 0;
+    int64_t n = 0;
+    const int rc = vc_surface_weld_needles(s, vc_surface_seam_tolerance(s), out, &n, err);
+    if (rc)
+        return rc;
+    if (n > 0)
+        checked(rep, out, out_rep, fewer_zero_area);
     return 0;
 }
