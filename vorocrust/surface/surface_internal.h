@@ -142,4 +142,9 @@ static inline double vc_le_float(const unsigned char *b)
  * as the name; the scanner does not move. */
 int vc_soup_set_group_rest(vc_soup *s, vc_scan *sc);
 
+/* Is the triangle a, b, c of xyz of zero area by vc_surface_check's test,
+ * |cross| <= VC_SOLID_ZERO_AREA * (longest edge)^2 (unscaled: for the
+ * repairs, which run on surfaces the checks accepted)? */
+int vc_triangle_zero_area(const double *xyz, int64_t a, int64_t b, int64_t c);
+
 #endif

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "surface/surface_internal.h"
 #include "util/union_find.h"
 #include "vorocrust/surface.h"
 
@@ -112,6 +113,25 @@ static int copy_surface(const vc_surface *s, vc_surface *out)
     return 0;
 }
 
+/* *out = s with every vertex replaced by its class's root in parent (the
+ * lowest index, at its own place); the triangles that then repeat a vertex
+ * and the vertices no longer used dropped. Frees parent. Returns 0, or
+ * VC_ENOMEM with *out empty. */
+static int weld_classes(const vc_surface *s, int64_t *parent, vc_surface *out, vc_error *err)
+{
+    if (copy_surface(s, out)) {
+        free(parent);
+        return vc_error_set(err, VC_ENOMEM, "out of memory welding the surface");
+    }
+    for (int64_t k = 0; k < 3 * s->n_triangles; k++)
+        out->tri[k] = vc_uf_find(parent, s->tri[k]);
+    free(parent);
+    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
+    if (rc)
+        vc_surface_free(out);
+    return rc;
+}
+
 double vc_surface_seam_tolerance(const vc_surface *s)
 {
     double m = 0;
@@ -124,12 +144,13 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
                                vc_error *err)
 {
     *n_welded = 0;
-    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    const int64_t nv = s->n_vertices;
     int64_t *parent = malloc(sizeof(int64_t) * (size_t)(nv + 1));
     open_edge *e = NULL;
     by_x *bx = NULL;
     int64_t n_open = 0;
-    if (!parent || find_open(s, &e, &bx, &n_open) < 0 || copy_surface(s, out)) {
+    memset(out, 0, sizeof *out);
+    if (!parent || find_open(s, &e, &bx, &n_open) < 0) {
         free(parent);
         free(e);
         free(bx);
@@ -149,39 +170,24 @@ int vc_surface_weld_open_seams(const vc_surface *s, double tol, vc_surface *out,
         }
     free(bx);
     /* each class becomes its lowest vertex, at that vertex's place */
-    for (int64_t v = 0; v < nv; v++) {
-        const int64_t r = vc_uf_find(parent, v);
-        *n_welded += r != v;
-    }
-    for (int64_t k = 0; k < 3 * nt; k++)
-        out->tri[k] = vc_uf_find(parent, s->tri[k]);
-    free(parent);
-    /* triangles that collapsed (a sliver across the seam) and vertices no
-     * longer used are dropped */
-    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
-    if (rc)
-        vc_surface_free(out);
-    return rc;
+    for (int64_t v = 0; v < nv; v++)
+        *n_welded += vc_uf_find(parent, v) != v;
+    /* triangles that collapsed (a sliver across the seam) are dropped */
+    return weld_classes(s, parent, out, err);
 }
 
-/* vc_surface_check's degenerate test: |cross| <= VC_SOLID_ZERO_AREA *
- * (longest edge)^2; the shortest edge's ends into *a, *b. */
+/* Is triangle t of zero area (vc_triangle_zero_area)? Then the ends of
+ * its shortest edge into *a, *b and its length into *shortest. */
 static int needle(const vc_surface *s, int64_t t, int64_t *a, int64_t *b, double *shortest)
 {
     const int64_t *v = s->tri + 3 * t;
-    double l2[3], n2 = 0, lmax = 0;
+    if (!vc_triangle_zero_area(s->xyz, v[0], v[1], v[2]))
+        return 0;
+    double l2[3];
     for (int k = 0; k < 3; k++) {
         const double *p = s->xyz + 3 * v[k], *q = s->xyz + 3 * v[(k + 1) % 3];
         l2[k] = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
-        lmax = fmax(lmax, l2[k]);
     }
-    const double *p0 = s->xyz + 3 * v[0], *p1 = s->xyz + 3 * v[1], *p2 = s->xyz + 3 * v[2];
-    const double u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-    const double w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    if (!(sqrt(n2) <= VC_SOLID_ZERO_AREA * lmax))
-        return 0;
     int k = 0;
     for (int j = 1; j < 3; j++)
         if (l2[j] < l2[k])
@@ -214,17 +220,7 @@ int vc_surface_weld_needles(const vc_surface *s, double tol, vc_surface *out, in
         free(parent);
         return 0;
     }
-    if (copy_surface(s, out)) {
-        free(parent);
-        return vc_error_set(err, VC_ENOMEM, "out of memory welding needle triangles");
-    }
-    for (int64_t k = 0; k < 3 * nt; k++)
-        out->tri[k] = vc_uf_find(parent, s->tri[k]);
-    free(parent);
-    const int rc = vc_surface_merge_vertices(out, NULL, NULL, NULL, err);
-    if (rc)
-        vc_surface_free(out);
-    return rc;
+    return weld_classes(s, parent, out, err);
 }
 
 /* ---------------------------------------------------------------------

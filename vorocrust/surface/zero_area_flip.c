@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "surface/surface_internal.h"
 #include "vorocrust/surface.h"
 
 typedef struct dir_edge {
@@ -24,8 +25,7 @@ static int compare_dir(const void *p, const void *q)
     return (u->t > v->t) - (u->t < v->t);
 }
 
-/* vc_surface_check's test: |cross| <= VC_SOLID_ZERO_AREA * (longest edge)^2. */
-static int zero_area(const double *xyz, int64_t a, int64_t b, int64_t c)
+int vc_triangle_zero_area(const double *xyz, int64_t a, int64_t b, int64_t c)
 {
     const double *p = xyz + 3 * a, *q = xyz + 3 * b, *r = xyz + 3 * c;
     const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
@@ -94,7 +94,7 @@ int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left
         int64_t flips = 0;
         for (int64_t t = 0; t < nt; t++) {
             int64_t *v = s->tri + 3 * t;
-            if (touched[t] || !zero_area(s->xyz, v[0], v[1], v[2]))
+            if (touched[t] || !vc_triangle_zero_area(s->xyz, v[0], v[1], v[2]))
                 continue;
             /* the longest edge a -> b, c opposite */
             int k = 0;
@@ -118,7 +118,8 @@ int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left
                     d = w[j];
             /* the triangle across split at c: (b, c, d) and (c, a, d) keep
              * its orientation and the cap's edges' */
-            if (d < 0 || d == c || zero_area(s->xyz, b, c, d) || zero_area(s->xyz, c, a, d))
+            if (d < 0 || d == c || vc_triangle_zero_area(s->xyz, b, c, d) ||
+                vc_triangle_zero_area(s->xyz, c, a, d))
                 continue;
             v[0] = b, v[1] = c, v[2] = d;
             w[0] = c, w[1] = a, w[2] = d;
@@ -132,7 +133,7 @@ int vc_surface_flip_zero_area(vc_surface *s, int64_t *n_flipped, int64_t *n_left
             break;
     }
     for (int64_t t = 0; t < nt; t++)
-        *n_left += zero_area(s->xyz, s->tri[3 * t], s->tri[3 * t + 1], s->tri[3 * t + 2]);
+        *n_left += vc_triangle_zero_area(s->xyz, s->tri[3 * t], s->tri[3 * t + 1], s->tri[3 * t + 2]);
     free(e);
     free(touched);
     return 0;
