@@ -38,11 +38,13 @@ typedef struct vc_sampling_options {
                              line (edge balls); default 0.004; <= 0: no bound */
     double lipschitz;     /* L, 0 < L < 1, default 0.25 */
     double max_size;      /* sz: largest ball radius; <= 0: the bounding-box diagonal */
-    double alpha;         /* deep-coverage constant, default 1 - sqrt(3)/2 */
+    double alpha;         /* deep-coverage constant, default 1 - sqrt(3)/2; the sampling
+                             after sliver elimination shrank balls asks for alpha / 2
+                             (thesis 6.2.7) */
     uint64_t seed;        /* random seed, default 1 */
     int threads;          /* <= 0: OpenMP's default */
     const vc_logger *log; /* progress lines (VC_LOG_INFO); NULL: none */
-    int max_sliver_iterations; /* before the safe mode (alpha / 2), default 100; after
+    int max_sliver_iterations; /* before the safe mode (alpha halved again), default 100; after
                                   twice as many the sampling counts as diverged */
     int64_t max_balls;    /* refuse a sampling predicted to need more balls, and stop one
                              that reaches this many (VC_EPARAM); <= 0: no limit (default) */
@@ -97,7 +99,8 @@ typedef struct vc_sampling_stats {
     int64_t n_shrunk_deviation;            /* radius reductions for facets farther from the
                                               input than the error bound */
     int sliver_iterations;
-    int safe_mode;                         /* 1 when alpha / 2 was accepted */
+    int safe_mode;                         /* 1 when alpha was halved again (the safe
+                                              mode: alpha / 4 after shrinking) */
     int64_t n_half_covered;                /* left at the end (0 on success) */
     double n_balls_predicted;              /* from the sizing, before sampling */
     /* Set when sampling failed because sliver elimination diverged

@@ -576,34 +576,33 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
             for (int k = 0; k < pr->n; k++)
                 touched[pr->touch[k]] = 1;
             /* its former neighbours may meet where it was: measured again
-             * at the end (the new ones share its vertices) */
+             * in the next round (the new ones share its vertices) */
             for (int k = 0; k < pr->n_old; k++)
                 if (pr->touch[k] >= n_surface)
                     dirty[pr->touch[k] - n_surface] = 1;
         }
-        /* Next: the seeds that waited, and those that moved but are still
-         * below the target. The seeds a move touched are measured again
-         * once nothing else is left (a move is measured with every edge
-         * at a vertex of its own cell, where its near-ties are). */
+        /* Next: the seeds that waited, those that moved but are still
+         * below the target, and the former neighbours of a move (a move
+         * is measured with every edge at a vertex of its own cell, where
+         * its near-ties are; where it was, its neighbours' cells meet
+         * anew). Measured in the next round, not once nothing else is
+         * left: then the last round's measure found near-ties the moves
+         * had left behind and no round was left to mend them (torus.obj,
+         * --protect 0.01, seeds 1 to 4: shortest edge 6.6e-6, 2.8e-4,
+         * 5.7e-6, 3.1e-5 of the cell's radius and 301, 300, 279, 247 seeds
+         * left short; now 4.0e-4, 2.8e-4, 5.7e-6, 3.1e-5 and 235, 231, 219,
+         * 203, for a tenth more time). */
         int64_t n_next = 0;
         for (int64_t i = 0; i < n_int; i++) {
             const int64_t s = n_surface + i;
             if (moved_round[s] == round)
                 gap_now[i] = prop[i].gap_after;
-            if (moved_round[s] == round && gap_now[i] < gap)
+            if ((moved_round[s] == round && gap_now[i] < gap) || dirty[i])
                 next[i] = 1;
             n_next += next[i];
         }
+        memset(dirty, 0, (size_t)n_int);
         st.n_moves += accepted;
-        if (n_next == 0 || round + 1 == MAX_ROUNDS) {
-            for (int64_t i = 0; i < n_int; i++)
-                if (dirty[i])
-                    next[i] = 1;
-            memset(dirty, 0, (size_t)n_int);
-            n_next = 0;
-            for (int64_t i = 0; i < n_int; i++)
-                n_next += next[i];
-        }
         memcpy(active, next, (size_t)n_int);
         if (n_next == 0)
             break;
