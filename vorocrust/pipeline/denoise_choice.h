@@ -34,7 +34,9 @@
  * volume by at most VC_DENOISE_MAX_VOLUME_CHANGE. When both were predicted,
  * *f_chosen gets the features (vc_features_detect_scaled at the bound it
  * is sampled at) of the surface chosen, for the caller to sample with and
- * free; otherwise it is zeroed (n_triangles 0). Returns 0, or an error
+ * free; otherwise it is zeroed (n_triangles 0). A rough input is said on
+ * log (a line naming the input, name) before the predictions, which take
+ * seconds on a fine one. Returns 0, or an error
  * code (VC_ENOMEM) with *denoised and *f_chosen zeroed. */
 /* The copy alone: vc_surface_denoise of s by VC_DENOISE_SHARE of the
  * absolute bound into *denoised, ch->moved, ch->bound and ch->volume_change
@@ -45,6 +47,6 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
 int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned char *extra,
                        double bound, double max_size, int force, int threads,
                        vc_surface *denoised, vc_denoise_choice *ch, vc_features *f_chosen,
-                       vc_error *err);
+                       const vc_logger *log, const char *name, vc_error *err);
 
 #endif

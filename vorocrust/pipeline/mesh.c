@@ -583,7 +583,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         const double t_choice = now();
         if ((rc = vc_choose_denoised(s, so.sharp_angle, extra, error_bound_of(s, opt->max_error),
                                      opt->max_size, opt->denoise, opt->threads, &denoised, dc,
-                                     &f_first, err)) != 0) {
+                                     &f_first, opt->log, name, err)) != 0) {
             free(extra);
             return named(err, name, NULL);
         }
