@@ -512,6 +512,23 @@ if PART == "bad_input":
               "bad input %r: exit %d, stderr %r" % (args[1:], rc, err))
         check(not os.path.exists(os.path.join(TMP, "x.obj")), "bad input %r left an output" % (args[1:],))
 
+    # A result the mesher knows to be wrong is an error: a sampling so coarse
+    # (the error bound 0.9 of the diagonal, radii growing at 0.99 per unit of
+    # distance, no creases) that the reconstructed surface misses 43% of the
+    # icosphere's volume. Exit 1, one line, no output.
+    wrong = os.path.join(TMP, "wrong.vtu")
+    for stale in (wrong, os.path.join(TMP, "wrong_boundary.vtu")):
+        if os.path.exists(stale):
+            os.remove(stale)
+    rc, out, err = run("mesh", ICOSPHERE, "-o", wrong, "--quiet", "--lipschitz", "0.99",
+                       "--max-error", "0.9", "--sharp-angle", "179")
+    lines = err.strip().splitlines()
+    check(rc == 1 and len(lines) == 1 and re.search(r"^vorocrust: .*icosphere\.obj: the reconstructed "
+                                                    r"surface encloses .*more than 1% off", lines[0]),
+          "a mesh 43%% off the input's volume: exit %d, stderr %r" % (rc, err[-600:]))
+    check(not os.path.exists(wrong) and not os.path.exists(os.path.join(TMP, "wrong_boundary.vtu")),
+          "a mesh known to be wrong was written")
+
 def write_tangent_spheres(path, nu=32, nv=16):
     """Two UV spheres of radius 1 centred at (0, 0, 0) and (0, 0, 2) sharing
     the vertex (0, 0, 1), tangent there. Returns the enclosed volume."""
