@@ -1319,6 +1319,7 @@ static int surface_distance(const vc_surface *s, const vc_polysurface *p, int th
 int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *out,
             vc_error *err)
 {
+    int done = 0;        /* the result is complete: the cleanup keeps it */
     const vc_surface *s_input = s; /* with its triangle groups */
     vc_surface oriented; /* the input reoriented by --cavities (own triangles, the rest borrowed) */
     memset(&oriented, 0, sizeof oriented);
@@ -1847,6 +1848,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     if (centred.xyz)
         move_results(out, shift);
     out->time.total = now() - t0;
+    done = 1;
+fail:
     free(oriented.tri);
     vc_materials_free(&mm);
     free_centred(&centred);
@@ -1865,26 +1868,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     free(turned_out.tri);
     free(input_triangle);
     free(input_vertex);
-    return 0;
-fail:
-    free(oriented.tri);
-    vc_materials_free(&mm);
-    free_centred(&centred);
-    free(consistent.tri);
-    free(repaired.tri);
-    free(opened.xyz);
-    free(opened.tri);
-    free(union_opened.xyz);
-    free(union_opened.tri);
-    vc_surface_free(&unioned);
-    vc_surface_free(&canonical);
-    vc_surface_free(&welded);
-    vc_surface_free(&needled);
-    free(capped.tri);
-    free(capped_group);
-    free(turned_out.tri);
-    free(input_triangle);
-    free(input_vertex);
+    if (done)
+        return 0;
     vc_mesh_result_free(out);
     return rc ? rc : VC_EINTERNAL;
 }
