@@ -77,6 +77,27 @@ static inline workspace *own_workspace(workspace *ws)
  * from x). Returns 1 when no seed beyond them can cut it (all_seeds: they
  * are all there are), 0 when one might, 2 when x makes no proper cell (on
  * a seed, or a defect), -1 when out of memory. */
+/* Cuts the cell by the neighbours ws->hit[from, m) (their points in
+ * ws->local already); returns as cut_cell. */
+static int cut_more(workspace *ws, const double x[3], int from, int m, int all_seeds)
+{
+    vc_convex_cell *cell = &ws->cell;
+    for (int i = from; i < m; i++) {
+        if (!(ws->hit[i].d2 <= 4.0 * cell->rmax2 * (1.0 + 1e-9)))
+            break; /* sorted: no farther seed can cut */
+        if (ws->hit[i].d2 == 0)
+            return 2;
+        const double *y = ws->local + 3 * (i + 1);
+        const double p[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+        const int r = vc_convex_cell_cut(cell, p, i + 1);
+        if (r == VC_CELL_NOMEM)
+            return -1;
+        if (r < 0)
+            return 2;
+    }
+    return all_seeds || ws->hit[m - 1].d2 > 4.0 * cell->rmax2 * (1.0 + 1e-9);
+}
+
 static int cut_cell(workspace *ws, const double *xyz, const double x[3], int m, int all_seeds)
 {
     vc_convex_cell *cell = &ws->cell;
@@ -99,20 +120,18 @@ static int cut_cell(workspace *ws, const double *xyz, const double x[3], int m, 
                               VC_WALL_XMIN - 3, VC_WALL_XMIN - 4, VC_WALL_XMIN - 5};
     if (vc_convex_cell_reset_box(cell, lo, hi, walls) != 0)
         return -1;
-    for (int i = 0; i < m; i++) {
-        if (!(ws->hit[i].d2 <= 4.0 * cell->rmax2 * (1.0 + 1e-9)))
-            break; /* sorted: no farther seed can cut */
-        if (ws->hit[i].d2 == 0)
-            return 2;
-        const double *y = ws->local + 3 * (i + 1);
-        const double p[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-        const int r = vc_convex_cell_cut(cell, p, i + 1);
-        if (r == VC_CELL_NOMEM)
-            return -1;
-        if (r < 0)
-            return 2;
+    return cut_more(ws, x, 0, m, all_seeds);
+}
+
+/* Whether the cell just cut has a vertex on a wall of its box. */
+static int on_walls(const vc_convex_cell *cell)
+{
+    for (int t = 0; t < cell->nt; t++) {
+        const int *pl = cell->tri + 3 * t;
+        if (cell->plane_id[pl[0]] < 0 || cell->plane_id[pl[1]] < 0 || cell->plane_id[pl[2]] < 0)
+            return 1;
     }
-    return all_seeds || ws->hit[m - 1].d2 > 4.0 * cell->rmax2 * (1.0 + 1e-9);
+    return 0;
 }
 
 /* The shortest Voronoi edge at the vertices of the cell just cut (m
@@ -269,13 +288,12 @@ static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *x
             return 0;
         }
     }
+    /* have_first: ws->hit holds the first K_FIRST already */
+    int m = have_first ? have_first : vc_seed_kdtree_knn(tree, x, K_FIRST, self, ws->hit);
+    if (m == 0)
+        return 0;
+    int r = cut_cell(ws, xyz, x, m, m < K_FIRST);
     for (int k = K_FIRST;; k *= 2) {
-        /* have_first: ws->hit holds the first K_FIRST already */
-        const int m = k == K_FIRST && have_first ? have_first
-                                                 : vc_seed_kdtree_knn(tree, x, k, self, ws->hit);
-        if (m == 0)
-            return 0;
-        const int r = cut_cell(ws, xyz, x, m, m < k);
         if (r < 0)
             return -1;
         if (r == 2) {
@@ -285,6 +303,31 @@ static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *x
         if (r == 1 || 2 * k > K_MAX) {
             *out = edge_measure(ws, m, beat, cap);
             return 0;
+        }
+        /* twice the neighbours. The first k of the 2 k nearest are these
+         * (the order is total): only the next k are asked for and cut,
+         * unless the box the cell was cut in, sized for the first k, still
+         * bounds it (a cell on the domain's edge: cut again in a larger
+         * one). Asking for all 2 k and cutting them from the box each time
+         * was half the protection's time (bunny.off: 120,000 of 283,000
+         * measures needed 128 to 512 neighbours). */
+        if (!on_walls(&ws->cell)) {
+            /* no seed beyond 2 rmax cuts the cell, and edge_measure reads
+             * none beyond 2 rmax + 2 cap rmax: the next k within that (all
+             * of them when fewer, and then the cell is done) */
+            const double reach = 2 * sqrt(ws->cell.rmax2) * (1 + cap) * (1 + 1e-9);
+            int truncated;
+            const int add = vc_seed_kdtree_within(tree, x, isfinite(reach) ? reach * reach : INFINITY,
+                                                  ws->hit[m - 1], self, NULL, NULL, ws->hit + m, k,
+                                                  &truncated);
+            for (int i = m; i < m + add; i++)
+                memcpy(ws->local + 3 * (i + 1), xyz + 3 * ws->hit[i].seed, 3 * sizeof(double));
+            const int from = m;
+            m += add;
+            r = add == 0 ? 1 : cut_more(ws, x, from, m, add < k);
+        } else {
+            m = vc_seed_kdtree_knn(tree, x, 2 * k, self, ws->hit);
+            r = cut_cell(ws, xyz, x, m, m < 2 * k);
         }
     }
 }
