@@ -68,7 +68,7 @@ static void usage(FILE *f)
         "                      seeds at short Voronoi edges moved a little until every edge\n"
         "                      at their vertices is at least E times the cell's radius,\n"
         "                      0 <= E < 0.25 (0.01 recommended; default 0: off; about\n"
-        "                      doubles the run.s time)\n"
+        "                      doubles the run's time)\n"
         "  --quartet-gap G     experimental: sliver elimination also shrinks a ball whose\n"
         "                      sphere passes within a power gap G of a seed (a near-quartet\n"
         "                      of balls: two near-coincident seeds), 0 <= G < 1 (default 0)\n"
