@@ -73,10 +73,6 @@ static inline workspace *own_workspace(workspace *ws)
 #endif
 }
 
-/* Cuts the cell of x by the m neighbours in ws->hit (sorted by distance
- * from x). Returns 1 when no seed beyond them can cut it (all_seeds: they
- * are all there are), 0 when one might, 2 when x makes no proper cell (on
- * a seed, or a defect), -1 when out of memory. */
 /* Cuts the cell by the neighbours ws->hit[from, m) (their points in
  * ws->local already); returns as cut_cell. */
 static int cut_more(workspace *ws, const double x[3], int from, int m, int all_seeds)
@@ -98,6 +94,10 @@ static int cut_more(workspace *ws, const double x[3], int from, int m, int all_s
     return all_seeds || ws->hit[m - 1].d2 > 4.0 * cell->rmax2 * (1.0 + 1e-9);
 }
 
+/* Cuts the cell of x by the m neighbours in ws->hit (sorted by distance
+ * from x). Returns 1 when no seed beyond them can cut it (all_seeds: they
+ * are all there are), 0 when one might, 2 when x makes no proper cell (on
+ * a seed, or a defect), -1 when out of memory. */
 static int cut_cell(workspace *ws, const double *xyz, const double x[3], int m, int all_seeds)
 {
     vc_convex_cell *cell = &ws->cell;
