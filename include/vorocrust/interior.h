@@ -209,7 +209,7 @@ int vc_interior_sphere_seeds(const vc_balls *balls, const vc_seeds *surface_seed
  * neighbours is picked before them (seed order) search at once, and their
  * moves are taken in seed order, each only when no seed whose cell it
  * changes has moved in the round; the seeds a move took neighbours from
- * are measured again when nothing else is left; up to 12 rounds. A seed
+ * are measured again in the next round; up to 12 rounds. A seed
  * on a ball's sphere (vc_interior_sphere_seeds: a pole or a cap; opt->n_poles
  * of them, seeds n_surface .. n_surface + n_poles - 1)
  * moves on its ball's sphere (the point of the sphere nearest each random
