@@ -20,6 +20,13 @@ MODELS = e2eutil.models_dir() if PART == "models" else None
 TMP = os.environ.get("VC_TMP", "/tmp")
 
 
+def write_obj(path, pts, tris):
+    """An OBJ of points and 0-based triangles, coordinates to the last bit."""
+    with open(path, "w") as f:
+        f.writelines("v %.17g %.17g %.17g\n" % tuple(p) for p in pts)
+        f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in tris)
+
+
 def run(*args):
     return e2eutil.run([BIN, "info", *args], timeout=60)
 
@@ -130,9 +137,7 @@ if PART == "cli":
             for j in range(1, nv - 1):
                 a, b, c, d = idx[(i, j)], idx[(i, j + 1)], idx[(i + 1, j + 1)], idx[(i + 1, j)]
                 tris += [(a, b, c), (a, c, d)]
-        with open(path, "w") as f:
-            f.writelines("v %.17g %.17g %.17g\n" % p for p in pts)
-            f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in tris)
+        write_obj(path, pts, tris)
 
     seam = os.path.join(TMP, "e2e_info_seam.obj")
     split_sphere(seam, 1e-15)
@@ -167,9 +172,7 @@ if PART == "cli":
             t += [(a, b, c), (a, c, d)]
         top = [4, 8, 9, 10, 5, 6, 7]
         t += [(top[-1], top[i], top[i + 1]) for i in range(len(top) - 2)]
-        with open(path, "w") as f:
-            f.writelines("v %.17g %.17g %.17g\n" % p for p in v)
-            f.writelines("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in t)
+        write_obj(path, v, t)
 
     tj = os.path.join(TMP, "e2e_info_tjunction.obj")
     t_junction_cube(tj, 1e-12)

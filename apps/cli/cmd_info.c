@@ -46,12 +46,8 @@ static int print_regions(const vc_surface *s)
     }
     const int one = vc_regions_single_solid(&r);
     printf("one solid by orientation: %s\n", one > 0 ? "yes" : one < 0 ? "yes (oriented inward)" : "no");
-    int64_t n_inside_out = 0, n_outermost = 0;
-    for (int64_t c = 0; r.closed_shells && c < r.n_components; c++) {
-        n_outermost += r.component_depth[c] == 0;
-        n_inside_out += r.component_depth[c] == 0 && !r.component_outward[c];
-    }
-    if (n_inside_out > 0 && n_inside_out < n_outermost)
+    const int64_t n_inside_out = vc_regions_inside_out_flips(&r, NULL);
+    if (n_inside_out > 0)
         printf("inside out: %lld of %lld components (normals pointing in, nothing around them); "
                "vorocrust mesh reverses them\n", (long long)n_inside_out, (long long)r.n_components);
     vc_regions_free(&r);

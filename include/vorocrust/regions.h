@@ -92,6 +92,15 @@ int vc_regions_single_solid(const vc_regions *r);
  * an interface between regions, where the rule does not apply). */
 int64_t vc_regions_even_odd_flips(const vc_regions *r, unsigned char *flip);
 
+/* Parts exported inside out: the outermost closed shells whose normals
+ * point in (nothing around them) when another outermost shell points out
+ * (a model all inside out is one solid oriented inward, left as it is).
+ * Returns how many components (0 when none, or when the components are
+ * not closed shells of their own); when that is not 0 and flip is not
+ * NULL, writes to flip (n_triangles bytes) 1 for their triangles. What
+ * vorocrust mesh reverses and vorocrust info reports. */
+int64_t vc_regions_inside_out_flips(const vc_regions *r, unsigned char *flip);
+
 /* Locating points in the regions of a surface: vc_region_locate returns
  * the region (0-based) that holds p, -1 for the unbounded region, -2 when
  * p lies on the surface or every segment tried from it grazes an edge.

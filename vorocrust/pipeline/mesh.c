@@ -1688,23 +1688,16 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
          * assembly exported inside out. Reversed (with --cavities the
          * even-odd rule above did so already). A model all inside out is
          * one solid oriented inward, meshed as it is. */
-        if (!opt.cavities && regions.closed_shells) {
-            int64_t n_inside_out = 0, n_outermost = 0;
-            for (int64_t c = 0; c < regions.n_components; c++) {
-                n_outermost += regions.component_depth[c] == 0;
-                n_inside_out += regions.component_depth[c] == 0 && !regions.component_outward[c];
-            }
-            if (n_inside_out > 0 && n_inside_out < n_outermost) {
+        if (!opt.cavities) {
+            const int64_t n_inside_out = vc_regions_inside_out_flips(&regions, NULL);
+            if (n_inside_out > 0) {
                 unsigned char *flip = malloc((size_t)s->n_triangles + 1);
                 if (!flip) {
                     rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
                     vc_regions_free(&regions);
                     goto fail;
                 }
-                for (int64_t t = 0; t < s->n_triangles; t++) {
-                    const int64_t c = regions.component_of[t];
-                    flip[t] = regions.component_depth[c] == 0 && !regions.component_outward[c];
-                }
+                vc_regions_inside_out_flips(&regions, flip);
                 const int64_t n_components = regions.n_components;
                 rc = reversed_copy(s, flip, &turned_out, err);
                 free(flip);

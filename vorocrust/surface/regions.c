@@ -562,6 +562,28 @@ int64_t vc_regions_even_odd_flips(const vc_regions *r, unsigned char *flip)
     return n_flipped;
 }
 
+/* An outermost component whose normals point in (nothing around it). */
+static int inside_out(const vc_regions *r, int64_t c)
+{
+    return r->component_depth[c] == 0 && !r->component_outward[c];
+}
+
+int64_t vc_regions_inside_out_flips(const vc_regions *r, unsigned char *flip)
+{
+    if (!r->closed_shells)
+        return 0;
+    int64_t n_inside_out = 0, n_outermost = 0;
+    for (int64_t c = 0; c < r->n_components; c++) {
+        n_outermost += r->component_depth[c] == 0;
+        n_inside_out += inside_out(r, c);
+    }
+    if (n_inside_out == n_outermost)
+        return 0; /* one solid oriented inward: nothing to reverse */
+    for (int64_t t = 0; flip && n_inside_out > 0 && t < r->n_triangles; t++)
+        flip[t] = (unsigned char)inside_out(r, r->component_of[t]);
+    return n_inside_out;
+}
+
 void vc_regions_free(vc_regions *r)
 {
     if (!r)
