@@ -94,10 +94,10 @@ static int level_of(const vc_ball_set *bs, double r)
 /* Cells twice the level's largest radius: a ball reaching a point has its
  * centre within one radius of it, so 2 cells per axis (8 in all) hold every
  * candidate of a point query. */
-static double cell_size(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 2); }
+static double cell_size(const vc_ball_set *bs, int level) { return bs->scale[level + 2]; }
 
 /* The largest radius of a level. */
-static double level_radius(const vc_ball_set *bs, int level) { return ldexp(bs->unit, level + 1); }
+static double level_radius(const vc_ball_set *bs, int level) { return bs->scale[level + 1]; }
 
 static int64_t cell_coord(double x, double h)
 {
@@ -202,6 +202,8 @@ int vc_ball_set_init(vc_ball_set *bs, const double lo[3], double diag)
     /* level-0 cells of diag / 2^17: the whole range of 3 diagonals fits in
      * 19 bits per coordinate */
     bs->unit = ldexp(diag > 0 ? diag : 1.0, -18);
+    for (int k = 0; k < VC_BALL_LEVELS + 2; k++)
+        bs->scale[k] = ldexp(bs->unit, k);
     for (int d = 0; d < 3; d++)
         bs->origin[d] = lo[d] - (diag > 0 ? diag : 1.0);
     bs->table_size = 1 << 12;

@@ -41,6 +41,7 @@ typedef struct vc_ball_set {
     vc_balls b;          /* the balls (center, radius, kind, element, normal) */
     int64_t cap;
     double unit;         /* radius of level 0 */
+    double scale[VC_BALL_LEVELS + 2]; /* unit 2^k: the levels' radii and cells, precomputed */
     double origin[3];    /* cell coordinates count from here */
     /* hash grid: cell key -> the cell's balls */
     int64_t table_size;  /* power of two */

@@ -137,18 +137,23 @@ static double node_lower(const vc_ball_grading *g, const vc_ball_tree_node *nd, 
     return v;
 }
 
-double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
-                           double cap)
+int vc_ball_tree_exceeds(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
+                         double cap, double length, double factor)
 {
-    double best = cap;
+    /* length > factor min(cap, v_p) holds when it holds for cap or for one
+     * ball (a product by factor > 0 rounds monotonically), so the search
+     * stops at the first such ball, and a subtree goes unread when length
+     * is not above factor times its least value */
+    if (length > factor * cap)
+        return 1;
     if (t->balls->n == 0)
-        return best;
+        return 0;
     int64_t stack[2 * MAX_DEPTH + 2];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         const vc_ball_tree_node *nd = &t->nodes[stack[--top]];
-        if (node_lower(g, nd, box_dist(nd, x)) >= best)
+        if (!(length > factor * node_lower(g, nd, box_dist(nd, x))))
             continue;
         if (nd->child < 0) {
             const vc_balls *b = t->balls;
@@ -157,17 +162,17 @@ double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ba
                 const double *p = b->center + 3 * i;
                 double d = sqrt((x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
                                 (x[2] - p[2]) * (x[2] - p[2]));
-                best = fmin(best, graded(g, b->radius[i], d));
+                if (length > factor * graded(g, b->radius[i], d))
+                    return 1;
             }
             continue;
         }
-        /* nearer child last, so it is searched first */
         const vc_ball_tree_node *c0 = &t->nodes[nd->child], *c1 = c0 + 1;
         int near_first = box_dist(c0, x) <= box_dist(c1, x);
         stack[top++] = nd->child + near_first;
         stack[top++] = nd->child + !near_first;
     }
-    return best;
+    return 0;
 }
 
 int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3])

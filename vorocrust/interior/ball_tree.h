@@ -1,7 +1,7 @@
 /* A k-d tree over the surface balls for the two questions the interior
  * seeds ask at a point x: the sizing r(x) = min over balls of
  * (r_p + L |x - p|) (the L-Lipschitz extension of the radii into the
- * volume, growing faster far from the balls: vc_ball_tree_sizing), and
+ * volume, growing faster far from the balls: vc_ball_tree_exceeds), and
  * whether x lies inside some ball. Each node keeps the
  * bounding box of its centres and the smallest and largest radius below
  * it, so both queries prune whole subtrees by a lower bound:
@@ -39,12 +39,14 @@ typedef struct vc_ball_grading {
     double lipschitz, far_from, far_lipschitz;
 } vc_ball_grading;
 
-/* min(cap, min over balls of r_p + g_p(|x - p|)), g_p(d) = L d up to
- * d = far_from r_p and L far_from r_p + far_lipschitz (d - far_from r_p)
- * beyond; cap may be INFINITY. A subtree is pruned by the least value
- * its radius range can give at its box's distance. */
-double vc_ball_tree_sizing(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
-                           double cap);
+/* The sizing at x is min(cap, min over balls of r_p + g_p(|x - p|)), g_p(d)
+ * = L d up to d = far_from r_p and L far_from r_p + far_lipschitz (d -
+ * far_from r_p) beyond; cap may be INFINITY. Returns 1 when length >
+ * factor times the sizing (factor > 0), stopping at the first ball that
+ * shows it; a subtree is pruned by the least value its radius range can
+ * give at its box's distance. The octree's refinement test. */
+int vc_ball_tree_exceeds(const vc_ball_tree *t, const double x[3], const vc_ball_grading *g,
+                         double cap, double length, double factor);
 
 /* 1 when |x - p| <= r_p for some ball (on a sphere counts as inside). */
 int vc_ball_tree_covers(const vc_ball_tree *t, const double x[3]);

@@ -77,7 +77,7 @@ static int leaf_too_large(const p8est_t *forest, p4est_topidx_t tree, const p8es
     double c[3], side;
     quadrant_cube(forest, g, tree, q, c, &side);
     double diagonal = sqrt(3.0) * side;
-    if (!(diagonal > g->diagonal_factor * vc_ball_tree_sizing(g->balls, c, &g->grading, g->cap)))
+    if (!vc_ball_tree_exceeds(g->balls, c, &g->grading, g->cap, diagonal, g->diagonal_factor))
         return 0;
     /* A leaf no ball reaches lies on one side of the reconstructed surface
      * (the balls hold it); outside (its centre's nearest surface seed an

@@ -125,16 +125,17 @@ static void cofactors(const row *r, vc_expn C[4])
     }
 }
 
-static int cmp_i64(const void *a, const void *b)
-{
-    const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* Sorts seed[0..n) and drops repeats; returns the count. */
+/* Sorts seed[0..n) and drops repeats; returns the count. A few seeds:
+ * insertion sort (glibc's qsort allocates and calls a comparator). */
 static int sorted_unique(int64_t *seed, int n)
 {
-    qsort(seed, (size_t)n, sizeof seed[0], cmp_i64);
+    for (int i = 1; i < n; i++) {
+        const int64_t x = seed[i];
+        int j = i;
+        for (; j > 0 && seed[j - 1] > x; j--)
+            seed[j] = seed[j - 1];
+        seed[j] = x;
+    }
     int w = 0;
     for (int i = 0; i < n; i++)
         if (w == 0 || seed[i] != seed[w - 1])
