@@ -700,6 +700,36 @@ def case_csg_animal():
     return csg_contour("Union", spheres, (-1.1, 1.1, -0.6, 0.6, -1.1, 0.5), (114, 62, 83))
 
 
+def case_gyroid_lattice():
+    """A porous lattice: the solid side of a gyroid (two periods) clipped by
+    a cube, marching cubes (flying edges) on 40^3 samples: smooth saddles,
+    and where the lattice meets the cube's faces, creases drawn as
+    staircases of folds on which sliver elimination does not converge
+    (session 41: three rounds of folds made creases took 144 s on 60^3)."""
+    n, L, pad = 40, 1.0, 0.1
+    h = 2 * (L + pad) / (n - 1)
+    k = 2 * math.pi  # two periods across the cube
+    img = vtk.vtkImageData()
+    img.SetDimensions(n, n, n)
+    img.SetOrigin(-L - pad, -L - pad, -L - pad)
+    img.SetSpacing(h, h, h)
+    arr = vtk.vtkDoubleArray()
+    arr.SetNumberOfTuples(n * n * n)
+    i = 0
+    for iz in range(n):
+        z = -L - pad + iz * h
+        for iy in range(n):
+            y = -L - pad + iy * h
+            for ix in range(n):
+                x = -L - pad + ix * h
+                g = (math.sin(k * x) * math.cos(k * y) + math.sin(k * y) * math.cos(k * z) +
+                     math.sin(k * z) * math.cos(k * x))
+                arr.SetValue(i, max(g / k, max(abs(x), abs(y), abs(z)) - L))
+                i += 1
+    img.GetPointData().SetScalars(arr)
+    return polydata_to_lists(contour(img, 0.0))
+
+
 def case_blobby_200():
     return polydata_to_lists(decimated_blobby(200))
 
@@ -1209,6 +1239,7 @@ CASES = [
     ("noisy_plate", case_noisy_plate, "csg_plate Loop-subdivided, every vertex moved along its normal by up to 0.4 of the default error bound", 0),
     ("slot_block", case_slot_block, "block with a saw cut 0.006 wide (0.6% of its size): clean and sharp, not noise; a smoothed copy would widen the cut", 2),
     ("chamfer_block", case_chamfer_block, "unit cube with one edge chamfered 0.004 wide: a small feature along large faces, the balls graded out from it", 2),
+    ("gyroid_lattice", case_gyroid_lattice, "gyroid lattice (2 periods) clipped by a cube, marching cubes on 40^3: saddles, and staircase creases where it meets the faces", -52),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

@@ -13,7 +13,8 @@ with default options, and the test checks:
    smoothing (no fallback that moves the surface beyond half the error
    bound; csg_animal: a second one on the copy smoothed within half the
    bound, and with --denoise off with its stuck folds as creases,
-   FOLDS_RESAMPLED), no half-covered pair;
+   FOLDS_RESAMPLED; gyroid_lattice: on the copy, whose volume is 0.1 to
+   0.25% off, COPY_AFTER_DIVERGENCE), no half-covered pair;
  - the reconstructed surface: a closed, consistently oriented 2-manifold
    with the input's Euler characteristic (the summary's report, and the
    count of components and V - E + F computed here from the written OBJ);
@@ -97,6 +98,12 @@ SPECKS = {"mc_needles": 12}
 # moved: 14,317 balls, Q min 0.028); with --no-fold-creases too, the
 # divergence is the error.
 FOLDS_RESAMPLED = {"csg_animal"}
+# The same remedy for a copy that changes the volume by more than noise
+# does (0.1%) but by at most half the 0.5% budget (session 41,
+# VC_DENOISE_REMEDY_VOLUME_CHANGE): the gyroid lattice's staircase creases
+# at the cube's faces stall sliver elimination; its copy moves the volume
+# by about +0.22%. The fold rounds on the input took 300 s and more.
+COPY_AFTER_DIVERGENCE = {"gyroid_lattice"}
 # Noise at the error bound (session 35, vorocrust/pipeline/denoise_choice.c):
 # the input's facets fold everywhere at a fraction of the bound, the sizing
 # predicts 1.5 times more balls or more than for a copy smoothed within half
@@ -189,7 +196,15 @@ def main():
         with open(vtu, "rb") as f2, open(vtu1, "rb") as f1:
             check(p1.returncode == 0 and f1.read() == f2.read(),
                   "%s: the mesh on one thread differs from the mesh on two" % name)
-    if name in FOLDS_RESAMPLED:
+    if name in COPY_AFTER_DIVERGENCE:
+        m = re.search(r"mesh: sampling again a copy smoothed within [0-9.e+-]+ \(([0-9.]+) of the error "
+                      r"bound; vertices moved [0-9.e+-]+ on average; volume ([+-][0-9.]+)%\)", e)
+        check(m is not None and float(m.group(1)) <= 0.5 + 1e-9 and 0.1 < abs(float(m.group(2))) <= 0.25 and
+              "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in e and
+              "more folds of over 10 degrees as creases" not in e and "sampling again with --" not in e,
+              "%s: not sampled again on the copy smoothed within half the bound, its volume "
+              "change within 0.1 to 0.25%%: %s" % (name, m and m.group(0)))
+    elif name in FOLDS_RESAMPLED:
         check("mesh: sampling again a copy smoothed within" in e and
               "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in e and
               "more folds of over 10 degrees as creases" not in e and "sampling again with --" not in e,
@@ -249,7 +264,7 @@ def main():
               abs(float(m.group(3))) > 0.1,
               "%s: the copy's refusal not said as expected: %s" % (name, m and m.group(0)))
     # the copy after a divergence: only where expected
-    if name not in FOLDS_RESAMPLED:
+    if name not in FOLDS_RESAMPLED and name not in COPY_AFTER_DIVERGENCE:
         check("sampling again a copy smoothed" not in e, "%s: sampled again on the copy" % name)
     if name in VISIBLE_FOLDS:
         m = re.search(r"mesh: (\d+) folds below 60 degrees are creases", e)

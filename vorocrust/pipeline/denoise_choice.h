@@ -20,6 +20,17 @@
  * 4e-2, most of or more than the 0.5% a mesh may be off
  * (docs/sampling-convergence.md, session 38). */
 #define VC_DENOISE_MAX_VOLUME_CHANGE 1e-3
+/* After the input's sampling diverged, the copy is the remedy when its
+ * volume is within this share of the input's: half the 0.5% a mesh may be
+ * off. The other remedy, folds made creases where sliver elimination is
+ * stuck, samples everything again per round and leaves slivers on
+ * marching-cubes staircases (a gyroid clipped by a box, 74k triangles:
+ * three rounds, 144 s, surface Q min 0.001, fattest cell 1,870; the copy,
+ * +0.11% of the volume: 15 s, Q min 0.078, fattest cell 22); copies of
+ * CAD parts change the volume by 0.5% and more, ridged and touching
+ * shapes by 0.27 to 0.30% (docs/sampling-convergence.md, sessions 38 and
+ * 41). */
+#define VC_DENOISE_REMEDY_VOLUME_CHANGE 2.5e-3
 
 /* Predicts the balls of a sampling of s at theta_sharp sharp_angle (extra:
  * the edges that are creases whatever their angle, or NULL), the absolute

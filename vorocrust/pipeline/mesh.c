@@ -705,7 +705,7 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
         }
         /* a copy that moves real geometry is no remedy: the fold rounds
          * below act on the input instead */
-        if (copy_next && !(fabs(dc->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE)) {
+        if (copy_next && !(fabs(dc->volume_change) <= VC_DENOISE_REMEDY_VOLUME_CHANGE)) {
             dc->copy_refused = 1;
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %s; a copy smoothed within half the error bound would change the "
@@ -717,9 +717,9 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
             vc_log(opt->log, VC_LOG_INFO, "mesh: %s", why.msg);
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: sampling again a copy smoothed within %.3g (%.2f of the error bound; "
-                   "vertices moved %.3g on average), within the rest of the bound",
+                   "vertices moved %.3g on average; volume %+.3f%%), within the rest of the bound",
                    dc->moved.max_move, dc->moved.max_move / error_bound_of(s, opt->max_error),
-                   dc->moved.mean_move);
+                   dc->moved.mean_move, 100 * dc->volume_change);
             vc_features_free(&f);
             if (stuck)
                 memset(stuck, 0, (size_t)s->n_triangles + 1);
