@@ -207,6 +207,63 @@ static void test_cube_and_lp_degenerate(void)
     CHECK_NEAR(m.volume, 1.0, 1e-8);
 }
 
+/* A cell of a gyroid lattice's mesh (session 41) on which the tableau's
+ * phase 1 stopped 4e-6 short of feasibility (faces of 5e-9 to 1.4e-5 in
+ * area): "some cells could not be measured". The enumeration behind it
+ * finds the ball. */
+static void test_lp_fallback(void)
+{
+    static const double pts[] = {
+        -0.98461400828937384, 0.17911966121800224, 0.87351472084810144,
+        -0.98394209058503745, 0.17872380052742678, 0.87618391013814911,
+        -0.98461305334096083, 0.17924821806183547, 0.87352121182299836,
+        -0.98256067559123039, 0.18050992861390114, 0.87225996078725876,
+        -0.9827719965342735, 0.18050992861390114, 0.87239602756694867,
+        -0.98234096917986424, 0.18072963502526729, 0.87236888484684283,
+        -0.98125021513353783, 0.18110490805141838, 0.87286438078650985,
+        -0.98459486290812492, 0.1792667706719229, 0.87349109309310591,
+        -0.97993850459007681, 0.18120035600374454, 0.8745711859947396,
+        -0.98059464791794515, 0.18101609809748712, 0.87314229548136946,
+        -0.98459486290812492, 0.17911226173225728, 0.87348131736381773,
+        -0.98256067559123039, 0.17824862874596334, 0.8721168890957679,
+        -0.98079537950625095, 0.17743195139538437, 0.87282871103777049,
+        -0.98000203841716993, 0.17697939635238885, 0.87556154174065093,
+        -0.98056504123132149, 0.17843432261799019, 0.87299175233476056,
+        -0.98032595971442382, 0.18070733506853842, 0.87323896814365676,
+        -0.98033208779241121, 0.18073247830548822, 0.87323790854622763,
+    };
+    static const int64_t fv[] = {0, 1, 2, 3, 4, 5, 6, 5, 4, 7, 2, 1, 8, 9, 6, 8, 10, 0, 2, 7, 4, 3, 11, 10, 7, 12, 13, 1, 0, 10, 11, 8, 13, 14, 15, 8, 16, 9, 11, 3, 5, 6, 9, 16, 15, 14, 12, 12, 14, 13, 15, 16, 8, 13, 8, 1};
+    static const int64_t off[] = {0, 3, 6, 13, 16, 20, 25, 31, 35, 38, 47, 50, 53, 56};
+    const vc_cell cell = {pts, 0, NULL, 13, off, fv};
+    vc_cell_measures m;
+    CHECK(vc_cell_measure(&cell, &m) == 0);
+    CHECK(isfinite(m.fatness) && m.fatness > 1 && m.fatness < 3);
+    /* the ball lies inside: at least its radius behind every face plane,
+     * and no smaller than the ball at the centroid that touches the
+     * nearest plane */
+    double at_centroid = INFINITY;
+    for (int f = 0; f < 13; f++) {
+        const double *a = pts + 3 * fv[off[f]], *b = pts + 3 * fv[off[f] + 1], *c = pts + 3 * fv[off[f] + 2];
+        double u[3], v[3], n[3];
+        for (int d = 0; d < 3; d++) {
+            u[d] = b[d] - a[d];
+            v[d] = c[d] - a[d];
+        }
+        n[0] = u[1] * v[2] - u[2] * v[1];
+        n[1] = u[2] * v[0] - u[0] * v[2];
+        n[2] = u[0] * v[1] - u[1] * v[0];
+        const double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        double behind = 0, behind_c = 0;
+        for (int d = 0; d < 3; d++) {
+            behind += (a[d] - m.inscribed.center[d]) * n[d] / l;
+            behind_c += (a[d] - m.centroid[d]) * n[d] / l;
+        }
+        CHECK(behind >= m.inscribed.radius * (1 - 1e-9));
+        at_centroid = fmin(at_centroid, behind_c);
+    }
+    CHECK(m.inscribed.radius >= at_centroid);
+}
+
 static void test_tetrahedra(void)
 {
     /* regular tetrahedron: fatness R / r = 3, dihedral acos(1/3) */
@@ -690,6 +747,7 @@ int main(void)
 {
     test_triangles();
     test_cube_and_lp_degenerate();
+    test_lp_fallback();
     test_tetrahedra();
     test_random_cells();
     test_hausdorff();

@@ -100,6 +100,76 @@ static int lp_run(lp_tableau *t, int allowed)
     return 2;
 }
 
+/* The primal by enumeration, when the simplex fails: the optimum is a
+ * vertex of the region n_f . x + r <= d_f in (x, r), where four of the
+ * constraints are tight; every four are solved (Gaussian elimination with
+ * partial pivoting) and the feasible solution of largest r kept. O(m^4 m)
+ * work, so only for cells of few faces, and only as the fallback: the
+ * tableau's pivots on nearly degenerate cells (faces 1e-3 of the cell's
+ * area beside large ones) can lose the feasibility the closed cell has
+ * (a gyroid lattice's cell: phase 1 stopped at 4e-6 above zero). */
+#define ENUM_MAX_FACES 48
+static int inscribed_by_enumeration(const double *plane, int m, double *best_x, double *best_r)
+{
+    *best_r = -INFINITY;
+    for (int a = 0; a < m; a++)
+        for (int b = a + 1; b < m; b++)
+            for (int c = b + 1; c < m; c++)
+                for (int e = c + 1; e < m; e++) {
+                    const int row[4] = {a, b, c, e};
+                    double M[4][5];
+                    for (int i = 0; i < 4; i++) {
+                        for (int d = 0; d < 3; d++)
+                            M[i][d] = plane[4 * row[i] + d];
+                        M[i][3] = 1.0;
+                        M[i][4] = plane[4 * row[i] + 3];
+                    }
+                    int singular = 0;
+                    for (int k = 0; k < 4 && !singular; k++) {
+                        int piv = k;
+                        for (int i = k + 1; i < 4; i++)
+                            if (fabs(M[i][k]) > fabs(M[piv][k]))
+                                piv = i;
+                        if (!(fabs(M[piv][k]) > 1e-12)) {
+                            singular = 1;
+                            break;
+                        }
+                        if (piv != k)
+                            for (int j = 0; j < 5; j++) {
+                                const double tmp = M[k][j];
+                                M[k][j] = M[piv][j];
+                                M[piv][j] = tmp;
+                            }
+                        for (int i = k + 1; i < 4; i++) {
+                            const double f = M[i][k] / M[k][k];
+                            for (int j = k; j < 5; j++)
+                                M[i][j] -= f * M[k][j];
+                        }
+                    }
+                    if (singular)
+                        continue;
+                    double y[4];
+                    for (int k = 3; k >= 0; k--) {
+                        double v = M[k][4];
+                        for (int j = k + 1; j < 4; j++)
+                            v -= M[k][j] * y[j];
+                        y[k] = v / M[k][k];
+                    }
+                    if (!(y[3] > *best_r))
+                        continue;
+                    int feasible = 1;
+                    for (int j = 0; j < m && feasible; j++)
+                        feasible = plane[4 * j] * y[0] + plane[4 * j + 1] * y[1] +
+                                       plane[4 * j + 2] * y[2] + y[3] <=
+                                   plane[4 * j + 3] + 1e-12;
+                    if (feasible) {
+                        memcpy(best_x, y, 3 * sizeof(double));
+                        *best_r = y[3];
+                    }
+                }
+    return *best_r > -INFINITY ? 0 : -1;
+}
+
 int vc_max_inscribed_ball(const vc_cell *cell, vc_ball *ball)
 {
     return vc_max_inscribed_ball_oriented(cell, vc_cell_volume(cell, NULL) < 0 ? -1.0 : 1.0, ball);
@@ -138,6 +208,7 @@ int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *
     if (!plane)
         return VC_ENOMEM;
     int m = 0;
+    double area_sum[3] = {0, 0, 0}, area_total = 0; /* of the faces' area vectors */
     for (int64_t f = 0; f < nf; f++) {
         int64_t b = cell->face_offsets[f], e = cell->face_offsets[f + 1];
         double nrm[3] = {0, 0, 0}, c[3] = {0, 0, 0};
@@ -153,6 +224,9 @@ int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *
                 c[d] += ps[d];
         }
         double len = v3_norm(nrm);
+        for (int d = 0; d < 3; d++)
+            area_sum[d] += nrm[d];
+        area_total += len;
         if (!(len > 1e-14) || e - b < 3)
             continue; /* zero-area face: no constraint */
         for (int d = 0; d < 3; d++)
@@ -197,7 +271,7 @@ int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *
     int rc = VC_OK;
     if (lp_run(&t, m) != 0 || -t.z[t.ncol] > 1e-9) {
         rc = VC_EINPUT; /* 0 is not a positive mix of the normals: the cell is open */
-        goto out;
+        goto fallback;
     }
     /* Pivot the artificials still basic (at zero) out where possible. */
     for (int i = 0; i < LP_ROWS; i++) {
@@ -226,7 +300,7 @@ int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *
     }
     if (lp_run(&t, m) != 0) {
         rc = VC_EINTERNAL;
-        goto out;
+        goto fallback;
     }
     /* Multipliers: the reduced cost of artificial column m+i is -pi_i. */
     double pi[LP_ROWS];
@@ -235,6 +309,19 @@ int vc_max_inscribed_ball_oriented(const vc_cell *cell, double orient, vc_ball *
     for (int d = 0; d < 3; d++)
         ball->center[d] = o[d] + s * pi[d];
     ball->radius = fmax(0.0, s * pi[3]);
+    goto out;
+fallback:
+    /* a closed cell (its faces' area vectors sum to zero) has a bounded
+     * optimum, which the enumeration finds; an open one is left an error */
+    if (m <= ENUM_MAX_FACES && v3_norm(area_sum) <= 1e-9 * area_total) {
+        double x[3], r;
+        if (inscribed_by_enumeration(plane, m, x, &r) == 0 && r > 0) {
+            for (int d = 0; d < 3; d++)
+                ball->center[d] = o[d] + s * x[d];
+            ball->radius = s * r;
+            rc = VC_OK;
+        }
+    }
 out:
     free(t.a);
     free(t.z);
