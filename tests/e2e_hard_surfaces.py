@@ -12,9 +12,10 @@ with default options, and the test checks:
  - exit 0, no warning, one sampling at the default theta_sharp 60 with no
    smoothing (no fallback that moves the surface beyond half the error
    bound; csg_animal: a second one on the copy smoothed within half the
-   bound, and with --denoise off with its stuck folds as creases,
-   FOLDS_RESAMPLED; gyroid_lattice: on the copy, whose volume is 0.1 to
-   0.25% off, COPY_AFTER_DIVERGENCE), no half-covered pair;
+   bound, and with --denoise off with its stuck folds as creases, both
+   with --keep-short-edges, FOLDS_RESAMPLED; gyroid_lattice: on the copy,
+   whose volume is 0.1 to 0.25% off, COPY_AFTER_DIVERGENCE), no
+   half-covered pair;
  - the reconstructed surface: a closed, consistently oriented 2-manifold
    with the input's Euler characteristic (the summary's report, and the
    count of components and V - E + F computed here from the written OBJ);
@@ -98,6 +99,14 @@ SPECKS = {"mc_needles": 12}
 # moved: 14,317 balls, Q min 0.028); with --no-fold-creases too, the
 # divergence is the error.
 FOLDS_RESAMPLED = {"csg_animal"}
+# Session 41: marching cubes leave clusters of vertices 1e-6 apart around
+# grid points where the field is nearly zero; vc_mesh collapses edges below
+# 1e-3 of the error bound (said so), and csg_animal's divergence came from
+# those clusters: with defaults it now converges in one sampling of the
+# input (12,593 balls, Q min 0.022, the surface not moved). The remedies
+# above are tested with --keep-short-edges (the clusters kept): at least
+# this many collapses said on the default run.
+SHORT_EDGES = {"csg_animal": 10}
 # The same remedy for a copy that changes the volume by more than noise
 # does (0.1%) but by at most half the 0.5% budget (session 41,
 # VC_DENOISE_REMEDY_VOLUME_CHANGE): the gyroid lattice's staircase creases
@@ -205,13 +214,23 @@ def main():
               "%s: not sampled again on the copy smoothed within half the bound, its volume "
               "change within 0.1 to 0.25%%: %s" % (name, m and m.group(0)))
     elif name in FOLDS_RESAMPLED:
-        check("mesh: sampling again a copy smoothed within" in e and
-              "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in e and
-              "more folds of over 10 degrees as creases" not in e and "sampling again with --" not in e,
-              "%s: not sampled again on the copy smoothed within half the bound" % name)
+        # with defaults: one sampling (the short edges collapsed, SHORT_EDGES)
+        check("after 0 smoothing rounds; sharp angle 60)" in e and "sampling again" not in e,
+              "%s: not one sampling at theta_sharp 60 without smoothing" % name)
+        # with the clusters kept, sliver elimination diverges: the copy next
+        p0 = subprocess.run([BIN, "mesh", src, "--surface-only", "--surface",
+                             os.path.join(tmp, "copy.obj"), "--threads", "2", "--keep-short-edges"],
+                            capture_output=True, text=True, timeout=900)
+        check(p0.returncode == 0 and "mesh: sampling again a copy smoothed within" in p0.stderr and
+              "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in p0.stderr and
+              "more folds of over 10 degrees as creases" not in p0.stderr and
+              "sampling again with --" not in p0.stderr,
+              "%s --keep-short-edges: exit %d, not sampled again on the copy smoothed within half "
+              "the bound" % (name, p0.returncode))
         # without the copy, the stuck folds become creases
         p0 = subprocess.run([BIN, "mesh", src, "--surface-only", "--surface",
-                             os.path.join(tmp, "folds.obj"), "--threads", "2", "--denoise", "off"],
+                             os.path.join(tmp, "folds.obj"), "--threads", "2", "--denoise", "off",
+                             "--keep-short-edges"],
                             capture_output=True, text=True, timeout=900)
         m = re.search(r"mesh: sampling again with (\d+) more folds of over 10 degrees as creases",
                       p0.stderr)
@@ -221,8 +240,8 @@ def main():
               % (name, p0.returncode, p0.stderr[-300:]))
         # and without either, the divergence is the error
         p0 = subprocess.run([BIN, "mesh", src, "-o", os.path.join(tmp, "nofold.vtu"), "--threads", "2",
-                             "--no-fold-creases", "--denoise", "off"], capture_output=True, text=True,
-                            timeout=900)
+                             "--no-fold-creases", "--denoise", "off", "--keep-short-edges"],
+                            capture_output=True, text=True, timeout=900)
         check(p0.returncode == 1 and "sliver elimination does not converge" in p0.stderr
               and not os.path.exists(os.path.join(tmp, "nofold.vtu")),
               "%s --no-fold-creases --denoise off: exit %d, %r"
@@ -264,8 +283,13 @@ def main():
               abs(float(m.group(3))) > 0.1,
               "%s: the copy's refusal not said as expected: %s" % (name, m and m.group(0)))
     # the copy after a divergence: only where expected
-    if name not in FOLDS_RESAMPLED and name not in COPY_AFTER_DIVERGENCE:
+    if name not in COPY_AFTER_DIVERGENCE:
         check("sampling again a copy smoothed" not in e, "%s: sampled again on the copy" % name)
+    if name in SHORT_EDGES:
+        m = re.search(r"mesh: \S+: (\d+) edges shorter than [0-9.e+-]+ \(0\.001 of the error bound\) "
+                      r"collapsed; the surface moved by at most ([0-9.e+-]+)", e)
+        check(m is not None and int(m.group(1)) >= SHORT_EDGES[name],
+              "%s: the short edges' collapse not said: %s" % (name, m and m.group(0)))
     if name in VISIBLE_FOLDS:
         m = re.search(r"mesh: (\d+) folds below 60 degrees are creases", e)
         check(m is not None and int(m.group(1)) >= VISIBLE_FOLDS[name],

@@ -94,6 +94,9 @@ static void usage(FILE *f)
         "                      elimination; slower (default 0: off)\n"
         "  --curvature-factor C  with --smooth-width: radii at most C times the smooth\n"
         "                      surface's radius of curvature (default 0.2)\n"
+        "  --keep-short-edges  keep the input's edges shorter than 1e-3 of the error bound\n"
+        "                      (default: collapse them, said so; marching cubes leave\n"
+        "                      clusters of such edges whose folds would set the sizing)\n"
         "  --no-lift           keep the surface ball centres on the input (default: move\n"
         "                      them off it by the mean sag of their reconstructed facets,\n"
         "                      which removes the chords' volume bias)\n"
@@ -417,6 +420,8 @@ static int run_mesh(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--surface-only")) {
             surface_only = 1;
+        } else if (!strcmp(a, "--keep-short-edges")) {
+            opt.keep_short_edges = 1;
         } else if (!strcmp(a, "--no-lift")) {
             opt.no_lift = 1;
         } else if (!strcmp(a, "--quiet")) {

@@ -335,6 +335,25 @@ typedef struct vc_self_union_report {
 int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out, vc_self_union_report *rep,
                           vc_error *err);
 
+/* Collapses the edges shorter than eps whose end u >= first_movable (the
+ * larger id of the two when both are) into the other end, in passes until
+ * none is left: edges far below the error bound (marching cubes' clusters
+ * of vertices around a grid point where the field is nearly zero, cut
+ * points of a union passing within a hair of each other) would otherwise
+ * set the sizing, and every ball around them. A collapse is made only when
+ * it keeps the surface manifold (the link condition: two triangles on the
+ * edge, no other common neighbour) and turns no triangle around u over;
+ * the two triangles on the edge go, the triangles and groups are
+ * compacted, unused vertices dropped. *max_move (may be NULL): the largest
+ * distance a vertex moved (chains of collapses add up). Returns the number
+ * of collapses, -1 when out of memory (the surface then unchanged only
+ * if none was made). */
+int64_t vc_surface_collapse_short_edges(vc_surface *s, int64_t first_movable, double eps,
+                                        double *max_move);
+
+/* 1 when some edge of s is shorter than eps. */
+int vc_surface_has_edge_shorter(const vc_surface *s, double eps);
+
 /* What vc_surface_flip_turned_needles did. */
 typedef struct vc_needle_flip_report {
     int64_t n_flipped; /* edges flipped */

@@ -52,6 +52,10 @@
 extern "C" {
 #endif
 
+/* vc_mesh collapses the input's edges shorter than this share of the error
+ * bound (far below what the mesh can show: vc_surface_collapse_short_edges). */
+#define VC_MESH_SHORT_EDGE 1e-3
+
 /* The version of the library the program runs with, "MAJOR.MINOR.PATCH"
  * (VC_VERSION_STRING is the one it was compiled against). */
 const char *vc_version(void);
@@ -103,6 +107,8 @@ typedef struct vc_mesh_options {
     int max_sliver_iterations; /* sliver passes before the safe mode, and half the passes
                                after which a sampling counts as diverged (then resampled
                                as resample says); 0: the default, 100 */
+    int keep_short_edges;   /* 1: the input's edges shorter than VC_MESH_SHORT_EDGE times the
+                               error bound are kept; 0 (default): collapsed, said so */
     int no_lift;            /* 1: surface ball centres stay on the input; 0 (default): they
                                move off it by the mean sag of their reconstructed facets,
                                so that the reconstruction has no volume bias
@@ -257,6 +263,11 @@ typedef struct vc_mesh_result {
      * (vc_surface_flip_turned_needles, within half the error bound); input
      * then describes the repaired surface. */
     vc_needle_flip_report needles;
+    /* Edges shorter than VC_MESH_SHORT_EDGE times the error bound collapsed
+     * (vc_surface_collapse_short_edges): how many, and the largest distance
+     * a vertex moved; input then describes the collapsed surface. */
+    int64_t n_short_collapsed;
+    double short_collapse_move;
     /* Pinch vertices opened (vc_surface_open_pinches, by an eighth of the
      * error bound): the input's whose fans meet at less than theta_sharp
      * (input then describes the opened surface) and, when unioned, every
