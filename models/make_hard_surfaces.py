@@ -1050,6 +1050,47 @@ def case_turned_needles():
     return pts, tris
 
 
+def case_fin_sphere():
+    """A UV sphere with twelve T-junctions closed by slivers standing up:
+    in twelve triangles (u, v, o) a point w 1e-6 (to 3e-6) outside the
+    middle of the edge u v splits it into (u, w, o), (w, v, o), and the
+    sliver (u, v, w) closes the junction against the triangle (v, u, a)
+    across: a fin of that height, folding by about 90 degrees against
+    both sides, as CAD exporters and T-junction repairs leave them. Its
+    fold set the radius bound to 2.5e-9 (2.8e9 balls predicted, refused)
+    until session 41."""
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(40)
+    s.SetPhiResolution(20)
+    s.Update()
+    pts, tris = clean(*polydata_to_lists(s.GetOutput()))
+    tris = [tuple(t) for t in orient_consistently(tris)]
+    edge_tri = {}
+    for k, (a, b, c) in enumerate(tris):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_tri[(u, v)] = k
+    done = set()
+    made = 0
+    for k in range(30, len(tris), len(tris) // 12):
+        u, v, o = tris[k]
+        k2 = edge_tri[(v, u)]
+        if k in done or k2 in done or made == 12:
+            continue
+        m = [(pts[u][i] + pts[v][i]) / 2 for i in range(3)]
+        lm = math.sqrt(dot(m, m))
+        h = (1 + made / 6.0) * 1e-6
+        w = tuple(m[i] * (1 + h / lm) for i in range(3))
+        pts.append(w)
+        iw = len(pts) - 1
+        tris[k] = (u, iw, o)
+        tris.append((iw, v, o))
+        tris.append((u, v, iw))
+        done.update((k, k2))
+        made += 1
+    return pts, tris
+
+
 def plant_needle(pts, tris, near, bound, tilt_deg=70.0, width=2e-7):
     """Splits the triangle (a, b, c) nearest the point near whose edge a b
     is shorter than half the error bound at a point m 'width' off the
@@ -1240,6 +1281,7 @@ CASES = [
     ("slot_block", case_slot_block, "block with a saw cut 0.006 wide (0.6% of its size): clean and sharp, not noise; a smoothed copy would widen the cut", 2),
     ("chamfer_block", case_chamfer_block, "unit cube with one edge chamfered 0.004 wide: a small feature along large faces, the balls graded out from it", 2),
     ("gyroid_lattice", case_gyroid_lattice, "gyroid lattice (2 periods) clipped by a cube, marching cubes on 40^3: saddles, and staircase creases where it meets the faces", -52),
+    ("fin_sphere", case_fin_sphere, "UV sphere with 12 T-junctions closed by slivers standing 1e-6 to 3e-6 up (fins at 90 degrees)", 2),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
 ]
 

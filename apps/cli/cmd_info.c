@@ -241,7 +241,7 @@ int vc_cmd_info(int argc, char **argv)
     /* Turned-over needles within half the error bound: flipped as vorocrust
      * mesh flips them (before its solid check), and the lines after
      * describe that surface */
-    vc_needle_flip_report needles = {0, 0};
+    vc_needle_flip_report needles = {0, 0, 0};
     const int needles_checked = max_error > 0 && rep.n_inconsistent_edges == 0;
     if (needles_checked) {
         if (vc_surface_flip_turned_needles(&s, 0.5 * max_error * vc_surface_diagonal(&s), &needles, &err)) {

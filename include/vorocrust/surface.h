@@ -357,6 +357,7 @@ int vc_surface_has_edge_shorter(const vc_surface *s, double eps);
 /* What vc_surface_flip_turned_needles did. */
 typedef struct vc_needle_flip_report {
     int64_t n_flipped; /* edges flipped */
+    int64_t n_fins;    /* ... of which needles standing up (60 to 90 degrees), not turned over */
     double max_move;   /* the largest apex height of a flipped needle: the surface moved by at
                           most this (two-sided Hausdorff distance) */
 } vc_needle_flip_report;
@@ -366,7 +367,9 @@ typedef struct vc_needle_flip_report {
  * groups stay): a triangle whose apex lies within max_move of its longest
  * edge and which folds by more than 90 degrees against the triangle across
  * that edge (the apex crossed the edge: a pleat that no ball sampling
- * follows) gets that edge flipped, when the flip lowers the largest fold
+ * follows), or by 60 to 90 degrees with its apex within a fifth of max_move
+ * (a fin: a T-junction closed by a sliver whose apex is off the edge),
+ * gets that edge flipped, when the flip lowers the largest fold
  * of the edges involved, the two new triangles fold by less than 90
  * degrees, the new edge is not already an edge and both triangles have one
  * group. The surface moves by at most the apex's height (rep->max_move).

@@ -1528,11 +1528,21 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             s_input = &repaired;
             if ((rc = vc_surface_check(s, &out->input, err)) != 0)
                 goto fail;
-            vc_log(opt.log, VC_LOG_INFO,
-                   "mesh: %s: %lld turned-over needle triangles (an apex across its long edge) "
-                   "flipped; the surface moved by at most %.3g (%.2g of the error bound)",
-                   name, (long long)out->needles.n_flipped, out->needles.max_move,
-                   out->needles.max_move / error_bound_of(s, opt.max_error));
+            if (out->needles.n_fins > 0)
+                vc_log(opt.log, VC_LOG_INFO,
+                       "mesh: %s: %lld needle triangles standing up as fins (60 to 90 degrees, the apex "
+                       "within a tenth of the error bound of the long edge) flipped",
+                       name, (long long)out->needles.n_fins);
+            if (out->needles.n_flipped > out->needles.n_fins)
+                vc_log(opt.log, VC_LOG_INFO,
+                       "mesh: %s: %lld turned-over needle triangles (an apex across its long edge) "
+                       "flipped; the surface moved by at most %.3g (%.2g of the error bound)",
+                       name, (long long)(out->needles.n_flipped - out->needles.n_fins),
+                       out->needles.max_move, out->needles.max_move / error_bound_of(s, opt.max_error));
+            else
+                vc_log(opt.log, VC_LOG_INFO, "mesh: %s: the surface moved by at most %.3g (%.2g of the "
+                       "error bound)", name, out->needles.max_move,
+                       out->needles.max_move / error_bound_of(s, opt.max_error));
         }
     }
     /* Parts that touch at a vertex only, their sheets parting at less than
