@@ -117,6 +117,28 @@ static double add_needle(builder *b, int64_t t, double height, int across)
     return norm(c) / el;
 }
 
+/* Splits triangle t = (u, v, o) at w, `height` above the middle of u v
+ * along t's normal: the needle (u, v, w) stands up against the triangle
+ * across u v by about 90 degrees (a fin: a T-junction closed by a sliver
+ * whose apex is off the edge). */
+static void add_fin(builder *b, int64_t t, double height)
+{
+    vc_surface *s = &b->s;
+    const int64_t u = s->tri[3 * t], v = s->tri[3 * t + 1], o = s->tri[3 * t + 2];
+    double e[3], f[3], n[3], w[3];
+    sub(s->xyz + 3 * v, s->xyz + 3 * u, e);
+    sub(s->xyz + 3 * o, s->xyz + 3 * u, f);
+    cross(e, f, n);
+    const double nl = norm(n);
+    for (int k = 0; k < 3; k++)
+        w[k] = 0.5 * (s->xyz[3 * u + k] + s->xyz[3 * v + k]) + height * n[k] / nl;
+    const int64_t iw = add_v(b, w[0], w[1], w[2]);
+    s = &b->s;
+    s->tri[3 * t + 2] = iw; /* (u, v, w) */
+    add_t(b, v, o, iw);
+    add_t(b, o, u, iw);
+}
+
 static vc_surface copy_surface(const vc_surface *s)
 {
     vc_surface c = *s;
@@ -173,6 +195,27 @@ int main(void)
     CHECK(vc_surface_flip_turned_needles(&s3, 0, &rep, &err) == 0 && rep.n_flipped == 0);
     vc_surface_free(&s3);
     vc_surface_free(&b.s);
+
+    /* a fin 1e-6 high: flipped when its height is within a fifth of
+     * max_move, counted as a fin; left alone below that */
+    builder bf = {0};
+    make_sphere(&bf, 24, 12);
+    add_fin(&bf, t, 1e-6);
+    double cf;
+    CHECK(closed_oriented(&bf.s, &cf));
+    CHECKF(cf < 0.2 && cf > -0.2, "the fin folds by %.1f degrees", acos(cf) * 180 / M_PI);
+    vc_surface f4 = copy_surface(&bf.s);
+    CHECK(vc_surface_flip_turned_needles(&f4, 2e-6, &rep, &err) == 0 && rep.n_flipped == 0);
+    vc_surface_free(&f4);
+    vc_surface f5 = copy_surface(&bf.s);
+    CHECK(vc_surface_flip_turned_needles(&f5, 1e-5, &rep, &err) == 0);
+    CHECKF(rep.n_flipped == 1 && rep.n_fins == 1, "%lld flips, %lld fins", (long long)rep.n_flipped,
+           (long long)rep.n_fins);
+    double c5;
+    CHECK(closed_oriented(&f5, &c5));
+    CHECKF(c5 > 0.5, "a fold of %.1f degrees left", acos(c5) * 180 / M_PI);
+    vc_surface_free(&f5);
+    vc_surface_free(&bf.s);
 
     /* a needle that did not cross its edge stays */
     builder c = {0};
