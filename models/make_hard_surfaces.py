@@ -1006,6 +1006,23 @@ def case_noisy_plate():
     return normal_jitter(pts, tris, 0.4 * 0.004 * bbox_diag(pts), 41), tris
 
 
+def uv_sphere_with_edges(theta, phi):
+    """A unit UV sphere, consistently oriented: its points, triangles and
+    the triangle holding each directed edge."""
+    s = vtk.vtkSphereSource()
+    s.SetRadius(1.0)
+    s.SetThetaResolution(theta)
+    s.SetPhiResolution(phi)
+    s.Update()
+    pts, tris = clean(*polydata_to_lists(s.GetOutput()))
+    tris = [tuple(t) for t in orient_consistently(tris)]
+    edge_tri = {}
+    for k, (a, b, c) in enumerate(tris):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_tri[(u, v)] = k
+    return pts, tris, edge_tri
+
+
 def case_turned_needles():
     """A UV sphere with eight pleats: in eight triangles (u, v, o) a point w
     near the middle of the edge u v, moved across it onto the neighbouring
@@ -1013,18 +1030,8 @@ def case_turned_needles():
     third of that off its plane), the triangle split into (u, v, w),
     (v, o, w), (o, u, w): the needle (u, v, w) turned over, as decimation
     and scan meshing leave them (cow.off has two)."""
-    s = vtk.vtkSphereSource()
-    s.SetRadius(1.0)
-    s.SetThetaResolution(48)
-    s.SetPhiResolution(24)
-    s.Update()
-    pts, tris = clean(*polydata_to_lists(s.GetOutput()))
-    tris = [tuple(t) for t in orient_consistently(tris)]
+    pts, tris, edge_tri = uv_sphere_with_edges(48, 24)
     bound = 0.004 * bbox_diag(pts)
-    edge_tri = {}
-    for k, (a, b, c) in enumerate(tris):
-        for u, v in ((a, b), (b, c), (c, a)):
-            edge_tri[(u, v)] = k
     done = set()
     made = 0
     for k in range(40, len(tris), len(tris) // 8):
@@ -1059,17 +1066,7 @@ def case_fin_sphere():
     both sides, as CAD exporters and T-junction repairs leave them. Its
     fold set the radius bound to 2.5e-9 (2.8e9 balls predicted, refused)
     until session 41."""
-    s = vtk.vtkSphereSource()
-    s.SetRadius(1.0)
-    s.SetThetaResolution(40)
-    s.SetPhiResolution(20)
-    s.Update()
-    pts, tris = clean(*polydata_to_lists(s.GetOutput()))
-    tris = [tuple(t) for t in orient_consistently(tris)]
-    edge_tri = {}
-    for k, (a, b, c) in enumerate(tris):
-        for u, v in ((a, b), (b, c), (c, a)):
-            edge_tri[(u, v)] = k
+    pts, tris, edge_tri = uv_sphere_with_edges(40, 20)
     done = set()
     made = 0
     for k in range(30, len(tris), len(tris) // 12):

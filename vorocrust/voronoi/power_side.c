@@ -23,6 +23,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "util/small_sort.h"
+
 #include "util/exact_predicates.h"
 #include "util/bigint.h"
 #include "util/expansion.h"
@@ -125,17 +127,14 @@ static void cofactors(const row *r, vc_expn C[4])
     }
 }
 
-/* Sorts seed[0..n) and drops repeats; returns the count. A few seeds:
- * insertion sort (glibc's qsort allocates and calls a comparator). */
+#define SEED_LESS(x, y) (*(x) < *(y))
+VC_SMALL_SORT(sort_seeds, int64_t, SEED_LESS)
+
+/* Sorts seed[0..n) and drops repeats; returns the count (a few seeds:
+ * glibc's qsort allocates and calls a comparator). */
 static int sorted_unique(int64_t *seed, int n)
 {
-    for (int i = 1; i < n; i++) {
-        const int64_t x = seed[i];
-        int j = i;
-        for (; j > 0 && seed[j - 1] > x; j--)
-            seed[j] = seed[j - 1];
-        seed[j] = x;
-    }
+    sort_seeds(seed, n);
     int w = 0;
     for (int i = 0; i < n; i++)
         if (w == 0 || seed[i] != seed[w - 1])
