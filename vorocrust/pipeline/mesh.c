@@ -1146,28 +1146,6 @@ static int copy_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
     return 0;
 }
 
-/* *out = s with its own vertices, triangles and triangle groups, the group
- * names borrowed (free out->xyz, out->tri and out->tri_group only). */
-static int copy_surface_own(const vc_surface *s, vc_surface *out, vc_error *err)
-{
-    *out = *s;
-    out->xyz = malloc(sizeof(double) * 3 * (size_t)(s->n_vertices + 1));
-    out->tri = malloc(sizeof(int64_t) * 3 * (size_t)(s->n_triangles + 1));
-    out->tri_group = s->tri_group ? malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1)) : NULL;
-    if (!out->xyz || !out->tri || (s->tri_group && !out->tri_group)) {
-        free(out->xyz);
-        free(out->tri);
-        free(out->tri_group);
-        memset(out, 0, sizeof *out);
-        return vc_error_set(err, VC_ENOMEM, "out of memory for the repaired surface");
-    }
-    memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
-    memcpy(out->tri, s->tri, sizeof(int64_t) * 3 * (size_t)s->n_triangles);
-    if (s->tri_group)
-        memcpy(out->tri_group, s->tri_group, sizeof(int32_t) * (size_t)s->n_triangles);
-    return 0;
-}
-
 /* *out = s with its own copies of the vertices and triangles, the groups
  * borrowed (free out->xyz and out->tri only). */
 static int copy_vertices_and_triangles(const vc_surface *s, vc_surface *out, vc_error *err)
@@ -1183,6 +1161,34 @@ static int copy_vertices_and_triangles(const vc_surface *s, vc_surface *out, vc_
     }
     memcpy(out->xyz, s->xyz, sizeof(double) * 3 * (size_t)s->n_vertices);
     return 0;
+}
+
+/* *out = s with its own vertices, triangles and triangle groups, the group
+ * names borrowed (free out->xyz, out->tri and out->tri_group only). */
+static int copy_surface_own(const vc_surface *s, vc_surface *out, vc_error *err)
+{
+    int rc = copy_vertices_and_triangles(s, out, err);
+    if (rc || !s->tri_group)
+        return rc;
+    out->tri_group = malloc(sizeof(int32_t) * (size_t)(s->n_triangles + 1));
+    if (!out->tri_group) {
+        free(out->xyz);
+        free(out->tri);
+        memset(out, 0, sizeof *out);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the repaired surface");
+    }
+    memcpy(out->tri_group, s->tri_group, sizeof(int32_t) * (size_t)s->n_triangles);
+    return 0;
+}
+
+/* A repair was made: the surface meshed and its groups' source become
+ * `repaired`, and the input's report describes it. */
+static int adopt_repair(const vc_surface **s, const vc_surface **s_input, const vc_surface *repaired,
+                        vc_surface_report *input, vc_error *err)
+{
+    *s = repaired;
+    *s_input = repaired;
+    return vc_surface_check(repaired, input, err);
 }
 
 /* Pinch vertices (sheets touching at a point: where two intersection
@@ -1446,9 +1452,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                               "inside of the surface is undefined", name, (long long)n_bad, why);
         if (rc)
             goto fail;
-        s = &consistent;
-        s_input = &consistent;
-        if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+        if ((rc = adopt_repair(&s, &s_input, &consistent, &out->input, err)) != 0)
             goto fail;
         if (out->input.n_inconsistent_edges > 0) { /* only edges of more than two triangles left */
             rc = vc_error_set(err, VC_EINPUT, "%s: %lld inconsistently oriented edges: the inside "
@@ -1482,9 +1486,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             goto fail;
         if (n_caps > 0) {
             const int64_t n_zero = out->input.n_degenerate;
-            s = &capped;
-            s_input = &capped;
-            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+            if ((rc = adopt_repair(&s, &s_input, &capped, &out->input, err)) != 0)
                 goto fail;
             vc_log(opt.log, VC_LOG_WARNING,
                    "mesh: %s: %lld of its %lld zero-area triangles were caps (a vertex on the "
@@ -1524,9 +1526,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                                                  &out->needles, err)) != 0)
             goto fail;
         if (out->needles.n_flipped > 0) {
-            s = &repaired;
-            s_input = &repaired;
-            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+            if ((rc = adopt_repair(&s, &s_input, &repaired, &out->input, err)) != 0)
                 goto fail;
             if (out->needles.n_fins > 0)
                 vc_log(opt.log, VC_LOG_INFO,
@@ -1557,9 +1557,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                                &out->input_pinches, err)) != 0)
             goto fail;
         if (opened.xyz) {
-            s = &opened;
-            s_input = &opened;
-            if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+            if ((rc = adopt_repair(&s, &s_input, &opened, &out->input, err)) != 0)
                 goto fail;
             vc_log(opt.log, VC_LOG_INFO,
                    "mesh: %s: %lld pinch vertices (parts touching at a point at a small angle) opened: "
@@ -1588,9 +1586,7 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
             }
             if (nc > 0) {
                 out->n_short_collapsed = nc;
-                s = &collapsed;
-                s_input = &collapsed;
-                if ((rc = vc_surface_check(s, &out->input, err)) != 0)
+                if ((rc = adopt_repair(&s, &s_input, &collapsed, &out->input, err)) != 0)
                     goto fail;
                 vc_log(opt.log, VC_LOG_INFO,
                        "mesh: %s: %lld edges shorter than %.3g (%g of the error bound) collapsed; "

@@ -14,7 +14,7 @@ static void tri_normal(const double *a, const double *b, const double *c, double
     n[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-int64_t vc_surface_collapse_short_edges(vc_surface *o, int64_t first_cut, double eps, double *max_move)
+int64_t vc_surface_collapse_short_edges(vc_surface *o, int64_t first_movable, double eps, double *max_move)
 {
     const int64_t nv = o->n_vertices, nt = o->n_triangles;
     int64_t *start = malloc((size_t)(nv + 1) * sizeof *start), *inc = malloc((size_t)(3 * nt + 1) * sizeof *inc);
@@ -55,10 +55,10 @@ int64_t vc_surface_collapse_short_edges(vc_surface *o, int64_t first_cut, double
             for (int k = 0; k < 3 && !dead[t]; k++) {
                 int64_t a = o->tri[3 * t + k], b = o->tri[3 * t + (k + 1) % 3];
                 int64_t u = -1, v = -1; /* u goes into v */
-                if (b >= first_cut && (a < first_cut || a < b)) {
+                if (b >= first_movable && (a < first_movable || a < b)) {
                     u = b;
                     v = a;
-                } else if (a >= first_cut) {
+                } else if (a >= first_movable) {
                     u = a;
                     v = b;
                 } else {
