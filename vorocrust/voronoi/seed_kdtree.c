@@ -1,5 +1,6 @@
 #include "seed_kdtree.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -200,6 +201,12 @@ static double box_dist2_far(const vc_kd_node *nd, const double x[3])
 int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
                        vc_kd_hit *hit)
 {
+    return vc_seed_kdtree_knn_within(t, x, k, skip, INFINITY, hit);
+}
+
+int vc_seed_kdtree_knn_within(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
+                              double bound2, vc_kd_hit *hit)
+{
     if (t->n == 0 || k <= 0)
         return 0;
     int n = 0;
@@ -214,7 +221,7 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
     while (top > 0) {
         --top;
         const int64_t id = stack[top];
-        if (n == k && stack_d2[top] > hit[0].d2)
+        if (stack_d2[top] > (n == k ? hit[0].d2 : bound2))
             continue;
         const vc_kd_node *nd = &t->node[id];
         if (nd->left < 0) {
@@ -225,9 +232,10 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
                 const double *p = t->xyz + 3 * i;
                 const double dx = p[0] - x[0], dy = p[1] - x[1], dz = p[2] - x[2];
                 const vc_kd_hit h = {dx * dx + dy * dy + dz * dz, s};
-                if (n < k)
-                    heap_push(hit, n++, h);
-                else if (worse(&hit[0], &h))
+                if (n < k) {
+                    if (!(h.d2 > bound2))
+                        heap_push(hit, n++, h);
+                } else if (worse(&hit[0], &h))
                     heap_replace_top(hit, n, h);
             }
             continue;
@@ -237,7 +245,7 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
         /* push the farther first, so the nearer is visited next */
         const int64_t a = dl <= dr ? nd->left : nd->right, b = dl <= dr ? nd->right : nd->left;
         const double da = dl <= dr ? dl : dr, db = dl <= dr ? dr : dl;
-        if (!(n == k && db > hit[0].d2)) {
+        if (!(db > (n == k ? hit[0].d2 : bound2))) {
             stack[top] = b;
             stack_d2[top++] = db;
         }

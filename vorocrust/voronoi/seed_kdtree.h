@@ -46,6 +46,14 @@ typedef struct vc_kd_hit {
 int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
                        vc_kd_hit *hit);
 
+/* The same among the seeds within squared distance bound2 of x: the same
+ * answer when at least k seeds other than skip lie that near (a bound
+ * known from a query nearby: its k-th distance plus the distance between
+ * the two places), found faster, since nodes beyond it are never read;
+ * fewer than k otherwise. */
+int vc_seed_kdtree_knn_within(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
+                              double bound2, vc_kd_hit *hit);
+
 /* The seeds other than `skip` within squared distance r2 of x that come
  * after `after` in (d2, seed) order (what a k-nearest query returned
  * last): the first cap of them in that order, into hit, sorted; returns
