@@ -125,28 +125,39 @@ static void select_first(build_elem *e, int64_t n, int64_t k, int axis)
     }
 }
 
-static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t count)
+static inline double min2(double a, double b) { return b < a ? b : a; }
+static inline double max2(double a, double b) { return b > a ? b : a; }
+
+/* Node me over e[start .. start + count) and its subtree, numbered in
+ * preorder from me; returns the next free node index. The axis is the
+ * widest spread of the elements' centres; a node's box is its leaf's
+ * elements' or its children's union (no element is read twice for it).
+ * Inline min and max: libm's fmin and fmax calls were a third of the
+ * build (1.8 million triangles: 2.4 s). */
+static int64_t build_node(vc_sizing *z, build_elem *e, int64_t me, int64_t start, int64_t count)
 {
-    int64_t me = z->n_nodes++;
     vc_bvh_node *nd = &z->nodes[me];
-    for (int d = 0; d < 3; d++) {
-        nd->lo[d] = INFINITY;
-        nd->hi[d] = -INFINITY;
+    if (count <= LEAF_SIZE) {
+        for (int d = 0; d < 3; d++) {
+            nd->lo[d] = INFINITY;
+            nd->hi[d] = -INFINITY;
+        }
+        for (int64_t i = start; i < start + count; i++)
+            for (int d = 0; d < 3; d++) {
+                nd->lo[d] = min2(nd->lo[d], e[i].lo[d]);
+                nd->hi[d] = max2(nd->hi[d], e[i].hi[d]);
+            }
+        nd->start = start;
+        nd->count = count;
+        nd->left = nd->right = -1;
+        return me + 1;
     }
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int64_t i = start; i < start + count; i++)
         for (int d = 0; d < 3; d++) {
-            nd->lo[d] = fmin(nd->lo[d], e[i].lo[d]);
-            nd->hi[d] = fmax(nd->hi[d], e[i].hi[d]);
-            clo[d] = fmin(clo[d], e[i].c[d]);
-            chi[d] = fmax(chi[d], e[i].c[d]);
+            clo[d] = min2(clo[d], e[i].c[d]);
+            chi[d] = max2(chi[d], e[i].c[d]);
         }
-    if (count <= LEAF_SIZE) {
-        nd->start = start;
-        nd->count = count;
-        nd->left = nd->right = -1;
-        return me;
-    }
     int axis = 0;
     for (int d = 1; d < 3; d++)
         if (chi[d] - clo[d] > chi[axis] - clo[axis])
@@ -159,13 +170,19 @@ static int64_t build_node(vc_sizing *z, build_elem *e, int64_t start, int64_t co
               axis == 0 ? cmp_x : axis == 1 ? cmp_y : cmp_z);
     else
         select_first(e + start, count, half, axis);
+    const int64_t l = me + 1;
+    const int64_t r = build_node(z, e, l, start, half);
+    const int64_t next = build_node(z, e, r, start + half, count - half);
+    nd = &z->nodes[me];
     nd->start = start;
     nd->count = 0;
-    int64_t l = build_node(z, e, start, half);
-    int64_t r = build_node(z, e, start + half, count - half);
-    z->nodes[me].left = l;
-    z->nodes[me].right = r;
-    return me;
+    nd->left = l;
+    nd->right = r;
+    for (int d = 0; d < 3; d++) {
+        nd->lo[d] = min2(z->nodes[l].lo[d], z->nodes[r].lo[d]);
+        nd->hi[d] = max2(z->nodes[l].hi[d], z->nodes[r].hi[d]);
+    }
+    return next;
 }
 
 /* The patch and normal cone of every node (see vc_bvh_node), children
@@ -326,7 +343,7 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
     }
     z->n_elems = m;
     if (m > 0)
-        build_node(z, be, 0, m);
+        z->n_nodes = build_node(z, be, 0, 0, m);
     for (int64_t i = 0; i < m; i++) {
         z->elem_kind[i] = be[i].kind;
         z->elem_id[i] = be[i].id;
