@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/bucket_sort.h"
 #include "util/small_sort.h"
 #include "util/union_find.h"
 
@@ -21,6 +22,8 @@ typedef struct edge_rec {
     ((x)->lo < (y)->lo ||                                                                        \
      ((x)->lo == (y)->lo && ((x)->hi < (y)->hi || ((x)->hi == (y)->hi && (x)->tri < (y)->tri))))
 VC_SMALL_SORT(sort_edge_recs, edge_rec, EDGE_REC_LESS)
+#define EDGE_REC_KEY(x) ((x)->lo)
+VC_BUCKET_SORT(bucket_sort_edge_recs, edge_rec, EDGE_REC_KEY, EDGE_REC_LESS, sort_edge_recs)
 
 typedef struct tri_key {
     int64_t v[3]; /* sorted */
@@ -150,7 +153,8 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
             ne++;
         }
     }
-    sort_edge_recs(er, ne);
+    if (bucket_sort_edge_recs(er, ne, s->n_vertices))
+        sort_edge_recs(er, ne); /* no room for the copy: in place */
     vc_uf_init(side, 2 * nt);
     vc_uf_init(comp, nt);
     out->closed_shells = !any_alias;

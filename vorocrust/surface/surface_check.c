@@ -2,6 +2,7 @@
  * non-manifold, orientation), components, Euler characteristic, genus,
  * degenerate triangles, bounding box and enclosed volume. */
 #include "vorocrust/surface.h"
+#include "util/bucket_sort.h"
 #include "util/small_sort.h"
 #include "util/union_find.h"
 
@@ -18,6 +19,8 @@ typedef struct edge_use {
 #define EDGE_USE_LESS(p, q)                                                                      \
     ((p)->a < (q)->a || ((p)->a == (q)->a && ((p)->b < (q)->b || ((p)->b == (q)->b && (p)->hd < (q)->hd))))
 VC_SMALL_SORT(sort_edge_uses, edge_use, EDGE_USE_LESS)
+#define EDGE_USE_KEY(p) ((p)->a)
+VC_BUCKET_SORT(bucket_sort_edge_uses, edge_use, EDGE_USE_KEY, EDGE_USE_LESS, sort_edge_uses)
 
 int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
 {
@@ -107,7 +110,8 @@ int vc_surface_check(const vc_surface *s, vc_surface_report *rep, vc_error *err)
             u->b = a < b ? b : a;
             u->hd = 2 * (3 * t + j) + (a < b);
         }
-    sort_edge_uses(e, 3 * nt);
+    if (bucket_sort_edge_uses(e, 3 * nt, nv))
+        sort_edge_uses(e, 3 * nt); /* no room for the copy: in place */
     int64_t n_edges = 0, boundary = 0, nonmanifold = 0, inconsistent = 0;
     for (int64_t k = 0; k < 3 * nt;) {
         int64_t j = k + 1;
