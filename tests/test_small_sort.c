@@ -3,11 +3,15 @@
  * already sorted, reversed, organ-pipe and sawtooth orders (the inputs that
  * defeat a naive pivot), and pairs with few ties: the same array as
  * qsort's, element for element; and the comparisons counted on a UV
- * sphere's half-edges (an order that made the pivots poor). */
+ * sphere's half-edges (an order that made the pivots poor). Also
+ * util/bucket_sort.h against the small sort on the same half-edges (the
+ * poles' buckets hold 800 records) and random half-edges, and its refusal
+ * of a key out of range. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/bucket_sort.h"
 #include "util/small_sort.h"
 #include "vorocrust/random.h"
 
@@ -29,6 +33,24 @@ static int64_t n_less;
     ((p)->a < (q)->a || ((p)->a == (q)->a && ((p)->b < (q)->b || ((p)->b == (q)->b && (p)->side < (q)->side))))
 #define HALF_EDGE_COUNTED_LESS(p, q) (n_less++, HALF_EDGE_LESS(p, q))
 VC_SMALL_SORT(sort_half_edges_counted, half_edge, HALF_EDGE_COUNTED_LESS)
+VC_SMALL_SORT(sort_half_edges, half_edge, HALF_EDGE_LESS)
+#define HALF_EDGE_KEY(p) ((p)->a)
+VC_BUCKET_SORT(bucket_sort_half_edges, half_edge, HALF_EDGE_KEY, HALF_EDGE_LESS, sort_half_edges)
+
+/* The bucket sort of e[0 .. n) (keys below n_keys) against the small sort;
+ * 1 when they give the same array. */
+static int bucket_agrees(const half_edge *e, int64_t n, int64_t n_keys)
+{
+    half_edge *x = malloc(sizeof *x * (size_t)(n + 1)), *y = malloc(sizeof *y * (size_t)(n + 1));
+    memcpy(x, e, sizeof *x * (size_t)n);
+    memcpy(y, e, sizeof *y * (size_t)n);
+    const int rc = bucket_sort_half_edges(x, n, n_keys);
+    sort_half_edges(y, n);
+    const int same = rc == 0 && memcmp(x, y, sizeof *x * (size_t)n) == 0;
+    free(x);
+    free(y);
+    return same;
+}
 #define PAIR_LESS(p, q) ((p)->a < (q)->a || ((p)->a == (q)->a && (p)->b < (q)->b))
 VC_SMALL_SORT(sort_pairs, pair, PAIR_LESS)
 
@@ -123,6 +145,7 @@ int main(void)
                 e[3 * t + j] = (half_edge){a < b ? a : b, a < b ? b : a, 3 * t + j};
             }
         const int64_t n_e = 3 * nt;
+        CHECK(bucket_agrees(e, n_e, 2 + th * (ph - 2)));
         int lg = 0;
         for (int64_t k = n_e; k > 1; k >>= 1)
             lg++;
@@ -135,6 +158,25 @@ int main(void)
         CHECKF(n_less <= 4 * n_e * lg, "%lld comparisons for %lld half-edges (%.1f n log2 n)",
                (long long)n_less, (long long)n_e, (double)n_less / (double)n_e / lg);
         free(tri);
+        free(e);
+    }
+    /* random half-edges over 1,000 vertices, some buckets empty */
+    {
+        enum { N_E = 30000 };
+        half_edge *e = malloc(sizeof *e * N_E);
+        for (int64_t i = 0; i < N_E; i++) {
+            const int64_t a = (int64_t)(vc_rng_uniform(&rng) * 1000), b = (int64_t)(vc_rng_uniform(&rng) * 1000);
+            e[i] = (half_edge){a < b ? a : b, a < b ? b : a, N_E - i};
+        }
+        CHECK(bucket_agrees(e, N_E, 1000));
+        CHECK(bucket_agrees(e, 0, 1000));
+        /* a key out of range: refused, the array as it was */
+        e[17].a = 1000;
+        half_edge *copy = malloc(sizeof *copy * N_E);
+        memcpy(copy, e, sizeof *e * N_E);
+        CHECK(bucket_sort_half_edges(e, N_E, 1000) == -1);
+        CHECK(memcmp(copy, e, sizeof *e * N_E) == 0);
+        free(copy);
         free(e);
     }
     /* pairs: keys tied in a, told apart by b, and a few equal pairs */
