@@ -208,37 +208,63 @@ static double apex_height(const vc_surface *s, int64_t t, int *kw, double *long2
     return area2 / long_len;
 }
 
-/* Tries the flip of triangle t's longest edge; 1 when made. */
-static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, double *moved,
-                    int64_t *fins)
+/* Triangle t as a needle against the triangle across its longest edge:
+ * the apex w, the edge (u, v), the triangle g across and its far corner o,
+ * the apex's height h, the longest edge's squared length and the pair's
+ * fold cosine. */
+typedef struct needle_pair {
+    int64_t w, u, v, g, o;
+    double h, long2, fold;
+} needle_pair;
+
+/* Is t a needle low enough, turned over or standing as a low fin against
+ * the triangle across its longest edge, of the same group? What only t and
+ * that triangle decide (the rest of try_flip reads their neighbours). */
+static int as_needle(const vc_surface *s, const edge_table *e, int64_t t, double max_move,
+                     needle_pair *np)
 {
-    int64_t *T = s->tri + 3 * t;
+    const int64_t *T = s->tri + 3 * t;
     /* the longest edge (u, v), the apex w: T = (w, u, v) in its order */
     int kw;
-    double best;
-    const double h = apex_height(s, t, &kw, &best); /* the apex's height over u v */
-    if (!(h <= max_move))
+    np->h = apex_height(s, t, &kw, &np->long2); /* the apex's height over u v */
+    if (!(np->h <= max_move))
         return 0;
-    const int64_t w = T[kw], u = T[(kw + 1) % 3], v = T[(kw + 2) % 3];
-    const int64_t g = across(e, u, v, t);
-    if (g < 0)
+    np->w = T[kw];
+    np->u = T[(kw + 1) % 3];
+    np->v = T[(kw + 2) % 3];
+    np->g = across(e, np->u, np->v, t);
+    if (np->g < 0)
         return 0;
-    int64_t *G = s->tri + 3 * g;
-    if (s->tri_group && s->tri_group[t] != s->tri_group[g])
+    const int64_t *G = s->tri + 3 * np->g;
+    if (s->tri_group && s->tri_group[t] != s->tri_group[np->g])
         return 0;
     /* G holds (v, u) in its order (the orientation is consistent) */
     int kv = -1;
     for (int k = 0; k < 3; k++)
-        if (G[k] == v && G[(k + 1) % 3] == u)
+        if (G[k] == np->v && G[(k + 1) % 3] == np->u)
             kv = k;
     if (kv < 0)
         return 0;
-    const int64_t o = G[(kv + 2) % 3];
-    if (o == w || edge_find(e, w, o))
+    np->o = G[(kv + 2) % 3];
+    if (np->o == np->w)
         return 0;
-    const double before_pair = fold_cos(s, T, G);
-    if (!(before_pair < 0) && !(before_pair < FIN_FOLD_COS && h <= FIN_SHARE * max_move))
-        return 0; /* neither turned over nor a low fin */
+    np->fold = fold_cos(s, T, G);
+    /* turned over, or a low fin */
+    return np->fold < 0 || (np->fold < FIN_FOLD_COS && np->h <= FIN_SHARE * max_move);
+}
+
+/* Tries the flip of triangle t's longest edge; 1 when made (with the
+ * triangle across in *pair). */
+static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, double *moved,
+                    int64_t *fins, int64_t *pair)
+{
+    needle_pair np;
+    if (!as_needle(s, e, t, max_move, &np) || edge_find(e, np.w, np.o))
+        return 0;
+    int64_t *T = s->tri + 3 * t;
+    const int64_t w = np.w, u = np.u, v = np.v, g = np.g, o = np.o;
+    int64_t *G = s->tri + 3 * g;
+    const double h = np.h, best = np.long2, before_pair = np.fold;
     const int64_t skip[2] = {t, g};
     double before = before_pair;
     const double ft = outer_folds(s, e, T, t, skip), fg = outer_folds(s, e, G, g, skip);
@@ -288,7 +314,20 @@ static int try_flip(vc_surface *s, edge_table *e, int64_t t, double max_move, do
     if (h > *moved)
         *moved = h;
     *fins += !(before_pair < 0);
+    *pair = g;
     return 1;
+}
+
+/* Marks triangle t and the triangles across its edges. */
+static void mark_around(const vc_surface *s, const edge_table *e, int64_t t, unsigned char *mark)
+{
+    mark[t] = 1;
+    const int64_t *T = s->tri + 3 * t;
+    for (int k = 0; k < 3; k++) {
+        const int64_t x = across(e, T[k], T[(k + 1) % 3], t);
+        if (x >= 0)
+            mark[x] = 1;
+    }
 }
 
 int64_t vc_surface_count_low_needles(const vc_surface *s, double max_move)
@@ -329,14 +368,41 @@ int vc_surface_flip_turned_needles(vc_surface *s, double max_move, vc_needle_fli
         for (int k = 0; k < 3; k++)
             add_triangle(&e, T[k], T[(k + 1) % 3], t);
     }
+    /* What t and the triangle across its longest edge decide is judged
+     * for all at once, in parallel: a triangle that fails it is tried only
+     * once a flip has touched it or a neighbour (the pair's quad, and the
+     * triangles across its edges, are marked), which gives the rounds in
+     * index order what trying every triangle gave (a 1.8M-triangle scan:
+     * 0.6 s of serial tries). */
+    unsigned char *judged = malloc((size_t)s->n_triangles), *touched = calloc((size_t)s->n_triangles, 1);
+    if (!judged || !touched) {
+        free(judged);
+        free(touched);
+        free(e.slot);
+        return vc_error_set(err, VC_ENOMEM, "out of memory for the needle flips");
+    }
+#pragma omp parallel for schedule(static)
+    for (int64_t t = 0; t < s->n_triangles; t++) {
+        needle_pair np;
+        judged[t] = (unsigned char)as_needle(s, &e, t, max_move, &np);
+    }
     for (int round = 0; round < MAX_ROUNDS; round++) {
         int64_t flips = 0;
-        for (int64_t t = 0; t < s->n_triangles; t++)
-            flips += try_flip(s, &e, t, max_move, &r.max_move, &r.n_fins);
+        for (int64_t t = 0; t < s->n_triangles; t++) {
+            int64_t g;
+            if ((judged[t] || touched[t]) &&
+                try_flip(s, &e, t, max_move, &r.max_move, &r.n_fins, &g)) {
+                flips++;
+                mark_around(s, &e, t, touched);
+                mark_around(s, &e, g, touched);
+            }
+        }
         r.n_flipped += flips;
         if (flips == 0)
             break;
     }
+    free(judged);
+    free(touched);
     free(e.slot);
     if (rep)
         *rep = r;
