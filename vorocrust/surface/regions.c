@@ -38,6 +38,8 @@ static int tri_key_less(const tri_key *x, const tri_key *y)
     return x->tri < y->tri;
 }
 VC_SMALL_SORT(sort_tri_keys, tri_key, tri_key_less)
+#define TRI_KEY_FIRST(x) ((x)->v[0])
+VC_BUCKET_SORT(bucket_sort_tri_keys, tri_key, TRI_KEY_FIRST, tri_key_less, sort_tri_keys)
 
 static void sub3(const double *a, const double *b, double *o)
 {
@@ -54,6 +56,10 @@ static void cross3(const double *a, const double *b, double *o)
 }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* min and max inline (libm's fmin and fmax are calls) */
+static inline double min2(double a, double b) { return b < a ? b : a; }
+static inline double max2(double a, double b) { return b > a ? b : a; }
 
 /* Does triangle t walk its edge from a to b (rather than from b to a)? */
 static int walks(const vc_surface *s, int64_t t, int64_t a, int64_t b)
@@ -127,7 +133,8 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
         keys[t].tri = t;
         alias[t] = t;
     }
-    sort_tri_keys(keys, nt);
+    if (bucket_sort_tri_keys(keys, nt, s->n_vertices))
+        sort_tri_keys(keys, nt); /* no room for the copy: in place */
     for (int64_t i = 1; i < nt; i++) {
         const tri_key *a = &keys[i - 1], *b = &keys[i];
         if (a->v[0] == b->v[0] && a->v[1] == b->v[1] && a->v[2] == b->v[2]) {
@@ -169,6 +176,19 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
             /* one distinct triangle (an open edge, or the edge of a wall
              * given twice): around the edge, one side leads to the other */
             vc_uf_unite(side, 2 * er[i].tri, 2 * er[i].tri + 1);
+            i = j;
+            continue;
+        }
+        if (k == 2) {
+            /* Two triangles: the two wedges between them join the up side
+             * of each to the down side of the other, in either order
+             * around the edge, so no angles are needed (the roots of the
+             * unions do not depend on their order either). */
+            const int64_t t0 = er[i].tri, t1 = er[i + 1].tri;
+            const int up0 = walks(s, t0, er[i].lo, er[i].hi), up1 = walks(s, t1, er[i].lo, er[i].hi);
+            vc_uf_unite(comp, t1, t0);
+            vc_uf_unite(side, 2 * t0 + (up0 ? 0 : 1), 2 * t1 + (up1 ? 1 : 0));
+            vc_uf_unite(side, 2 * t1 + (up1 ? 0 : 1), 2 * t0 + (up0 ? 1 : 0));
             i = j;
             continue;
         }
@@ -264,8 +284,8 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (int64_t v = 0; v < s->n_vertices; v++)
             for (int c = 0; c < 3; c++) {
-                lo[c] = fmin(lo[c], s->xyz[3 * v + c]);
-                hi[c] = fmax(hi[c], s->xyz[3 * v + c]);
+                lo[c] = min2(lo[c], s->xyz[3 * v + c]);
+                hi[c] = max2(hi[c], s->xyz[3 * v + c]);
             }
         for (int c = 0; c < 3; c++)
             centre[c] = 0.5 * (lo[c] + hi[c]);
@@ -287,8 +307,8 @@ int vc_surface_regions(const vc_surface *s, vc_regions *out, vc_error *err)
             for (int k = 0; k < 3; k++)
                 for (int q = 0; q < 3; q++) {
                     const double x = s->xyz[3 * s->tri[3 * t + k] + q];
-                    shell_box[6 * h + q] = fmin(shell_box[6 * h + q], x);
-                    shell_box[6 * h + 3 + q] = fmax(shell_box[6 * h + 3 + q], x);
+                    shell_box[6 * h + q] = min2(shell_box[6 * h + q], x);
+                    shell_box[6 * h + 3 + q] = max2(shell_box[6 * h + 3 + q], x);
                 }
         }
     }
