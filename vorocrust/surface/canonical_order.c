@@ -13,7 +13,9 @@
 #include <string.h>
 
 #include "vorocrust/surface.h"
+#include "util/bucket_sort.h"
 #include "util/morton.h"
+#include "util/small_sort.h"
 
 typedef struct vertex_key {
     uint64_t morton;
@@ -27,28 +29,33 @@ typedef struct triangle_key {
     int64_t index;
 } triangle_key;
 
-static int compare_vertices(const void *a, const void *b)
+/* (Morton code, exact position, input index): a total order */
+static inline int vertex_less(const vertex_key *u, const vertex_key *v)
 {
-    const vertex_key *u = a, *v = b;
     if (u->morton != v->morton)
-        return u->morton < v->morton ? -1 : 1;
+        return u->morton < v->morton;
     for (int d = 0; d < 3; d++)
         if (u->p[d] != v->p[d])
-            return u->p[d] < v->p[d] ? -1 : 1;
+            return u->p[d] < v->p[d];
     /* equal positions (not merged by the caller): the input decides */
-    return (u->index > v->index) - (u->index < v->index);
+    return u->index < v->index;
 }
+VC_SMALL_SORT(sort_vertex_keys, vertex_key, vertex_less)
 
-static int compare_triangles(const void *a, const void *b)
+/* (vertices from the smallest, group, input index): a total order */
+static inline int triangle_less(const triangle_key *u, const triangle_key *v)
 {
-    const triangle_key *u = a, *v = b;
     for (int k = 0; k < 3; k++)
         if (u->v[k] != v->v[k])
-            return u->v[k] < v->v[k] ? -1 : 1;
+            return u->v[k] < v->v[k];
     if (u->group != v->group)
-        return u->group < v->group ? -1 : 1;
-    return (u->index > v->index) - (u->index < v->index);
+        return u->group < v->group;
+    return u->index < v->index;
 }
+VC_SMALL_SORT(sort_triangle_keys, triangle_key, triangle_less)
+/* the first vertex is the smallest: the triangles at a vertex are a bucket */
+#define TRIANGLE_FIRST(t) ((t)->v[0])
+VC_BUCKET_SORT(bucket_sort_triangle_keys, triangle_key, TRIANGLE_FIRST, triangle_less, sort_triangle_keys)
 
 int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *input_triangle,
                                int64_t *input_vertex, vc_error *err)
@@ -58,8 +65,8 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int64_t i = 0; i < nv; i++)
         for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
-            hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
+            lo[d] = s->xyz[3 * i + d] < lo[d] ? s->xyz[3 * i + d] : lo[d];
+            hi[d] = s->xyz[3 * i + d] > hi[d] ? s->xyz[3 * i + d] : hi[d];
         }
     vertex_key *vk = malloc(sizeof *vk * (size_t)(nv + 1));
     int64_t *new_of = malloc(sizeof *new_of * (size_t)(nv + 1));
@@ -91,7 +98,7 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
         vk[i].p = s->xyz + 3 * i;
         vk[i].index = i;
     }
-    qsort(vk, (size_t)nv, sizeof *vk, compare_vertices);
+    sort_vertex_keys(vk, nv);
     for (int64_t i = 0; i < nv; i++) {
         new_of[vk[i].index] = i;
         if (input_vertex)
@@ -109,7 +116,8 @@ int vc_surface_canonical_order(const vc_surface *s, vc_surface *out, int64_t *in
         tk[t].group = s->tri_group ? s->tri_group[t] : 0;
         tk[t].index = t;
     }
-    qsort(tk, (size_t)nt, sizeof *tk, compare_triangles);
+    if (bucket_sort_triangle_keys(tk, nt, nv))
+        sort_triangle_keys(tk, nt); /* no room for the copy: in place */
     for (int64_t t = 0; t < nt; t++) {
         memcpy(out->tri + 3 * t, tk[t].v, sizeof(int64_t) * 3);
         if (out->tri_group)
