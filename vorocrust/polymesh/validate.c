@@ -115,11 +115,27 @@ static void check_cell(const vc_polymesh *m, int64_t c, double rel_tol, report *
         problem(r, "cell %lld has volume %g", (long long)c, m->cell_volume[c]);
         return;
     }
-    /* Convexity: every vertex on the inner side of every face plane. */
+    /* Convexity: every vertex on the inner side of every face plane. The
+     * cell's distinct vertices (in the edges' sorted order) are gathered
+     * once when they fit a local array: every face's test then reads them
+     * side by side instead of every edge's point from the mesh. */
     const double *cc = m->cell_centroid + 3 * c;
+    enum { LOCAL_VERTICES = 256 };
+    double local[3 * LOCAL_VERTICES];
+    int64_t nd = 0;
+    for (int64_t j = 0; j < k && nd <= LOCAL_VERTICES; j++) {
+        if (j > 0 && e[j].a == e[j - 1].a)
+            continue;
+        if (nd < LOCAL_VERTICES)
+            memcpy(local + 3 * nd, m->points + 3 * e[j].a, 3 * sizeof(double));
+        nd++;
+    }
+    const int gathered = nd <= LOCAL_VERTICES;
     double size = 0;
     for (int64_t j = 0; j < k; j++) {
-        const double *p = m->points + 3 * e[j].a;
+        if (gathered && j >= nd)
+            break;
+        const double *p = gathered ? local + 3 * j : m->points + 3 * e[j].a;
         double d = sqrt((p[0] - cc[0]) * (p[0] - cc[0]) + (p[1] - cc[1]) * (p[1] - cc[1]) +
                         (p[2] - cc[2]) * (p[2] - cc[2]));
         if (d > size)
@@ -145,6 +161,21 @@ static void check_cell(const vc_polymesh *m, int64_t c, double rel_tol, report *
         }
         const double width = m->face_area[f] / (2.0 * radius);
         const double allowed = rel_tol * size * (1.0 + size / width);
+        if (gathered) {
+            int64_t worst = -1;
+            for (int64_t j = 0; j < nd; j++) {
+                const double *p = local + 3 * j;
+                const double h =
+                    sgn * ((p[0] - fc[0]) * n[0] + (p[1] - fc[1]) * n[1] + (p[2] - fc[2]) * n[2]);
+                if (h > allowed) {
+                    worst = j;
+                    break;
+                }
+            }
+            if (worst < 0)
+                continue;
+            /* the report names the vertex: found again among the edges */
+        }
         for (int64_t j = 0; j < k; j++) {
             if (j > 0 && e[j].a == e[j - 1].a)
                 continue;
