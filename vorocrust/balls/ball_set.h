@@ -45,6 +45,7 @@ typedef struct vc_ball_set {
     double origin[3];    /* cell coordinates count from here */
     /* hash grid: cell key -> the cell's balls */
     int64_t table_size;  /* power of two */
+    int table_bits;      /* its log2 */
     int64_t n_slots_used; /* slots holding a key (cells, empty or not) */
     vc_ball_cell *cell;
     uint64_t *filter;    /* occupancy bits of the cell keys (ball_set.c) */
