@@ -310,7 +310,29 @@ static int vtu_check_mesh(const vc_polymesh *m, const char *path, vc_error *err)
         return vc_error_set(err, VC_EINPUT, "%s: mesh has no cell/face topology", path);
     if (m->n_points > 0 && !m->points)
         return vc_error_set(err, VC_EINPUT, "%s: mesh has no point coordinates", path);
+    /* The cells in parallel (a pass over every face of every cell: most of
+     * writing a large mesh when serial); the first bad one again below for
+     * its message. */
+    int64_t first_bad = m->n_cells;
+#pragma omp parallel for schedule(static) reduction(min : first_bad) if (m->n_cells > 4096)
     for (int64_t c = 0; c < m->n_cells; ++c) {
+        int ok = 1;
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1] && ok; ++k) {
+            const int64_t f = m->cell_faces[k];
+            if (f < 0 || f >= m->n_faces) {
+                ok = 0;
+                break;
+            }
+            for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; ++i)
+                if (m->face_vertices[i] < 0 || m->face_vertices[i] >= m->n_points) {
+                    ok = 0;
+                    break;
+                }
+        }
+        if (!ok && c < first_bad)
+            first_bad = c;
+    }
+    for (int64_t c = first_bad; c < m->n_cells; ++c) {
         for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {
             int64_t f = m->cell_faces[k];
             if (f < 0 || f >= m->n_faces)
