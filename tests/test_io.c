@@ -458,6 +458,24 @@ static void test_vtu_grid(void)
     free(txt);
     remove(csv);
     free(csv);
+
+    /* a point index out of range in a late cell (the check runs on the
+     * cells in parallel): refused with the first bad face named, no file */
+    char *badp = path_in(tmpdir, "io_grid_bad.vtu");
+    remove(badp);
+    const int64_t last_face = m.cell_faces[m.cell_offsets[m.n_cells] - 1];
+    const int64_t keep = m.face_vertices[m.face_offsets[last_face]];
+    m.face_vertices[m.face_offsets[last_face]] = m.n_points + 7;
+    err.msg[0] = '\0';
+    rc = vc_write_vtu(&m, badp, VC_VTU_ZLIB, &err);
+    CHECK(rc == VC_EINPUT);
+    char want[160];
+    snprintf(want, sizeof want, "face %" PRId64 " has vertex %" PRId64 " out of range", last_face,
+             m.n_points + 7);
+    CHECK_MSG(strstr(err.msg, want) != NULL, err.msg);
+    CHECK(!file_exists(badp));
+    m.face_vertices[m.face_offsets[last_face]] = keep;
+    free(badp);
     free(raw);
     free(zl);
     vc_polymesh_free(&m);
