@@ -4,7 +4,9 @@
  * query's k nearest other than the skipped seed, in order, for k from 1 to
  * more than there are points; and the range query after a k-nearest
  * answer (vc_seed_kdtree_within): exactly the brute force's hits after the
- * k-th within the radius, in order, and -1 past its capacity. */
+ * k-th within the radius, in order, and -1 past its capacity; and the
+ * k nearest through the hint of the previous queries
+ * (vc_seed_kdtree_knn_hinted), the same answers. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,6 +60,10 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
     vc_kd_hit *hit = malloc(sizeof *hit * (size_t)(n + 8));
     const int ks[] = {1, 2, 7, 16, 48, 96, (int)n - 1, (int)n + 5};
     int bad = 0;
+    /* one hint per k: each query meets the one the previous query of its
+     * k left (at a random place: near or far) */
+    vc_kd_hint hint[8];
+    memset(hint, 0, sizeof hint);
     for (int q = 0; q < 200 && !bad; q++) {
         /* a point of the set (skipped) or a free query point (nothing skipped) */
         const int own = q % 2 == 0;
@@ -73,6 +79,18 @@ static void check_set(const char *name, const double *xyz, int64_t n, vc_rng *rn
             const int got = vc_seed_kdtree_knn(&t, x, k, skip, hit);
             const int want = k < m ? k : m;
             int same = got == want;
+            /* the same through the hint the previous queries left (near
+             * or far from here, of this k or another: the bound only
+             * prunes, the answer is the unbounded one) */
+            {
+                vc_kd_hit *h2 = malloc(sizeof *h2 * (size_t)(n + 8));
+                const int got2 = vc_seed_kdtree_knn_hinted(&t, &hint[j], x, k, skip, h2);
+                int same2 = got2 == want;
+                for (int i = 0; same2 && i < got2; i++)
+                    same2 = h2[i].seed == all[i].seed && h2[i].d2 == all[i].d2;
+                CHECKF(same2, "%s: query %d, k %d, hinted: %d hits, want %d", name, q, k, got2, want);
+                free(h2);
+            }
             for (int i = 0; same && i < got; i++)
                 same = hit[i].seed == all[i].seed && hit[i].d2 == all[i].d2;
             if (!same) {

@@ -261,6 +261,29 @@ int vc_seed_kdtree_knn_within(const vc_seed_kdtree *t, const double x[3], int k,
     return n;
 }
 
+int vc_seed_kdtree_knn_hinted(const vc_seed_kdtree *t, vc_kd_hint *hint, const double x[3], int k,
+                              int64_t skip, vc_kd_hit *hit)
+{
+    int got = -1;
+    if (hint->valid && hint->k == k) {
+        const double dx = x[0] - hint->x[0], dy = x[1] - hint->x[1], dz = x[2] - hint->x[2];
+        /* grown far above the rounding of the distances */
+        const double b = (hint->kth + sqrt(dx * dx + dy * dy + dz * dz)) * (1 + 1e-9);
+        got = vc_seed_kdtree_knn_within(t, x, k, skip, b * b, hit);
+        if (got < k)
+            got = -1; /* fewer within the bound: ask without it */
+    }
+    if (got < 0)
+        got = vc_seed_kdtree_knn(t, x, k, skip, hit);
+    hint->valid = got == k && k > 0;
+    if (hint->valid) {
+        hint->k = k;
+        memcpy(hint->x, x, sizeof hint->x);
+        hint->kth = sqrt(hit[got - 1].d2);
+    }
+    return got;
+}
+
 int vc_seed_kdtree_within(const vc_seed_kdtree *t, const double x[3], double r2, vc_kd_hit after,
                           int64_t skip, int (*reach)(void *ctx, const double lo[3], const double hi[3]),
                           void *ctx, vc_kd_hit *hit, int cap, int *truncated)

@@ -54,6 +54,21 @@ int vc_seed_kdtree_knn(const vc_seed_kdtree *t, const double x[3], int k, int64_
 int vc_seed_kdtree_knn_within(const vc_seed_kdtree *t, const double x[3], int k, int64_t skip,
                               double bound2, vc_kd_hit *hit);
 
+/* A caller's last k-nearest query (one per thread): its place and its k-th
+ * distance. Queries made one after the other at nearby places (cells built
+ * in a spatial order) bound each other: the last one's k seeds lie within
+ * its k-th distance plus the step between the places. */
+typedef struct vc_kd_hint {
+    int valid, k;
+    double x[3], kth;
+} vc_kd_hint;
+
+/* vc_seed_kdtree_knn, bounded by the hint when it has one of the same k
+ * (and asked again without the bound when that found fewer than k: the
+ * answer is always the unbounded one); the hint then becomes this query. */
+int vc_seed_kdtree_knn_hinted(const vc_seed_kdtree *t, vc_kd_hint *hint, const double x[3], int k,
+                              int64_t skip, vc_kd_hit *hit);
+
 /* The seeds other than `skip` within squared distance r2 of x that come
  * after `after` in (d2, seed) order (what a k-nearest query returned
  * last): the first cap of them in that order, into hit, sorted; returns
