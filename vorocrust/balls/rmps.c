@@ -429,18 +429,26 @@ typedef struct lost_ctx {
     const vc_balls *b;
     const double *c;
     double reach;
+    int64_t found;
 } lost_ctx;
 
 static int meets_lost(void *ctx, int64_t i)
 {
-    const lost_ctx *l = ctx;
-    return dist(l->b->center + 3 * i, l->c) < l->b->radius[i] + l->reach;
+    lost_ctx *l = ctx;
+    if (!(dist(l->b->center + 3 * i, l->c) < l->b->radius[i] + l->reach))
+        return 0;
+    l->found = i;
+    return 1;
 }
 
 /* Can the subface hold a point only a lost ball covered? A conservative
  * test: the ball around the corners' centroid through the farthest corner
- * (plus the margin of interpolated corners) meets a lost ball. */
-static int in_lost_region(const sampler *S, const subface *sf, const subface_on_smooth *sg, int nv)
+ * (plus the margin of interpolated corners) meets a lost ball. The lost
+ * ball the last subface met (*last, -1 for none) is tried first: the
+ * subfaces of a chunk are neighbours, and the answer does not depend on
+ * which lost ball is found. */
+static int in_lost_region(const sampler *S, const subface *sf, const subface_on_smooth *sg, int nv,
+                          int64_t *last)
 {
     if (!S->lost)
         return 1;
@@ -448,8 +456,13 @@ static int in_lost_region(const sampler *S, const subface *sf, const subface_on_
     subface_bound(sf, sg, nv, c, &reach);
     if (sg && sg->interpolated)
         reach += sg->sag;
-    lost_ctx l = {&S->lost->b, c, reach};
-    return vc_ball_set_query(S->lost, c, reach, 1.0, 0.0, meets_lost, &l);
+    lost_ctx l = {&S->lost->b, c, reach, -1};
+    if (*last >= 0 && *last < S->lost->b.n && meets_lost(&l, *last))
+        return 1;
+    if (!vc_ball_set_query(S->lost, c, reach, 1.0, 0.0, meets_lost, &l))
+        return 0;
+    *last = l.found;
+    return 1;
 }
 
 /* Keeps the subfaces of P from index `from` on that no single ball
@@ -470,13 +483,13 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
     const int64_t n_chunks = (n + chunk - 1) / chunk;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(S->threads) if (n > 2 * chunk)
     for (int64_t c = 0; c < n_chunks; c++) {
-        int64_t last = -1;
+        int64_t last = -1, last_lost = -1;
         const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
         for (int64_t i = c * chunk; i < end; i++) {
             if (g)
                 project_corners(S, &f[i], &g[i]);
             keep[i] = !(g && on_seam(S, &f[i], &g[i])) &&
-                      in_lost_region(S, &f[i], g ? &g[i] : NULL, nv) &&
+                      in_lost_region(S, &f[i], g ? &g[i] : NULL, nv, &last_lost) &&
                       !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
         }
     }
