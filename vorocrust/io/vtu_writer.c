@@ -354,7 +354,7 @@ static int vtu_check_mesh(const vc_polymesh *m, const char *path, vc_error *err)
 /* A thread's scratch for cell_points: an open-addressing set of point ids. */
 typedef struct point_set {
     int64_t *slot;
-    int64_t cap; /* a power of two */
+    int64_t cap; /* slots allocated */
 } point_set;
 
 /* The face-vertex entries of cell c (every face's points, counted again
@@ -376,19 +376,21 @@ static int64_t cell_entries(const vc_polymesh *m, int64_t c)
  * parallel without an array of all points per thread. */
 static int64_t cell_points(const vc_polymesh *m, int64_t c, point_set *ps, int64_t *out)
 {
+    /* a table sized for this cell (not the largest one so far: it is
+     * cleared for every cell) */
     const int64_t need = 2 * cell_entries(m, c) + 2;
-    if (ps->cap < need) {
-        int64_t cap = 64;
-        while (cap < need)
-            cap *= 2;
-        int64_t *q = realloc(ps->slot, sizeof(int64_t) * (size_t)cap);
+    int64_t size = 64;
+    while (size < need)
+        size *= 2;
+    if (ps->cap < size) {
+        int64_t *q = realloc(ps->slot, sizeof(int64_t) * (size_t)size);
         if (!q)
             return -1;
         ps->slot = q;
-        ps->cap = cap;
+        ps->cap = size;
     }
-    const uint64_t mask = (uint64_t)ps->cap - 1;
-    for (int64_t i = 0; i < ps->cap; ++i)
+    const uint64_t mask = (uint64_t)size - 1;
+    for (int64_t i = 0; i < size; ++i)
         ps->slot[i] = -1;
     int64_t n = 0;
     for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; ++k) {

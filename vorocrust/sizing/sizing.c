@@ -128,12 +128,6 @@ static void select_first(build_elem *e, int64_t n, int64_t k, int axis)
 static inline double min2(double a, double b) { return b < a ? b : a; }
 static inline double max2(double a, double b) { return b > a ? b : a; }
 
-/* Node me over e[start .. start + count) and its subtree, numbered in
- * preorder from me; returns the next free node index. The axis is the
- * widest spread of the elements' centres; a node's box is its leaf's
- * elements' or its children's union (no element is read twice for it).
- * Inline min and max: libm's fmin and fmax calls were a third of the
- * build (1.8 million triangles: 2.4 s). */
 /* The nodes of a subtree over count elements (its shape depends on the
  * count alone: the split is at count / 2). */
 static int64_t subtree_nodes(int64_t count)
@@ -146,6 +140,12 @@ static int64_t subtree_nodes(int64_t count)
  * same for any thread count. */
 #define TASK_ELEMS 32768
 
+/* Node me over e[start .. start + count) and its subtree, numbered in
+ * preorder from me; returns the next free node index. The axis is the
+ * widest spread of the elements' centres; a node's box is its leaf's
+ * elements' or its children's union (no element is read twice for it).
+ * Inline min and max: libm's fmin and fmax calls were a third of the
+ * build (1.8 million triangles: 2.4 s). */
 static int64_t build_node(vc_sizing *z, build_elem *e, int64_t me, int64_t start, int64_t count)
 {
     vc_bvh_node *nd = &z->nodes[me];
@@ -186,7 +186,7 @@ static int64_t build_node(vc_sizing *z, build_elem *e, int64_t me, int64_t start
     int64_t r, next;
     if (count > TASK_ELEMS) {
         r = l + subtree_nodes(half);
-#pragma omp task default(shared) if (count > TASK_ELEMS)
+#pragma omp task default(shared)
         build_node(z, e, l, start, half);
         next = build_node(z, e, r, start + half, count - half);
 #pragma omp taskwait
