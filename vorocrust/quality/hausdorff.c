@@ -23,6 +23,7 @@
 
 #include "quality/vec3.h"
 #include "quality/quality_internal.h"
+#include "util/median_tree.h"
 #include "util/threads.h"
 
 #define BVH_LEAF 4
@@ -84,11 +85,14 @@ static void select_kth(int64_t *tri, int64_t n, int64_t k, const double *cen, in
     }
 }
 
-/* Builds the subtree of tri[first .. first+count): split at the median
- * centroid along the longest axis of the centroids' box. */
-static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count, const double *cen)
+/* Builds the subtree of tri[first .. first+count), node id and its
+ * descendants numbered in preorder from id; returns the next free node
+ * index. Split at the median centroid along the longest axis of the
+ * centroids' box; halves above VC_MEDIAN_TREE_TASK triangles built as two
+ * OpenMP tasks (their node numbers follow from their counts: the same tree
+ * for any thread count). */
+static int32_t bvh_build_range(bvh *h, int32_t id, int32_t first, int32_t count, const double *cen)
 {
-    int32_t id = h->n_nodes++;
     bvh_node *nd = &h->node[id];
     nd->first = first;
     nd->count = count;
@@ -106,16 +110,27 @@ static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count, const doubl
                 axis = d;
         int32_t half = count / 2;
         select_kth(h->tri + first, count, half, cen, axis);
-        int32_t l = bvh_build_range(h, first, half, cen);
-        int32_t r = bvh_build_range(h, first + half, count - half, cen);
+        const int32_t l = id + 1;
+        int32_t r, next;
+        if (count > VC_MEDIAN_TREE_TASK) {
+            r = l + (int32_t)vc_median_tree_nodes(half, BVH_LEAF);
+#pragma omp task default(shared)
+            bvh_build_range(h, l, first, half, cen);
+            next = bvh_build_range(h, r, first + half, count - half, cen);
+#pragma omp taskwait
+        } else {
+            r = bvh_build_range(h, l, first, half, cen);
+            next = bvh_build_range(h, r, first + half, count - half, cen);
+        }
         nd = &h->node[id];
         nd->left = l;
         nd->right = r;
         for (int d = 0; d < 3; d++) {
-            nd->lo[d] = fminf(h->node[l].lo[d], h->node[r].lo[d]);
-            nd->hi[d] = fmaxf(h->node[l].hi[d], h->node[r].hi[d]);
+            /* float boxes: the children's bounds, exact */
+            nd->lo[d] = h->node[l].lo[d] < h->node[r].lo[d] ? h->node[l].lo[d] : h->node[r].lo[d];
+            nd->hi[d] = h->node[l].hi[d] > h->node[r].hi[d] ? h->node[l].hi[d] : h->node[r].hi[d];
         }
-        return id;
+        return next;
     }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int32_t k = first; k < first + count; k++)
@@ -132,7 +147,7 @@ static int32_t bvh_build_range(bvh *h, int32_t first, int32_t count, const doubl
         nd->lo[d] = (double)fl > lo[d] ? nextafterf(fl, -INFINITY) : fl;
         nd->hi[d] = (double)fh < hi[d] ? nextafterf(fh, INFINITY) : fh;
     }
-    return id;
+    return id + 1;
 }
 
 static int bvh_build(bvh *h, const vc_surface *s, int nth)
@@ -159,7 +174,11 @@ static int bvh_build(bvh *h, const vc_surface *s, int nth)
             cen[3 * t + d] = c / 3.0;
         }
     }
-    bvh_build_range(h, 0, (int32_t)n, cen);
+    int32_t n_nodes = 0;
+#pragma omp parallel num_threads(nth) if (n > VC_MEDIAN_TREE_TASK)
+#pragma omp single
+    n_nodes = bvh_build_range(h, 0, 0, (int32_t)n, cen);
+    h->n_nodes = n_nodes;
     free(cen);
     return VC_OK;
 }

@@ -1,6 +1,7 @@
 #include "sizing/sizing.h"
 #include "util/csr_group.h"
 #include "util/closest_point.h"
+#include "util/median_tree.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -128,18 +129,6 @@ static void select_first(build_elem *e, int64_t n, int64_t k, int axis)
 static inline double min2(double a, double b) { return b < a ? b : a; }
 static inline double max2(double a, double b) { return b > a ? b : a; }
 
-/* The nodes of a subtree over count elements (its shape depends on the
- * count alone: the split is at count / 2). */
-static int64_t subtree_nodes(int64_t count)
-{
-    return count <= LEAF_SIZE ? 1 : 1 + subtree_nodes(count / 2) + subtree_nodes(count - count / 2);
-}
-
-/* Subtrees of more elements than this build their halves as two tasks:
- * each subtree's node indices are known from its count, so the tree is the
- * same for any thread count. */
-#define TASK_ELEMS 32768
-
 /* Node me over e[start .. start + count) and its subtree, numbered in
  * preorder from me; returns the next free node index. The axis is the
  * widest spread of the elements' centres; a node's box is its leaf's
@@ -184,8 +173,9 @@ static int64_t build_node(vc_sizing *z, build_elem *e, int64_t me, int64_t start
         select_first(e + start, count, half, axis);
     const int64_t l = me + 1;
     int64_t r, next;
-    if (count > TASK_ELEMS) {
-        r = l + subtree_nodes(half);
+    if (count > VC_MEDIAN_TREE_TASK) {
+        /* the halves at once (util/median_tree.h): the same tree */
+        r = l + vc_median_tree_nodes(half, LEAF_SIZE);
 #pragma omp task default(shared)
         build_node(z, e, l, start, half);
         next = build_node(z, e, r, start + half, count - half);
@@ -365,7 +355,7 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
     z->n_elems = m;
     if (m > 0) {
         int64_t n_nodes = 0;
-#pragma omp parallel if (m > TASK_ELEMS)
+#pragma omp parallel if (m > VC_MEDIAN_TREE_TASK)
 #pragma omp single
         n_nodes = build_node(z, be, 0, 0, m);
         z->n_nodes = n_nodes;
