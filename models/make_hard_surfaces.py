@@ -1023,6 +1023,31 @@ def uv_sphere_with_edges(theta, phi):
     return pts, tris, edge_tri
 
 
+def split_edges(pts, tris, edge_tri, first, count, limit, place):
+    """Splits up to limit (None: no limit) triangles (u, v, o) taken every
+    len(tris) // count from index first, none next to an earlier one across
+    its edge u v: place(u, v, o, k2, made) gives the new point w and the
+    triangle's three replacements, w written as None (the first takes the
+    triangle's index, the others are appended); k2 is the triangle across
+    u v, made the count so far."""
+    done = set()
+    made = 0
+    for k in range(first, len(tris), len(tris) // count):
+        u, v, o = tris[k]
+        k2 = edge_tri[(v, u)]
+        if k in done or k2 in done or made == limit:
+            continue
+        w, new = place(u, v, o, k2, made)
+        pts.append(w)
+        iw = len(pts) - 1
+        new = [tuple(iw if x is None else x for x in t) for t in new]
+        tris[k] = new[0]
+        tris.extend(new[1:])
+        done.update((k, k2))
+        made += 1
+    return pts, tris
+
+
 def case_turned_needles():
     """A UV sphere with eight pleats: in eight triangles (u, v, o) a point w
     near the middle of the edge u v, moved across it onto the neighbouring
@@ -1032,13 +1057,8 @@ def case_turned_needles():
     and scan meshing leave them (cow.off has two)."""
     pts, tris, edge_tri = uv_sphere_with_edges(48, 24)
     bound = 0.004 * bbox_diag(pts)
-    done = set()
-    made = 0
-    for k in range(40, len(tris), len(tris) // 8):
-        u, v, o = tris[k]
-        k2 = edge_tri[(v, u)]
-        if k in done or k2 in done:
-            continue
+
+    def pleat(u, v, o, k2, made):
         a = [x for x in tris[k2] if x not in (u, v)][0]
         m = [(pts[u][i] + pts[v][i]) / 2 for i in range(3)]
         d = sub(pts[a], m)
@@ -1047,14 +1067,9 @@ def case_turned_needles():
         ln = math.sqrt(dot(n2, n2))
         h = (0.1 + 0.05 * made) * bound
         w = tuple(m[i] + h * d[i] / ld + h / 3 * n2[i] / ln for i in range(3))
-        pts.append(w)
-        iw = len(pts) - 1
-        tris[k] = (u, v, iw)
-        tris.append((v, o, iw))
-        tris.append((o, u, iw))
-        done.update((k, k2))
-        made += 1
-    return pts, tris
+        return w, [(u, v, None), (v, o, None), (o, u, None)]
+
+    return split_edges(pts, tris, edge_tri, 40, 8, None, pleat)
 
 
 def case_fin_sphere():
@@ -1067,25 +1082,15 @@ def case_fin_sphere():
     fold set the radius bound to 2.5e-9 (2.8e9 balls predicted, refused)
     until session 41."""
     pts, tris, edge_tri = uv_sphere_with_edges(40, 20)
-    done = set()
-    made = 0
-    for k in range(30, len(tris), len(tris) // 12):
-        u, v, o = tris[k]
-        k2 = edge_tri[(v, u)]
-        if k in done or k2 in done or made == 12:
-            continue
+
+    def fin(u, v, o, k2, made):
         m = [(pts[u][i] + pts[v][i]) / 2 for i in range(3)]
         lm = math.sqrt(dot(m, m))
         h = (1 + made / 6.0) * 1e-6
         w = tuple(m[i] * (1 + h / lm) for i in range(3))
-        pts.append(w)
-        iw = len(pts) - 1
-        tris[k] = (u, iw, o)
-        tris.append((iw, v, o))
-        tris.append((u, v, iw))
-        done.update((k, k2))
-        made += 1
-    return pts, tris
+        return w, [(u, None, o), (None, v, o), (u, v, None)]
+
+    return split_edges(pts, tris, edge_tri, 30, 12, 12, fin)
 
 
 def plant_needle(pts, tris, near, bound, tilt_deg=70.0, width=2e-7):
