@@ -17,10 +17,13 @@
 #define TEST_LEAK_CHECK_ON() ((void)0)
 #endif
 
-/* A lone process: no daemon, no network transports (as the CLI does). */
+/* A lone process: no daemon, no network transports, no session directory
+ * (shared by all isolated singletons and removed by the first to finish;
+ * see apps/cli/mpi_session.c), as the CLI does. */
 static inline int test_mpi_start(void)
 {
     setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+    setenv("OMPI_MCA_orte_create_session_dirs", "0", 0);
     setenv("OMPI_MCA_pml", "ob1", 0);
     setenv("OMPI_MCA_btl", "self", 0);
     TEST_LEAK_CHECK_OFF();

@@ -29,9 +29,15 @@ int vc_cli_mpi_start(void)
         return 0;
     /* A lone process (not launched by mpirun): Open MPI's singleton start
      * would otherwise spawn a daemon and probe the network transports
-     * (about 0.3 s; 0.02 s with these). The user's own settings win. */
+     * (about 0.3 s; 0.02 s with these). Isolated singletons all use one
+     * session directory path (/tmp/ompi.HOST.UID/jf.0/1/0) and remove it at
+     * MPI_Finalize, so a run that starts while another ends could fail
+     * MPI_Init ("orte_session_dir failed", seen once in CI with two tests at
+     * a time); nothing here needs the directory (no shared memory), so none
+     * is made. The user's own settings win. */
     if (!getenv("OMPI_COMM_WORLD_SIZE")) {
         setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+        setenv("OMPI_MCA_orte_create_session_dirs", "0", 0);
         setenv("OMPI_MCA_pml", "ob1", 0);
         setenv("OMPI_MCA_btl", "self", 0);
     }
