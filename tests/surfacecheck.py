@@ -144,9 +144,26 @@ def one_sided_distance(points, target):
     return math.sqrt(worst)
 
 
+def _shifted(pd, c):
+    """pd translated by -c, its points in double precision."""
+    t = vtk.vtkTransform()
+    t.Translate(-c[0], -c[1], -c[2])
+    f = vtk.vtkTransformPolyDataFilter()
+    f.SetInputData(pd)
+    f.SetTransform(t)
+    f.SetOutputPointsPrecision(vtk.vtkAlgorithm.DOUBLE_PRECISION)
+    f.Update()
+    return f.GetOutput()
+
+
 def hausdorff_sampled(a, b, n_target=150000):
     """Two-sided Hausdorff distance between two triangle polydata, each
     sampled with about n_target points (for surfaces too large for
-    samples() and max_distance())."""
+    samples() and max_distance()). Both are first moved so that a's box
+    centre is the origin: the sampler's points are single precision, which
+    far from the origin (a part at 1e5) is a sizeable share of the size."""
+    bb = a.GetBounds()
+    c = [0.5 * (bb[2 * k] + bb[2 * k + 1]) for k in range(3)]
+    a, b = _shifted(a, c), _shifted(b, c)
     return max(one_sided_distance(sampled_points(a, n_target), b),
                one_sided_distance(sampled_points(b, n_target), a))
