@@ -81,6 +81,16 @@ The cases (NAME: what it tests):
                   theta_sharp, 60 degrees
   chamfer_block   a unit cube with one edge chamfered 0.004 wide: a small
                   feature along large faces (the balls grade out from it)
+  tetra, icosa    a regular tetrahedron (4 triangles), icosahedron (20)
+  gear            an extruded spur gear, 24 teeth: 192 corners
+  wedge5          a prism with a 5-degree edge (8 triangles)
+  star            a stellated icosahedron: 20 narrow spikes
+  spring          a tube along a 5-turn helix, turns 0.3 tube radii apart
+  far_sphere      a sphere of radius 1 centred 3.7e5 from the origin
+  thin_shell      a spherical shell 3% of its radius thick (two components,
+                  the inner one facing in)
+  bump_sphere     a fine sphere with a Gaussian bump 0.02 high
+  mc_hemisphere   marching cubes of a half ball: a 90-degree rim of slivers
 """
 import math
 import os
@@ -1237,8 +1247,181 @@ def inner_sphere_inward(pts, tris):
     return [(a, c, b) if dot(pts[a], pts[a]) < 0.5 else (a, b, c) for a, b, c in tris]
 
 
+def platonic(kind):
+    """vtkPlatonicSolidSource of the given type (0 tetrahedron, 3
+    icosahedron), triangulated."""
+    src = vtk.vtkPlatonicSolidSource()
+    src.SetSolidType(kind)
+    tri = vtk.vtkTriangleFilter()
+    tri.SetInputConnection(src.GetOutputPort())
+    tri.Update()
+    return polydata_to_lists(tri.GetOutput(), tolerance=1e-9)
+
+
+def case_tetra():
+    """A regular tetrahedron, 4 triangles: nothing but corners and sharp
+    edges (70.5-degree dihedral angles)."""
+    return platonic(0)
+
+
+def case_icosa():
+    """A regular icosahedron, 20 triangles: 12 corners of valence 5, every
+    edge folding by 41.8 degrees (below theta_sharp)."""
+    return platonic(3)
+
+
+def extruded(outline, height):
+    """A closed polygon (x, y) extruded along z by height and capped
+    (vtkLinearExtrusionFilter over the triangulated polygon)."""
+    points = vtk.vtkPoints()
+    poly = vtk.vtkCellArray()
+    poly.InsertNextCell(len(outline))
+    for i, (x, y) in enumerate(outline):
+        points.InsertNextPoint(x, y, 0.0)
+        poly.InsertCellPoint(i)
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(points)
+    pd.SetPolys(poly)
+    tri = vtk.vtkTriangleFilter()
+    tri.SetInputData(pd)
+    ex = vtk.vtkLinearExtrusionFilter()
+    ex.SetInputConnection(tri.GetOutputPort())
+    ex.SetExtrusionTypeToNormalExtrusion()
+    ex.SetVector(0, 0, height)
+    ex.CappingOn()
+    tri2 = vtk.vtkTriangleFilter()
+    tri2.SetInputConnection(ex.GetOutputPort())
+    tri2.Update()
+    return polydata_to_lists(tri2.GetOutput(), tolerance=1e-9)
+
+
+def case_gear():
+    """A spur gear 0.4 thick, 24 trapezoidal teeth (radii 1 and 1.15): 192
+    corners and their creases, caps triangulated as long fans (a CAD
+    part)."""
+    n, outline = 24, []
+    for i in range(n):
+        for rr, da in ((1.0, 0.0), (1.0, 0.3), (1.15, 0.45), (1.15, 0.75), (1.0, 0.9)):
+            a = 2 * math.pi * (i + da) / n
+            outline.append((rr * math.cos(a), rr * math.sin(a)))
+    return extruded(outline, 0.4)
+
+
+def case_wedge5():
+    """A triangular prism whose section has a 5-degree angle (3 long, 1
+    high): two faces meeting at 5 degrees along an edge, 8 triangles."""
+    a = math.radians(5.0)
+    return extruded([(0.0, 0.0), (3.0, 0.0), (3.0 * math.cos(a), 3.0 * math.sin(a))], 1.0)
+
+
+def case_star():
+    """A stellated icosahedron: a spike 2.5 from the centre on each of its
+    20 faces, 60 triangles: narrow apexes and concave creases between the
+    spikes."""
+    pts, tris = platonic(3)
+    pts = list(pts)
+    out = []
+    for a, b, c in tris:
+        m = [(pts[a][k] + pts[b][k] + pts[c][k]) / 3.0 for k in range(3)]
+        nm = math.sqrt(dot(m, m))
+        pts.append(tuple(2.5 * x / nm for x in m))
+        k = len(pts) - 1
+        out += [(a, b, k), (b, c, k), (c, a, k)]
+    return pts, out
+
+
+def case_spring():
+    """A helical spring: a tube of radius 0.1 (16 around) along 5 turns of a
+    helix of radius 1 and pitch 0.23, its ends capped by fans: the turns
+    0.03 apart (0.3 tube radii), a surface nearly touching itself along
+    curves."""
+    R, r, turns, pitch, n_along, n_around = 1.0, 0.1, 5, 0.23, 600, 16
+
+    def helix(t):
+        return (R * math.cos(t), R * math.sin(t), pitch * t / (2 * math.pi))
+
+    pts, tris = [], []
+    for i in range(n_along + 1):
+        t = 2 * math.pi * turns * i / n_along
+        c = helix(t)
+        d = (-R * math.sin(t), R * math.cos(t), pitch / (2 * math.pi))
+        ld = math.sqrt(dot(d, d))
+        d = tuple(x / ld for x in d)
+        n1 = (math.cos(t), math.sin(t), 0.0)
+        n2 = cross(d, n1)
+        for j in range(n_around):
+            a = 2 * math.pi * j / n_around
+            pts.append(tuple(c[k] + r * (math.cos(a) * n1[k] + math.sin(a) * n2[k]) for k in range(3)))
+    for i in range(n_along):
+        for j in range(n_around):
+            a, b = i * n_around + j, i * n_around + (j + 1) % n_around
+            tris += [(a, b, b + n_around), (a, b + n_around, a + n_around)]
+    for i, end in ((0, 0), (n_along, 1)):
+        pts.append(helix(2 * math.pi * turns * i / n_along))
+        k = len(pts) - 1
+        for j in range(n_around):
+            a, b = i * n_around + j, i * n_around + (j + 1) % n_around
+            tris.append((a, b, k) if end else (b, a, k))
+    return pts, tris
+
+
+def uv_sphere(theta, phi, radius=1.0, center=(0.0, 0.0, 0.0)):
+    """vtkSphereSource's points and triangles, coincident points merged."""
+    src = vtk.vtkSphereSource()
+    src.SetThetaResolution(theta)
+    src.SetPhiResolution(phi)
+    src.SetRadius(radius)
+    src.SetCenter(*center)
+    src.Update()
+    return polydata_to_lists(src.GetOutput(), tolerance=1e-12)
+
+
+def case_far_sphere():
+    """A UV sphere (40 x 20, radius 1) centred at (1e5, -2e5, 3e5): a part
+    far from the origin, where single-precision tools lose a percent."""
+    return uv_sphere(40, 20, 1.0, (1e5, -2e5, 3e5))
+
+
+def case_thin_shell():
+    """A spherical shell of radius 1, 0.03 thick (a sphere and, inside it,
+    one of radius 0.97 facing in): two surfaces 3 percent of the size apart
+    everywhere, the balls graded down to the gap."""
+    pts, tris = uv_sphere(40, 20)
+    n = len(pts)
+    inner = [(0.97 * x, 0.97 * y, 0.97 * z) for x, y, z in pts]
+    return pts + inner, tris + [(a + n, b + n, c + n) for a, b, c in tris]
+
+
+def shell_inner_inward(pts, tris):
+    return [(a, c, b) if dot(pts[a], pts[a]) < 0.97 else (a, b, c) for a, b, c in tris]
+
+
+def case_bump_sphere():
+    """A fine UV sphere of radius 2 (200 x 100) with a Gaussian bump 0.02
+    high and about 0.06 wide: a feature a few error bounds across on a
+    smooth surface."""
+    pts, tris = uv_sphere(200, 100)
+    c = (0.5, 0.0, 0.5 * math.sqrt(2.0))
+    out = []
+    for p in pts:
+        g = math.exp(-sum((p[k] - c[k]) ** 2 for k in range(3)) / 0.0008)
+        out.append(tuple(2.0 * x * (1.0 + 0.01 * g) for x in p))
+    return out, tris
+
+
+def case_mc_hemisphere():
+    """Marching cubes of a half ball (a sphere cut by a plane through its
+    centre, 90 x 90 x 60 samples): a smooth dome, a flat disc, and the
+    90-degree rim between them as a staircase of slivers."""
+    sph = vtk.vtkSphere()
+    sph.SetRadius(1.0)
+    plane = vtk.vtkPlane()
+    plane.SetNormal(0, 0, -1)
+    return csg_contour("Intersection", [sph, plane], (-1.2, 1.2, -1.2, 1.2, -0.3, 1.2), (90, 90, 60))
+
+
 # cases whose clean surface is changed afterwards (cavities made inward)
-POST_CLEAN = {"hollow_sphere": inner_sphere_inward}
+POST_CLEAN = {"hollow_sphere": inner_sphere_inward, "thin_shell": shell_inner_inward}
 
 
 # name, builder, what it tests, expected Euler characteristic
@@ -1285,6 +1468,16 @@ CASES = [
     ("gyroid_lattice", case_gyroid_lattice, "gyroid lattice (2 periods) clipped by a cube, marching cubes on 40^3: saddles, and staircase creases where it meets the faces", -52),
     ("fin_sphere", case_fin_sphere, "UV sphere with 12 T-junctions closed by slivers standing 1e-6 to 3e-6 up (fins at 90 degrees)", 2),
     ("mc_needles", case_mc_needles, "noise_blob with 4 needles planted on its bumps: folds of 70 degrees, networks smaller than the error bound", 2),
+    ("tetra", case_tetra, "regular tetrahedron, 4 triangles: corners and sharp edges only", 2),
+    ("icosa", case_icosa, "regular icosahedron, 20 triangles: 42-degree folds at every edge, corners of valence 5", 2),
+    ("gear", case_gear, "extruded spur gear, 24 teeth: 192 corners, long fan triangles on the caps (a CAD part)", 2),
+    ("wedge5", case_wedge5, "triangular prism with a 5-degree edge: the thinnest wedge, 8 triangles", 2),
+    ("star", case_star, "stellated icosahedron: 20 narrow spikes, concave creases between them", 2),
+    ("spring", case_spring, "tube of radius 0.1 along a 5-turn helix, turns 0.3 tube radii apart: a surface nearly touching itself", 2),
+    ("far_sphere", case_far_sphere, "UV sphere of radius 1 centred 3.7e5 from the origin", 2),
+    ("thin_shell", case_thin_shell, "spherical shell 3% of its radius thick: two surfaces close everywhere", 4),
+    ("bump_sphere", case_bump_sphere, "fine UV sphere of radius 2 with a Gaussian bump 0.02 high: a small smooth feature", 2),
+    ("mc_hemisphere", case_mc_hemisphere, "marching cubes of a half ball: smooth dome, flat disc, a 90-degree rim as staircase slivers", 2),
 ]
 
 
