@@ -69,6 +69,10 @@ static void usage(FILE *f)
         "                      at their vertices is at least E times the cell's radius,\n"
         "                      0 <= E < 0.25 (0.01 recommended; default 0: off; about\n"
         "                      doubles the run's time)\n"
+        "  --unskew S          skew faces mended at the seeds: the interior seeds of faces\n"
+        "                      whose checkMesh skewness exceeds S move a little and the\n"
+        "                      cells are built again (3.9: below checkMesh's 4; default 0:\n"
+        "                      off)\n"
         "  --quartet-gap G     experimental: sliver elimination also shrinks a ball whose\n"
         "                      sphere passes within a power gap G of a seed (a near-quartet\n"
         "                      of balls: two near-coincident seeds), 0 <= G < 1 (default 0)\n"
@@ -132,7 +136,7 @@ static int takes_value(const char *a)
     static const char *const with_value[] = {"-o", "--output", "--surface", "--seeds", "--balls",
                                              "--sharp-angle", "--max-error", "--lipschitz", "--smooth-width", "--curvature-factor",
                                              "--max-size", "--seed", "--threads", "--interior", "--smooth-iterations",
-                                             "--interior-spacing", "--foam", "--lloyd", "--protect", "--quartet-gap", "--denoise",
+                                             "--interior-spacing", "--foam", "--lloyd", "--protect", "--unskew", "--quartet-gap", "--denoise",
                                              "--foam-max-skew", "--connections", "--max-balls", "--uge", "--tough",
                                              "--patch-type", "--patches"};
     for (size_t i = 0; i < sizeof with_value / sizeof *with_value; i++)
@@ -279,6 +283,13 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
                 (long long)pst->n_short_after, (long long)pst->n_moves, (long long)pst->n_moved,
                 pst->rounds, (long long)pst->n_measures, pst->min_edge_after,
                 pst->min_edge_before, t->protect);
+    const vc_unskew_stats *ust = &r->unskew;
+    if (opt->unskew > 0 && r->n_interior_seeds > 0)
+        fprintf(stderr,
+                "  skew faces: %lld above %g (max %.3g), %lld interior seeds of them moved in %d "
+                "rounds (%lld cells built to judge the places); %.3f s\n",
+                (long long)ust->n_skew_faces, opt->unskew, ust->max_skew, (long long)ust->n_moved,
+                r->unskew_rounds, (long long)ust->n_cells_built, t->unskew);
     const vc_polymesh *m = &r->mesh;
     /* several materials: the input's volume is its material regions' */
     double input_volume = r->input.volume;
@@ -543,6 +554,13 @@ static int run_mesh(int argc, char **argv)
             if (vc_cli_parse_double(v, &opt.quartet_gap) ||
                 !(opt.quartet_gap >= 0 && opt.quartet_gap < 1)) {
                 fprintf(stderr, "vorocrust: --quartet-gap needs a number in [0, 1), got '%s'\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--unskew")) {
+            if (vc_cli_parse_double(v, &opt.unskew) ||
+                !(opt.unskew == 0 || (opt.unskew >= 1 && opt.unskew <= 1000))) {
+                fprintf(stderr, "vorocrust: --unskew needs 0 or a number in [1, 1000], got '%s'\n", v);
                 return 2;
             }
             i++;

@@ -27,6 +27,7 @@
 
 #include "vorocrust/error.h"
 #include "vorocrust/sampling.h"
+#include "vorocrust/polymesh.h"
 #include "vorocrust/seeds.h"
 
 #ifdef __cplusplus
@@ -251,6 +252,53 @@ typedef struct vc_protect_stats {
 /* Fails with VC_EPARAM on a bad option or surface seed count, VC_ENOMEM. */
 int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
                         const vc_protect_options *opt, vc_protect_stats *stats, vc_error *err);
+
+/* Skew faces (issue 20): OpenFOAM's skewness of a face (checkMesh's, from
+ * the two cells' centroids; vc_polymesh_face_skewness) above max_skew is
+ * mended at the seeds, not in the mesh: of the two seeds of each such face,
+ * those that may move (index >= movable_begin: the octree's or lattice's
+ * seeds) try `candidates` random places within a quarter of their
+ * distance to the nearest seed, each judged by building the Voronoi cells
+ * around it exactly (the seeds within a radius that holds every seed able
+ * to cut the cells whose faces are judged) and taking the largest skewness
+ * of the faces of the seed's cell and its neighbours' cells, before and
+ * after; the best place that lowers it is taken. Places inside a ball
+ * grown by `clearance` (its radius times 1 + clearance) or nearer a
+ * surface seed of another label are not tried. The seeds are visited in
+ * index order, each judged with the moves before it: the same moves for
+ * any thread count. The mesh is that of the seeds as they are (its
+ * cell_seed indices into seeds); the caller builds the cells again. */
+typedef struct vc_unskew_options {
+    double max_skew;       /* default 3.9 (checkMesh fails a face above 4) */
+    int64_t movable_begin; /* default -1: every seed from n_surface on */
+    /* Seeds n_surface .. n_surface + n_sphere_seeds - 1 lie on the sphere
+     * of ball sphere_ball[i] (vc_interior_sphere_seeds): their places are
+     * taken on it. Default 0, NULL. */
+    int64_t n_sphere_seeds;
+    const int64_t *sphere_ball;
+    double clearance;      /* default VC_INTERIOR_CLEARANCE */
+    int candidates;        /* default 16 */
+    uint64_t random_seed;  /* default 1 */
+    int threads;           /* <= 0: OpenMP's default */
+} vc_unskew_options;
+
+void vc_unskew_options_default(vc_unskew_options *opt);
+
+typedef struct vc_unskew_stats {
+    int64_t n_skew_faces;  /* faces above max_skew in the mesh given */
+    double max_skew;       /* the largest skewness there */
+    int64_t n_tried;       /* movable seeds of those faces */
+    int64_t n_moved;       /* seeds moved */
+    int64_t n_deferred;    /* left for another round: a move nearby changed
+                              the cells the mesh gave */
+    int64_t n_cells_built; /* cells built to judge the places */
+    double seconds;
+} vc_unskew_stats;
+
+/* Fails with VC_EPARAM on a bad option, VC_ENOMEM. */
+int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
+                       const vc_polymesh *mesh, const vc_unskew_options *opt,
+                       vc_unskew_stats *stats, vc_error *err);
 
 #ifdef __cplusplus
 }

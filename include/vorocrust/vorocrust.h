@@ -146,6 +146,12 @@ typedef struct vc_mesh_options {
      * recommended value; default 0: off (it costs about as much again as
      * the Voronoi cells). */
     double protect_edge;
+    /* Skew faces mended at the seeds (vc_interior_unskew): with S > 0, the
+     * interior seeds of faces whose checkMesh skewness exceeds S move a
+     * little and the cells are built again, up to 3 rounds while that
+     * lowers the count; default 0: off. 3.9 keeps a margin below
+     * checkMesh's limit of 4. */
+    double unskew;
     double quartet_gap;      /* vc_sampling_options.quartet_gap; default 0 */
     /* Noise at the error bound (docs/sampling-convergence.md, session 35):
      * 0 (default): the input is sampled, or a copy of it smoothed within
@@ -243,7 +249,7 @@ typedef struct vc_mesh_times {
     double sizing, corners, edges, surface, lipschitz, slivers; /* the sampling */
     double failed_sampling; /* the attempt that diverged, when resampled */
     double denoise;         /* the denoised copy and the two predictions */
-    double seeds, reconstruct, interior, lloyd, protect, voronoi, quality;
+    double seeds, reconstruct, interior, lloyd, protect, voronoi, quality, unskew;
     double total;
 } vc_mesh_times;
 
@@ -331,6 +337,9 @@ typedef struct vc_mesh_result {
     vc_octree_stats octree;     /* with the octree interior */
     vc_lloyd_stats lloyd;       /* with lloyd_iterations > 0 */
     vc_protect_stats protect;   /* with protect_edge > 0 and interior seeds */
+    vc_unskew_stats unskew;     /* with unskew > 0: the first round's, with the
+                                   moves and cells built of all rounds */
+    int unskew_rounds;          /* rounds that moved seeds (each builds the cells again) */
     int64_t n_sphere_seeds;     /* the first of the interior seeds: on the balls'
                                    spheres (vc_interior_sphere_seeds) */
     int64_t *sphere_ball;       /* n_sphere_seeds: the ball of each */

@@ -153,6 +153,9 @@ static int check_options(const vc_mesh_options *o, vc_error *err)
     if (o->max_sliver_iterations < 0 || o->max_sliver_iterations > 100000)
         return vc_error_set(err, VC_EPARAM, "%d sliver passes: 0 (the default) to 100000 are "
                             "allowed", o->max_sliver_iterations);
+    if (!(o->unskew == 0 || (o->unskew >= 1 && o->unskew <= 1000)))
+        return vc_error_set(err, VC_EPARAM, "the skewness to mend down to must be 0 (off) or in "
+                            "[1, 1000], got %g", o->unskew);
     if (!(o->protect_edge >= 0 && o->protect_edge < 0.25))
         return vc_error_set(err, VC_EPARAM, "protect edge %g: needs a number in [0, 0.25)",
                             o->protect_edge);
@@ -912,6 +915,61 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
 }
 
 /* Interior seeds, Lloyd relaxation, the Voronoi mesh and its measures. */
+/* Rounds of skew-face mending (vc_interior_unskew), each followed by the
+ * cells again, while a round moves seeds and the count of faces above the
+ * target falls. */
+#define UNSKEW_ROUNDS 3
+
+static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
+                         vc_voronoi_options *vo, vc_error *err)
+{
+    const double t = now();
+    int64_t moved = 0, built = 0;
+    int64_t last = -1;
+    for (int round = 0; round < UNSKEW_ROUNDS; round++) {
+        vc_unskew_options uo;
+        vc_unskew_options_default(&uo);
+        uo.max_skew = opt->unskew;
+        uo.random_seed = opt->seed + 0x9E3779B9ull * (uint64_t)round;
+        uo.threads = opt->threads;
+        uo.n_sphere_seeds = out->n_sphere_seeds;
+        uo.sphere_ball = out->sphere_ball;
+        vc_unskew_stats us;
+        vc_log(opt->log, VC_LOG_INFO, "mesh: mending skew faces, round %d", round + 1);
+        if (vc_interior_unskew(&out->balls, &out->seeds, out->n_surface_seeds, &out->mesh, &uo,
+                               &us, err))
+            return named(err, name, NULL);
+        if (round == 0)
+            out->unskew = us;
+        moved += us.n_moved;
+        built += us.n_cells_built;
+        vc_log(opt->log, VC_LOG_DEBUG, "  mesh: skew faces above %g: %lld (max %.3g), %lld seeds "
+               "tried, %lld moved, %lld cells built, %.3f s", opt->unskew,
+               (long long)us.n_skew_faces, us.max_skew, (long long)us.n_tried,
+               (long long)us.n_moved, (long long)us.n_cells_built, us.seconds);
+        if (us.n_moved == 0 || (last >= 0 && us.n_skew_faces >= last))
+            break;
+        last = us.n_skew_faces;
+        vc_seed_spheres_owned on_spheres;
+        if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
+            return named(err, name, NULL);
+        vo->spheres = &on_spheres.view;
+        vc_polymesh_free(&out->mesh);
+        out->has_mesh = 0;
+        const int rc = vc_voronoi_build(&out->seeds, vo, &out->mesh, err);
+        vc_seed_spheres_free(&on_spheres);
+        vo->spheres = NULL;
+        if (rc)
+            return named(err, name, NULL);
+        out->has_mesh = 1;
+        out->unskew_rounds = round + 1;
+    }
+    out->unskew.n_moved = moved;
+    out->unskew.n_cells_built = built;
+    out->time.unskew = now() - t;
+    return 0;
+}
+
 static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
                        vc_mesh_result *out, vc_error *err)
 {
@@ -984,11 +1042,14 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
         return named(err, name, NULL);
     vo.spheres = &on_spheres.view;
-    const int built = vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
+    int built = vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
     vc_seed_spheres_free(&on_spheres);
     if (built)
         return named(err, name, NULL);
     out->has_mesh = 1;
+    if (opt->unskew > 0 && out->n_interior_seeds > 0 &&
+        (built = unskew_rounds(opt, name, out, &vo, err)) != 0)
+        return built;
     /* what follows takes a second or more on a few hundred thousand
      * cells: a progress line */
     if (out->mesh.n_cells >= PROGRESS_CELLS)
@@ -1009,7 +1070,7 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
         free(order);
         out->cell_bandwidth = vc_polymesh_bandwidth(&out->mesh);
     }
-    out->time.voronoi = now() - t;
+    out->time.voronoi = now() - t - out->time.unskew;
     vc_log(opt->log, VC_LOG_DEBUG, "  mesh: cell order %.3f s", now() - t_order);
 
     t = now();

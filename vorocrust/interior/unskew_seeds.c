@@ -1,0 +1,519 @@
+/* Skew faces mended at the seeds (see include/vorocrust/interior.h and
+ * docs/solver-grade-cells.md).
+ *
+ * checkMesh's skewness of a face is the distance from its centroid to
+ * where the line between the two cells' centroids crosses its plane, over
+ * the face's extent that way: small faces whose cells' centroids sit askew
+ * fail it. Every cell stays the Voronoi cell of its seed: an interior seed
+ * of such a face moves a little (within a quarter of its distance to its
+ * nearest seed), to the place among a few random ones that lowers the
+ * largest skewness around it most. A place is judged exactly: the cells
+ * of the seed and of its neighbours are built from every seed that can cut
+ * them, and the faces of those cells measured, as they would be in the
+ * mesh. */
+#include "vorocrust/interior.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "ball_tree.h"
+#include "nearest_seed.h"
+#include "util/clock.h"
+#include "util/threads.h"
+#include "vorocrust/random.h"
+#include "vorocrust/voronoi.h"
+#include "voronoi/seed_kdtree.h"
+
+/* Seeds around a seed its local cells are built from at first, and at
+ * most (the cells judged must be exact: built from every seed that can
+ * cut them). */
+enum { LOCAL_FIRST = 160, LOCAL_MAX = 2560 };
+/* Cells built around a seed at most. */
+enum { KEEP_MAX = 2048 };
+/* The picking region's radius, a share of the distance from the seed to
+ * its nearest neighbour (as the short-edge protection's). */
+#define PICK_RADIUS 0.25
+
+void vc_unskew_options_default(vc_unskew_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->max_skew = 3.9;
+    opt->movable_begin = -1;
+    opt->clearance = VC_INTERIOR_CLEARANCE;
+    opt->candidates = 16;
+    opt->random_seed = 1;
+}
+
+/* The cells around a seed s with s at some place: the Voronoi cells of
+ * the seeds to keep among those near s (the others only cut them), and for
+ * each whether it is the cell the whole seed set gives (exact). */
+typedef struct local_mesh {
+    vc_polymesh m;
+    int64_t *seed;         /* per local seed: its index in the whole set */
+    int64_t *cell_of;      /* per local seed: its cell, or -1 */
+    unsigned char *exact;  /* per local cell */
+    int64_t s_cell;        /* the cell of s (local seed 0) */
+} local_mesh;
+
+static void local_free(local_mesh *l)
+{
+    vc_polymesh_free(&l->m);
+    free(l->seed);
+    free(l->cell_of);
+    free(l->exact);
+    memset(l, 0, sizeof *l);
+}
+
+/* The largest distance from a cell's seed to its vertices. */
+static double cell_reach(const vc_polymesh *m, int64_t c, const double *x)
+{
+    double r2 = 0;
+    for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++) {
+        const int64_t f = m->cell_faces[k];
+        for (int64_t i = m->face_offsets[f]; i < m->face_offsets[f + 1]; i++) {
+            const double *p = m->points + 3 * m->face_vertices[i];
+            const double d[3] = {p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+            const double e = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            r2 = e > r2 ? e : r2;
+        }
+    }
+    return sqrt(r2);
+}
+
+/* Builds the cells of the seeds marked in keep (and of s) among the k
+ * seeds nearest to s's place in the tree (origin), s put at x. A cell is
+ * exact when every seed within twice its reach from its seed is among the
+ * k: |q - origin| + 2 reach <= the k-th distance. Returns 0, -1 when out
+ * of memory, 1 when the seeds make no mesh (nothing to judge). */
+static int local_build(const vc_seed_kdtree *tree, const vc_seeds *seeds, int64_t s,
+                       const double origin[3], const double x[3], int k,
+                       const unsigned char *keep, vc_kd_hit *hit, local_mesh *out)
+{
+    memset(out, 0, sizeof *out);
+    const int got = vc_seed_kdtree_knn(tree, origin, k, s, hit);
+    const int n = got + 1;
+    vc_seeds ls = {n, malloc(sizeof(double) * 3 * (size_t)n), malloc(sizeof(int32_t) * (size_t)n)};
+    out->seed = malloc(sizeof(int64_t) * (size_t)n);
+    out->cell_of = malloc(sizeof(int64_t) * (size_t)n);
+    if (!ls.xyz || !ls.label || !out->seed || !out->cell_of) {
+        free(ls.xyz);
+        free(ls.label);
+        local_free(out);
+        return -1;
+    }
+    memcpy(ls.xyz, x, 3 * sizeof(double));
+    out->seed[0] = s;
+    ls.label[0] = 1;
+    for (int i = 0; i < got; i++) {
+        memcpy(ls.xyz + 3 * (i + 1), seeds->xyz + 3 * hit[i].seed, 3 * sizeof(double));
+        out->seed[i + 1] = hit[i].seed;
+        ls.label[i + 1] = keep[hit[i].seed] ? 1 : 0;
+    }
+    const double reach = got == k ? sqrt(hit[got - 1].d2) * (1 - 1e-9) : INFINITY;
+    vc_voronoi_options vo;
+    vc_voronoi_options_default(&vo);
+    vo.threads = 1;
+    vc_error e;
+    memset(&e, 0, sizeof e);
+    const int rc = vc_voronoi_build(&ls, &vo, &out->m, &e);
+    out->exact = rc ? NULL : malloc((size_t)out->m.n_cells + 1);
+    if (rc || !out->exact) {
+        free(ls.xyz);
+        free(ls.label);
+        local_free(out);
+        return rc && e.code != VC_ENOMEM ? 1 : -1;
+    }
+    for (int i = 0; i < n; i++)
+        out->cell_of[i] = -1;
+    out->s_cell = -1;
+    for (int64_t c = 0; c < out->m.n_cells; c++) {
+        const int64_t q = out->m.cell_seed[c];
+        const double *xq = ls.xyz + 3 * q;
+        const double d[3] = {xq[0] - origin[0], xq[1] - origin[1], xq[2] - origin[2]};
+        const double dq = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        out->exact[c] = dq + 2 * cell_reach(&out->m, c, xq) * (1 + 1e-9) <= reach;
+        out->cell_of[q] = c;
+        if (q == 0)
+            out->s_cell = c;
+    }
+    free(ls.xyz);
+    free(ls.label);
+    return 0;
+}
+
+/* The local seed across face f from cell c (-1: a wall). */
+static int64_t across(const vc_polymesh *m, int64_t f, int64_t c)
+{
+    if (m->face_neighbour[f] >= 0)
+        return m->cell_seed[m->face_owner[f] == c ? m->face_neighbour[f] : m->face_owner[f]];
+    return m->face_other_seed[f];
+}
+
+/* Marks in `focus` (by whole-set index; the caller clears it through the
+ * list) the seed s and the seeds across its cell's faces in l: the cells
+ * a move of s changes. */
+static void mark_focus(const local_mesh *l, unsigned char *focus, int64_t *list, int *n_list)
+{
+    const vc_polymesh *m = &l->m;
+    const int64_t c = l->s_cell;
+    const int64_t s = l->seed[0];
+    if (!focus[s]) {
+        focus[s] = 1;
+        list[(*n_list)++] = s;
+    }
+    for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++) {
+        const int64_t q = across(m, m->cell_faces[k], c);
+        if (q < 0 || focus[l->seed[q]])
+            continue;
+        focus[l->seed[q]] = 1;
+        list[(*n_list)++] = l->seed[q];
+    }
+}
+
+/* What a judgement found missing: seeds whose cells must be built too,
+ * or a neighbourhood too small for some cell to be exact. */
+typedef struct shortfall {
+    int64_t *missing;
+    int n_missing, cap;
+    int grow;
+} shortfall;
+
+/* How far the faces of the focus seeds' cells in l, those between two
+ * cells the mesh keeps (labels != 0), exceed max_skew: the sum of their
+ * excesses (a move that mends one face and leaves a worse one nearby as it
+ * was still counts; a face between two focus cells counts twice, before
+ * and after alike). Records in sf the cells it needed and did not have. */
+static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const unsigned char *focus,
+                         const int64_t *focus_list, int n_focus, double max_skew, shortfall *sf)
+{
+    const vc_polymesh *m = &l->m;
+    double excess = 0;
+    for (int i = 0; i < n_focus; i++) {
+        const int64_t t = focus_list[i];
+        if (seeds->label[t] == 0)
+            continue; /* not a cell of the mesh */
+        int64_t lt = -1; /* t's local index: the first k hold it, or none */
+        for (int64_t q = 0; q < m->n_seeds && lt < 0; q++)
+            if (l->seed[q] == t)
+                lt = q;
+        const int64_t c = lt >= 0 ? l->cell_of[lt] : -1;
+        if (c < 0 || !l->exact[c]) {
+            sf->grow |= c >= 0 || lt < 0;
+            if (lt >= 0 && c < 0 && sf->n_missing < sf->cap)
+                sf->missing[sf->n_missing++] = t;
+            continue;
+        }
+        for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++) {
+            const int64_t f = m->cell_faces[k];
+            const int64_t q = across(m, f, c);
+            if (q < 0 || seeds->label[l->seed[q]] == 0)
+                continue;
+            const int64_t o = l->cell_of[q];
+            if (o < 0) {
+                if (sf->n_missing < sf->cap)
+                    sf->missing[sf->n_missing++] = l->seed[q];
+                continue;
+            }
+            if (!l->exact[o]) {
+                sf->grow = 1;
+                continue;
+            }
+            const double sk = vc_polymesh_face_skewness(m, f);
+            if (sk > max_skew)
+                excess += sk - max_skew;
+        }
+        (void)focus;
+    }
+    return excess;
+}
+
+typedef struct candidate {
+    double x[3];
+    double before, after; /* the skewness in excess around, both judged on
+                             the same cells' faces */
+    int ok;
+} candidate;
+
+/* Marks seed t to keep (once), listing it. */
+static void keep_seed(unsigned char *keep, int64_t *list, int64_t *n, int64_t cap, int64_t t)
+{
+    if (keep[t] || *n >= cap)
+        return;
+    keep[t] = 1;
+    list[(*n)++] = t;
+}
+
+int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface,
+                       const vc_polymesh *mesh, const vc_unskew_options *opt,
+                       vc_unskew_stats *stats, vc_error *err)
+{
+    const double t0 = vc_clock_seconds();
+    vc_unskew_stats st;
+    memset(&st, 0, sizeof st);
+    if (stats)
+        *stats = st;
+    const int64_t n = seeds->n;
+    const int64_t movable = opt->movable_begin >= 0 ? opt->movable_begin : n_surface;
+    if (!(opt->max_skew > 0) || !(opt->clearance >= 0) || opt->candidates < 1 ||
+        opt->candidates > 1024 || n_surface < 0 || n_surface > n || movable < n_surface ||
+        opt->n_sphere_seeds < 0 || opt->n_sphere_seeds > n - n_surface ||
+        (opt->n_sphere_seeds > 0 && !opt->sphere_ball))
+        return vc_error_set(err, VC_EPARAM, "skew faces: bad options (skewness %g, clearance %g, "
+                            "%d candidates)", opt->max_skew, opt->clearance, opt->candidates);
+    /* the seeds of the skew faces that may move, in index order */
+    unsigned char *want = calloc((size_t)n + 1, 1);
+    if (!want)
+        return vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+    for (int64_t f = 0; f < mesh->n_interior_faces; f++) {
+        const double k = vc_polymesh_face_skewness(mesh, f);
+        if (!(k > opt->max_skew))
+            continue;
+        st.n_skew_faces++;
+        st.max_skew = k > st.max_skew ? k : st.max_skew;
+        const int64_t a = mesh->cell_seed[mesh->face_owner[f]];
+        const int64_t b = mesh->cell_seed[mesh->face_neighbour[f]];
+        if (a >= movable && a < n)
+            want[a] = 1;
+        if (b >= movable && b < n)
+            want[b] = 1;
+    }
+    int64_t n_want = 0;
+    for (int64_t i = 0; i < n; i++)
+        n_want += want[i];
+    st.n_tried = n_want;
+    if (n_want == 0) {
+        free(want);
+        st.seconds = vc_clock_seconds() - t0;
+        if (stats)
+            *stats = st;
+        return 0;
+    }
+
+    const int threads = vc_threads_or_default(opt->threads);
+    const int nc = opt->candidates;
+    vc_ball_tree balls_tree;
+    vc_seed_kdtree tree, surface_tree;
+    memset(&tree, 0, sizeof tree);
+    memset(&surface_tree, 0, sizeof surface_tree);
+    int have_balls = 0, rc = 0;
+    unsigned char *focus = calloc((size_t)n + 1, 1);
+    unsigned char *keep = calloc((size_t)n + 1, 1);
+    unsigned char *changed = calloc((size_t)n + 1, 1);
+    int64_t *focus_list = malloc(sizeof(int64_t) * (size_t)(2 * LOCAL_MAX + 4));
+    int64_t *keep_list = malloc(sizeof(int64_t) * (size_t)(KEEP_MAX + 1));
+    int64_t *cell_of_seed = malloc(sizeof(int64_t) * (size_t)(n + 1));
+    int64_t *missing = malloc(sizeof(int64_t) * (size_t)(KEEP_MAX + 1));
+    candidate *cand = malloc(sizeof(candidate) * (size_t)nc);
+    unsigned char *valid = malloc((size_t)nc);
+    local_mesh *after = calloc((size_t)nc, sizeof *after);
+    vc_kd_hit *hits = malloc(sizeof(vc_kd_hit) * (size_t)(threads + 1) * LOCAL_MAX);
+    const vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
+    if (!focus || !keep || !changed || !focus_list || !keep_list || !cell_of_seed || !missing ||
+        !cand || !valid || !after || !hits || vc_seed_kdtree_build(&tree, seeds->xyz, n) ||
+        (n_surface > 0 && vc_nearest_seed_index_build(&surface_tree, &surface))) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+        goto done;
+    }
+    if (vc_ball_tree_build(&balls_tree, balls) != 0) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+        goto done;
+    }
+    have_balls = 1;
+    for (int64_t i = 0; i < n; i++)
+        cell_of_seed[i] = -1;
+    for (int64_t c = 0; c < mesh->n_cells; c++)
+        if (mesh->cell_seed[c] >= 0 && mesh->cell_seed[c] < n)
+            cell_of_seed[mesh->cell_seed[c]] = c;
+
+    for (int64_t s = movable; s < n && !rc; s++) {
+        if (!want[s])
+            continue;
+        /* the cells to build at first: s's and those within two faces of it
+         * in the mesh; a seed whose neighbourhood a move of this round
+         * changed waits for the next round (the mesh is stale there) */
+        int64_t n_keep = 0;
+        int stale = 0;
+        keep_seed(keep, keep_list, &n_keep, KEEP_MAX, s);
+        for (int hop = 0; hop < 2; hop++) {
+            const int64_t upto = n_keep;
+            for (int64_t i = 0; i < upto; i++) {
+                const int64_t c = cell_of_seed[keep_list[i]];
+                if (c < 0)
+                    continue;
+                for (int64_t k = mesh->cell_offsets[c]; k < mesh->cell_offsets[c + 1]; k++) {
+                    const int64_t f = mesh->cell_faces[k];
+                    const int64_t o = mesh->face_neighbour[f] < 0 ? -1
+                                      : mesh->face_owner[f] == c ? mesh->face_neighbour[f]
+                                                                 : mesh->face_owner[f];
+                    if (o >= 0)
+                        keep_seed(keep, keep_list, &n_keep, KEEP_MAX, mesh->cell_seed[o]);
+                }
+            }
+        }
+        for (int64_t i = 0; i < n_keep; i++)
+            stale |= changed[keep_list[i]];
+        double origin[3];
+        memcpy(origin, seeds->xyz + 3 * s, sizeof origin);
+        vc_kd_hit nearest;
+        if (stale || vc_seed_kdtree_knn(&tree, origin, 1, s, &nearest) < 1) {
+            st.n_deferred += stale;
+            for (int64_t i = 0; i < n_keep; i++)
+                keep[keep_list[i]] = 0;
+            continue;
+        }
+        const double pick = PICK_RADIUS * sqrt(nearest.d2);
+        /* the places, from a stream of this seed's own */
+        vc_rng rng;
+        vc_rng_init(&rng, opt->random_seed ^ 0x5CE3F00Dull, (uint64_t)s);
+        for (int c = 0; c < nc; c++) {
+            double u[3], q = 2;
+            while (q > 1) {
+                for (int d = 0; d < 3; d++)
+                    u[d] = 2 * vc_rng_uniform(&rng) - 1;
+                q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+            }
+            double *x = cand[c].x;
+            for (int d = 0; d < 3; d++)
+                x[d] = origin[d] + pick * u[d];
+            valid[c] = 0;
+            int64_t own = -1;
+            if (s - n_surface < opt->n_sphere_seeds) {
+                /* a seed on a ball's sphere: onto it */
+                own = opt->sphere_ball[s - n_surface];
+                const double *bc = balls->center + 3 * own;
+                const double e[3] = {x[0] - bc[0], x[1] - bc[1], x[2] - bc[2]};
+                const double le = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+                if (!(le > 0))
+                    continue;
+                for (int d = 0; d < 3; d++)
+                    x[d] = bc[d] + balls->radius[own] * e[d] / le;
+            }
+            double dn;
+            const int64_t ns = n_surface > 0 ? vc_nearest_seed(&surface_tree, x, &dn) : -1;
+            valid[c] = !vc_ball_tree_covers_scaled_except(&balls_tree, x, 1 + opt->clearance, own) &&
+                       (n_surface == 0 || (ns >= 0 && seeds->label[ns] == seeds->label[s]));
+        }
+        /* build, judge; more cells or more seeds around while a judged
+         * cell is missing or not exact */
+        int k = LOCAL_FIRST, decided = 0;
+        for (int attempt = 0; attempt < 16 && !rc && !decided; attempt++) {
+            for (int c = 0; c < nc; c++)
+                cand[c].ok = valid[c];
+            local_mesh before;
+            const int b = local_build(&tree, seeds, s, origin, origin, k, keep, hits, &before);
+            if (b < 0) {
+                rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+                break;
+            }
+            if (b > 0 || before.s_cell < 0) {
+                local_free(&before);
+                break;
+            }
+            st.n_cells_built += before.m.n_cells;
+            int failed = 0;
+            int64_t built = 0;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(| : failed) \
+    reduction(+ : built)
+            for (int c = 0; c < nc; c++) {
+                if (!cand[c].ok)
+                    continue;
+                int t = 0;
+#ifdef _OPENMP
+                t = omp_get_thread_num();
+#endif
+                const int a = local_build(&tree, seeds, s, origin, cand[c].x, k, keep,
+                                          hits + (size_t)t * LOCAL_MAX, &after[c]);
+                if (a < 0)
+                    failed = 1;
+                if (a != 0 || after[c].s_cell < 0) {
+                    cand[c].ok = 0;
+                    continue;
+                }
+                built += after[c].m.n_cells;
+            }
+            st.n_cells_built += built;
+            shortfall sf = {missing, 0, KEEP_MAX, 0};
+            if (!failed) {
+                /* judged one by one (the focus marks are shared): the
+                 * faces of the cells of s and its neighbours, before or
+                 * after the move */
+                for (int c = 0; c < nc; c++) {
+                    if (!cand[c].ok)
+                        continue;
+                    int n_focus = 0;
+                    mark_focus(&before, focus, focus_list, &n_focus);
+                    mark_focus(&after[c], focus, focus_list, &n_focus);
+                    cand[c].before = focus_skew(&before, seeds, focus, focus_list, n_focus,
+                                                opt->max_skew, &sf);
+                    cand[c].after = focus_skew(&after[c], seeds, focus, focus_list, n_focus,
+                                               opt->max_skew, &sf);
+                    for (int i = 0; i < n_focus; i++)
+                        focus[focus_list[i]] = 0;
+                }
+            }
+            local_free(&before);
+            for (int c = 0; c < nc; c++)
+                local_free(&after[c]);
+            if (failed) {
+                rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+                break;
+            }
+            if (sf.n_missing > 0) {
+                const int64_t had = n_keep;
+                for (int i = 0; i < sf.n_missing; i++)
+                    keep_seed(keep, keep_list, &n_keep, KEEP_MAX, sf.missing[i]);
+                if (n_keep > had)
+                    continue; /* those cells too */
+                break;        /* no room: this seed stays */
+            }
+            if (sf.grow) {
+                if (2 * k > LOCAL_MAX)
+                    break;
+                k *= 2;
+                continue;
+            }
+            decided = 1;
+            int best = -1;
+            for (int c = 0; c < nc; c++)
+                if (cand[c].ok && cand[c].after < cand[c].before &&
+                    (best < 0 || cand[c].after < cand[best].after))
+                    best = c;
+            if (best >= 0) {
+                memcpy(seeds->xyz + 3 * s, cand[best].x, 3 * sizeof(double));
+                vc_seed_kdtree_refit(&tree, seeds->xyz);
+                st.n_moved++;
+                /* the cells it changed, and so the mesh's data there */
+                for (int64_t i = 0; i < n_keep; i++)
+                    changed[keep_list[i]] = 1;
+            }
+        }
+        for (int64_t i = 0; i < n_keep; i++)
+            keep[keep_list[i]] = 0;
+    }
+
+done:
+    free(want);
+    free(focus);
+    free(keep);
+    free(changed);
+    free(focus_list);
+    free(keep_list);
+    free(cell_of_seed);
+    free(missing);
+    free(cand);
+    free(valid);
+    free(after);
+    free(hits);
+    vc_seed_kdtree_free(&tree);
+    vc_seed_kdtree_free(&surface_tree);
+    if (have_balls)
+        vc_ball_tree_free(&balls_tree);
+    st.seconds = vc_clock_seconds() - t0;
+    if (stats)
+        *stats = st;
+    return rc;
+}
