@@ -94,6 +94,11 @@ void vc_polymesh_update_cell_geometry(vc_polymesh *m, int64_t c);
  * face's extent in that direction. 0 for a boundary face. checkMesh fails a
  * mesh with a face above 4. */
 double vc_polymesh_face_skewness(const vc_polymesh *m, int64_t f);
+/* The same for face f between two cells whose centroids are co and cn
+ * (either side; f may be a boundary face whose other cell lies in another
+ * mesh). */
+double vc_polymesh_face_skewness_between(const vc_polymesh *m, int64_t f, const double co[3],
+                                         const double cn[3]);
 
 typedef struct vc_skew_collapse_stats {
     double max_skew_before, max_skew_after;

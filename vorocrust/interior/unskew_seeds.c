@@ -16,9 +16,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "ball_tree.h"
 #include "nearest_seed.h"
@@ -28,12 +25,14 @@
 #include "vorocrust/voronoi.h"
 #include "voronoi/seed_kdtree.h"
 
-/* Seeds around a seed its local cells are built from at first, and at
- * most (the cells judged must be exact: built from every seed that can
- * cut them). */
-enum { LOCAL_FIRST = 160, LOCAL_MAX = 2560 };
-/* Cells built around a seed at most. */
-enum { KEEP_MAX = 2048 };
+/* Seeds around a seed its local cells are built from, at most (the cells
+ * judged must be exact: built from every seed that can cut them). */
+enum { LOCAL_MAX = 4096 };
+/* Cells built around a seed at most, and builds of them: a seed whose
+ * neighbourhood needs more is left as it is (cow.off's cells along the
+ * knife edge where its parts meet: 3.6 million cells built for 54 seeds
+ * with 2,048 and 2,560 and up to 16 builds, 123 s). */
+enum { KEEP_MAX = 512, MAX_ATTEMPTS = 6 };
 /* The picking region's radius, a share of the distance from the seed to
  * its nearest neighbour (as the short-edge protection's). */
 #define PICK_RADIUS 0.25
@@ -84,17 +83,16 @@ static double cell_reach(const vc_polymesh *m, int64_t c, const double *x)
     return sqrt(r2);
 }
 
-/* Builds the cells of the seeds marked in keep (and of s) among the k
- * seeds nearest to s's place in the tree (origin), s put at x. A cell is
- * exact when every seed within twice its reach from its seed is among the
- * k: |q - origin| + 2 reach <= the k-th distance. Returns 0, -1 when out
+/* Builds the cells of the seeds marked in keep (and of s) among s and the
+ * got seeds of hit (every seed within `reach` of s's place, origin), s put
+ * at x. A cell is exact when every seed within twice its reach from its
+ * seed is there: |q - origin| + 2 reach <= `reach`. Returns 0, -1 when out
  * of memory, 1 when the seeds make no mesh (nothing to judge). */
-static int local_build(const vc_seed_kdtree *tree, const vc_seeds *seeds, int64_t s,
-                       const double origin[3], const double x[3], int k,
-                       const unsigned char *keep, vc_kd_hit *hit, local_mesh *out)
+static int local_build(const vc_seeds *seeds, int64_t s, const double origin[3], const double x[3],
+                       const vc_kd_hit *hit, int got, double reach, const unsigned char *keep,
+                       local_mesh *out)
 {
     memset(out, 0, sizeof *out);
-    const int got = vc_seed_kdtree_knn(tree, origin, k, s, hit);
     const int n = got + 1;
     vc_seeds ls = {n, malloc(sizeof(double) * 3 * (size_t)n), malloc(sizeof(int32_t) * (size_t)n)};
     out->seed = malloc(sizeof(int64_t) * (size_t)n);
@@ -113,7 +111,6 @@ static int local_build(const vc_seed_kdtree *tree, const vc_seeds *seeds, int64_
         out->seed[i + 1] = hit[i].seed;
         ls.label[i + 1] = keep[hit[i].seed] ? 1 : 0;
     }
-    const double reach = got == k ? sqrt(hit[got - 1].d2) * (1 - 1e-9) : INFINITY;
     vc_voronoi_options vo;
     vc_voronoi_options_default(&vo);
     vo.threads = 1;
@@ -135,7 +132,7 @@ static int local_build(const vc_seed_kdtree *tree, const vc_seeds *seeds, int64_
         const double *xq = ls.xyz + 3 * q;
         const double d[3] = {xq[0] - origin[0], xq[1] - origin[1], xq[2] - origin[2]};
         const double dq = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        out->exact[c] = dq + 2 * cell_reach(&out->m, c, xq) * (1 + 1e-9) <= reach;
+        out->exact[c] = (dq + 2 * cell_reach(&out->m, c, xq)) * (1 + 1e-9) <= reach;
         out->cell_of[q] = c;
         if (q == 0)
             out->s_cell = c;
@@ -151,6 +148,15 @@ static int64_t across(const vc_polymesh *m, int64_t f, int64_t c)
     if (m->face_neighbour[f] >= 0)
         return m->cell_seed[m->face_owner[f] == c ? m->face_neighbour[f] : m->face_owner[f]];
     return m->face_other_seed[f];
+}
+
+/* The local index of whole-set seed t in l, or -1. */
+static int64_t local_index(const local_mesh *l, int64_t t)
+{
+    for (int64_t q = 0; q < l->m.n_seeds; q++)
+        if (l->seed[q] == t)
+            return q;
+    return -1;
 }
 
 /* Marks in `focus` (by whole-set index; the caller clears it through the
@@ -186,8 +192,12 @@ typedef struct shortfall {
  * cells the mesh keeps (labels != 0), exceed max_skew: the sum of their
  * excesses (a move that mends one face and leaves a worse one nearby as it
  * was still counts; a face between two focus cells counts twice, before
- * and after alike). Records in sf the cells it needed and did not have. */
-static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const unsigned char *focus,
+ * and after alike). A cell across from a focus cell that is not a focus
+ * cell itself is as the mesh has it (a move of s changes only s's cell and
+ * its neighbours'): its centroid is the mesh's. Records in sf the focus
+ * cells it needed and did not have, and whether one was not exact. */
+static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const vc_polymesh *mesh,
+                         const int64_t *cell_of_seed, const unsigned char *focus,
                          const int64_t *focus_list, int n_focus, double max_skew, shortfall *sf)
 {
     const vc_polymesh *m = &l->m;
@@ -196,15 +206,17 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const unsig
         const int64_t t = focus_list[i];
         if (seeds->label[t] == 0)
             continue; /* not a cell of the mesh */
-        int64_t lt = -1; /* t's local index: the first k hold it, or none */
-        for (int64_t q = 0; q < m->n_seeds && lt < 0; q++)
-            if (l->seed[q] == t)
-                lt = q;
+        const int64_t lt = local_index(l, t);
         const int64_t c = lt >= 0 ? l->cell_of[lt] : -1;
-        if (c < 0 || !l->exact[c]) {
-            sf->grow |= c >= 0 || lt < 0;
-            if (lt >= 0 && c < 0 && sf->n_missing < sf->cap)
+        if (c < 0) {
+            if (lt < 0)
+                sf->grow = 1;
+            else if (sf->n_missing < sf->cap)
                 sf->missing[sf->n_missing++] = t;
+            continue;
+        }
+        if (!l->exact[c]) {
+            sf->grow = 1;
             continue;
         }
         for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++) {
@@ -212,21 +224,30 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const unsig
             const int64_t q = across(m, f, c);
             if (q < 0 || seeds->label[l->seed[q]] == 0)
                 continue;
-            const int64_t o = l->cell_of[q];
-            if (o < 0) {
-                if (sf->n_missing < sf->cap)
-                    sf->missing[sf->n_missing++] = l->seed[q];
-                continue;
+            const int64_t u = l->seed[q];
+            const double *cn;
+            if (focus[u]) {
+                const int64_t o = l->cell_of[q];
+                if (o < 0) {
+                    if (sf->n_missing < sf->cap)
+                        sf->missing[sf->n_missing++] = u;
+                    continue;
+                }
+                if (!l->exact[o]) {
+                    sf->grow = 1;
+                    continue;
+                }
+                cn = m->cell_centroid + 3 * o;
+            } else {
+                const int64_t g = cell_of_seed[u];
+                if (g < 0)
+                    continue;
+                cn = mesh->cell_centroid + 3 * g;
             }
-            if (!l->exact[o]) {
-                sf->grow = 1;
-                continue;
-            }
-            const double sk = vc_polymesh_face_skewness(m, f);
+            const double sk = vc_polymesh_face_skewness_between(m, f, m->cell_centroid + 3 * c, cn);
             if (sk > max_skew)
                 excess += sk - max_skew;
         }
-        (void)focus;
     }
     return excess;
 }
@@ -270,16 +291,32 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
         return vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
     for (int64_t f = 0; f < mesh->n_interior_faces; f++) {
         const double k = vc_polymesh_face_skewness(mesh, f);
+        st.max_skew = k > st.max_skew ? k : st.max_skew;
         if (!(k > opt->max_skew))
             continue;
         st.n_skew_faces++;
-        st.max_skew = k > st.max_skew ? k : st.max_skew;
-        const int64_t a = mesh->cell_seed[mesh->face_owner[f]];
-        const int64_t b = mesh->cell_seed[mesh->face_neighbour[f]];
+        const int64_t ca = mesh->face_owner[f], cb = mesh->face_neighbour[f];
+        const int64_t a = mesh->cell_seed[ca], b = mesh->cell_seed[cb];
         if (a >= movable && a < n)
             want[a] = 1;
         if (b >= movable && b < n)
             want[b] = 1;
+        if ((a >= movable && a < n) || (b >= movable && b < n))
+            continue;
+        /* two seeds that stay (surface seeds): the movable seeds next to
+         * either cell, whose moves change the cells' centroids */
+        for (int side = 0; side < 2; side++) {
+            const int64_t c = side ? cb : ca;
+            for (int64_t k2 = mesh->cell_offsets[c]; k2 < mesh->cell_offsets[c + 1]; k2++) {
+                const int64_t g = mesh->cell_faces[k2];
+                if (mesh->face_neighbour[g] < 0)
+                    continue;
+                const int64_t o = mesh->face_owner[g] == c ? mesh->face_neighbour[g] : mesh->face_owner[g];
+                const int64_t t = mesh->cell_seed[o];
+                if (t >= movable && t < n)
+                    want[t] = 1;
+            }
+        }
     }
     int64_t n_want = 0;
     for (int64_t i = 0; i < n; i++)
@@ -310,7 +347,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     candidate *cand = malloc(sizeof(candidate) * (size_t)nc);
     unsigned char *valid = malloc((size_t)nc);
     local_mesh *after = calloc((size_t)nc, sizeof *after);
-    vc_kd_hit *hits = malloc(sizeof(vc_kd_hit) * (size_t)(threads + 1) * LOCAL_MAX);
+    vc_kd_hit *hits = malloc(sizeof(vc_kd_hit) * LOCAL_MAX);
     const vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
     if (!focus || !keep || !changed || !focus_list || !keep_list || !cell_of_seed || !missing ||
         !cand || !valid || !after || !hits || vc_seed_kdtree_build(&tree, seeds->xyz, n) ||
@@ -332,12 +369,12 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     for (int64_t s = movable; s < n && !rc; s++) {
         if (!want[s])
             continue;
-        /* the cells to build at first: s's and those within two faces of it
-         * in the mesh; a seed whose neighbourhood a move of this round
-         * changed waits for the next round (the mesh is stale there) */
+        /* A seed whose cells within two faces a move of this round changed
+         * waits for the next round: the mesh's centroids are stale there. */
         int64_t n_keep = 0;
         int stale = 0;
         keep_seed(keep, keep_list, &n_keep, KEEP_MAX, s);
+        int64_t one_hop = 1;
         for (int hop = 0; hop < 2; hop++) {
             const int64_t upto = n_keep;
             for (int64_t i = 0; i < upto; i++) {
@@ -353,9 +390,17 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                         keep_seed(keep, keep_list, &n_keep, KEEP_MAX, mesh->cell_seed[o]);
                 }
             }
+            if (hop == 0)
+                one_hop = n_keep;
         }
         for (int64_t i = 0; i < n_keep; i++)
             stale |= changed[keep_list[i]];
+        /* the cells built: s's and its neighbours' (the cells its move
+         * changes; more when a place gives it new neighbours) */
+        for (int64_t i = one_hop; i < n_keep; i++)
+            keep[keep_list[i]] = 0;
+        const int64_t two_hops = n_keep;
+        n_keep = one_hop;
         double origin[3];
         memcpy(origin, seeds->xyz + 3 * s, sizeof origin);
         vc_kd_hit nearest;
@@ -397,14 +442,33 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             valid[c] = !vc_ball_tree_covers_scaled_except(&balls_tree, x, 1 + opt->clearance, own) &&
                        (n_surface == 0 || (ns >= 0 && seeds->label[ns] == seeds->label[s]));
         }
-        /* build, judge; more cells or more seeds around while a judged
-         * cell is missing or not exact */
-        int k = LOCAL_FIRST, decided = 0;
-        for (int attempt = 0; attempt < 16 && !rc && !decided; attempt++) {
+        /* The seeds around: within a radius that holds every seed able to
+         * cut the cells of s and its neighbours as the mesh has them (the
+         * places move s by at most `pick`). Build, judge; more cells or a
+         * larger radius while a judged cell is missing or not exact. */
+        double reach = 0;
+        for (int64_t i = 0; i < n_keep; i++) {
+            const int64_t t = keep_list[i], c = cell_of_seed[t];
+            const double *xt = seeds->xyz + 3 * t;
+            const double d[3] = {xt[0] - origin[0], xt[1] - origin[1], xt[2] - origin[2]};
+            const double dt = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            const double r = dt + 2 * (c >= 0 ? cell_reach(mesh, c, xt) : 0) + 2 * pick;
+            reach = r > reach ? r : reach;
+        }
+        reach *= 1.01;
+        int decided = 0;
+        for (int attempt = 0; attempt < MAX_ATTEMPTS && n_keep < KEEP_MAX && !rc && !decided;
+             attempt++) {
+            int truncated;
+            const vc_kd_hit all = {-1.0, -1};
+            const int got = vc_seed_kdtree_within(&tree, origin, reach * reach, all, s, NULL, NULL,
+                                                  hits, LOCAL_MAX, &truncated);
+            if (truncated)
+                break; /* too many: this seed stays */
             for (int c = 0; c < nc; c++)
                 cand[c].ok = valid[c];
             local_mesh before;
-            const int b = local_build(&tree, seeds, s, origin, origin, k, keep, hits, &before);
+            const int b = local_build(seeds, s, origin, origin, hits, got, reach, keep, &before);
             if (b < 0) {
                 rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
                 break;
@@ -421,12 +485,8 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             for (int c = 0; c < nc; c++) {
                 if (!cand[c].ok)
                     continue;
-                int t = 0;
-#ifdef _OPENMP
-                t = omp_get_thread_num();
-#endif
-                const int a = local_build(&tree, seeds, s, origin, cand[c].x, k, keep,
-                                          hits + (size_t)t * LOCAL_MAX, &after[c]);
+                const int a = local_build(seeds, s, origin, cand[c].x, hits, got, reach, keep,
+                                          &after[c]);
                 if (a < 0)
                     failed = 1;
                 if (a != 0 || after[c].s_cell < 0) {
@@ -447,10 +507,10 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                     int n_focus = 0;
                     mark_focus(&before, focus, focus_list, &n_focus);
                     mark_focus(&after[c], focus, focus_list, &n_focus);
-                    cand[c].before = focus_skew(&before, seeds, focus, focus_list, n_focus,
-                                                opt->max_skew, &sf);
-                    cand[c].after = focus_skew(&after[c], seeds, focus, focus_list, n_focus,
-                                               opt->max_skew, &sf);
+                    cand[c].before = focus_skew(&before, seeds, mesh, cell_of_seed, focus,
+                                                focus_list, n_focus, opt->max_skew, &sf);
+                    cand[c].after = focus_skew(&after[c], seeds, mesh, cell_of_seed, focus,
+                                               focus_list, n_focus, opt->max_skew, &sf);
                     for (int i = 0; i < n_focus; i++)
                         focus[focus_list[i]] = 0;
                 }
@@ -471,9 +531,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                 break;        /* no room: this seed stays */
             }
             if (sf.grow) {
-                if (2 * k > LOCAL_MAX)
-                    break;
-                k *= 2;
+                reach *= 1.5;
                 continue;
             }
             decided = 1;
@@ -489,6 +547,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                 /* the cells it changed, and so the mesh's data there */
                 for (int64_t i = 0; i < n_keep; i++)
                     changed[keep_list[i]] = 1;
+                (void)two_hops;
             }
         }
         for (int64_t i = 0; i < n_keep; i++)

@@ -947,6 +947,9 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
                "tried, %lld moved, %lld cells built, %.3f s", opt->unskew,
                (long long)us.n_skew_faces, us.max_skew, (long long)us.n_tried,
                (long long)us.n_moved, (long long)us.n_cells_built, us.seconds);
+        /* on while the faces above the target fall (the moves of a round
+         * lower the skewness around each seed, but at the same count a
+         * further round gained little: gear, 4.19 to 4.16 in 3 rounds) */
         if (us.n_moved == 0 || (last >= 0 && us.n_skew_faces >= last))
             break;
         last = us.n_skew_faces;

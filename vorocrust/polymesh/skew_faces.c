@@ -43,8 +43,13 @@ double vc_polymesh_face_skewness(const vc_polymesh *m, int64_t f)
 {
     if (m->face_neighbour[f] < 0)
         return 0;
-    const double *co = m->cell_centroid + 3 * m->face_owner[f];
-    const double *cn = m->cell_centroid + 3 * m->face_neighbour[f];
+    return vc_polymesh_face_skewness_between(m, f, m->cell_centroid + 3 * m->face_owner[f],
+                                             m->cell_centroid + 3 * m->face_neighbour[f]);
+}
+
+double vc_polymesh_face_skewness_between(const vc_polymesh *m, int64_t f, const double co[3],
+                                         const double cn[3])
+{
     const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
     double d[3] = {cn[0] - co[0], cn[1] - co[1], cn[2] - co[2]};
     double cpf[3] = {fc[0] - co[0], fc[1] - co[1], fc[2] - co[2]};
