@@ -1,0 +1,173 @@
+/* Skew faces mended at the seeds (vc_interior_unskew), on seed sets built
+ * here: random interior seeds inside a shell of fixed "surface" seeds on
+ * the unit sphere, one small ball in the middle.
+ * - the faces above the target skewness (checkMesh's formula) are fewer
+ *   after the moves, counted on the cells built again;
+ * - the fixed seeds and the seeds of no skew face stay; every moved seed
+ *   within a quarter of its nearest-seed distance, none into the ball
+ *   grown by the clearance;
+ * - the same moves on 1 and 2 threads;
+ * - no skew face (a target above every face): nothing moves;
+ * - bad options are refused (VC_EPARAM). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_check.h"
+#include "vorocrust/interior.h"
+#include "vorocrust/random.h"
+#include "vorocrust/voronoi.h"
+
+static int build(const vc_seeds *s, vc_polymesh *m)
+{
+    vc_voronoi_options vo;
+    vc_voronoi_options_default(&vo);
+    vo.threads = 2;
+    vc_error err;
+    const int rc = vc_voronoi_build(s, &vo, m, &err);
+    CHECK_MSG(rc == 0, err.msg);
+    return rc;
+}
+
+/* Faces of m above limit (checkMesh's skewness). */
+static int64_t skew_faces(const vc_polymesh *m, double limit)
+{
+    int64_t n = 0;
+    for (int64_t f = 0; f < m->n_interior_faces; f++)
+        n += vc_polymesh_face_skewness(m, f) > limit;
+    return n;
+}
+
+/* n_surface points on the unit sphere and n_int random points in the ball
+ * of radius 0.8, all labelled 1. */
+static void random_set(vc_seeds *s, int64_t n_surface, int64_t n_int)
+{
+    vc_error err;
+    CHECK(vc_seeds_alloc(s, n_surface + n_int, &err) == 0);
+    vc_rng rng;
+    vc_rng_init(&rng, 11, 0);
+    for (int64_t i = 0; i < s->n; i++) {
+        double u[3], q = 2;
+        while (q > 1 || q < 1e-6) {
+            for (int d = 0; d < 3; d++)
+                u[d] = 2 * vc_rng_uniform(&rng) - 1;
+            q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        }
+        const double scale = i < n_surface ? 1 / sqrt(q) : 0.8;
+        for (int d = 0; d < 3; d++)
+            s->xyz[3 * i + d] = scale * u[d];
+        s->label[i] = 1;
+    }
+}
+
+int main(void)
+{
+    const int64_t n_surface = 600, n_int = 2500;
+    /* random seeds have few faces above checkMesh's 4: a lower target gives
+     * the test dozens to mend */
+    const double target = 2.5;
+    vc_seeds before, one, two;
+    random_set(&before, n_surface, n_int);
+    random_set(&one, n_surface, n_int);
+    random_set(&two, n_surface, n_int);
+    double centre[3] = {0.05, -0.02, 0.03}, radius = 0.03, normal[3] = {0, 0, 1};
+    signed char kind = 0;
+    int64_t element = 0;
+    vc_balls balls = {1, centre, &radius, &kind, &element, normal};
+
+    vc_polymesh m0;
+    if (build(&before, &m0))
+        return 1;
+    const int64_t n0 = skew_faces(&m0, target);
+    CHECKF(n0 >= 5, "random seeds with only %lld faces above %g: nothing to mend", (long long)n0,
+           target);
+
+    vc_unskew_options uo;
+    vc_unskew_options_default(&uo);
+    CHECK(uo.max_skew == 3.9 && uo.candidates == 16 && uo.clearance == VC_INTERIOR_CLEARANCE);
+    uo.max_skew = target;
+    vc_unskew_stats st1, st2;
+    vc_error err;
+    uo.threads = 1;
+    CHECK(vc_interior_unskew(&balls, &one, n_surface, &m0, &uo, &st1, &err) == 0);
+    uo.threads = 2;
+    CHECK(vc_interior_unskew(&balls, &two, n_surface, &m0, &uo, &st2, &err) == 0);
+    CHECK(memcmp(one.xyz, two.xyz, sizeof(double) * 3 * (size_t)one.n) == 0);
+    CHECK(st1.n_moved == st2.n_moved && st1.n_skew_faces == n0);
+    CHECK(memcmp(before.xyz, one.xyz, sizeof(double) * 3 * (size_t)n_surface) == 0);
+    CHECKF(st1.n_moved > 0 && st1.n_moved <= st1.n_tried, "%lld moved of %lld tried",
+           (long long)st1.n_moved, (long long)st1.n_tried);
+
+    vc_polymesh m1;
+    if (build(&one, &m1) == 0) {
+        const int64_t n1 = skew_faces(&m1, target);
+        CHECKF(n1 < n0, "faces above %g: %lld before, %lld after %lld moves", target,
+               (long long)n0, (long long)n1, (long long)st1.n_moved);
+        fprintf(stderr, "test_unskew_seeds: faces above %g: %lld -> %lld (%lld seeds moved of "
+                "%lld tried, %lld deferred, %lld cells built)\n", target, (long long)n0,
+                (long long)n1, (long long)st1.n_moved, (long long)st1.n_tried,
+                (long long)st1.n_deferred, (long long)st1.n_cells_built);
+        vc_polymesh_free(&m1);
+    }
+
+    /* moves within a quarter of the nearest-seed distance (as it was when
+     * the seed moved: at most the distance before any move plus the moves
+     * of the others, bounded here by the set before and after), none into
+     * the ball grown by the clearance */
+    int64_t far = 0, in_ball = 0;
+    for (int64_t i = n_surface; i < before.n; i++) {
+        double mv2 = 0, b2 = 0;
+        for (int d = 0; d < 3; d++) {
+            mv2 += (before.xyz[3 * i + d] - one.xyz[3 * i + d]) *
+                   (before.xyz[3 * i + d] - one.xyz[3 * i + d]);
+            b2 += (one.xyz[3 * i + d] - centre[d]) * (one.xyz[3 * i + d] - centre[d]);
+        }
+        if (mv2 == 0)
+            continue;
+        double nn2 = INFINITY;
+        for (int64_t j = 0; j < before.n; j++) {
+            if (j == i)
+                continue;
+            double d2 = 0, e2 = 0;
+            for (int d = 0; d < 3; d++) {
+                d2 += (before.xyz[3 * i + d] - before.xyz[3 * j + d]) *
+                      (before.xyz[3 * i + d] - before.xyz[3 * j + d]);
+                e2 += (before.xyz[3 * i + d] - one.xyz[3 * j + d]) *
+                      (before.xyz[3 * i + d] - one.xyz[3 * j + d]);
+            }
+            d2 = d2 > e2 ? d2 : e2;
+            nn2 = d2 < nn2 ? d2 : nn2;
+        }
+        far += mv2 > 0.0625 * nn2 * (1 + 1e-12);
+        const double grown = radius * (1 + VC_INTERIOR_CLEARANCE);
+        in_ball += b2 <= grown * grown;
+    }
+    CHECKF(far == 0, "%lld seeds moved beyond their picking region", (long long)far);
+    CHECKF(in_ball == 0, "%lld seeds moved into the ball", (long long)in_ball);
+
+    /* nothing above the target: nothing moves */
+    vc_seeds same;
+    random_set(&same, n_surface, n_int);
+    uo.max_skew = 1000;
+    vc_unskew_stats st3;
+    CHECK(vc_interior_unskew(&balls, &same, n_surface, &m0, &uo, &st3, &err) == 0);
+    CHECK(st3.n_skew_faces == 0 && st3.n_moved == 0 && st3.max_skew > target);
+    CHECK(memcmp(before.xyz, same.xyz, sizeof(double) * 3 * (size_t)same.n) == 0);
+
+    /* bad options */
+    uo.max_skew = 0;
+    CHECK(vc_interior_unskew(&balls, &same, n_surface, &m0, &uo, &st3, &err) == VC_EPARAM);
+    vc_unskew_options_default(&uo);
+    uo.candidates = 0;
+    CHECK(vc_interior_unskew(&balls, &same, n_surface, &m0, &uo, &st3, &err) == VC_EPARAM);
+    vc_unskew_options_default(&uo);
+    uo.n_sphere_seeds = 3; /* without their balls */
+    CHECK(vc_interior_unskew(&balls, &same, n_surface, &m0, &uo, &st3, &err) == VC_EPARAM);
+
+    vc_polymesh_free(&m0);
+    vc_seeds_free(&before);
+    vc_seeds_free(&one);
+    vc_seeds_free(&two);
+    vc_seeds_free(&same);
+    return failures != 0;
+}
