@@ -104,9 +104,8 @@ int main(void)
         CHECKF(n1 < n0, "faces above %g: %lld before, %lld after %lld moves", target,
                (long long)n0, (long long)n1, (long long)st1.n_moved);
         fprintf(stderr, "test_unskew_seeds: faces above %g: %lld -> %lld (%lld seeds moved of "
-                "%lld tried, %lld deferred, %lld cells built)\n", target, (long long)n0,
-                (long long)n1, (long long)st1.n_moved, (long long)st1.n_tried,
-                (long long)st1.n_deferred, (long long)st1.n_cells_built);
+                "%lld tried, %lld cells built)\n", target, (long long)n0, (long long)n1,
+                (long long)st1.n_moved, (long long)st1.n_tried, (long long)st1.n_cells_built);
         vc_polymesh_free(&m1);
     }
 

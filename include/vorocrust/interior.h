@@ -265,8 +265,8 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
  * after; the best place that lowers it is taken. Places inside a ball
  * grown by `clearance` (its radius times 1 + clearance) or nearer a
  * surface seed of another label are not tried. The seeds are visited in
- * index order, each judged with the moves before it: the same moves for
- * any thread count. The mesh is that of the seeds as they are (its
+ * index order, each judged with the moves before it (the cells a move
+ * changed, as it left them): the same moves for any thread count. The mesh is that of the seeds as they are (its
  * cell_seed indices into seeds); the caller builds the cells again. */
 typedef struct vc_unskew_options {
     double max_skew;       /* default 3.9 (checkMesh fails a face above 4) */
@@ -289,8 +289,6 @@ typedef struct vc_unskew_stats {
     double max_skew;       /* the largest skewness there */
     int64_t n_tried;       /* movable seeds of those faces */
     int64_t n_moved;       /* seeds moved */
-    int64_t n_deferred;    /* left for another round: a move nearby changed
-                              the cells the mesh gave */
     int64_t n_cells_built; /* cells built to judge the places */
     double seconds;
 } vc_unskew_stats;

@@ -193,12 +193,13 @@ typedef struct shortfall {
  * excesses (a move that mends one face and leaves a worse one nearby as it
  * was still counts; a face between two focus cells counts twice, before
  * and after alike). A cell across from a focus cell that is not a focus
- * cell itself is as the mesh has it (a move of s changes only s's cell and
- * its neighbours'): its centroid is the mesh's. Records in sf the focus
+ * cell itself is as the mesh has it, or as the moves before made it (a
+ * move of s changes only s's cell and its neighbours'): its centroid is
+ * centroid_now's. Records in sf the focus
  * cells it needed and did not have, and whether one was not exact. */
-static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const vc_polymesh *mesh,
-                         const int64_t *cell_of_seed, const unsigned char *focus,
-                         const int64_t *focus_list, int n_focus, double max_skew, shortfall *sf)
+static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const double *centroid_now,
+                         const unsigned char *focus, const int64_t *focus_list, int n_focus,
+                         double max_skew, shortfall *sf)
 {
     const vc_polymesh *m = &l->m;
     double excess = 0;
@@ -239,10 +240,9 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const vc_po
                 }
                 cn = m->cell_centroid + 3 * o;
             } else {
-                const int64_t g = cell_of_seed[u];
-                if (g < 0)
-                    continue;
-                cn = mesh->cell_centroid + 3 * g;
+                cn = centroid_now + 3 * u;
+                if (cn[0] != cn[0])
+                    continue; /* no cell in the mesh */
             }
             const double sk = vc_polymesh_face_skewness_between(m, f, m->cell_centroid + 3 * c, cn);
             if (sk > max_skew)
@@ -339,7 +339,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     int have_balls = 0, rc = 0;
     unsigned char *focus = calloc((size_t)n + 1, 1);
     unsigned char *keep = calloc((size_t)n + 1, 1);
-    unsigned char *changed = calloc((size_t)n + 1, 1);
+    double *centroid_now = malloc(sizeof(double) * 3 * (size_t)(n + 1));
     int64_t *focus_list = malloc(sizeof(int64_t) * (size_t)(2 * LOCAL_MAX + 4));
     int64_t *keep_list = malloc(sizeof(int64_t) * (size_t)(KEEP_MAX + 1));
     int64_t *cell_of_seed = malloc(sizeof(int64_t) * (size_t)(n + 1));
@@ -349,7 +349,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     local_mesh *after = calloc((size_t)nc, sizeof *after);
     vc_kd_hit *hits = malloc(sizeof(vc_kd_hit) * LOCAL_MAX);
     const vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
-    if (!focus || !keep || !changed || !focus_list || !keep_list || !cell_of_seed || !missing ||
+    if (!focus || !keep || !centroid_now || !focus_list || !keep_list || !cell_of_seed || !missing ||
         !cand || !valid || !after || !hits || vc_seed_kdtree_build(&tree, seeds->xyz, n) ||
         (n_surface > 0 && vc_nearest_seed_index_build(&surface_tree, &surface))) {
         rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
@@ -362,50 +362,39 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     have_balls = 1;
     for (int64_t i = 0; i < n; i++)
         cell_of_seed[i] = -1;
+    for (int64_t i = 0; i < 3 * n; i++)
+        centroid_now[i] = NAN;
     for (int64_t c = 0; c < mesh->n_cells; c++)
-        if (mesh->cell_seed[c] >= 0 && mesh->cell_seed[c] < n)
+        if (mesh->cell_seed[c] >= 0 && mesh->cell_seed[c] < n) {
             cell_of_seed[mesh->cell_seed[c]] = c;
+            memcpy(centroid_now + 3 * mesh->cell_seed[c], mesh->cell_centroid + 3 * c,
+                   3 * sizeof(double));
+        }
 
     for (int64_t s = movable; s < n && !rc; s++) {
         if (!want[s])
             continue;
-        /* A seed whose cells within two faces a move of this round changed
-         * waits for the next round: the mesh's centroids are stale there. */
-        int64_t n_keep = 0;
-        int stale = 0;
-        keep_seed(keep, keep_list, &n_keep, KEEP_MAX, s);
-        int64_t one_hop = 1;
-        for (int hop = 0; hop < 2; hop++) {
-            const int64_t upto = n_keep;
-            for (int64_t i = 0; i < upto; i++) {
-                const int64_t c = cell_of_seed[keep_list[i]];
-                if (c < 0)
-                    continue;
-                for (int64_t k = mesh->cell_offsets[c]; k < mesh->cell_offsets[c + 1]; k++) {
-                    const int64_t f = mesh->cell_faces[k];
-                    const int64_t o = mesh->face_neighbour[f] < 0 ? -1
-                                      : mesh->face_owner[f] == c ? mesh->face_neighbour[f]
-                                                                 : mesh->face_owner[f];
-                    if (o >= 0)
-                        keep_seed(keep, keep_list, &n_keep, KEEP_MAX, mesh->cell_seed[o]);
-                }
-            }
-            if (hop == 0)
-                one_hop = n_keep;
-        }
-        for (int64_t i = 0; i < n_keep; i++)
-            stale |= changed[keep_list[i]];
         /* the cells built: s's and its neighbours' (the cells its move
-         * changes; more when a place gives it new neighbours) */
-        for (int64_t i = one_hop; i < n_keep; i++)
-            keep[keep_list[i]] = 0;
-        const int64_t two_hops = n_keep;
-        n_keep = one_hop;
+         * changes; more when a place gives it new neighbours), as the mesh
+         * had them (a neighbour an earlier move gave it shows as missing) */
+        int64_t n_keep = 0;
+        keep_seed(keep, keep_list, &n_keep, KEEP_MAX, s);
+        {
+            const int64_t c = cell_of_seed[s];
+            for (int64_t k = c < 0 ? 0 : mesh->cell_offsets[c]; c >= 0 && k < mesh->cell_offsets[c + 1];
+                 k++) {
+                const int64_t f = mesh->cell_faces[k];
+                const int64_t o = mesh->face_neighbour[f] < 0 ? -1
+                                  : mesh->face_owner[f] == c ? mesh->face_neighbour[f]
+                                                             : mesh->face_owner[f];
+                if (o >= 0)
+                    keep_seed(keep, keep_list, &n_keep, KEEP_MAX, mesh->cell_seed[o]);
+            }
+        }
         double origin[3];
         memcpy(origin, seeds->xyz + 3 * s, sizeof origin);
         vc_kd_hit nearest;
-        if (stale || vc_seed_kdtree_knn(&tree, origin, 1, s, &nearest) < 1) {
-            st.n_deferred += stale;
+        if (vc_seed_kdtree_knn(&tree, origin, 1, s, &nearest) < 1) {
             for (int64_t i = 0; i < n_keep; i++)
                 keep[keep_list[i]] = 0;
             continue;
@@ -507,12 +496,36 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                     int n_focus = 0;
                     mark_focus(&before, focus, focus_list, &n_focus);
                     mark_focus(&after[c], focus, focus_list, &n_focus);
-                    cand[c].before = focus_skew(&before, seeds, mesh, cell_of_seed, focus,
-                                                focus_list, n_focus, opt->max_skew, &sf);
-                    cand[c].after = focus_skew(&after[c], seeds, mesh, cell_of_seed, focus,
-                                               focus_list, n_focus, opt->max_skew, &sf);
+                    cand[c].before = focus_skew(&before, seeds, centroid_now, focus, focus_list,
+                                                n_focus, opt->max_skew, &sf);
+                    cand[c].after = focus_skew(&after[c], seeds, centroid_now, focus, focus_list,
+                                               n_focus, opt->max_skew, &sf);
                     for (int i = 0; i < n_focus; i++)
                         focus[focus_list[i]] = 0;
+                }
+            }
+            int best = -1;
+            if (!failed && sf.n_missing == 0 && !sf.grow) {
+                decided = 1;
+                for (int c = 0; c < nc; c++)
+                    if (cand[c].ok && cand[c].after < cand[c].before &&
+                        (best < 0 || cand[c].after < cand[best].after))
+                        best = c;
+            }
+            if (best >= 0) {
+                memcpy(seeds->xyz + 3 * s, cand[best].x, 3 * sizeof(double));
+                vc_seed_kdtree_refit(&tree, seeds->xyz);
+                st.n_moved++;
+                /* the cells it changed, as they are now (exact: judged) */
+                const local_mesh *a = &after[best];
+                int n_focus = 0;
+                mark_focus(a, focus, focus_list, &n_focus);
+                for (int i = 0; i < n_focus; i++) {
+                    const int64_t t = focus_list[i], lt = local_index(a, t);
+                    const int64_t c = lt >= 0 ? a->cell_of[lt] : -1;
+                    if (c >= 0)
+                        memcpy(centroid_now + 3 * t, a->m.cell_centroid + 3 * c, 3 * sizeof(double));
+                    focus[t] = 0;
                 }
             }
             local_free(&before);
@@ -522,6 +535,8 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                 rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
                 break;
             }
+            if (decided)
+                break;
             if (sf.n_missing > 0) {
                 const int64_t had = n_keep;
                 for (int i = 0; i < sf.n_missing; i++)
@@ -530,25 +545,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                     continue; /* those cells too */
                 break;        /* no room: this seed stays */
             }
-            if (sf.grow) {
-                reach *= 1.5;
-                continue;
-            }
-            decided = 1;
-            int best = -1;
-            for (int c = 0; c < nc; c++)
-                if (cand[c].ok && cand[c].after < cand[c].before &&
-                    (best < 0 || cand[c].after < cand[best].after))
-                    best = c;
-            if (best >= 0) {
-                memcpy(seeds->xyz + 3 * s, cand[best].x, 3 * sizeof(double));
-                vc_seed_kdtree_refit(&tree, seeds->xyz);
-                st.n_moved++;
-                /* the cells it changed, and so the mesh's data there */
-                for (int64_t i = 0; i < n_keep; i++)
-                    changed[keep_list[i]] = 1;
-                (void)two_hops;
-            }
+            reach *= 1.5;     /* a judged cell was not exact */
         }
         for (int64_t i = 0; i < n_keep; i++)
             keep[keep_list[i]] = 0;
@@ -558,7 +555,7 @@ done:
     free(want);
     free(focus);
     free(keep);
-    free(changed);
+    free(centroid_now);
     free(focus_list);
     free(keep_list);
     free(cell_of_seed);
