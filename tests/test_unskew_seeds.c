@@ -1,13 +1,16 @@
 /* Skew faces mended at the seeds (vc_interior_unskew), on seed sets built
- * here: random interior seeds inside a shell of fixed "surface" seeds on
- * the unit sphere, one small ball in the middle.
+ * here: random interior seeds inside a shell of fixed seeds on the unit
+ * sphere (not kept: they bound the cells, as outside seeds do), one small
+ * ball in the middle.
  * - the faces above the target skewness (checkMesh's formula) are fewer
- *   after the moves, counted on the cells built again;
+ *   after the moves, counted on the cells built again (the moves also
+ *   mend faces of small interpolation weight or volume ratio and concave
+ *   cells: checkMesh -allGeometry's limits);
  * - the fixed seeds and the seeds of no skew face stay; every moved seed
  *   within a quarter of its nearest-seed distance, none into the ball
  *   grown by the clearance;
  * - the same moves on 1 and 2 threads;
- * - no skew face (a target above every face): nothing moves;
+ * - a cubic lattice, where nothing fails: nothing moves;
  * - bad options are refused (VC_EPARAM). */
 #include <math.h>
 #include <stdlib.h>
@@ -38,8 +41,9 @@ static int64_t skew_faces(const vc_polymesh *m, double limit)
     return n;
 }
 
-/* n_surface points on the unit sphere and n_int random points in the ball
- * of radius 0.8, all labelled 1. */
+/* n_surface points on the unit sphere (label 0: they only bound the
+ * others' cells, as VoroCrust's outside seeds do) and n_int random points
+ * in the ball of radius 0.8 (label 1). */
 static void random_set(vc_seeds *s, int64_t n_surface, int64_t n_int)
 {
     vc_error err;
@@ -56,7 +60,7 @@ static void random_set(vc_seeds *s, int64_t n_surface, int64_t n_int)
         const double scale = i < n_surface ? 1 / sqrt(q) : 0.8;
         for (int d = 0; d < 3; d++)
             s->xyz[3 * i + d] = scale * u[d];
-        s->label[i] = 1;
+        s->label[i] = i < n_surface ? 0 : 1;
     }
 }
 
@@ -86,12 +90,14 @@ int main(void)
     vc_unskew_options_default(&uo);
     CHECK(uo.max_skew == 3.9 && uo.candidates == 16 && uo.clearance == VC_INTERIOR_CLEARANCE);
     uo.max_skew = target;
+    uo.movable_begin = n_surface; /* the shell stays (n_surface 0 below: no
+                                     label to keep, the shell's is 0) */
     vc_unskew_stats st1, st2;
     vc_error err;
     uo.threads = 1;
-    CHECK(vc_interior_unskew(&balls, &one, n_surface, &m0, &uo, &st1, &err) == 0);
+    CHECK(vc_interior_unskew(&balls, &one, 0, &m0, &uo, &st1, &err) == 0);
     uo.threads = 2;
-    CHECK(vc_interior_unskew(&balls, &two, n_surface, &m0, &uo, &st2, &err) == 0);
+    CHECK(vc_interior_unskew(&balls, &two, 0, &m0, &uo, &st2, &err) == 0);
     CHECK(memcmp(one.xyz, two.xyz, sizeof(double) * 3 * (size_t)one.n) == 0);
     CHECK(st1.n_moved == st2.n_moved && st1.n_skew_faces == n0);
     CHECK(memcmp(before.xyz, one.xyz, sizeof(double) * 3 * (size_t)n_surface) == 0);
@@ -144,14 +150,39 @@ int main(void)
     CHECKF(far == 0, "%lld seeds moved beyond their picking region", (long long)far);
     CHECKF(in_ball == 0, "%lld seeds moved into the ball", (long long)in_ball);
 
-    /* nothing above the target: nothing moves */
+    /* a cubic lattice (cubes: no skewness, no concave cell, weights 0.5,
+     * equal volumes): nothing fails, nothing moves */
+    vc_seeds lattice;
+    CHECK(vc_seeds_alloc(&lattice, 216, &err) == 0);
+    for (int64_t i = 0; i < 216; i++) {
+        lattice.xyz[3 * i] = (double)(i % 6) + 0.5;
+        lattice.xyz[3 * i + 1] = (double)(i / 6 % 6) + 0.5;
+        lattice.xyz[3 * i + 2] = (double)(i / 36) + 0.5;
+        lattice.label[i] = 1;
+    }
+    vc_polymesh ml;
+    vc_unskew_stats st3;
+    vc_unskew_options_default(&uo);
+    double far_centre[3] = {-10, -10, -10};
+    vc_balls far_ball = {1, far_centre, &radius, &kind, &element, normal};
+    if (build(&lattice, &ml) == 0) {
+        vc_seeds same;
+        CHECK(vc_seeds_alloc(&same, 216, &err) == 0);
+        memcpy(same.xyz, lattice.xyz, sizeof(double) * 3 * 216);
+        memcpy(same.label, lattice.label, sizeof(int32_t) * 216);
+        CHECK(vc_interior_unskew(&far_ball, &same, 0, &ml, &uo, &st3, &err) == 0);
+        CHECKF(st3.n_skew_faces == 0 && st3.n_weak_faces == 0 && st3.n_concave_cells == 0 &&
+                   st3.n_moved == 0 && st3.max_skew < 1e-9,
+               "lattice: %lld skew, %lld weak faces, %lld concave cells, %lld moved, max %g",
+               (long long)st3.n_skew_faces, (long long)st3.n_weak_faces,
+               (long long)st3.n_concave_cells, (long long)st3.n_moved, st3.max_skew);
+        CHECK(memcmp(lattice.xyz, same.xyz, sizeof(double) * 3 * 216) == 0);
+        vc_seeds_free(&same);
+        vc_polymesh_free(&ml);
+    }
+    vc_seeds_free(&lattice);
     vc_seeds same;
     random_set(&same, n_surface, n_int);
-    uo.max_skew = 1000;
-    vc_unskew_stats st3;
-    CHECK(vc_interior_unskew(&balls, &same, n_surface, &m0, &uo, &st3, &err) == 0);
-    CHECK(st3.n_skew_faces == 0 && st3.n_moved == 0 && st3.max_skew > target);
-    CHECK(memcmp(before.xyz, same.xyz, sizeof(double) * 3 * (size_t)same.n) == 0);
 
     /* bad options */
     uo.max_skew = 0;

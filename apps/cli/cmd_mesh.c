@@ -286,10 +286,12 @@ static void print_summary(const char *in_path, int64_t n_input_triangles,
     const vc_unskew_stats *ust = &r->unskew;
     if (opt->unskew > 0 && r->n_interior_seeds > 0)
         fprintf(stderr,
-                "  skew faces: %lld above %g (max %.3g), %lld interior seeds of them moved in %d "
-                "rounds (%lld cells built to judge the places); %.3f s\n",
-                (long long)ust->n_skew_faces, opt->unskew, ust->max_skew, (long long)ust->n_moved,
-                r->unskew_rounds, (long long)ust->n_cells_built, t->unskew);
+                "  skew faces: %lld above %g (max %.3g), %lld of small weight or volume ratio, "
+                "%lld concave cells; %lld interior seeds moved in %d rounds (%lld cells built to "
+                "judge the places); %.3f s\n",
+                (long long)ust->n_skew_faces, opt->unskew, ust->max_skew,
+                (long long)ust->n_weak_faces, (long long)ust->n_concave_cells,
+                (long long)ust->n_moved, r->unskew_rounds, (long long)ust->n_cells_built, t->unskew);
     const vc_polymesh *m = &r->mesh;
     /* several materials: the input's volume is its material regions' */
     double input_volume = r->input.volume;

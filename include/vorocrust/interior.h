@@ -254,15 +254,17 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
                         const vc_protect_options *opt, vc_protect_stats *stats, vc_error *err);
 
 /* Skew faces (issue 20): OpenFOAM's skewness of a face (checkMesh's, from
- * the two cells' centroids; vc_polymesh_face_skewness) above max_skew is
- * mended at the seeds, not in the mesh: of the two seeds of each such face,
- * those that may move (index >= movable_begin: the octree's or lattice's
- * seeds) try `candidates` random places within a quarter of their
+ * the two cells' centroids; vc_polymesh_face_skewness) above max_skew, and
+ * checkMesh -allGeometry's other limits (interpolation weight 0.05, volume
+ * ratio 0.01, concave cells), are mended at the seeds, not in the mesh: of
+ * the seeds of each such face or cell, those that may move (index >=
+ * movable_begin; for a surface seed's cell, the movable seeds next to it)
+ * try `candidates` random places within a quarter of their
  * distance to the nearest seed, each judged by building the Voronoi cells
  * around it exactly (the seeds within a radius that holds every seed able
- * to cut the cells whose faces are judged) and taking the largest skewness
- * of the faces of the seed's cell and its neighbours' cells, before and
- * after; the best place that lowers it is taken. Places inside a ball
+ * to cut the cells whose faces are judged) and summing by how much the
+ * seed's cell and its neighbours' cells and faces miss those limits,
+ * before and after; the best place that lowers it is taken. Places inside a ball
  * grown by `clearance` (its radius times 1 + clearance) or nearer a
  * surface seed of another label are not tried. The seeds are visited in
  * index order, each judged with the moves before it (the cells a move
@@ -287,6 +289,10 @@ void vc_unskew_options_default(vc_unskew_options *opt);
 typedef struct vc_unskew_stats {
     int64_t n_skew_faces;  /* faces above max_skew in the mesh given */
     double max_skew;       /* the largest skewness there */
+    int64_t n_weak_faces;  /* faces below checkMesh's interpolation weight
+                              0.05 or volume ratio 0.01 */
+    int64_t n_concave_cells; /* cells concave by checkMesh's test (a face
+                              centre within 1e-6 of another face's plane) */
     int64_t n_tried;       /* movable seeds of those faces */
     int64_t n_moved;       /* seeds moved */
     int64_t n_cells_built; /* cells built to judge the places */

@@ -188,21 +188,73 @@ typedef struct shortfall {
     int grow;
 } shortfall;
 
-/* How far the faces of the focus seeds' cells in l, those between two
- * cells the mesh keeps (labels != 0), exceed max_skew: the sum of their
- * excesses (a move that mends one face and leaves a worse one nearby as it
- * was still counts; a face between two focus cells counts twice, before
- * and after alike). A cell across from a focus cell that is not a focus
- * cell itself is as the mesh has it, or as the moves before made it (a
- * move of s changes only s's cell and its neighbours'): its centroid is
- * centroid_now's. Records in sf the focus
- * cells it needed and did not have, and whether one was not exact. */
-static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const double *centroid_now,
-                         const unsigned char *focus, const int64_t *focus_list, int n_focus,
-                         double max_skew, shortfall *sf)
+/* checkMesh's limits besides the skewness (its -allGeometry checks):
+ * the smaller of a face's two distances to its cells' centroids (along its
+ * normal) over their sum, and the smaller cell's volume over the larger's;
+ * a cell is concave when the centre of one of its faces lies within
+ * 1e-6 (a cosine) of another face's plane or beyond it. */
+#define MIN_WEIGHT 0.05
+#define MIN_VOLUME_RATIO 0.01
+#define PLANAR_COS 1e-6
+
+/* Is cell c of m concave by checkMesh's test? */
+static int cell_concave(const vc_polymesh *m, int64_t c)
+{
+    for (int64_t i = m->cell_offsets[c]; i < m->cell_offsets[c + 1]; i++) {
+        const int64_t fi = m->cell_faces[i];
+        const double *fc = m->face_centroid + 3 * fi, *n = m->face_normal + 3 * fi;
+        const double sg = m->face_owner[fi] == c ? 1.0 : -1.0; /* out of c */
+        for (int64_t j = m->cell_offsets[c]; j < m->cell_offsets[c + 1]; j++) {
+            if (j == i)
+                continue;
+            const double *pc = m->face_centroid + 3 * m->cell_faces[j];
+            const double d[3] = {pc[0] - fc[0], pc[1] - fc[1], pc[2] - fc[2]};
+            const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (len > 0 && sg * (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / len > -PLANAR_COS)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* What checkMesh would say of face f of m between centroids co (volume
+ * vo) and cn (vn): the skewness above max_skew, and a unit for each of the
+ * other limits missed, by how much (a share of the limit). */
+static double face_badness(const vc_polymesh *m, int64_t f, const double co[3], double vo,
+                           const double cn[3], double vn, double max_skew)
+{
+    double bad = 0;
+    const double sk = vc_polymesh_face_skewness_between(m, f, co, cn);
+    if (sk > max_skew)
+        bad += sk - max_skew;
+    const double *fc = m->face_centroid + 3 * f, *n = m->face_normal + 3 * f;
+    const double dox = fabs(n[0] * (fc[0] - co[0]) + n[1] * (fc[1] - co[1]) + n[2] * (fc[2] - co[2]));
+    const double dnx = fabs(n[0] * (cn[0] - fc[0]) + n[1] * (cn[1] - fc[1]) + n[2] * (cn[2] - fc[2]));
+    const double w = dox + dnx > 0 ? (dox < dnx ? dox : dnx) / (dox + dnx) : 0;
+    if (w < MIN_WEIGHT)
+        bad += (MIN_WEIGHT - w) / MIN_WEIGHT;
+    const double r = vo < vn ? vo / vn : vn / vo;
+    if (r < MIN_VOLUME_RATIO)
+        bad += (MIN_VOLUME_RATIO - r) / MIN_VOLUME_RATIO;
+    return bad;
+}
+
+/* How badly the focus seeds' cells in l fail checkMesh: the sum over their
+ * faces between two cells the mesh keeps (labels != 0) of face_badness,
+ * and 1 for each concave focus cell (a move that mends one face and leaves
+ * a worse one nearby as it was still counts; a face between two focus
+ * cells counts twice, before and after alike). A cell across from a focus
+ * cell that is not a focus cell itself is as the mesh has it, or as the
+ * moves before made it (a move of s changes only s's cell and its
+ * neighbours'): its centroid and volume are centroid_now's and
+ * volume_now's. Records in sf the focus cells it needed and did not have,
+ * and whether one was not exact. */
+static double focus_badness(const local_mesh *l, const vc_seeds *seeds, const double *centroid_now,
+                            const double *volume_now, const unsigned char *focus,
+                            const int64_t *focus_list, int n_focus, double max_skew, shortfall *sf)
 {
     const vc_polymesh *m = &l->m;
-    double excess = 0;
+    double bad = 0;
     for (int i = 0; i < n_focus; i++) {
         const int64_t t = focus_list[i];
         if (seeds->label[t] == 0)
@@ -220,6 +272,7 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const doubl
             sf->grow = 1;
             continue;
         }
+        bad += cell_concave(m, c);
         for (int64_t k = m->cell_offsets[c]; k < m->cell_offsets[c + 1]; k++) {
             const int64_t f = m->cell_faces[k];
             const int64_t q = across(m, f, c);
@@ -227,6 +280,7 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const doubl
                 continue;
             const int64_t u = l->seed[q];
             const double *cn;
+            double vn;
             if (focus[u]) {
                 const int64_t o = l->cell_of[q];
                 if (o < 0) {
@@ -239,17 +293,17 @@ static double focus_skew(const local_mesh *l, const vc_seeds *seeds, const doubl
                     continue;
                 }
                 cn = m->cell_centroid + 3 * o;
+                vn = m->cell_volume[o];
             } else {
                 cn = centroid_now + 3 * u;
+                vn = volume_now[u];
                 if (cn[0] != cn[0])
                     continue; /* no cell in the mesh */
             }
-            const double sk = vc_polymesh_face_skewness_between(m, f, m->cell_centroid + 3 * c, cn);
-            if (sk > max_skew)
-                excess += sk - max_skew;
+            bad += face_badness(m, f, m->cell_centroid + 3 * c, m->cell_volume[c], cn, vn, max_skew);
         }
     }
-    return excess;
+    return bad;
 }
 
 typedef struct candidate {
@@ -285,39 +339,51 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
         (opt->n_sphere_seeds > 0 && !opt->sphere_ball))
         return vc_error_set(err, VC_EPARAM, "skew faces: bad options (skewness %g, clearance %g, "
                             "%d candidates)", opt->max_skew, opt->clearance, opt->candidates);
-    /* the seeds of the skew faces that may move, in index order */
+    /* the seeds that may move of the faces and cells that fail checkMesh,
+     * in index order: a cell's own seed when it may move, else (a surface
+     * seed, fixed by the balls) the movable seeds next to it, whose moves
+     * change the cell */
     unsigned char *want = calloc((size_t)n + 1, 1);
     if (!want)
         return vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
+#define WANT_CELL(cell)                                                                            \
+    do {                                                                                           \
+        const int64_t c_ = (cell), s_ = mesh->cell_seed[c_];                                       \
+        if (s_ >= movable && s_ < n) {                                                             \
+            want[s_] = 1;                                                                          \
+            break;                                                                                 \
+        }                                                                                          \
+        for (int64_t k_ = mesh->cell_offsets[c_]; k_ < mesh->cell_offsets[c_ + 1]; k_++) {         \
+            const int64_t g_ = mesh->cell_faces[k_];                                               \
+            if (mesh->face_neighbour[g_] < 0)                                                      \
+                continue;                                                                          \
+            const int64_t o_ = mesh->face_owner[g_] == c_ ? mesh->face_neighbour[g_]               \
+                                                          : mesh->face_owner[g_];                  \
+            const int64_t t_ = mesh->cell_seed[o_];                                                \
+            if (t_ >= movable && t_ < n)                                                           \
+                want[t_] = 1;                                                                      \
+        }                                                                                          \
+    } while (0)
     for (int64_t f = 0; f < mesh->n_interior_faces; f++) {
+        const int64_t ca = mesh->face_owner[f], cb = mesh->face_neighbour[f];
         const double k = vc_polymesh_face_skewness(mesh, f);
         st.max_skew = k > st.max_skew ? k : st.max_skew;
-        if (!(k > opt->max_skew))
-            continue;
-        st.n_skew_faces++;
-        const int64_t ca = mesh->face_owner[f], cb = mesh->face_neighbour[f];
-        const int64_t a = mesh->cell_seed[ca], b = mesh->cell_seed[cb];
-        if (a >= movable && a < n)
-            want[a] = 1;
-        if (b >= movable && b < n)
-            want[b] = 1;
-        if ((a >= movable && a < n) || (b >= movable && b < n))
-            continue;
-        /* two seeds that stay (surface seeds): the movable seeds next to
-         * either cell, whose moves change the cells' centroids */
-        for (int side = 0; side < 2; side++) {
-            const int64_t c = side ? cb : ca;
-            for (int64_t k2 = mesh->cell_offsets[c]; k2 < mesh->cell_offsets[c + 1]; k2++) {
-                const int64_t g = mesh->cell_faces[k2];
-                if (mesh->face_neighbour[g] < 0)
-                    continue;
-                const int64_t o = mesh->face_owner[g] == c ? mesh->face_neighbour[g] : mesh->face_owner[g];
-                const int64_t t = mesh->cell_seed[o];
-                if (t >= movable && t < n)
-                    want[t] = 1;
-            }
+        st.n_skew_faces += k > opt->max_skew;
+        const double other = face_badness(mesh, f, mesh->cell_centroid + 3 * ca, mesh->cell_volume[ca],
+                                          mesh->cell_centroid + 3 * cb, mesh->cell_volume[cb],
+                                          INFINITY);
+        st.n_weak_faces += other > 0;
+        if (k > opt->max_skew || other > 0) {
+            WANT_CELL(ca);
+            WANT_CELL(cb);
         }
     }
+    for (int64_t c = 0; c < mesh->n_cells; c++)
+        if (cell_concave(mesh, c)) {
+            st.n_concave_cells++;
+            WANT_CELL(c);
+        }
+#undef WANT_CELL
     int64_t n_want = 0;
     for (int64_t i = 0; i < n; i++)
         n_want += want[i];
@@ -340,6 +406,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     unsigned char *focus = calloc((size_t)n + 1, 1);
     unsigned char *keep = calloc((size_t)n + 1, 1);
     double *centroid_now = malloc(sizeof(double) * 3 * (size_t)(n + 1));
+    double *volume_now = malloc(sizeof(double) * (size_t)(n + 1));
     int64_t *focus_list = malloc(sizeof(int64_t) * (size_t)(2 * LOCAL_MAX + 4));
     int64_t *keep_list = malloc(sizeof(int64_t) * (size_t)(KEEP_MAX + 1));
     int64_t *cell_of_seed = malloc(sizeof(int64_t) * (size_t)(n + 1));
@@ -349,7 +416,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
     local_mesh *after = calloc((size_t)nc, sizeof *after);
     vc_kd_hit *hits = malloc(sizeof(vc_kd_hit) * LOCAL_MAX);
     const vc_seeds surface = {n_surface, seeds->xyz, seeds->label};
-    if (!focus || !keep || !centroid_now || !focus_list || !keep_list || !cell_of_seed || !missing ||
+    if (!focus || !keep || !centroid_now || !volume_now || !focus_list || !keep_list || !cell_of_seed || !missing ||
         !cand || !valid || !after || !hits || vc_seed_kdtree_build(&tree, seeds->xyz, n) ||
         (n_surface > 0 && vc_nearest_seed_index_build(&surface_tree, &surface))) {
         rc = vc_error_set(err, VC_ENOMEM, "out of memory mending skew faces");
@@ -369,6 +436,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             cell_of_seed[mesh->cell_seed[c]] = c;
             memcpy(centroid_now + 3 * mesh->cell_seed[c], mesh->cell_centroid + 3 * c,
                    3 * sizeof(double));
+            volume_now[mesh->cell_seed[c]] = mesh->cell_volume[c];
         }
 
     for (int64_t s = movable; s < n && !rc; s++) {
@@ -496,10 +564,10 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                     int n_focus = 0;
                     mark_focus(&before, focus, focus_list, &n_focus);
                     mark_focus(&after[c], focus, focus_list, &n_focus);
-                    cand[c].before = focus_skew(&before, seeds, centroid_now, focus, focus_list,
-                                                n_focus, opt->max_skew, &sf);
-                    cand[c].after = focus_skew(&after[c], seeds, centroid_now, focus, focus_list,
-                                               n_focus, opt->max_skew, &sf);
+                    cand[c].before = focus_badness(&before, seeds, centroid_now, volume_now, focus,
+                                                   focus_list, n_focus, opt->max_skew, &sf);
+                    cand[c].after = focus_badness(&after[c], seeds, centroid_now, volume_now, focus,
+                                                  focus_list, n_focus, opt->max_skew, &sf);
                     for (int i = 0; i < n_focus; i++)
                         focus[focus_list[i]] = 0;
                 }
@@ -523,8 +591,10 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                 for (int i = 0; i < n_focus; i++) {
                     const int64_t t = focus_list[i], lt = local_index(a, t);
                     const int64_t c = lt >= 0 ? a->cell_of[lt] : -1;
-                    if (c >= 0)
+                    if (c >= 0) {
                         memcpy(centroid_now + 3 * t, a->m.cell_centroid + 3 * c, 3 * sizeof(double));
+                        volume_now[t] = a->m.cell_volume[c];
+                    }
                     focus[t] = 0;
                 }
             }
@@ -556,6 +626,7 @@ done:
     free(focus);
     free(keep);
     free(centroid_now);
+    free(volume_now);
     free(focus_list);
     free(keep_list);
     free(cell_of_seed);

@@ -943,16 +943,20 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
             out->unskew = us;
         moved += us.n_moved;
         built += us.n_cells_built;
-        vc_log(opt->log, VC_LOG_DEBUG, "  mesh: skew faces above %g: %lld (max %.3g), %lld seeds "
-               "tried, %lld moved, %lld cells built, %.3f s", opt->unskew,
-               (long long)us.n_skew_faces, us.max_skew, (long long)us.n_tried,
-               (long long)us.n_moved, (long long)us.n_cells_built, us.seconds);
-        /* on while the faces above the target fall (the moves of a round
-         * lower the skewness around each seed, but at the same count a
-         * further round gained little: gear, 4.19 to 4.16 in 3 rounds) */
-        if (us.n_moved == 0 || (last >= 0 && us.n_skew_faces >= last))
+        vc_log(opt->log, VC_LOG_DEBUG, "  mesh: skew faces above %g: %lld (max %.3g), faces of "
+               "small weight or volume ratio %lld, concave cells %lld; %lld seeds tried, %lld "
+               "moved, %lld cells built, %.3f s", opt->unskew, (long long)us.n_skew_faces,
+               us.max_skew, (long long)us.n_weak_faces, (long long)us.n_concave_cells,
+               (long long)us.n_tried, (long long)us.n_moved, (long long)us.n_cells_built,
+               us.seconds);
+        /* on while the faces and cells that fail fall (the moves of a round
+         * lower the failures around each seed, but at the same count a
+         * further round gained little: gear, skewness 4.19 to 4.16 in 3
+         * rounds) */
+        const int64_t failing = us.n_skew_faces + us.n_weak_faces + us.n_concave_cells;
+        if (us.n_moved == 0 || (last >= 0 && failing >= last))
             break;
-        last = us.n_skew_faces;
+        last = failing;
         vc_seed_spheres_owned on_spheres;
         if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
             return named(err, name, NULL);
