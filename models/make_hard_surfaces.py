@@ -1206,19 +1206,8 @@ def case_slot_block():
     copy smoothed within half the error bound widens the slot (half the
     balls predicted) and loses 1.9% of the volume (session 38)."""
     L, H, w, depth, ext = 1.0, 0.4, 0.006, 0.15, 0.15
-    profile = [(0, 0, 0), (L, 0, 0), (L, H, 0), (L / 2 + w / 2, H, 0), (L / 2 + w / 2, H - depth, 0),
-               (L / 2 - w / 2, H - depth, 0), (L / 2 - w / 2, H, 0), (0, H, 0)]
-    tri = vtk.vtkTriangleFilter()
-    tri.SetInputData(lists_to_polydata(profile, [range(len(profile))]))
-    e = vtk.vtkLinearExtrusionFilter()
-    e.SetInputConnection(tri.GetOutputPort())
-    e.SetExtrusionTypeToVectorExtrusion()
-    e.SetVector(0, 0, ext)
-    e.CappingOn()
-    tri2 = vtk.vtkTriangleFilter()
-    tri2.SetInputConnection(e.GetOutputPort())
-    tri2.Update()
-    return polydata_to_lists(tri2.GetOutput(), tolerance=1e-9)
+    return extruded([(0, 0), (L, 0), (L, H), (L / 2 + w / 2, H), (L / 2 + w / 2, H - depth),
+                     (L / 2 - w / 2, H - depth), (L / 2 - w / 2, H), (0, H)], ext)
 
 
 def case_chamfer_block():
@@ -1229,18 +1218,7 @@ def case_chamfer_block():
     the balls made (0.16 at 0.002 wide); refined where the bound falls,
     0.38 (session 39)."""
     w = 0.004
-    profile = [(0, 0, 0), (1, 0, 0), (1, 1 - w, 0), (1 - w, 1, 0), (0, 1, 0)]
-    tri = vtk.vtkTriangleFilter()
-    tri.SetInputData(lists_to_polydata(profile, [range(len(profile))]))
-    e = vtk.vtkLinearExtrusionFilter()
-    e.SetInputConnection(tri.GetOutputPort())
-    e.SetExtrusionTypeToVectorExtrusion()
-    e.SetVector(0, 0, 1)
-    e.CappingOn()
-    tri2 = vtk.vtkTriangleFilter()
-    tri2.SetInputConnection(e.GetOutputPort())
-    tri2.Update()
-    return polydata_to_lists(tri2.GetOutput(), tolerance=1e-9)
+    return extruded([(0, 0), (1, 0), (1, 1 - w), (1 - w, 1), (0, 1)], 1.0)
 
 
 def inner_sphere_inward(pts, tris):
@@ -1271,26 +1249,18 @@ def case_icosa():
 
 
 def extruded(outline, height):
-    """A closed polygon (x, y) extruded along z by height and capped
-    (vtkLinearExtrusionFilter over the triangulated polygon)."""
-    points = vtk.vtkPoints()
-    poly = vtk.vtkCellArray()
-    poly.InsertNextCell(len(outline))
-    for i, (x, y) in enumerate(outline):
-        points.InsertNextPoint(x, y, 0.0)
-        poly.InsertCellPoint(i)
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(points)
-    pd.SetPolys(poly)
+    """A closed polygon (x, y) in the plane z = 0 extruded along z by height
+    and capped (vtkLinearExtrusionFilter over the triangulated polygon)."""
+    profile = [(x, y, 0.0) for x, y in outline]
     tri = vtk.vtkTriangleFilter()
-    tri.SetInputData(pd)
-    ex = vtk.vtkLinearExtrusionFilter()
-    ex.SetInputConnection(tri.GetOutputPort())
-    ex.SetExtrusionTypeToNormalExtrusion()
-    ex.SetVector(0, 0, height)
-    ex.CappingOn()
+    tri.SetInputData(lists_to_polydata(profile, [range(len(profile))]))
+    e = vtk.vtkLinearExtrusionFilter()
+    e.SetInputConnection(tri.GetOutputPort())
+    e.SetExtrusionTypeToVectorExtrusion()
+    e.SetVector(0, 0, height)
+    e.CappingOn()
     tri2 = vtk.vtkTriangleFilter()
-    tri2.SetInputConnection(ex.GetOutputPort())
+    tri2.SetInputConnection(e.GetOutputPort())
     tri2.Update()
     return polydata_to_lists(tri2.GetOutput(), tolerance=1e-9)
 
