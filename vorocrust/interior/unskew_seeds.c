@@ -1,16 +1,17 @@
-/* Skew faces mended at the seeds (see include/vorocrust/interior.h and
- * docs/solver-grade-cells.md).
+/* checkMesh's failures mended at the seeds (see include/vorocrust/interior.h
+ * and docs/solver-grade-cells.md).
  *
  * checkMesh's skewness of a face is the distance from its centroid to
  * where the line between the two cells' centroids crosses its plane, over
  * the face's extent that way: small faces whose cells' centroids sit askew
- * fail it. Every cell stays the Voronoi cell of its seed: an interior seed
- * of such a face moves a little (within a quarter of its distance to its
- * nearest seed), to the place among a few random ones that lowers the
- * largest skewness around it most. A place is judged exactly: the cells
- * of the seed and of its neighbours are built from every seed that can cut
- * them, and the faces of those cells measured, as they would be in the
- * mesh. */
+ * fail it, and -allGeometry adds the faces' interpolation weights, the
+ * cells' volume ratios and its concave-cell test. Every cell stays the
+ * Voronoi cell of its seed: an interior seed of such a face or cell (or
+ * next to it) moves a little (within a quarter of its distance to its
+ * nearest seed), to the place among a few random ones that lowers what
+ * fails around it most. A place is judged exactly: the cells of the seed
+ * and of its neighbours are built from every seed that can cut them, and
+ * measured as they would be in the mesh. */
 #include "vorocrust/interior.h"
 
 #include <math.h>
@@ -29,9 +30,8 @@
  * judged must be exact: built from every seed that can cut them). */
 enum { LOCAL_MAX = 4096 };
 /* Cells built around a seed at most, and builds of them: a seed whose
- * neighbourhood needs more is left as it is (cow.off's cells along the
- * knife edge where its parts meet: 3.6 million cells built for 54 seeds
- * with 2,048 and 2,560 and up to 16 builds, 123 s). */
+ * neighbourhood needs more is left as it is (cow.off's seeds along the
+ * knife edge where its parts meet need thousands). */
 enum { KEEP_MAX = 512, MAX_ATTEMPTS = 6 };
 /* The picking region's radius, a share of the distance from the seed to
  * its nearest neighbour (as the short-edge protection's). */
