@@ -16,12 +16,15 @@ where it can be:
  - 1 and 2 threads give the same .vtu byte for byte;
  - the exact cells as an OpenFOAM case (--foam-max-skew 0: no collapse)
    pass `checkMesh -allGeometry -allTopology` with no failed check
-   (fandisk.off), or with no skewness failure (fillet_block, which keeps a
-   concave cell by checkMesh's test: a tiny face).
+   (fandisk.off, torus.obj and bracket.obj with --protect 0.01), or with
+   no skewness failure (fillet_block, which keeps a concave cell by
+   checkMesh's test: a tiny face).
 Usage: e2e_unskew.py PART: fillet_block (models/make_hard_surfaces.py, the
 repository alone: one face above 4 between two surface seeds, mended by
-moving an interior seed next to them) or fandisk.off (the shared model,
-skipped without it: three faces above 4 between interior seeds).
+moving an interior seed next to them), fandisk.off (the shared model,
+skipped without it: three faces above 4 between interior seeds), or
+torus.obj+protect, bracket.obj+protect (with --protect 0.01 as well: 2 and
+6 faces above 4, and every check passed after).
 Environment: VC_BIN, VC_MODELS, VC_TMP, VC_SOURCE."""
 import os
 import re
@@ -34,28 +37,36 @@ from e2eutil import check, run  # noqa: E402
 from surfacecheck import read_surface  # noqa: E402
 
 BIN = os.environ["VC_BIN"]
-PARTS = ("fillet_block", "fandisk.off")
+# PART: whether every check of checkMesh -allGeometry -allTopology passes on
+# the exact case (else the skewness check alone), extra options
+PARTS = {"fillet_block": (False, ()), "fandisk.off": (True, ()),
+         "torus.obj+protect": (True, ("--protect", "0.01")),
+         "bracket.obj+protect": (True, ("--protect", "0.01"))}
 if len(sys.argv) != 2 or sys.argv[1] not in PARTS:
     print("usage: e2e_unskew.py PART, PART one of %s" % ", ".join(PARTS), file=sys.stderr)
     sys.exit(2)
 PART = sys.argv[1]
-TMP = e2eutil.fresh_tmp("e2e_unskew_" + PART.replace(".", "_"))
-if PART == "fandisk.off":
-    MODEL = os.path.join(e2eutil.models_dir(), "fandisk.off")
+ALL_CHECKS, EXTRA = PARTS[PART]
+TMP = e2eutil.fresh_tmp("e2e_unskew_" + PART.replace(".", "_").replace("+", "_"))
+if PART.split("+")[0] in ("fandisk.off", "torus.obj", "bracket.obj"):
+    MODEL = os.path.join(e2eutil.models_dir(), PART.split("+")[0])
 else:
     gen = os.path.join(os.environ["VC_SOURCE"], "models", "make_hard_surfaces.py")
     rc, _, gen_err = run(["/usr/bin/python3", gen, TMP, PART], timeout=300)
     check(rc == 0, "make_hard_surfaces.py %s: exit %d: %s" % (PART, rc, gen_err[-1000:]))
     MODEL = os.path.join(TMP, PART + ".obj")
-# the interior seeds' clearance from the balls (VC_INTERIOR_CLEARANCE)
-CLEARANCE = 0.1
+# the interior seeds' clearance from the balls (VC_INTERIOR_CLEARANCE); with
+# --protect 0.01 the pole seeds keep the protection's power gap from the
+# other balls, sqrt(1 + 4 * 0.01) times their radius (the moves here keep
+# the larger clearance)
+CLEARANCE = 0.0195 if "--protect" in EXTRA else 0.1
 
 
 def mesh(tag, *extra):
     out = {k: os.path.join(TMP, "%s%s" % (tag, s)) for k, s in
            (("vtu", ".vtu"), ("surface", ".obj"), ("seeds", "_seeds.csv"), ("balls", "_balls.csv"))}
     rc, _, err = run([BIN, "mesh", MODEL, "-o", out["vtu"], "--surface", out["surface"],
-                      "--seeds", out["seeds"], "--balls", out["balls"], *extra], timeout=600)
+                      "--seeds", out["seeds"], "--balls", out["balls"], *EXTRA, *extra], timeout=600)
     check(rc == 0, "%s: exit %d: %s" % (tag, rc, err[-2000:]))
     return rc, err, out
 
@@ -126,8 +137,8 @@ if base_rc == 0 and "2" in runs:
     # the exact cells as an OpenFOAM case
     checkmesh, env = e2eutil.find_checkmesh()
     case = os.path.join(TMP, "case")
-    rc, _, ferr = run([BIN, "mesh", MODEL, "-o", os.path.join(TMP, "foam.vtu"), "--unskew", "3.9",
-                       "--foam", case, "--foam-max-skew", "0", "--threads", "2"], timeout=600)
+    rc, _, ferr = run([BIN, "mesh", MODEL, "-o", os.path.join(TMP, "foam.vtu"), *EXTRA, "--unskew",
+                       "3.9", "--foam", case, "--foam-max-skew", "0", "--threads", "2"], timeout=600)
     check(rc == 0, "--foam: exit %d: %s" % (rc, ferr[-2000:]))
     if rc == 0:
         import subprocess
@@ -137,11 +148,12 @@ if base_rc == 0 and "2" in runs:
         with open(os.path.join(TMP, "checkMesh-all.log"), "w") as f:
             f.write(log)
         failed = [ln.strip() for ln in log.split("\n") if ln.strip().startswith("***")]
-        # fandisk passes every check; fillet_block keeps a concave cell
-        # (checkMesh's test: a face centre within 1e-6 radians of another
-        # face's plane: a tiny face of a surface cell), which the skewness
-        # does not see: there the skewness check alone must pass
-        if PART == "fandisk.off":
+        # fandisk passes every check, and so do torus and bracket with
+        # --protect 0.01; fillet_block keeps a concave cell (checkMesh's
+        # test: a face centre within 1e-6 radians of another face's plane: a
+        # tiny face between surface cells, which no interior seed's move
+        # mends): there the skewness check alone must pass
+        if ALL_CHECKS:
             check(p.returncode == 0 and "\nMesh OK." in log and not failed,
                   "checkMesh -allGeometry -allTopology on the exact case: exit %d, failed %r"
                   % (p.returncode, failed))
