@@ -13,7 +13,7 @@ where it can be:
  - every interior seed outside every ball grown by the interior seeds'
    clearance (a seed on a ball's sphere excepted) and nearest to an inside
    surface seed;
- - 1 and 2 threads give the same .vtu byte for byte;
+ - 1 and 2 threads give the same .vtu byte for byte (in Release);
  - the exact cells as an OpenFOAM case (--foam-max-skew 0: no collapse)
    pass `checkMesh -allGeometry -allTopology` with no failed check
    (fandisk.off, torus.obj and bracket.obj with --protect 0.01), or with
@@ -92,8 +92,13 @@ def surface_polygons(path):
 
 base_rc, base_err, base = mesh("plain", "--threads", "2")
 runs = {}
-for t in ("1", "2"):
-    rc, err, out = mesh("unskew_t" + t, "--unskew", "3.9", "--threads", t)
+# the 2-thread run also writes the exact cells as an OpenFOAM case; the
+# 1-thread run (determinism) in Release only: the sanitizer build is slow
+CASE = os.path.join(TMP, "case")
+SANITIZED = os.environ.get("VC_SANITIZED", "0") in ("1", "ON", "TRUE", "true")
+for t in ("2",) if SANITIZED else ("2", "1"):
+    foam = ("--foam", CASE, "--foam-max-skew", "0") if t == "2" else ()
+    rc, err, out = mesh("unskew_t" + t, "--unskew", "3.9", "--threads", t, *foam)
     if rc == 0:
         runs[t] = (err, out)
 
@@ -134,15 +139,12 @@ if base_rc == 0 and "2" in runs:
         with open(runs["1"][1]["vtu"], "rb") as f1, open(out["vtu"], "rb") as f2:
             check(f1.read() == f2.read(), "the .vtu differs between 1 and 2 threads")
 
-    # the exact cells as an OpenFOAM case
+    # the exact cells as an OpenFOAM case (written by the 2-thread run)
     checkmesh, env = e2eutil.find_checkmesh()
-    case = os.path.join(TMP, "case")
-    rc, _, ferr = run([BIN, "mesh", MODEL, "-o", os.path.join(TMP, "foam.vtu"), *EXTRA, "--unskew",
-                       "3.9", "--foam", case, "--foam-max-skew", "0", "--threads", "2"], timeout=600)
-    check(rc == 0, "--foam: exit %d: %s" % (rc, ferr[-2000:]))
-    if rc == 0:
+    check(os.path.isdir(os.path.join(CASE, "constant", "polyMesh")), "no OpenFOAM case written")
+    if os.path.isdir(os.path.join(CASE, "constant", "polyMesh")):
         import subprocess
-        p = subprocess.run([checkmesh, "-allGeometry", "-allTopology", "-case", case],
+        p = subprocess.run([checkmesh, "-allGeometry", "-allTopology", "-case", CASE],
                            capture_output=True, text=True, env=env, cwd=TMP, timeout=600)
         log = p.stdout + p.stderr
         with open(os.path.join(TMP, "checkMesh-all.log"), "w") as f:
