@@ -914,10 +914,9 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
     return rc ? named(err, name, "reconstructing the surface") : 0;
 }
 
-/* Interior seeds, Lloyd relaxation, the Voronoi mesh and its measures. */
-/* Rounds of skew-face mending (vc_interior_unskew), each followed by the
- * cells again, while a round moves seeds and the count of faces above the
- * target falls. */
+/* Rounds of mending checkMesh's failures at the seeds (vc_interior_unskew),
+ * each followed by the cells again, while a round moves seeds and the count
+ * of failing faces and cells falls. */
 #define UNSKEW_ROUNDS 3
 
 static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
@@ -977,6 +976,7 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
     return 0;
 }
 
+/* Interior seeds, Lloyd relaxation, the Voronoi mesh and its measures. */
 static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_materials *mm,
                        vc_mesh_result *out, vc_error *err)
 {
