@@ -146,11 +146,12 @@ typedef struct vc_mesh_options {
      * recommended value; default 0: off (it costs about as much again as
      * the Voronoi cells). */
     double protect_edge;
-    /* Skew faces mended at the seeds (vc_interior_unskew): with S > 0, the
-     * interior seeds of faces whose checkMesh skewness exceeds S move a
-     * little and the cells are built again, up to 3 rounds while that
-     * lowers the count; default 0: off. 3.9 keeps a margin below
-     * checkMesh's limit of 4. */
+    /* checkMesh's failures mended at the seeds (vc_interior_unskew): with
+     * S > 0, the interior seeds of faces whose checkMesh skewness exceeds S
+     * or that miss -allGeometry's interpolation weight or volume ratio, and
+     * of the cells it calls concave, move a little and the cells are built
+     * again, up to 3 rounds while that lowers the count; default 0: off.
+     * 3.9 keeps a margin below checkMesh's limit of 4. */
     double unskew;
     double quartet_gap;      /* vc_sampling_options.quartet_gap; default 0 */
     /* Noise at the error bound (docs/sampling-convergence.md, session 35):
