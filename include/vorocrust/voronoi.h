@@ -87,6 +87,34 @@ void vc_voronoi_set_huge_pages(int wanted);
 int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt,
                      vc_polymesh *out, vc_error *err);
 
+/* The cells of a build, kept so that the mesh of the same seeds with a
+ * few of them moved is made without building every cell again. */
+typedef struct vc_voronoi_cells vc_voronoi_cells;
+
+/* vc_voronoi_build, keeping its cells in *cells (freed with
+ * vc_voronoi_cells_free; about 100 to 200 bytes per cell). */
+int vc_voronoi_build_keep(const vc_seeds *seeds, const vc_voronoi_options *opt,
+                          vc_polymesh *out, vc_voronoi_cells **cells, vc_error *err);
+
+/* The mesh of seeds (the same count and kept labels as when the cells were
+ * built, the seeds moved[0 .. n_moved) at new places, every other seed
+ * where it was) into out, and the kept cells updated: only the cells of
+ * the moved seeds and of the seeds next to them, before or after the
+ * move, are built again (Voronoi neighbourhood is symmetric, and decided
+ * exactly), then all are stitched. The mesh is the one vc_voronoi_build
+ * gives for these seeds, byte for byte; when a moved seed leaves the
+ * bounding box the first seeds had, every cell is built again. opt: the
+ * same box and neighbour source as the build (its threads, log and
+ * spheres may differ). */
+int vc_voronoi_rebuild(vc_voronoi_cells *cells, const vc_seeds *seeds, const int64_t *moved,
+                       int64_t n_moved, const vc_voronoi_options *opt, vc_polymesh *out,
+                       vc_error *err);
+
+/* How many cells the last build or rebuild of cells computed. */
+int64_t vc_voronoi_cells_rebuilt(const vc_voronoi_cells *cells);
+
+void vc_voronoi_cells_free(vc_voronoi_cells *cells);
+
 #ifdef __cplusplus
 }
 #endif

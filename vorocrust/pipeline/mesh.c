@@ -920,12 +920,21 @@ static int surface_only(const vc_mesh_options *opt, const char *name, vc_mesh_re
 #define UNSKEW_ROUNDS 3
 
 static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_result *out,
-                         vc_voronoi_options *vo, vc_error *err)
+                         vc_voronoi_options *vo, vc_voronoi_cells *cells, vc_error *err)
 {
     const double t = now();
     int64_t moved = 0, built = 0;
     int64_t last = -1;
-    for (int round = 0; round < UNSKEW_ROUNDS; round++) {
+    const int64_t n = out->seeds.n;
+    double *before = malloc(sizeof(double) * 3 * (size_t)n);
+    int64_t *which = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+    if (!before || !which) {
+        free(before);
+        free(which);
+        return vc_error_set(err, VC_ENOMEM, "%s: out of memory mending skew faces", name);
+    }
+    int rc = 0;
+    for (int round = 0; round < UNSKEW_ROUNDS && !rc; round++) {
         vc_unskew_options uo;
         vc_unskew_options_default(&uo);
         uo.max_skew = opt->unskew;
@@ -935,9 +944,12 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
         uo.sphere_ball = out->sphere_ball;
         vc_unskew_stats us;
         vc_log(opt->log, VC_LOG_INFO, "mesh: mending skew faces, round %d", round + 1);
+        memcpy(before, out->seeds.xyz, sizeof(double) * 3 * (size_t)n);
         if (vc_interior_unskew(&out->balls, &out->seeds, out->n_surface_seeds, &out->mesh, &uo,
-                               &us, err))
-            return named(err, name, NULL);
+                               &us, err)) {
+            rc = named(err, name, NULL);
+            break;
+        }
         if (round == 0)
             out->unskew = us;
         moved += us.n_moved;
@@ -956,20 +968,34 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
         if (us.n_moved == 0 || (last >= 0 && failing >= last))
             break;
         last = failing;
+        /* the mesh again: only the cells next to a moved seed are built
+         * again (vc_voronoi_rebuild), then all stitched */
+        int64_t n_which = 0;
+        for (int64_t i = 0; i < n; i++)
+            if (memcmp(before + 3 * i, out->seeds.xyz + 3 * i, 3 * sizeof(double)) != 0)
+                which[n_which++] = i;
         vc_seed_spheres_owned on_spheres;
-        if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
-            return named(err, name, NULL);
+        if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err)) {
+            rc = named(err, name, NULL);
+            break;
+        }
         vo->spheres = &on_spheres.view;
         vc_polymesh_free(&out->mesh);
         out->has_mesh = 0;
-        const int rc = vc_voronoi_build(&out->seeds, vo, &out->mesh, err);
+        rc = vc_voronoi_rebuild(cells, &out->seeds, which, n_which, vo, &out->mesh, err);
         vc_seed_spheres_free(&on_spheres);
         vo->spheres = NULL;
-        if (rc)
-            return named(err, name, NULL);
+        if (rc) {
+            rc = named(err, name, NULL);
+            break;
+        }
         out->has_mesh = 1;
         out->unskew_rounds = round + 1;
     }
+    free(before);
+    free(which);
+    if (rc)
+        return rc;
     out->unskew.n_moved = moved;
     out->unskew.n_cells_built = built;
     out->time.unskew = now() - t;
@@ -1049,14 +1075,22 @@ static int volume_mesh(const vc_mesh_options *opt, const char *name, const vc_ma
     if (find_seed_spheres(opt, out, &out->seeds, &on_spheres, err))
         return named(err, name, NULL);
     vo.spheres = &on_spheres.view;
-    int built = vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
+    /* --unskew moves seeds and makes the mesh again: the cells are kept
+     * for that */
+    const int unskew = opt->unskew > 0 && out->n_interior_seeds > 0;
+    vc_voronoi_cells *cells = NULL;
+    int built = unskew ? vc_voronoi_build_keep(&out->seeds, &vo, &out->mesh, &cells, err)
+                       : vc_voronoi_build(&out->seeds, &vo, &out->mesh, err);
     vc_seed_spheres_free(&on_spheres);
     if (built)
         return named(err, name, NULL);
     out->has_mesh = 1;
-    if (opt->unskew > 0 && out->n_interior_seeds > 0 &&
-        (built = unskew_rounds(opt, name, out, &vo, err)) != 0)
-        return built;
+    if (unskew) {
+        built = unskew_rounds(opt, name, out, &vo, cells, err);
+        vc_voronoi_cells_free(cells);
+        if (built)
+            return built;
+    }
     /* what follows takes a second or more on a few hundred thousand
      * cells: a progress line */
     if (out->mesh.n_cells >= PROGRESS_CELLS)

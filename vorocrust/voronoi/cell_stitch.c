@@ -721,6 +721,23 @@ typedef struct split_buf {
     int64_t n, cap;
 } split_buf;
 
+/* A face's vertex cycle (global ids pid[ob[j]]) into dst, from its
+ * smallest id on, in the same direction: the cell's own cycle starts where
+ * its cuts happened to leave it, and the mesh must not depend on the
+ * order of the cuts (a cell kept by vc_voronoi_rebuild was cut in another
+ * order than a fresh build would cut it). */
+static void put_cycle(int64_t *dst, const int64_t *pid, const int64_t *ob, int len)
+{
+    int first = 0;
+    for (int j = 1; j < len; j++)
+        if (pid[ob[j]] < pid[ob[first]])
+            first = j;
+    for (int j = 0; j < len; j++) {
+        const int at = first + j < len ? first + j : first + j - len;
+        dst[j] = pid[ob[at]];
+    }
+}
+
 /* *buf with room for the longest face of c (grown as needed). */
 static int face_buf(const vc_cell_result *c, int64_t **buf, int64_t *cap)
 {
@@ -1541,8 +1558,7 @@ reclass:
                 out->face_owner[ib] = k;
                 out->face_neighbour[ib] = -1;
                 out->face_other_seed[ib] = t;
-                for (int j = 0; j < len; j++)
-                    out->face_vertices[pb + j] = pid[ob[j]];
+                put_cycle(out->face_vertices + pb, pid, ob, len);
                 pb += len;
                 out->face_offsets[ib + 1] = pb;
                 ib++;
@@ -1559,8 +1575,7 @@ reclass:
                 out->face_owner[ii] = k;
                 out->face_neighbour[ii] = nb[q].a;
                 out->face_other_seed[ii] = c->plane[f];
-                for (int j = 0; j < len; j++)
-                    out->face_vertices[pi + j] = pid[ob[j]];
+                put_cycle(out->face_vertices + pi, pid, ob, len);
                 pi += len;
                 out->face_offsets[ii + 1] = pi;
                 ii++;

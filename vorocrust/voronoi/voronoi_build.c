@@ -775,39 +775,301 @@ static double span_diagonal(const double lo[3], const double hi[3])
     return ldexp(sqrt(sum), e);
 }
 
-int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
-                     vc_polymesh *out, vc_error *err)
-{
-    vc_voronoi_options opt;
-    if (opt_in)
-        opt = *opt_in;
-    else
-        vc_voronoi_options_default(&opt);
-    memset(out, 0, sizeof *out);
-    const int64_t n = seeds->n;
-    if (n <= 0)
-        return vc_error_set(err, VC_EINPUT, "no seeds");
-    if (opt.spheres) {
-        const vc_seed_spheres *sp = opt.spheres;
-        int bad = sp->n_spheres < 0 || !sp->start || (sp->n_spheres > 0 && !sp->sphere) ||
-                  (sp->start && sp->start[0] != 0);
-        for (int64_t s = 0; s < n && !bad; s++) {
-            bad = sp->start[s + 1] < sp->start[s] || (sp->start[s + 1] > sp->start[s] && !sp->id);
-            for (int64_t q = sp->start[s]; q < sp->start[s + 1] && !bad; q++)
-                bad = sp->id[q] < 0 || sp->id[q] >= sp->n_spheres ||
-                      (q > sp->start[s] && sp->id[q] <= sp->id[q - 1]);
-        }
-        if (bad)
-            return vc_error_set(err, VC_EPARAM, "the seeds' sphere lists are not valid (start "
-                                "non-decreasing from 0, ids ascending and below n_spheres)");
-    }
-    if (n > INT32_MAX)
-        return vc_error_set(err, VC_EPARAM, "%lld seeds: at most %d are supported", (long long)n,
-                            INT32_MAX);
+/* What a build keeps for rebuilding (vc_voronoi_build_keep): the cells by
+ * their place in the build order, the seeds' bounds and the clipping box
+ * of the first build. */
+struct vc_voronoi_cells {
+    int64_t n, n_kept;
+    double slo[3], shi[3];  /* the seeds' bounds at the first build */
+    cell_job job;           /* its box, duplicate distance and slack */
+    int use_tree;
+    int64_t *kept_seed;     /* k -> seed */
+    int64_t *build_order;   /* m -> k */
+    vc_cell_result *cells;  /* by m */
+    vc_cell_store store;
+    int64_t last_rebuilt;   /* cells the last rebuild computed again */
+    int broken;             /* a rebuild failed half-way: the cells are of no seeds */
+};
 
-    double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    int64_t n_kept = 0;
-    for (int64_t i = 0; i < n; i++) {
+/* Checks the sphere lists of opt (NULL: none). */
+static int check_spheres(const vc_seed_spheres *sp, int64_t n, vc_error *err)
+{
+    if (!sp)
+        return 0;
+    int bad = sp->n_spheres < 0 || !sp->start || (sp->n_spheres > 0 && !sp->sphere) ||
+              (sp->start && sp->start[0] != 0);
+    for (int64_t s = 0; s < n && !bad; s++) {
+        bad = sp->start[s + 1] < sp->start[s] || (sp->start[s + 1] > sp->start[s] && !sp->id);
+        for (int64_t q = sp->start[s]; q < sp->start[s + 1] && !bad; q++)
+            bad = sp->id[q] < 0 || sp->id[q] >= sp->n_spheres ||
+                  (q > sp->start[s] && sp->id[q] <= sp->id[q - 1]);
+    }
+    return bad ? vc_error_set(err, VC_EPARAM, "the seeds' sphere lists are not valid (start "
+                              "non-decreasing from 0, ids ascending and below n_spheres)")
+               : 0;
+}
+
+/* The seeds' neighbour sources: the grid's bins, and the k-d tree where
+ * the seeds crowd them (use_tree: -1 decides, else as given). */
+static int index_seeds(const vc_seeds *seeds, const double slo[3], const double shi[3],
+                       int neighbours, int *use_tree, vc_seed_grid *grid, vc_seed_kdtree *tree,
+                       double *crowd_out, vc_error *err)
+{
+    const int64_t n = seeds->n;
+    memset(tree, 0, sizeof *tree);
+    if (vc_seed_grid_build(grid, seeds->xyz, n, slo, shi, SEEDS_PER_BIN) != 0)
+        return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
+    /* How crowded the bins are where the seeds are: the mean count of the
+     * bin of a seed (sum of squared counts over the seeds). Near
+     * SEEDS_PER_BIN + 1 for evenly spread seeds; VoroCrust's seeds crowd
+     * the bins along the surface (bunny.off: 70), where every cell would
+     * read the seeds of 27 such bins: then the k-d tree. */
+    double crowd = 0;
+    const int64_t nb = (int64_t)grid->n[0] * grid->n[1] * grid->n[2];
+    for (int64_t b = 0; b < nb; b++) {
+        const double c = (double)(grid->bin_start[b + 1] - grid->bin_start[b]);
+        crowd += c * c;
+    }
+    crowd /= (double)n;
+    *crowd_out = crowd;
+    if (*use_tree < 0)
+        *use_tree = neighbours == VC_NEIGHBOURS_TREE ||
+                    (neighbours != VC_NEIGHBOURS_GRID && crowd > CROWDED_BINS * SEEDS_PER_BIN);
+    if (*use_tree && vc_seed_kdtree_build(tree, seeds->xyz, n) != 0) {
+        vc_seed_grid_free(grid);
+        return vc_error_set(err, VC_ENOMEM, "out of memory indexing %lld seeds", (long long)n);
+    }
+    return 0;
+}
+
+/* A list of cells to build: cell q is seed index[pos[q]] (index NULL: pos[q]
+ * itself) at xyz + 3 pos[q]; its result goes to res[q], its status to
+ * status[q], a coincident seed's index to other[q]. */
+typedef struct cell_batch {
+    int64_t n;
+    const int64_t *pos, *index;
+    const double *xyz;
+    vc_cell_result *res;
+    int *status;
+    int64_t *other;
+} cell_batch;
+
+/* Builds the cells of the batch in parallel, chunk by chunk, into the
+ * store; progress on the log when asked. Returns the side tests that
+ * passed the filter. */
+static int64_t build_batch(const cell_job *job, const cell_batch *b, vc_cell_store *store,
+                           int threads, const vc_logger *log, int progress)
+{
+    int64_t done = 0;
+    /* progress: looked at every hundredth of the cells, said once a second
+     * after the first (a tenth of the cells took up to 3 s on a loaded
+     * machine: a 337,562-cell cup) */
+    const int64_t report_step = b->n / 100 > 0 ? b->n / 100 : 1;
+    double last_report = 0;
+    const double t_start = wall_seconds();
+    const int64_t n_chunks = (b->n + CHUNK - 1) / CHUNK;
+    int64_t n_exact = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : n_exact)
+    {
+        int64_t n_exact_thread = 0;
+        vc_convex_cell cell;
+        vc_convex_cell_init(&cell);
+        vc_cell_buf cand_buf = {NULL, 0}, hit_buf = {NULL, 0};
+        prune pr;
+        memset(&pr, 0, sizeof pr);
+        byte_buf topo = {NULL, 0, 0};
+        vc_kd_hint hint = {0, 0, {0, 0, 0}, 0};
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t ch = 0; ch < n_chunks; ch++) {
+            const int64_t q0 = ch * CHUNK, q1 = q0 + CHUNK < b->n ? q0 + CHUNK : b->n;
+            topo.len = 0;
+            int chunk_ok = 1;
+            for (int64_t q = q0; q < q1; q++) {
+                const int64_t p = b->pos[q];
+                const int64_t s = b->index ? b->index[p] : p;
+                const double *xs = b->xyz + 3 * p; /* seed s, or a copy of it */
+                int r = job->tree ? compute_cell_knn(job, &cell, &hit_buf, &cand_buf, &pr, &hint,
+                                                     s, xs, &b->other[q])
+                                  : compute_cell(job, &cell, &cand_buf, &pr, s, xs, &b->other[q]);
+                if (r == CELL_OK) {
+                    const int fr = vc_convex_cell_faces(&cell);
+                    r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
+                }
+                n_exact_thread += cell.n_exact;
+                /* Local vertex indices are 16-bit in the stored cell. */
+                if (r == CELL_OK && cell.nfv > 65535)
+                    r = CELL_TOO_BIG;
+                if (r == CELL_OK && store_cell(&cell, &topo, &b->res[q]) != 0)
+                    r = CELL_NOMEM;
+                if (r != CELL_OK)
+                    chunk_ok = 0;
+                b->status[q] = r;
+                if (progress) {
+                    int64_t d;
+#pragma omp atomic capture
+                    d = ++done;
+                    if (d % report_step == 0) {
+                        const double now = wall_seconds();
+                        int say = 0;
+#pragma omp critical(vc_voronoi_progress)
+                        if (now - t_start > 1.0 && now - last_report >= 1.0) {
+                            last_report = now;
+                            say = 1;
+                        }
+                        if (say)
+                            vc_log(log, VC_LOG_INFO, "voronoi: %lld / %lld cells", (long long)d,
+                                   (long long)b->n);
+                    }
+                }
+            }
+            if (!chunk_ok)
+                continue; /* the build fails: the cells are not needed */
+            char *tb;
+#pragma omp critical(vc_cell_store)
+            tb = vc_region_take(&store->topo, topo.len);
+            if (!tb) {
+                for (int64_t q = q0; q < q1; q++)
+                    b->status[q] = CELL_NOMEM;
+                continue;
+            }
+            memcpy(tb, topo.data, topo.len);
+            for (int64_t q = q0; q < q1; q++) {
+                vc_cell_result *c = &b->res[q];
+                c->plane = (int32_t *)tb;
+                c->face_start = (uint16_t *)(c->plane + c->nf);
+                c->fv = c->face_start + c->nf + 1;
+                c->vf = c->fv + c->nfv;
+                tb += topo_bytes(c->nf, c->nfv, c->nv);
+            }
+        }
+        vc_convex_cell_free(&cell);
+        n_exact += n_exact_thread;
+        free(cand_buf.data);
+        free(hit_buf.data);
+        free(pr.ball.data);
+        free(topo.data);
+    }
+    return n_exact;
+}
+
+/* The failure of the batch's lowest seed as an error (0 when every cell
+ * is built). */
+static int batch_error(const cell_batch *b, const vc_seeds *seeds, int64_t n_kept, vc_error *err)
+{
+    int64_t worst = -1, s = -1;
+    for (int64_t q = 0; q < b->n; q++) {
+        if (b->status[q] == CELL_OK)
+            continue;
+        const int64_t p = b->pos[q], sq = b->index ? b->index[p] : p;
+        if (worst < 0 || sq < s) {
+            worst = q;
+            s = sq;
+        }
+    }
+    if (worst >= 0) {
+        const int64_t q = worst;
+        const double *x = seeds->xyz + 3 * s;
+        switch (b->status[q]) {
+        case CELL_DUPLICATE:
+            return vc_error_set(err, VC_EINPUT, "seeds %lld and %lld coincide at (%g %g %g)",
+                                (long long)s, (long long)b->other[q], x[0], x[1], x[2]);
+        case CELL_NUMERIC:
+            return vc_error_set(err, VC_EINTERNAL,
+                                "the cell of seed %lld (%g %g %g): a cut did not remove a disk "
+                                "(a defect of the engine)",
+                                (long long)s, x[0], x[1], x[2]);
+        case CELL_NOMEM:
+            return vc_error_set(err, VC_ENOMEM, "out of memory storing %lld cells",
+                                (long long)n_kept);
+        case CELL_TOO_BIG:
+            return vc_error_set(err, VC_EINTERNAL,
+                                "the cell of seed %lld (%g %g %g) has too many vertices",
+                                (long long)s, x[0], x[1], x[2]);
+        default:
+            return vc_error_set(err, VC_EINTERNAL, "the cell of seed %lld (%g %g %g) is empty",
+                                (long long)s, x[0], x[1], x[2]);
+        }
+    }
+    return 0;
+}
+
+void vc_voronoi_cells_free(vc_voronoi_cells *vc)
+{
+    if (!vc)
+        return;
+    vc_region_pool_free(&vc->store.topo);
+    free(vc->kept_seed);
+    free(vc->build_order);
+    free(vc->cells);
+    free(vc);
+}
+
+int64_t vc_voronoi_cells_rebuilt(const vc_voronoi_cells *vc)
+{
+    return vc ? vc->last_rebuilt : 0;
+}
+
+/* The build order (build_order[m]: the kept index of the m-th cell built)
+ * and where each seed is in the neighbour source's own order
+ * (build_pos[m]): the k-d tree's leaves when there is one (the crowded
+ * bins that call for it hold thousands of seeds each, in input order, and
+ * the tree's order is spatial at every scale), else the grid's bins in a
+ * spatially coherent order, so that consecutive cells read the same seeds
+ * from cache and the stitching reads each cell with its neighbours. (The
+ * tree's order measured no faster on cow.off's seeds; kept so that
+ * test_voronoi's comparison of the two neighbour sources builds in two
+ * orders.) Returns 0, or -1 when out of memory. */
+static int make_build_order(const vc_seeds *seeds, const vc_seed_grid *grid,
+                            const vc_seed_kdtree *tree, int64_t *build_order, int64_t *build_pos)
+{
+    const int64_t n = seeds->n;
+    const int64_t n_bins = (int64_t)grid->n[0] * grid->n[1] * grid->n[2];
+    int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
+    int64_t *bin_order = tree->n > 0 ? NULL : malloc((size_t)n_bins * sizeof(int64_t));
+    if (!kept_index || (tree->n == 0 && !bin_order)) {
+        free(kept_index);
+        free(bin_order);
+        return -1;
+    }
+    for (int64_t i = 0, k = 0; i < n; i++)
+        kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
+    if (tree->n > 0) {
+        for (int64_t j = 0, m = 0; j < n; j++) {
+            const int64_t k = kept_index[tree->index[j]];
+            if (k >= 0) {
+                build_order[m] = k;
+                build_pos[m++] = j;
+            }
+        }
+    } else {
+        vc_seed_grid_bin_order(grid, bin_order);
+        for (int64_t q = 0, m = 0; q < n_bins; q++) {
+            const int64_t b = bin_order[q];
+            for (int64_t j = grid->bin_start[b]; j < grid->bin_start[b + 1]; j++) {
+                const int64_t k = kept_index[grid->seed_index[j]];
+                if (k >= 0) {
+                    build_order[m] = k;
+                    build_pos[m++] = j;
+                }
+            }
+        }
+    }
+    free(kept_index);
+    free(bin_order);
+    return 0;
+}
+
+/* The seeds' bounding box and kept count; fails on a non-finite
+ * coordinate. */
+static int seed_bounds(const vc_seeds *seeds, double slo[3], double shi[3], int64_t *n_kept,
+                       vc_error *err)
+{
+    for (int d = 0; d < 3; d++) {
+        slo[d] = INFINITY;
+        shi[d] = -INFINITY;
+    }
+    *n_kept = 0;
+    for (int64_t i = 0; i < seeds->n; i++) {
         for (int d = 0; d < 3; d++) {
             double x = seeds->xyz[3 * i + d];
             if (!isfinite(x))
@@ -818,8 +1080,36 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
             if (x > shi[d])
                 shi[d] = x;
         }
-        n_kept += seeds->label[i] != 0;
+        *n_kept += seeds->label[i] != 0;
     }
+    return 0;
+}
+
+/* vc_voronoi_build, and when keep is given, what a rebuild needs. */
+static int build_mesh(const vc_seeds *seeds, const vc_voronoi_options *opt_in, vc_polymesh *out,
+                      vc_voronoi_cells **keep, vc_error *err)
+{
+    vc_voronoi_options opt;
+    if (opt_in)
+        opt = *opt_in;
+    else
+        vc_voronoi_options_default(&opt);
+    memset(out, 0, sizeof *out);
+    if (keep)
+        *keep = NULL;
+    const int64_t n = seeds->n;
+    if (n <= 0)
+        return vc_error_set(err, VC_EINPUT, "no seeds");
+    if (check_spheres(opt.spheres, n, err))
+        return err->code;
+    if (n > INT32_MAX)
+        return vc_error_set(err, VC_EPARAM, "%lld seeds: at most %d are supported", (long long)n,
+                            INT32_MAX);
+
+    double slo[3], shi[3];
+    int64_t n_kept;
+    if (seed_bounds(seeds, slo, shi, &n_kept, err))
+        return err->code;
     if (n_kept == 0)
         return vc_error_set(err, VC_EINPUT, "no kept seed (every label is 0)");
 
@@ -876,36 +1166,17 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     }
 
     vc_seed_grid grid;
-    if (vc_seed_grid_build(&grid, seeds->xyz, n, slo, shi, SEEDS_PER_BIN) != 0)
-        return vc_error_set(err, VC_ENOMEM, "out of memory binning %lld seeds", (long long)n);
+    vc_seed_kdtree tree;
+    double crowd;
+    int use_tree = -1;
+    if (index_seeds(seeds, slo, shi, opt.neighbours, &use_tree, &grid, &tree, &crowd, err))
+        return err->code;
     job.grid = &grid;
     job.seed_xyz = seeds->xyz;
     job.ctx.xyz = seeds->xyz;
     for (int d = 0; d < 3; d++) {
         job.ctx.box_lo[d] = job.box_lo[d];
         job.ctx.box_hi[d] = job.box_hi[d];
-    }
-    /* How crowded the bins are where the seeds are: the mean count of the
-     * bin of a seed (sum of squared counts over the seeds). Near
-     * SEEDS_PER_BIN + 1 for evenly spread seeds; VoroCrust's seeds crowd
-     * the bins along the surface (bunny.off: 70), where every cell would
-     * read the seeds of 27 such bins: then the k-d tree. */
-    double crowd = 0;
-    {
-        const int64_t nb = (int64_t)grid.n[0] * grid.n[1] * grid.n[2];
-        for (int64_t b = 0; b < nb; b++) {
-            const double c = (double)(grid.bin_start[b + 1] - grid.bin_start[b]);
-            crowd += c * c;
-        }
-        crowd /= (double)n;
-    }
-    vc_seed_kdtree tree;
-    memset(&tree, 0, sizeof tree);
-    const int use_tree = opt.neighbours == VC_NEIGHBOURS_TREE ||
-                         (opt.neighbours != VC_NEIGHBOURS_GRID && crowd > CROWDED_BINS * SEEDS_PER_BIN);
-    if (use_tree && vc_seed_kdtree_build(&tree, seeds->xyz, n) != 0) {
-        vc_seed_grid_free(&grid);
-        return vc_error_set(err, VC_ENOMEM, "out of memory indexing %lld seeds", (long long)n);
     }
     job.tree = tree.n > 0 ? &tree : NULL;
 
@@ -915,196 +1186,41 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
     vc_cell_result *cells = vc_big_alloc((size_t)n_kept * sizeof(vc_cell_result));
     int *status = vc_big_alloc((size_t)n_kept * sizeof(int));
     int64_t *other = vc_big_alloc((size_t)n_kept * sizeof(int64_t));
-    /* Cells are built bin by bin, so that consecutive cells read the
-     * same seeds from cache; the results are kept in that order. */
     int64_t *build_order = malloc((size_t)n_kept * sizeof(int64_t));
-    int64_t *kept_index = malloc((size_t)n * sizeof(int64_t));
-    /* Where each built cell's seed is in the grid's order: the cell loop
-     * reads the seed index and position from there, sequentially, instead
-     * of scattered over the input (a cache miss per cell). */
     int64_t *build_pos = malloc((size_t)n_kept * sizeof(int64_t));
-    /* The bins in a spatially coherent order (the build order follows it):
-     * the stitching reads each cell with its neighbours, which are then
-     * mostly close in that order, along every axis. */
-    const int64_t n_bins = (int64_t)grid.n[0] * grid.n[1] * grid.n[2];
-    int64_t *bin_order = malloc((size_t)n_bins * sizeof(int64_t));
-    if (!kept_seed || !cells || !status || !other || !build_order || !kept_index || !build_pos ||
-        !bin_order) {
-        free(bin_order);
+    vc_voronoi_cells *vc = keep ? calloc(1, sizeof *vc) : NULL;
+    if (!kept_seed || !cells || !status || !other || !build_order || !build_pos ||
+        (keep && !vc) || make_build_order(seeds, &grid, &tree, build_order, build_pos) != 0) {
         free(kept_seed);
         free(cells);
         free(status);
         free(other);
         free(build_order);
-        free(kept_index);
         free(build_pos);
+        free(vc);
         vc_seed_grid_free(&grid);
         vc_seed_kdtree_free(&tree);
         return vc_error_set(err, VC_ENOMEM, "out of memory for %lld cells", (long long)n_kept);
     }
-    vc_seed_grid_bin_order(&grid, bin_order);
     for (int64_t i = 0, k = 0; i < n; i++)
         if (seeds->label[i] != 0)
             kept_seed[k++] = i;
-    for (int64_t i = 0, k = 0; i < n; i++)
-        kept_index[i] = seeds->label[i] != 0 ? k++ : -1;
-    /* With the k-d tree, its order of leaves instead: the crowded bins
-     * that call for the tree hold thousands of seeds each, in input order,
-     * and the tree's order is spatial at every scale. (Measured no faster
-     * on cow.off's seeds; kept so that test_voronoi's comparison of the
-     * two neighbour sources builds in two orders: the mesh must not
-     * depend on it, cell_stitch.c's class_points.) */
-    const int tree_order = job.tree != NULL;
-    const int64_t *order_index = tree_order ? tree.index : grid.seed_index;
-    const double *order_xyz = tree_order ? tree.xyz : grid.xyz;
-    if (tree_order) {
-        for (int64_t j = 0, m = 0; j < n; j++) {
-            const int64_t k = kept_index[tree.index[j]];
-            if (k >= 0) {
-                build_order[m] = k;
-                build_pos[m++] = j;
-            }
-        }
-    } else {
-        for (int64_t q = 0, m = 0; q < n_bins; q++) {
-            const int64_t b = bin_order[q];
-            for (int64_t j = grid.bin_start[b]; j < grid.bin_start[b + 1]; j++) {
-                int64_t k = kept_index[grid.seed_index[j]];
-                if (k >= 0) {
-                    build_order[m] = k;
-                    build_pos[m++] = j;
-                }
-            }
-        }
-    }
-    free(kept_index);
-    free(bin_order);
+    const int64_t *order_index = job.tree ? tree.index : grid.seed_index;
+    const double *order_xyz = job.tree ? tree.xyz : grid.xyz;
 
     const int threads = vc_threads_or_default(opt.threads);
-    /* progress: looked at every hundredth of the cells, said once a second
-     * after the first (a tenth of the cells took up to 3 s on a loaded
-     * machine: a 337,562-cell cup) */
-    int64_t done = 0;
-    const int64_t report_step = n_kept / 100 > 0 ? n_kept / 100 : 1;
-    double last_report = 0;
     const int progress = vc_log_enabled(opt.log, VC_LOG_INFO);
     const double t_start = wall_seconds();
-    const int64_t n_chunks = (n_kept + CHUNK - 1) / CHUNK;
     vc_cell_store store;
     memset(&store, 0, sizeof store);
-    int64_t n_exact = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : n_exact)
-    {
-        int64_t n_exact_thread = 0;
-        vc_convex_cell cell;
-        vc_convex_cell_init(&cell);
-        vc_cell_buf cand_buf = {NULL, 0}, hit_buf = {NULL, 0};
-        prune pr;
-        memset(&pr, 0, sizeof pr);
-        byte_buf topo = {NULL, 0, 0};
-        vc_kd_hint hint = {0, 0, {0, 0, 0}, 0};
-#pragma omp for schedule(dynamic, 1)
-        for (int64_t ch = 0; ch < n_chunks; ch++) {
-            const int64_t m0 = ch * CHUNK, m1 = m0 + CHUNK < n_kept ? m0 + CHUNK : n_kept;
-            topo.len = 0;
-            int chunk_ok = 1;
-            for (int64_t m = m0; m < m1; m++) {
-                const int64_t k = build_order[m];
-                const int64_t s = order_index[build_pos[m]];
-                const double *xs = order_xyz + 3 * build_pos[m]; /* a copy of seed s */
-                int r = job.tree ? compute_cell_knn(&job, &cell, &hit_buf, &cand_buf, &pr, &hint,
-                                                    s, xs, &other[k])
-                                 : compute_cell(&job, &cell, &cand_buf, &pr, s, xs, &other[k]);
-                if (r == CELL_OK) {
-                    const int fr = vc_convex_cell_faces(&cell);
-                    r = fr == 0 ? CELL_OK : fr == VC_CELL_NOMEM ? CELL_NOMEM : CELL_NUMERIC;
-                }
-                n_exact_thread += cell.n_exact;
-                /* Local vertex indices are 16-bit in the stored cell. */
-                if (r == CELL_OK && cell.nfv > 65535)
-                    r = CELL_TOO_BIG;
-                if (r == CELL_OK &&
-                    store_cell(&cell, &topo, &cells[m]) != 0)
-                    r = CELL_NOMEM;
-                if (r != CELL_OK)
-                    chunk_ok = 0;
-                status[k] = r;
-                if (progress) {
-                    int64_t d;
-#pragma omp atomic capture
-                    d = ++done;
-                    if (d % report_step == 0) {
-                        const double now = wall_seconds();
-                        int say = 0;
-#pragma omp critical(vc_voronoi_progress)
-                        if (now - t_start > 1.0 && now - last_report >= 1.0) {
-                            last_report = now;
-                            say = 1;
-                        }
-                        if (say)
-                            vc_log(opt.log, VC_LOG_INFO, "voronoi: %lld / %lld cells",
-                                   (long long)d, (long long)n_kept);
-                    }
-                }
-            }
-            if (!chunk_ok)
-                continue; /* the build fails: the cells are not needed */
-            char *tb;
-#pragma omp critical(vc_cell_store)
-            tb = vc_region_take(&store.topo, topo.len);
-            if (!tb) {
-                for (int64_t m = m0; m < m1; m++)
-                    status[build_order[m]] = CELL_NOMEM;
-                continue;
-            }
-            memcpy(tb, topo.data, topo.len);
-            for (int64_t m = m0; m < m1; m++) {
-                vc_cell_result *c = &cells[m];
-                c->plane = (int32_t *)tb;
-                c->face_start = (uint16_t *)(c->plane + c->nf);
-                c->fv = c->face_start + c->nf + 1;
-                c->vf = c->fv + c->nfv;
-                tb += topo_bytes(c->nf, c->nfv, c->nv);
-            }
-        }
-        vc_convex_cell_free(&cell);
-        n_exact += n_exact_thread;
-        free(cand_buf.data);
-        free(hit_buf.data);
-        free(pr.ball.data);
-        free(topo.data);
-    }
+    const cell_batch batch = {n_kept, build_pos, order_index, order_xyz, cells, status, other};
+    const int64_t n_exact = build_batch(&job, &batch, &store, threads, opt.log, progress);
+    int rc = batch_error(&batch, seeds, n_kept, err);
     vc_seed_grid_free(&grid); /* not needed by the stitching */
     vc_seed_kdtree_free(&tree);
     free(build_pos);
-
-    int rc = 0;
-    for (int64_t k = 0; k < n_kept && rc == 0; k++) {
-        int64_t s = kept_seed[k];
-        const double *x = seeds->xyz + 3 * s;
-        if (status[k] == CELL_DUPLICATE)
-            rc = vc_error_set(err, VC_EINPUT, "seeds %lld and %lld coincide at (%g %g %g)",
-                              (long long)s, (long long)other[k], x[0], x[1], x[2]);
-        else if (status[k] == CELL_NUMERIC)
-            rc = vc_error_set(err, VC_EINTERNAL,
-                              "the cell of seed %lld (%g %g %g): a cut did not remove a disk "
-                              "(a defect of the engine)",
-                              (long long)s, x[0], x[1], x[2]);
-        else if (status[k] == CELL_NOMEM)
-            rc = vc_error_set(err, VC_ENOMEM, "out of memory storing %lld cells",
-                              (long long)n_kept);
-        else if (status[k] == CELL_TOO_BIG)
-            rc = vc_error_set(err, VC_EINTERNAL,
-                              "the cell of seed %lld (%g %g %g) has too many vertices",
-                              (long long)s, x[0], x[1], x[2]);
-        else if (status[k] == CELL_EMPTY)
-            rc = vc_error_set(err, VC_EINTERNAL, "the cell of seed %lld (%g %g %g) is empty",
-                              (long long)s, x[0], x[1], x[2]);
-    }
     free(status);
     free(other);
-    status = NULL;
-    other = NULL;
     if (rc == 0) {
         vc_log(opt.log, VC_LOG_DEBUG, "  cells: %s (%.1f seeds in the bin of a seed)",
                job.tree ? "neighbours from the k-d tree" : "neighbours from the grid's bins",
@@ -1115,12 +1231,245 @@ int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt_in,
         vc_log(opt.log, VC_LOG_DEBUG,
                "  cells: %lld side tests past the filter; so far %lld exact (%lld in expansions)",
                (long long)n_exact, vc_power_exact_count(), vc_power_expansion_count());
-        rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order, &store,
-                             MERGE_TOL, opt.spheres, threads, opt.log, out, err);
+        /* kept for a rebuild: the stitching must not free the cells */
+        rc = vc_stitch_cells(seeds, &job.ctx, cells, kept_seed, n_kept, build_order,
+                             vc ? NULL : &store, MERGE_TOL, opt.spheres, threads, opt.log, out,
+                             err);
     }
+    if (rc == 0 && vc) {
+        vc->n = n;
+        vc->n_kept = n_kept;
+        memcpy(vc->slo, slo, sizeof slo);
+        memcpy(vc->shi, shi, sizeof shi);
+        vc->job = job;
+        vc->job.grid = NULL;
+        vc->job.tree = NULL;
+        vc->use_tree = use_tree;
+        vc->kept_seed = kept_seed;
+        vc->build_order = build_order;
+        vc->cells = cells;
+        vc->store = store;
+        vc->last_rebuilt = n_kept;
+        *keep = vc;
+        return 0;
+    }
+    free(vc);
     vc_region_pool_free(&store.topo);
     free(cells);
     free(kept_seed);
     free(build_order);
+    return rc;
+}
+
+int vc_voronoi_build(const vc_seeds *seeds, const vc_voronoi_options *opt, vc_polymesh *out,
+                     vc_error *err)
+{
+    return build_mesh(seeds, opt, out, NULL, err);
+}
+
+int vc_voronoi_build_keep(const vc_seeds *seeds, const vc_voronoi_options *opt,
+                          vc_polymesh *out, vc_voronoi_cells **cells, vc_error *err)
+{
+    if (!cells)
+        return vc_error_set(err, VC_EPARAM, "vc_voronoi_build_keep: no place for the cells");
+    return build_mesh(seeds, opt, out, cells, err);
+}
+
+/* The kept index of seed s, or -1 when it is not kept. */
+static int64_t kept_of(const vc_voronoi_cells *vc, int64_t s)
+{
+    int64_t lo = 0, hi = vc->n_kept;
+    while (lo < hi) {
+        const int64_t mid = lo + (hi - lo) / 2;
+        if (vc->kept_seed[mid] < s)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < vc->n_kept && vc->kept_seed[lo] == s ? lo : -1;
+}
+
+/* Marks (by kept index) the cells whose planes name a seed flagged in
+ * moved (by seed index). */
+static void mark_neighbours_of(const vc_voronoi_cells *vc, const unsigned char *moved,
+                               unsigned char *mark, int threads)
+{
+#pragma omp parallel for num_threads(threads) schedule(static, 4096)
+    for (int64_t m = 0; m < vc->n_kept; m++) {
+        const vc_cell_result *c = &vc->cells[m];
+        for (int f = 0; f < c->nf; f++)
+            if (c->plane[f] >= 0 && moved[c->plane[f]]) {
+                mark[vc->build_order[m]] = 1;
+                break;
+            }
+    }
+}
+
+int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_t *moved,
+                       int64_t n_moved, const vc_voronoi_options *opt_in, vc_polymesh *out,
+                       vc_error *err)
+{
+    vc_voronoi_options opt;
+    if (opt_in)
+        opt = *opt_in;
+    else
+        vc_voronoi_options_default(&opt);
+    memset(out, 0, sizeof *out);
+    if (vc && vc->broken)
+        return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: an earlier rebuild of these "
+                            "cells failed");
+    if (!vc || seeds->n != vc->n || n_moved < 0 || (n_moved > 0 && !moved))
+        return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: not the seeds of the kept cells "
+                            "(%lld seeds, %lld moved)", (long long)seeds->n, (long long)n_moved);
+    const int64_t n = vc->n, n_kept = vc->n_kept;
+    for (int64_t q = 0; q < n_moved; q++)
+        if (moved[q] < 0 || moved[q] >= n)
+            return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: moved seed %lld of %lld "
+                                "seeds", (long long)moved[q], (long long)n);
+    if (check_spheres(opt.spheres, n, err))
+        return err->code;
+    double slo[3], shi[3];
+    int64_t kept;
+    if (seed_bounds(seeds, slo, shi, &kept, err))
+        return err->code;
+    {
+        int same = kept == n_kept;
+        for (int64_t k = 0; k < n_kept && same; k++)
+            same = seeds->label[vc->kept_seed[k]] != 0;
+        if (!same)
+            return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: the seeds kept (label not "
+                                "0) changed since the cells were built");
+    }
+    /* Other bounds (a seed at the edge of the set moved) give another
+     * clipping box, other bins and another build order: every cell again. */
+    if (memcmp(slo, vc->slo, sizeof slo) != 0 || memcmp(shi, vc->shi, sizeof shi) != 0) {
+        vc_voronoi_cells *fresh;
+        const int rc = build_mesh(seeds, &opt, out, &fresh, err);
+        if (rc)
+            return rc;
+        /* the new cells in the old handle */
+        vc_voronoi_cells old = *vc;
+        *vc = *fresh;
+        *fresh = old;
+        vc_voronoi_cells_free(fresh);
+        return 0;
+    }
+    const int threads = vc_threads_or_default(opt.threads);
+    const double t0 = wall_seconds();
+
+    vc_seed_grid grid;
+    vc_seed_kdtree tree;
+    double crowd;
+    int use_tree = -1; /* decided as a fresh build would */
+    if (index_seeds(seeds, slo, shi, opt.neighbours, &use_tree, &grid, &tree, &crowd, err))
+        return err->code;
+    cell_job job = vc->job;
+    job.grid = &grid;
+    job.tree = tree.n > 0 ? &tree : NULL;
+    job.seed_xyz = seeds->xyz;
+    job.ctx.xyz = seeds->xyz;
+
+    int rc = 0;
+    unsigned char *is_moved = calloc((size_t)n, 1);
+    unsigned char *mark = calloc((size_t)n_kept, 1);
+    int64_t *pos = malloc(sizeof(int64_t) * (size_t)(n_kept > n_moved ? n_kept : n_moved) + 1);
+    const int64_t n_status = n_kept > n_moved ? n_kept : n_moved;
+    int *status = malloc(sizeof(int) * (size_t)n_status + 1);
+    int64_t *other = malloc(sizeof(int64_t) * (size_t)n_status + 1);
+    vc_cell_result *res = malloc(sizeof(vc_cell_result) * (size_t)n_status + 1);
+    int64_t *order = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
+    int64_t *order_pos = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
+    int64_t *was_at = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
+    vc_cell_result *cells = vc_big_alloc(sizeof(vc_cell_result) * (size_t)n_kept);
+    vc_cell_store scratch;
+    memset(&scratch, 0, sizeof scratch);
+    if (!is_moved || !mark || !pos || !status || !other || !res || !order || !order_pos ||
+        !was_at || !cells || make_build_order(seeds, &grid, &tree, order, order_pos) != 0) {
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory rebuilding %lld cells", (long long)n_kept);
+        goto done;
+    }
+    for (int64_t q = 0; q < n_moved; q++)
+        is_moved[moved[q]] = 1;
+    /* The cells that change: the moved seeds' own, those they bounded
+     * where they were, and those they bound where they are (Voronoi
+     * neighbourhood is symmetric, and the engine decides it exactly and
+     * alike in both cells). */
+    mark_neighbours_of(vc, is_moved, mark, threads);
+    int64_t n_first = 0;
+    for (int64_t i = 0; i < n; i++)
+        if (is_moved[i])
+            pos[n_first++] = i; /* ascending seed index */
+    /* 1. the moved seeds' cells where they are now (kept or not: a seed
+     * that is not kept bounds cells too), for their neighbours */
+    const cell_batch first = {n_first, pos, NULL, seeds->xyz, res, status, other};
+    build_batch(&job, &first, &scratch, threads, opt.log, 0);
+    if ((rc = batch_error(&first, seeds, n_kept, err)) != 0)
+        goto done;
+    for (int64_t q = 0; q < n_first; q++) {
+        const int64_t k = kept_of(vc, pos[q]);
+        if (k >= 0)
+            mark[k] = 1;
+        const vc_cell_result *c = &res[q];
+        for (int f = 0; f < c->nf; f++) {
+            const int64_t kn = c->plane[f] >= 0 ? kept_of(vc, c->plane[f]) : -1;
+            if (kn >= 0)
+                mark[kn] = 1;
+        }
+    }
+    /* 2. the cells in the order a fresh build takes (the stitching numbers
+     * the vertices in it): the unchanged ones moved there, the marked ones
+     * built again into the kept store (their old blocks stay there unused
+     * until the cells are freed) */
+    for (int64_t m = 0; m < n_kept; m++)
+        was_at[vc->build_order[m]] = m;
+    int64_t n_again = 0;
+    for (int64_t m = 0; m < n_kept; m++) {
+        const int64_t k = order[m];
+        if (mark[k])
+            pos[n_again++] = m;
+        else
+            cells[m] = vc->cells[was_at[k]];
+    }
+    const int64_t *order_index = job.tree ? tree.index : grid.seed_index;
+    const double *order_xyz = job.tree ? tree.xyz : grid.xyz;
+    for (int64_t q = 0; q < n_again; q++)
+        was_at[q] = order_pos[pos[q]]; /* the seed's place in the neighbour source */
+    const cell_batch second = {n_again, was_at, order_index, order_xyz, res, status, other};
+    build_batch(&job, &second, &vc->store, threads, opt.log, 0);
+    if ((rc = batch_error(&second, seeds, n_kept, err)) != 0) {
+        vc->broken = 1; /* the store may hold some of the new cells: of no seeds */
+        goto done;
+    }
+    for (int64_t q = 0; q < n_again; q++)
+        cells[pos[q]] = res[q];
+    free(vc->cells);
+    vc->cells = cells;
+    cells = NULL;
+    free(vc->build_order);
+    vc->build_order = order;
+    order = NULL;
+    vc->use_tree = use_tree;
+    vc->last_rebuilt = n_again;
+    vc_log(opt.log, VC_LOG_DEBUG, "  voronoi: %lld of %lld cells built again for %lld moved "
+           "seeds, %.3f s; stitching", (long long)n_again, (long long)n_kept, (long long)n_moved,
+           wall_seconds() - t0);
+    vc_seed_grid_free(&grid); /* zeroed: freed again below, harmlessly */
+    vc_seed_kdtree_free(&tree);
+    rc = vc_stitch_cells(seeds, &job.ctx, vc->cells, vc->kept_seed, n_kept, vc->build_order, NULL,
+                         MERGE_TOL, opt.spheres, threads, opt.log, out, err);
+done:
+    free(is_moved);
+    free(mark);
+    free(pos);
+    free(status);
+    free(other);
+    free(res);
+    free(order);
+    free(order_pos);
+    free(was_at);
+    free(cells);
+    vc_region_pool_free(&scratch.topo);
+    vc_seed_grid_free(&grid);
+    vc_seed_kdtree_free(&tree);
     return rc;
 }
