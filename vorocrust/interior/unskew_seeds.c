@@ -33,6 +33,8 @@ enum { LOCAL_MAX = 4096 };
  * neighbourhood needs more is left as it is (cow.off's seeds along the
  * knife edge where its parts meet need thousands). */
 enum { KEEP_MAX = 512, MAX_ATTEMPTS = 6 };
+/* Places built and judged together (see the loop). */
+enum { PLACE_BATCH = 4 };
 /* The picking region's radius, a share of the distance from the seed to
  * its nearest neighbour (as the short-edge protection's). */
 #define PICK_RADIUS 0.25
@@ -536,29 +538,36 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             }
             st.n_cells_built += before.m.n_cells;
             int failed = 0;
-            int64_t built = 0;
+            shortfall sf = {missing, 0, KEEP_MAX, 0};
+            /* The places in batches of PLACE_BATCH (a fixed size: the same
+             * places judged for any thread count), until one leaves
+             * nothing failing around s: most seeds need one batch. */
+            for (int c0 = 0; c0 < nc && !failed; c0 += PLACE_BATCH) {
+                const int c1 = c0 + PLACE_BATCH < nc ? c0 + PLACE_BATCH : nc;
+                int64_t built = 0;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) reduction(| : failed) \
     reduction(+ : built)
-            for (int c = 0; c < nc; c++) {
-                if (!cand[c].ok)
-                    continue;
-                const int a = local_build(seeds, s, origin, cand[c].x, hits, got, reach, keep,
-                                          &after[c]);
-                if (a < 0)
-                    failed = 1;
-                if (a != 0 || after[c].s_cell < 0) {
-                    cand[c].ok = 0;
-                    continue;
+                for (int c = c0; c < c1; c++) {
+                    if (!cand[c].ok)
+                        continue;
+                    const int a = local_build(seeds, s, origin, cand[c].x, hits, got, reach, keep,
+                                              &after[c]);
+                    if (a < 0)
+                        failed = 1;
+                    if (a != 0 || after[c].s_cell < 0) {
+                        cand[c].ok = 0;
+                        continue;
+                    }
+                    built += after[c].m.n_cells;
                 }
-                built += after[c].m.n_cells;
-            }
-            st.n_cells_built += built;
-            shortfall sf = {missing, 0, KEEP_MAX, 0};
-            if (!failed) {
+                st.n_cells_built += built;
+                if (failed)
+                    break;
                 /* judged one by one (the focus marks are shared): the
                  * faces of the cells of s and its neighbours, before or
                  * after the move */
-                for (int c = 0; c < nc; c++) {
+                int clean = 0;
+                for (int c = c0; c < c1; c++) {
                     if (!cand[c].ok)
                         continue;
                     int n_focus = 0;
@@ -570,6 +579,14 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                                                   focus_list, n_focus, opt->max_skew, &sf);
                     for (int i = 0; i < n_focus; i++)
                         focus[focus_list[i]] = 0;
+                    clean |= cand[c].after == 0;
+                }
+                if (sf.n_missing > 0 || sf.grow)
+                    break; /* more cells or a larger radius first */
+                if (clean) {
+                    for (int c = c1; c < nc; c++)
+                        cand[c].ok = 0; /* not judged */
+                    break;
                 }
             }
             int best = -1;
