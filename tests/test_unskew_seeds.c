@@ -104,6 +104,37 @@ int main(void)
     CHECKF(st1.n_moved > 0 && st1.n_moved <= st1.n_tried, "%lld moved of %lld tried",
            (long long)st1.n_moved, (long long)st1.n_tried);
 
+    /* stuck: every seed tried is moved or flagged; a second call on the
+     * same mesh tries none of the flagged ones, and moves none of them */
+    {
+        vc_seeds three;
+        CHECK(vc_seeds_alloc(&three, before.n, &err) == 0);
+        memcpy(three.xyz, before.xyz, sizeof(double) * 3 * (size_t)before.n);
+        memcpy(three.label, before.label, sizeof(int32_t) * (size_t)before.n);
+        unsigned char *stuck = calloc((size_t)before.n, 1);
+        uo.stuck = stuck;
+        vc_unskew_stats sa, sb;
+        CHECK(vc_interior_unskew(&balls, &three, 0, &m0, &uo, &sa, &err) == 0);
+        CHECK(memcmp(three.xyz, one.xyz, sizeof(double) * 3 * (size_t)one.n) == 0);
+        int64_t flagged = 0;
+        for (int64_t i = 0; i < before.n; i++)
+            flagged += stuck[i];
+        CHECKF(flagged == sa.n_tried - sa.n_moved && flagged > 0, "stuck: %lld flagged, %lld tried, "
+               "%lld moved", (long long)flagged, (long long)sa.n_tried, (long long)sa.n_moved);
+        memcpy(three.xyz, before.xyz, sizeof(double) * 3 * (size_t)before.n);
+        CHECK(vc_interior_unskew(&balls, &three, 0, &m0, &uo, &sb, &err) == 0);
+        CHECKF(sb.n_tried == sa.n_tried - flagged, "stuck: %lld tried again of %lld, %lld flagged",
+               (long long)sb.n_tried, (long long)sa.n_tried, (long long)flagged);
+        int64_t moved_flagged = 0;
+        for (int64_t i = 0; i < before.n; i++)
+            moved_flagged += stuck[i] && memcmp(three.xyz + 3 * i, before.xyz + 3 * i,
+                                                3 * sizeof(double)) != 0;
+        CHECK(moved_flagged == 0);
+        uo.stuck = NULL;
+        free(stuck);
+        vc_seeds_free(&three);
+    }
+
     vc_polymesh m1;
     if (build(&one, &m1) == 0) {
         const int64_t n1 = skew_faces(&m1, target);

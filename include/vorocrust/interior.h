@@ -282,6 +282,11 @@ typedef struct vc_unskew_options {
     int candidates;        /* default 16 */
     uint64_t random_seed;  /* default 1 */
     int threads;           /* <= 0: OpenMP's default */
+    /* NULL (default), or one flag per seed, read and written: a flagged
+     * seed is not tried; a seed whose places were all judged and none
+     * helped is flagged. Rounds of calls keep it, clearing the flags of
+     * the seeds next to a seed that moved (vorocrust mesh --unskew). */
+    unsigned char *stuck;
 } vc_unskew_options;
 
 void vc_unskew_options_default(vc_unskew_options *opt);

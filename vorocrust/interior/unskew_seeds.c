@@ -386,6 +386,12 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             WANT_CELL(c);
         }
 #undef WANT_CELL
+    /* seeds an earlier call tried in vain, around which nothing moved
+     * since: the same places would be judged the same */
+    if (opt->stuck)
+        for (int64_t i = 0; i < n; i++)
+            if (opt->stuck[i])
+                want[i] = 0;
     int64_t n_want = 0;
     for (int64_t i = 0; i < n; i++)
         n_want += want[i];
@@ -515,7 +521,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             reach = r > reach ? r : reach;
         }
         reach *= 1.01;
-        int decided = 0;
+        int decided = 0, moved_s = 0;
         for (int attempt = 0; attempt < MAX_ATTEMPTS && n_keep < KEEP_MAX && !rc && !decided;
              attempt++) {
             int truncated;
@@ -598,6 +604,7 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
                         best = c;
             }
             if (best >= 0) {
+                moved_s = 1;
                 memcpy(seeds->xyz + 3 * s, cand[best].x, 3 * sizeof(double));
                 vc_seed_kdtree_refit(&tree, seeds->xyz);
                 st.n_moved++;
@@ -634,6 +641,10 @@ int vc_interior_unskew(const vc_balls *balls, vc_seeds *seeds, int64_t n_surface
             }
             reach *= 1.5;     /* a judged cell was not exact */
         }
+        /* tried in vain (no place helped, or its cells were too many to
+         * judge): the same would happen again while nothing near moves */
+        if (!moved_s && !rc && opt->stuck)
+            opt->stuck[s] = 1;
         for (int64_t i = 0; i < n_keep; i++)
             keep[keep_list[i]] = 0;
     }
