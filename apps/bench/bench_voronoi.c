@@ -55,6 +55,11 @@ typedef struct child_report {
     int64_t invalid;    /* vc_polymesh_validate problems; -1 if not run */
     uint64_t digest;    /* of the mesh's points, faces and cells (vorocrust) */
     int grid[3];        /* Voro++ block grid */
+    /* --rebuild K: the mesh again after K kept seeds moved, from the kept
+     * cells (vc_voronoi_rebuild) and from scratch (vc_voronoi_build) */
+    double rebuild_seconds, fresh_seconds;
+    int64_t rebuilt_cells;
+    int rebuild_same;   /* the two meshes byte-identical */
     char msg[MSG_LEN];
 } child_report;
 
@@ -76,6 +81,7 @@ typedef struct config {
     int skip_voropp, skip_vorocrust, validate, repeat;
     const char *seeds_path; /* a seeds CSV instead of random seeds */
     int keep_labels;        /* cells only for its seeds of a non-zero label */
+    int64_t rebuild;        /* seeds moved for the rebuild figures (0: none) */
 } config;
 
 static double clock_seconds(clockid_t id)
@@ -183,6 +189,46 @@ static int make_seeds(vc_seeds *s, int64_t n, const config *cfg, double box[6], 
     return VC_OK; /* labels are already 1 */
 }
 
+/* Moves k kept seeds (distinct, at random, none on the seeds' bounding
+ * box, so that it stays) by up to a tenth of the mean spacing per axis,
+ * kept strictly inside the bounds; their indices into moved. Returns how
+ * many moved. */
+static int64_t move_kept(vc_seeds *s, int64_t k, uint64_t seed, int64_t *moved)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int64_t i = 0; i < s->n; i++)
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], s->xyz[3 * i + d]);
+            hi[d] = fmax(hi[d], s->xyz[3 * i + d]);
+        }
+    const double step = 0.1 * cbrt((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]) /
+                                   (double)s->n);
+    unsigned char *taken = calloc((size_t)s->n, 1);
+    if (!taken)
+        return 0;
+    vc_rng rng;
+    vc_rng_init(&rng, seed, 7);
+    int64_t m = 0;
+    for (int64_t tries = 0; m < k && tries < 100 * k; tries++) {
+        int64_t i = (int64_t)(vc_rng_uniform(&rng) * (double)s->n);
+        i = i < s->n ? i : s->n - 1;
+        int edge = taken[i] || s->label[i] == 0;
+        for (int d = 0; d < 3; d++)
+            edge |= s->xyz[3 * i + d] == lo[d] || s->xyz[3 * i + d] == hi[d];
+        if (edge)
+            continue;
+        taken[i] = 1;
+        for (int d = 0; d < 3; d++) {
+            const double x = s->xyz[3 * i + d] + step * (2 * vc_rng_uniform(&rng) - 1);
+            const double a = lo[d] + 1e-9 * (hi[d] - lo[d]), b = hi[d] - 1e-9 * (hi[d] - lo[d]);
+            s->xyz[3 * i + d] = x < a ? a : x > b ? b : x;
+        }
+        moved[m++] = i;
+    }
+    free(taken);
+    return m;
+}
+
 /* The body of a measuring child: never returns. */
 static void child_main(int fd, int engine, int64_t n, int threads, const config *cfg)
 {
@@ -205,9 +251,11 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
         opt.has_box = 1;
         memcpy(opt.box, box, sizeof box);
         vc_polymesh mesh;
+        vc_voronoi_cells *kept = NULL;
         double c0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
         double t0 = clock_seconds(CLOCK_MONOTONIC);
-        int rc = vc_voronoi_build(&seeds, &opt, &mesh, &err);
+        int rc = cfg->rebuild > 0 ? vc_voronoi_build_keep(&seeds, &opt, &mesh, &kept, &err)
+                                  : vc_voronoi_build(&seeds, &opt, &mesh, &err);
         rep.seconds = clock_seconds(CLOCK_MONOTONIC) - t0;
         rep.cpu_seconds = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - c0;
         if (rc) {
@@ -234,6 +282,31 @@ static void child_main(int fd, int engine, int64_t n, int threads, const config 
             }
             vc_polymesh_free(&mesh);
         }
+        if (rep.ok && kept) {
+            int64_t *moved = malloc(sizeof(int64_t) * (size_t)cfg->rebuild);
+            const int64_t k = moved ? move_kept(&seeds, cfg->rebuild, cfg->seed, moved) : 0;
+            vc_polymesh a, b;
+            double t1 = clock_seconds(CLOCK_MONOTONIC);
+            int ra = vc_voronoi_rebuild(kept, &seeds, moved, k, &opt, &a, &err);
+            rep.rebuild_seconds = clock_seconds(CLOCK_MONOTONIC) - t1;
+            rep.rebuilt_cells = vc_voronoi_cells_rebuilt(kept);
+            t1 = clock_seconds(CLOCK_MONOTONIC);
+            int rb = ra ? -1 : vc_voronoi_build(&seeds, &opt, &b, &err);
+            rep.fresh_seconds = clock_seconds(CLOCK_MONOTONIC) - t1;
+            if (ra || rb || k < cfg->rebuild) {
+                rep.ok = 0;
+                snprintf(rep.msg, sizeof rep.msg, "rebuild: %s",
+                         k < cfg->rebuild ? "could not pick the seeds to move" : err.msg);
+            } else {
+                rep.rebuild_same = mesh_digest(&a) == mesh_digest(&b);
+            }
+            if (!ra)
+                vc_polymesh_free(&a);
+            if (!ra && !rb)
+                vc_polymesh_free(&b);
+            free(moved);
+        }
+        vc_voronoi_cells_free(kept);
     } else {
         vc_bench_voropp_result vr;
         double c0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
@@ -358,6 +431,9 @@ static void usage(FILE *f)
             "  --skip-vorocrust       do not run vorocrust\n"
             "  --validate             check every vorocrust mesh with vc_polymesh_validate\n"
             "                         (after the timing)\n"
+            "  --rebuild K            also move K kept seeds (by a tenth of the mean spacing) and\n"
+            "                         time the mesh again from the kept cells (vc_voronoi_rebuild)\n"
+            "                         against a fresh build of the moved seeds\n"
             "  --help\n");
 }
 
@@ -417,7 +493,7 @@ static int parse_args(int argc, char **argv, config *cfg)
         }
         int takes_value = !strcmp(name, "--n") || !strcmp(name, "--threads-list") ||
                           !strcmp(name, "--seed") || !strcmp(name, "--repeat") ||
-                          !strcmp(name, "--seeds");
+                          !strcmp(name, "--seeds") || !strcmp(name, "--rebuild");
         if (takes_value && !val) {
             if (i + 1 >= argc) {
                 fprintf(stderr, "vc-bench-voronoi: %s needs a value\n", name);
@@ -463,6 +539,11 @@ static int parse_args(int argc, char **argv, config *cfg)
             cfg->seeds_path = val;
         } else if (!strcmp(name, "--keep-labels")) {
             cfg->keep_labels = 1;
+        } else if (!strcmp(name, "--rebuild")) {
+            if (!parse_count(val, INT32_MAX, &cfg->rebuild)) {
+                fprintf(stderr, "vc-bench-voronoi: --rebuild: '%s' is not a positive integer\n", val);
+                return 0;
+            }
         } else if (!strcmp(name, "--skip-voropp")) {
             cfg->skip_voropp = 1;
         } else if (!strcmp(name, "--skip-vorocrust")) {
@@ -643,6 +724,22 @@ int main(int argc, char **argv)
                    r->n, p->cells, p->cell_faces,
                    p->cells ? (double)p->cell_faces / (double)p->cells : 0.0, p->interior_faces,
                    p->boundary_faces, p->grid[0], p->grid[1], p->grid[2]);
+        }
+    }
+
+    if (cfg.rebuild > 0) {
+        printf("\nRebuild after %" PRId64 " kept seeds moved (the cells next to them built again, "
+               "all stitched) against a fresh build of the moved seeds:\n", cfg.rebuild);
+        for (k = 0; k < n_runs; k++) {
+            const run *r = &runs[k];
+            if (!r->ok || r->engine != ENGINE_VOROCRUST)
+                continue;
+            const child_report *p = &r->rep;
+            printf("  N=%" PRId64 ", %d thread(s): %" PRId64 " of %" PRId64 " cells built again, "
+                   "%.3f s against %.3f s (%.2fx), %s\n", r->n, r->threads, p->rebuilt_cells,
+                   p->cells, p->rebuild_seconds, p->fresh_seconds,
+                   p->rebuild_seconds > 0 ? p->fresh_seconds / p->rebuild_seconds : 0.0,
+                   p->rebuild_same ? "byte-identical" : "DIFFERENT");
         }
     }
 
