@@ -929,8 +929,8 @@ static int unskew_rounds(const vc_mesh_options *opt, const char *name, vc_mesh_r
     double *before = malloc(sizeof(double) * 3 * (size_t)n);
     int64_t *which = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
     /* seeds tried in vain, not tried again until a neighbour moves
-     * (cow.off: 989, 831 and 793 seeds tried in its three rounds, 296, 202
-     * and 160 moved) */
+     * (cow.off's three rounds tried 989, 831 and 793 seeds and moved 296,
+     * 202 and 160; now they try 989, 291 and 229) */
     unsigned char *stuck = calloc((size_t)n + 1, 1), *moved_now = calloc((size_t)n + 1, 1);
     if (!before || !which || !stuck || !moved_now) {
         free(before);
