@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "test_check.h"
+#include "test_seed_shell.h"
 #include "vorocrust/interior.h"
 #include "vorocrust/random.h"
 #include "vorocrust/voronoi.h"
@@ -52,46 +53,13 @@ static int64_t short_cells(const vc_polymesh *m, int64_t first, double limit, do
     return n;
 }
 
-static int build(const vc_seeds *s, vc_polymesh *m)
-{
-    vc_voronoi_options vo;
-    vc_voronoi_options_default(&vo);
-    vo.threads = 2;
-    vc_error err;
-    const int rc = vc_voronoi_build(s, &vo, m, &err);
-    CHECK_MSG(rc == 0, err.msg);
-    return rc;
-}
-
-/* n_surface points on the unit sphere (label 1, fixed) and n_int random
- * points in the ball of radius 0.8. */
-static void random_set(vc_seeds *s, int64_t n_surface, int64_t n_int)
-{
-    vc_error err;
-    CHECK(vc_seeds_alloc(s, n_surface + n_int, &err) == 0);
-    vc_rng rng;
-    vc_rng_init(&rng, 7, 0);
-    for (int64_t i = 0; i < s->n; i++) {
-        double u[3], q = 2;
-        while (q > 1 || q < 1e-6) {
-            for (int d = 0; d < 3; d++)
-                u[d] = 2 * vc_rng_uniform(&rng) - 1;
-            q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-        }
-        const double scale = i < n_surface ? 1 / sqrt(q) : 0.8;
-        for (int d = 0; d < 3; d++)
-            s->xyz[3 * i + d] = scale * u[d];
-        s->label[i] = 1;
-    }
-}
-
 static void random_interior(void)
 {
     const int64_t n_surface = 800, n_int = 3000;
     vc_seeds before, one, two;
-    random_set(&before, n_surface, n_int);
-    random_set(&one, n_surface, n_int);
-    random_set(&two, n_surface, n_int);
+    shell_seeds(&before, n_surface, n_int, 7, 1);
+    shell_seeds(&one, n_surface, n_int, 7, 1);
+    shell_seeds(&two, n_surface, n_int, 7, 1);
     /* one small ball near the middle: no seed may move into it */
     double centre[3] = {0.05, -0.02, 0.03}, radius = 0.02, normal[3] = {0, 0, 1};
     signed char kind = 0;
@@ -140,7 +108,7 @@ static void random_interior(void)
 
     /* the meshes: interior cells with an edge below 1e-2 of their radius */
     vc_polymesh ma, mb;
-    if (build(&before, &ma) == 0 && build(&one, &mb) == 0) {
+    if (shell_build(&before, &ma) == 0 && shell_build(&one, &mb) == 0) {
         double min_a, min_b;
         const int64_t na = short_cells(&ma, n_surface, 1e-2, &min_a);
         const int64_t nb = short_cells(&mb, n_surface, 1e-2, &min_b);

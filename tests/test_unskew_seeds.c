@@ -17,20 +17,10 @@
 #include <string.h>
 
 #include "test_check.h"
+#include "test_seed_shell.h"
 #include "vorocrust/interior.h"
 #include "vorocrust/random.h"
 #include "vorocrust/voronoi.h"
-
-static int build(const vc_seeds *s, vc_polymesh *m)
-{
-    vc_voronoi_options vo;
-    vc_voronoi_options_default(&vo);
-    vo.threads = 2;
-    vc_error err;
-    const int rc = vc_voronoi_build(s, &vo, m, &err);
-    CHECK_MSG(rc == 0, err.msg);
-    return rc;
-}
 
 /* Faces of m above limit (checkMesh's skewness). */
 static int64_t skew_faces(const vc_polymesh *m, double limit)
@@ -41,29 +31,6 @@ static int64_t skew_faces(const vc_polymesh *m, double limit)
     return n;
 }
 
-/* n_surface points on the unit sphere (label 0: they only bound the
- * others' cells, as VoroCrust's outside seeds do) and n_int random points
- * in the ball of radius 0.8 (label 1). */
-static void random_set(vc_seeds *s, int64_t n_surface, int64_t n_int)
-{
-    vc_error err;
-    CHECK(vc_seeds_alloc(s, n_surface + n_int, &err) == 0);
-    vc_rng rng;
-    vc_rng_init(&rng, 11, 0);
-    for (int64_t i = 0; i < s->n; i++) {
-        double u[3], q = 2;
-        while (q > 1 || q < 1e-6) {
-            for (int d = 0; d < 3; d++)
-                u[d] = 2 * vc_rng_uniform(&rng) - 1;
-            q = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-        }
-        const double scale = i < n_surface ? 1 / sqrt(q) : 0.8;
-        for (int d = 0; d < 3; d++)
-            s->xyz[3 * i + d] = scale * u[d];
-        s->label[i] = i < n_surface ? 0 : 1;
-    }
-}
-
 int main(void)
 {
     const int64_t n_surface = 600, n_int = 2500;
@@ -71,16 +38,16 @@ int main(void)
      * the test dozens to mend */
     const double target = 2.5;
     vc_seeds before, one, two;
-    random_set(&before, n_surface, n_int);
-    random_set(&one, n_surface, n_int);
-    random_set(&two, n_surface, n_int);
+    shell_seeds(&before, n_surface, n_int, 11, 0);
+    shell_seeds(&one, n_surface, n_int, 11, 0);
+    shell_seeds(&two, n_surface, n_int, 11, 0);
     double centre[3] = {0.05, -0.02, 0.03}, radius = 0.03, normal[3] = {0, 0, 1};
     signed char kind = 0;
     int64_t element = 0;
     vc_balls balls = {1, centre, &radius, &kind, &element, normal};
 
     vc_polymesh m0;
-    if (build(&before, &m0))
+    if (shell_build(&before, &m0))
         return 1;
     const int64_t n0 = skew_faces(&m0, target);
     CHECKF(n0 >= 5, "random seeds with only %lld faces above %g: nothing to mend", (long long)n0,
@@ -136,7 +103,7 @@ int main(void)
     }
 
     vc_polymesh m1;
-    if (build(&one, &m1) == 0) {
+    if (shell_build(&one, &m1) == 0) {
         const int64_t n1 = skew_faces(&m1, target);
         CHECKF(n1 < n0, "faces above %g: %lld before, %lld after %lld moves", target,
                (long long)n0, (long long)n1, (long long)st1.n_moved);
@@ -196,7 +163,7 @@ int main(void)
     vc_unskew_options_default(&uo);
     double far_centre[3] = {-10, -10, -10};
     vc_balls far_ball = {1, far_centre, &radius, &kind, &element, normal};
-    if (build(&lattice, &ml) == 0) {
+    if (shell_build(&lattice, &ml) == 0) {
         vc_seeds same;
         CHECK(vc_seeds_alloc(&same, 216, &err) == 0);
         memcpy(same.xyz, lattice.xyz, sizeof(double) * 3 * 216);
@@ -213,7 +180,7 @@ int main(void)
     }
     vc_seeds_free(&lattice);
     vc_seeds same;
-    random_set(&same, n_surface, n_int);
+    shell_seeds(&same, n_surface, n_int, 11, 0);
 
     /* bad options */
     uo.max_skew = 0;
