@@ -271,6 +271,24 @@ static void test_outside_bounds(void)
     vc_polymesh_free(&m);
     vc_polymesh_free(&fresh);
 
+    /* nothing moved: no cell built again, the same mesh; a seed listed twice
+     * counts once */
+    CHECK(vc_voronoi_rebuild(cells, &s, moved, 0, &o, &m, &err) == 0);
+    CHECK(vc_voronoi_cells_rebuilt(cells) == 0);
+    CHECK(vc_voronoi_build(&s, &o, &fresh, &err) == 0);
+    CHECKF(identical(&m, &fresh), "outside: a rebuild without moves differs from a fresh build");
+    vc_polymesh_free(&m);
+    vc_polymesh_free(&fresh);
+    {
+        const int64_t twice[2] = {200, 200};
+        s.xyz[3 * 200 + 2] += 0.01;
+        CHECK(vc_voronoi_rebuild(cells, &s, twice, 2, &o, &m, &err) == 0);
+        CHECK(vc_voronoi_build(&s, &o, &fresh, &err) == 0);
+        CHECKF(identical(&m, &fresh), "outside: a seed listed twice: differs from a fresh build");
+        vc_polymesh_free(&m);
+        vc_polymesh_free(&fresh);
+    }
+
     /* refusals: another seed count, another kept set, an index out of range */
     vc_seeds fewer = {n - 1, s.xyz, s.label};
     CHECK(vc_voronoi_rebuild(cells, &fewer, moved, 1, &o, &m, &err) == VC_EPARAM);
