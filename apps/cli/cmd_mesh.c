@@ -57,8 +57,8 @@ static void usage(FILE *f)
         "                      symmetryPlane, symmetry, empty (repeatable; default: patch, and\n"
         "                      wall for the one patch of a surface without groups)\n"
         "  --foam-max-skew S   before writing the OpenFOAM case, collapse the faces whose\n"
-        "                      checkMesh skewness exceeds S (default %g; 0: write the exact\n"
-        "                      Voronoi cells; checkMesh fails a mesh above 4)\n"
+        "                      checkMesh skewness exceeds S (default %g, 4 with --unskew; 0:\n"
+        "                      write the exact Voronoi cells; checkMesh fails a mesh above 4)\n"
         "  --interior octree|lattice|none  interior seeds: graded by a p4est octree (default),\n"
         "                      on a cubic lattice, or none\n"
         "  --interior-spacing H  lattice spacing (default: the largest ball radius)\n"
@@ -418,6 +418,7 @@ static int run_mesh(int argc, char **argv)
     int surface_only = 0, curvature_given = 0, quiet = 0, verbose = 0, fold_creases = 1, fallback = 0,
         smooth_iterations_given = 0;
     double foam_max_skew = FOAM_DEFAULT_MAX_SKEW;
+    int foam_max_skew_given = 0;
     vc_skew_collapse_stats foam_skew;
     memset(&foam_skew, 0, sizeof foam_skew);
     vc_mesh_options opt;
@@ -501,6 +502,7 @@ static int run_mesh(int argc, char **argv)
             n_patch_types++;
             i++;
         } else if (!strcmp(a, "--foam-max-skew")) {
+            foam_max_skew_given = 1;
             if (vc_cli_parse_double(v, &foam_max_skew) ||
                 !(foam_max_skew == 0 || (foam_max_skew >= 1 && foam_max_skew <= 1000))) {
                 fprintf(stderr, "vorocrust: --foam-max-skew needs 0 or a number from 1 to 1000, "
@@ -702,6 +704,11 @@ static int run_mesh(int argc, char **argv)
         if (frc)
             return frc;
     }
+    /* --unskew mends the skew faces at the seeds: the case's collapse, unless
+     * asked for, takes only what it left above checkMesh's limit, so that
+     * the case is the .vtu's mesh wherever --unskew mended every face */
+    if (opt.unskew > 0 && !foam_max_skew_given)
+        foam_max_skew = CHECKMESH_MAX_SKEW;
     /* -o OUT.vtu writes OUT_boundary.vtu too */
     char *boundary_out = out_path ? boundary_path(out_path) : NULL;
     const char *outputs[9] = {out_path, surf_path, seeds_path, balls_path, conn_path, uge_path,
