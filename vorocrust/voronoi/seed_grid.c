@@ -4,19 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int cmp_offset(const void *a, const void *b)
-{
-    const vc_grid_offset *x = a, *y = b;
-    if (x->dmin2 != y->dmin2)
-        return x->dmin2 < y->dmin2 ? -1 : 1;
-    /* Tie-break on the offset itself so the order is fully determined. */
-    if (x->dz != y->dz)
-        return x->dz - y->dz;
-    if (x->dy != y->dy)
-        return x->dy - y->dy;
-    return x->dx - y->dx;
-}
-
 static double gap(int d)
 {
     int a = abs(d) - 1;
@@ -144,18 +131,32 @@ int vc_seed_grid_build(vc_seed_grid *g, const double *xyz, int64_t n,
         vc_seed_grid_free(g);
         return -1;
     }
+    /* Nearest first, ties by (dz, dy, dx): a stable counting sort of the
+     * offsets listed in (dz, dy, dx) order by their squared gap, an integer
+     * of at most 3 (R - 1)^2 (a sort of the same table for every grid cost
+     * the unskew's local builds, thousands of small grids, 2% of their
+     * time) */
+    enum { MAX_SUM = 3 * (VC_GRID_MAX_RING - 1) * (VC_GRID_MAX_RING - 1) };
+    int start[MAX_SUM + 2] = {0};
+    for (int dz = -R; dz <= R; dz++)
+        for (int dy = -R; dy <= R; dy++)
+            for (int dx = -R; dx <= R; dx++)
+                start[(int)(gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz)) + 1]++;
+    for (int v = 0; v <= MAX_SUM; v++)
+        start[v + 1] += start[v];
     int k = 0;
     for (int dz = -R; dz <= R; dz++)
         for (int dy = -R; dy <= R; dy++)
             for (int dx = -R; dx <= R; dx++) {
-                vc_grid_offset *o = &g->offsets[k++];
+                const double d2 = gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz);
+                vc_grid_offset *o = &g->offsets[start[(int)d2]++];
                 o->dx = dx;
                 o->dy = dy;
                 o->dz = dz;
-                o->dmin2 = gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz);
+                o->dmin2 = d2;
+                k++;
             }
     g->n_offsets = k;
-    qsort(g->offsets, (size_t)k, sizeof *g->offsets, cmp_offset);
     return 0;
 }
 
