@@ -302,6 +302,9 @@ static void test_outside_bounds(void)
     memcpy(s.xyz + 3 * 3, s.xyz + 3 * 4, 3 * sizeof(double));
     CHECK(vc_voronoi_rebuild(cells, &s, moved, 1, &o, &m, &err) == VC_EINPUT);
     CHECKF(strstr(err.msg, "coincide") != NULL, "coincident: %s", err.msg);
+    /* the kept cells are then of no use: refused until built again */
+    s.xyz[3 * 3] += 0.001;
+    CHECK(vc_voronoi_rebuild(cells, &s, moved, 1, &o, &m, &err) == VC_EPARAM);
     vc_voronoi_cells_free(cells);
     vc_seeds_free(&s);
 }

@@ -1342,6 +1342,10 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
     }
     /* Other bounds (a seed at the edge of the set moved) give another
      * clipping box, other bins and another build order: every cell again. */
+    /* From here the kept cells are of the places before these moves: a
+     * failure leaves them of no use (the next call would not name these
+     * moves), until the cells are updated below. */
+    vc->broken = 1;
     if (memcmp(slo, vc->slo, sizeof slo) != 0 || memcmp(shi, vc->shi, sizeof shi) != 0) {
         vc_voronoi_cells *fresh;
         const int rc = build_mesh(seeds, &opt, out, &fresh, err);
@@ -1436,10 +1440,8 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
         was_at[q] = order_pos[pos[q]]; /* the seed's place in the neighbour source */
     const cell_batch second = {n_again, was_at, order_index, order_xyz, res, status, other};
     build_batch(&job, &second, &vc->store, threads, opt.log, 0);
-    if ((rc = batch_error(&second, seeds, n_kept, err)) != 0) {
-        vc->broken = 1; /* the store may hold some of the new cells: of no seeds */
+    if ((rc = batch_error(&second, seeds, n_kept, err)) != 0)
         goto done;
-    }
     for (int64_t q = 0; q < n_again; q++)
         cells[pos[q]] = res[q];
     free(vc->cells);
@@ -1450,6 +1452,7 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
     order = NULL;
     vc->use_tree = use_tree;
     vc->last_rebuilt = n_again;
+    vc->broken = 0;
     vc_log(opt.log, VC_LOG_DEBUG, "  voronoi: %lld of %lld cells built again for %lld moved "
            "seeds, %.3f s; stitching", (long long)n_again, (long long)n_kept, (long long)n_moved,
            wall_seconds() - t0);
