@@ -105,7 +105,8 @@ int vc_voronoi_build_keep(const vc_seeds *seeds, const vc_voronoi_options *opt,
  * gives for these seeds, byte for byte; when a moved seed leaves the
  * bounding box the first seeds had, every cell is built again. opt: the
  * same box and neighbour source as the build (its threads, log and
- * spheres may differ). */
+ * spheres may differ). After a failed rebuild the cells are refused
+ * (VC_EPARAM): build them again. */
 int vc_voronoi_rebuild(vc_voronoi_cells *cells, const vc_seeds *seeds, const int64_t *moved,
                        int64_t n_moved, const vc_voronoi_options *opt, vc_polymesh *out,
                        vc_error *err);
