@@ -1340,12 +1340,12 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
             return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: the seeds kept (label not "
                                 "0) changed since the cells were built");
     }
-    /* Other bounds (a seed at the edge of the set moved) give another
-     * clipping box, other bins and another build order: every cell again. */
     /* From here the kept cells are of the places before these moves: a
      * failure leaves them of no use (the next call would not name these
      * moves), until the cells are updated below. */
     vc->broken = 1;
+    /* Other bounds (a seed at the edge of the set moved) give another
+     * clipping box, other bins and another build order: every cell again. */
     if (memcmp(slo, vc->slo, sizeof slo) != 0 || memcmp(shi, vc->shi, sizeof shi) != 0) {
         vc_voronoi_cells *fresh;
         const int rc = build_mesh(seeds, &opt, out, &fresh, err);
@@ -1376,14 +1376,15 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
     int rc = 0;
     unsigned char *is_moved = calloc((size_t)n, 1);
     unsigned char *mark = calloc((size_t)n_kept, 1);
-    int64_t *pos = malloc(sizeof(int64_t) * (size_t)(n_kept > n_moved ? n_kept : n_moved) + 1);
-    const int64_t n_status = n_kept > n_moved ? n_kept : n_moved;
-    int *status = malloc(sizeof(int) * (size_t)n_status + 1);
-    int64_t *other = malloc(sizeof(int64_t) * (size_t)n_status + 1);
-    vc_cell_result *res = malloc(sizeof(vc_cell_result) * (size_t)n_status + 1);
-    int64_t *order = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
-    int64_t *order_pos = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
-    int64_t *was_at = malloc(sizeof(int64_t) * (size_t)n_kept + 1);
+    /* room for the moved seeds' cells (step 1) or every kept one (step 2) */
+    const size_t room = (size_t)(n_kept > n_moved ? n_kept : n_moved) + 1;
+    int64_t *pos = malloc(sizeof(int64_t) * room);
+    int *status = malloc(sizeof(int) * room);
+    int64_t *other = malloc(sizeof(int64_t) * room);
+    vc_cell_result *res = malloc(sizeof(vc_cell_result) * room);
+    int64_t *order = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
+    int64_t *order_pos = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
+    int64_t *was_at = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
     vc_cell_result *cells = vc_big_alloc(sizeof(vc_cell_result) * (size_t)n_kept);
     vc_cell_store scratch;
     memset(&scratch, 0, sizeof scratch);
