@@ -782,7 +782,6 @@ struct vc_voronoi_cells {
     int64_t n, n_kept;
     double slo[3], shi[3];  /* the seeds' bounds at the first build */
     cell_job job;           /* its box, duplicate distance and slack */
-    int use_tree;
     int64_t *kept_seed;     /* k -> seed */
     int64_t *build_order;   /* m -> k */
     vc_cell_result *cells;  /* by m */
@@ -1085,15 +1084,22 @@ static int seed_bounds(const vc_seeds *seeds, double slo[3], double shi[3], int6
     return 0;
 }
 
+/* The caller's options, or the defaults. */
+static vc_voronoi_options options_or_default(const vc_voronoi_options *opt)
+{
+    vc_voronoi_options o;
+    if (opt)
+        o = *opt;
+    else
+        vc_voronoi_options_default(&o);
+    return o;
+}
+
 /* vc_voronoi_build, and when keep is given, what a rebuild needs. */
 static int build_mesh(const vc_seeds *seeds, const vc_voronoi_options *opt_in, vc_polymesh *out,
                       vc_voronoi_cells **keep, vc_error *err)
 {
-    vc_voronoi_options opt;
-    if (opt_in)
-        opt = *opt_in;
-    else
-        vc_voronoi_options_default(&opt);
+    const vc_voronoi_options opt = options_or_default(opt_in);
     memset(out, 0, sizeof *out);
     if (keep)
         *keep = NULL;
@@ -1244,7 +1250,6 @@ static int build_mesh(const vc_seeds *seeds, const vc_voronoi_options *opt_in, v
         vc->job = job;
         vc->job.grid = NULL;
         vc->job.tree = NULL;
-        vc->use_tree = use_tree;
         vc->kept_seed = kept_seed;
         vc->build_order = build_order;
         vc->cells = cells;
@@ -1309,11 +1314,7 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
                        int64_t n_moved, const vc_voronoi_options *opt_in, vc_polymesh *out,
                        vc_error *err)
 {
-    vc_voronoi_options opt;
-    if (opt_in)
-        opt = *opt_in;
-    else
-        vc_voronoi_options_default(&opt);
+    const vc_voronoi_options opt = options_or_default(opt_in);
     memset(out, 0, sizeof *out);
     if (vc && vc->broken)
         return vc_error_set(err, VC_EPARAM, "vc_voronoi_rebuild: an earlier rebuild of these "
@@ -1382,14 +1383,14 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
     int *status = malloc(sizeof(int) * room);
     int64_t *other = malloc(sizeof(int64_t) * room);
     vc_cell_result *res = malloc(sizeof(vc_cell_result) * room);
+    vc_cell_result *moved_cell = malloc(sizeof(vc_cell_result) * ((size_t)n_moved + 1));
+    int64_t *moved_at = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
     int64_t *order = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
     int64_t *order_pos = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
     int64_t *was_at = malloc(sizeof(int64_t) * ((size_t)n_kept + 1));
     vc_cell_result *cells = vc_big_alloc(sizeof(vc_cell_result) * (size_t)n_kept);
-    vc_cell_store scratch;
-    memset(&scratch, 0, sizeof scratch);
-    if (!is_moved || !mark || !pos || !status || !other || !res || !order || !order_pos ||
-        !was_at || !cells || make_build_order(seeds, &grid, &tree, order, order_pos) != 0) {
+    if (!is_moved || !mark || !pos || !status || !other || !res || !moved_cell || !moved_at ||
+        !order || !order_pos || !was_at || !cells || make_build_order(seeds, &grid, &tree, order, order_pos) != 0) {
         rc = vc_error_set(err, VC_ENOMEM, "out of memory rebuilding %lld cells", (long long)n_kept);
         goto done;
     }
@@ -1405,35 +1406,40 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
         if (is_moved[i])
             pos[n_first++] = i; /* ascending seed index */
     /* 1. the moved seeds' cells where they are now (kept or not: a seed
-     * that is not kept bounds cells too), for their neighbours */
-    const cell_batch first = {n_first, pos, NULL, seeds->xyz, res, status, other};
-    build_batch(&job, &first, &scratch, threads, opt.log, 0);
+     * that is not kept bounds cells too), for their neighbours; a kept
+     * one's is its new cell (mark 2), a cell that is not kept stays in the
+     * store unused */
+    const cell_batch first = {n_first, pos, NULL, seeds->xyz, moved_cell, status, other};
+    build_batch(&job, &first, &vc->store, threads, opt.log, 0);
     if ((rc = batch_error(&first, seeds, n_kept, err)) != 0)
         goto done;
     for (int64_t q = 0; q < n_first; q++) {
         const int64_t k = kept_of(vc, pos[q]);
         if (k >= 0)
-            mark[k] = 1;
-        const vc_cell_result *c = &res[q];
+            moved_at[k] = q;
+        const vc_cell_result *c = &moved_cell[q];
         for (int f = 0; f < c->nf; f++) {
             const int64_t kn = c->plane[f] >= 0 ? kept_of(vc, c->plane[f]) : -1;
-            if (kn >= 0)
+            if (kn >= 0 && !mark[kn])
                 mark[kn] = 1;
         }
+        if (k >= 0)
+            mark[k] = 2;
     }
     /* 2. the cells in the order a fresh build takes (the stitching numbers
-     * the vertices in it): the unchanged ones moved there, the marked ones
-     * built again into the kept store (their old blocks stay there unused
-     * until the cells are freed) */
+     * the vertices in it): the unchanged ones moved there, the moved seeds'
+     * from step 1, their neighbours built again into the kept store (the
+     * old blocks stay there unused until the cells are freed) */
     for (int64_t m = 0; m < n_kept; m++)
         was_at[vc->build_order[m]] = m;
-    int64_t n_again = 0;
+    int64_t n_again = 0, n_moved_kept = 0;
     for (int64_t m = 0; m < n_kept; m++) {
         const int64_t k = order[m];
-        if (mark[k])
+        n_moved_kept += mark[k] == 2;
+        if (mark[k] == 1)
             pos[n_again++] = m;
         else
-            cells[m] = vc->cells[was_at[k]];
+            cells[m] = mark[k] == 2 ? moved_cell[moved_at[k]] : vc->cells[was_at[k]];
     }
     const int64_t *order_index = job.tree ? tree.index : grid.seed_index;
     const double *order_xyz = job.tree ? tree.xyz : grid.xyz;
@@ -1451,11 +1457,10 @@ int vc_voronoi_rebuild(vc_voronoi_cells *vc, const vc_seeds *seeds, const int64_
     free(vc->build_order);
     vc->build_order = order;
     order = NULL;
-    vc->use_tree = use_tree;
-    vc->last_rebuilt = n_again;
+    vc->last_rebuilt = n_moved_kept + n_again;
     vc->broken = 0;
     vc_log(opt.log, VC_LOG_DEBUG, "  voronoi: %lld of %lld cells built again for %lld moved "
-           "seeds, %.3f s; stitching", (long long)n_again, (long long)n_kept, (long long)n_moved,
+           "seeds, %.3f s; stitching", (long long)vc->last_rebuilt, (long long)n_kept, (long long)n_moved,
            wall_seconds() - t0);
     vc_seed_grid_free(&grid); /* zeroed: freed again below, harmlessly */
     vc_seed_kdtree_free(&tree);
@@ -1472,7 +1477,8 @@ done:
     free(order_pos);
     free(was_at);
     free(cells);
-    vc_region_pool_free(&scratch.topo);
+    free(moved_cell);
+    free(moved_at);
     vc_seed_grid_free(&grid);
     vc_seed_kdtree_free(&tree);
     return rc;
