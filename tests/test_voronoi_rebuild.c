@@ -171,7 +171,7 @@ static void check_rounds(const char *name, vc_seeds *s, const double *box, int n
 
 static void test_random(int threads, int neighbours)
 {
-    const int64_t n = 3000;
+    const int64_t n = 1500;
     vc_seeds s;
     vc_seeds_alloc(&s, n, NULL);
     vc_rng rng;
@@ -193,7 +193,7 @@ static void test_random(int threads, int neighbours)
  * of the spacing, so that ties are broken and made near. */
 static void test_lattice_in_shell(int threads, int neighbours)
 {
-    const int k = 12;
+    const int k = 10;
     const int64_t n_lat = (int64_t)k * k * k, n_shell = 600, n = n_lat + n_shell;
     vc_seeds s;
     vc_seeds_alloc(&s, n, NULL);
