@@ -153,27 +153,44 @@ static int64_t owner_of(const stitch *st, const int64_t key[4])
     return -1; /* not reached: the cell's own seed is kept */
 }
 
-/* The vertex of the cell at o with this key, found on o's face against
- * seed t (a seed of the key other than o's); -1 if o lacks it. */
-static int find_in_owner(const stitch *st, int64_t o, int64_t t, const int64_t key[4])
+/* Does the cell at m own its vertex i: is its own seed the lowest kept
+ * seed of the vertex's four? (owner_of without the key.) */
+static inline int owns_vertex(const stitch *st, int64_t m, int i)
 {
-    const vc_cell_result *c = &st->cells[o];
-    for (int f = 0; f < c->nf; f++) {
-        if (c->plane[f] != t)
-            continue;
-        /* the vertex whose three planes are all in the key (with o's own
-         * seed, its fourth entry) */
-        for (int j = c->face_start[f]; j < c->face_start[f + 1]; j++) {
-            const uint16_t *vf = c->vf + 3 * c->fv[j];
-            int in = 1;
-            for (int q = 0; q < 3 && in; q++) {
-                const int64_t p = c->plane[vf[q]];
-                in = p == key[0] || p == key[1] || p == key[2] || p == key[3];
-            }
-            if (in)
-                return c->fv[j];
-        }
-        return -1;
+    const vc_cell_result *c = &st->cells[m];
+    const int64_t s = seed_of(st, m);
+    for (int j = 0; j < 3; j++) {
+        const int64_t p = c->plane[c->vf[3 * i + j]];
+        if (p >= 0 && p < s && st->kidx[p] >= 0)
+            return 0;
+    }
+    return 1;
+}
+
+static inline int key_cmp(const int64_t *a, const int64_t *b)
+{
+    for (int j = 0; j < 4; j++)
+        if (a[j] != b[j])
+            return a[j] < b[j] ? -1 : 1;
+    return 0;
+}
+
+/* The global vertex with this key among the owner's (gkey[vbase[o] ..
+ * vbase[o + 1]), ascending: the owner numbers its vertices in key order),
+ * or -1 when the owner lacks it. */
+static int64_t find_in_owner(const stitch *st, const int64_t *vbase, int64_t o,
+                             const int64_t key[4])
+{
+    int64_t lo = vbase[o], hi = vbase[o + 1];
+    while (lo < hi) {
+        const int64_t mid = lo + (hi - lo) / 2;
+        const int c = key_cmp(st->gkey + 4 * mid, key);
+        if (c == 0)
+            return mid;
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
     return -1;
 }
@@ -978,7 +995,27 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     /* Owned vertices, numbered in the owners' order: within the cell by
      * their keys (not by where the cell's cuts left them, which depends on
      * the order its neighbours came in: the class roots, the smallest
-     * members, would follow it), then offset by the cells before. */
+     * members, would follow it), then offset by the cells before. Their
+     * keys go to gkey in that order, where the other cells find them. */
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t m = 0; m < n_kept; m++) {
+        int n_own = 0;
+        for (int i = 0; i < cells[m].nv; i++)
+            n_own += owns_vertex(&st, m, i);
+        owned[m] = n_own;
+    }
+    vbase[0] = 0;
+    for (int64_t m = 0; m < n_kept; m++)
+        vbase[m + 1] = vbase[m] + owned[m];
+    st.n_gid = vbase[n_kept];
+    if (st.n_gid >= INT32_MAX) {
+        rc = vc_error_set(err, VC_EPARAM, "%lld Voronoi vertices: at most %d are supported",
+                          (long long)st.n_gid, INT32_MAX - 1);
+        goto done;
+    }
+    st.gkey = malloc((size_t)(4 * st.n_gid + 1) * sizeof(int64_t));
+    if (!st.gkey)
+        goto nomem;
     int oom_keys = 0;
 #pragma omp parallel num_threads(threads)
     {
@@ -993,55 +1030,41 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
             }
             int n_own = 0;
             for (int i = 0; i < cells[m].nv; i++) {
-                vertex_key(&st, m, i, ok[n_own].key);
-                if (owner_of(&st, ok[n_own].key) == m) {
+                if (owns_vertex(&st, m, i)) {
+                    vertex_key(&st, m, i, ok[n_own].key);
                     ok[n_own++].local = i;
                 } else {
                     st.gid[st.loc_off[m] + i] = -1;
                 }
             }
             sort_owned_keys(ok, n_own);
-            for (int c = 0; c < n_own; c++)
-                st.gid[st.loc_off[m] + ok[c].local] = c;
-            owned[m] = n_own;
+            for (int c = 0; c < n_own; c++) {
+                const int64_t g = vbase[m] + c;
+                st.gid[st.loc_off[m] + ok[c].local] = (int32_t)g;
+                memcpy(st.gkey + 4 * g, ok[c].key, sizeof ok[c].key);
+            }
         }
         free(ok);
     }
     if (oom_keys)
         goto nomem;
-    vbase[0] = 0;
-    for (int64_t m = 0; m < n_kept; m++)
-        vbase[m + 1] = vbase[m] + owned[m];
-    st.n_gid = vbase[n_kept];
-    if (st.n_gid >= INT32_MAX) {
-        rc = vc_error_set(err, VC_EPARAM, "%lld Voronoi vertices: at most %d are supported",
-                          (long long)st.n_gid, INT32_MAX - 1);
-        goto done;
-    }
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int64_t m = 0; m < n_kept; m++)
-        for (int i = 0; i < cells[m].nv; i++)
-            if (st.gid[st.loc_off[m] + i] >= 0)
-                st.gid[st.loc_off[m] + i] += (int32_t)vbase[m];
-    /* The others, looked up in their owners. */
+    /* The others, looked up among their owners' keys. */
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t m = 0; m < n_kept; m++) {
-        const int64_t s = seed_of(&st, m);
         for (int i = 0; i < cells[m].nv; i++) {
             if (st.gid[st.loc_off[m] + i] >= 0)
                 continue;
             int64_t key[4];
             vertex_key(&st, m, i, key);
-            const int64_t o = owner_of(&st, key);
-            const int j = find_in_owner(&st, o, s, key);
-            if (j < 0) {
+            const int64_t g = find_in_owner(&st, vbase, owner_of(&st, key), key);
+            if (g < 0) {
 #pragma omp critical(vc_stitch_bad)
                 if (bad_m < 0 || m < bad_m)
                     bad_m = m;
                 inconsistent = 1;
                 continue;
             }
-            st.gid[st.loc_off[m] + i] = st.gid[st.loc_off[o] + j];
+            st.gid[st.loc_off[m] + i] = (int32_t)g;
         }
     }
     if (inconsistent) {
@@ -1063,8 +1086,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     st.gev = malloc((size_t)(ng + 1) * sizeof(double));
     st.grad = malloc((size_t)(ng + 1) * sizeof(double));
     st.root = malloc((size_t)(ng + 1) * sizeof(int64_t));
-    st.gkey = malloc((size_t)(4 * ng + 1) * sizeof(int64_t));
-    if (!st.gp || !st.gev || !st.grad || !st.root || !st.gkey)
+    if (!st.gp || !st.gev || !st.grad || !st.root)
         goto nomem;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
     for (int64_t m = 0; m < n_kept; m++) {
@@ -1073,8 +1095,7 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
             const int64_t g = st.gid[st.loc_off[m] + i];
             if (g < vbase[m] || g >= vbase[m + 1])
                 continue; /* not this cell's own */
-            int64_t *key = st.gkey + 4 * g;
-            vertex_key(&st, m, i, key);
+            const int64_t *key = st.gkey + 4 * g;
             double rad;
             st.gev[g] = canonical_point(ctx, key, st.gp + 3 * g, &rad);
             st.grad[g] = rad;
