@@ -428,6 +428,17 @@ static inline int is_interior(const stitch *st, int64_t t)
     return t >= 0 && st->kidx[t] >= 0;
 }
 
+/* The face other than f that vertices a and b of cell c share: the second
+ * face along their edge (f itself if there is none: no edge). */
+static inline int other_face(const vc_cell_result *c, int a, int b, int f)
+{
+    const uint16_t *va = c->vf + 3 * a, *vb = c->vf + 3 * b;
+    for (int i = 0; i < 3; i++)
+        if (va[i] != f && (va[i] == vb[0] || va[i] == vb[1] || va[i] == vb[2]))
+            return va[i];
+    return f;
+}
+
 /* Per cell (by position): counts, then places. */
 typedef struct cell_count {
     int64_t n_int, fv_int, n_bnd, fv_bnd, n_faces;
@@ -1124,13 +1135,22 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
 #pragma omp for schedule(dynamic, 256)
         for (int64_t m = 0; m < n_kept; m++) {
             const vc_cell_result *c = &cells[m];
+            const int64_t s = seed_of(&st, m);
             for (int f = 0; f < c->nf; f++) {
                 const int j0 = c->face_start[f], j1 = c->face_start[f + 1];
+                const int64_t t = c->plane[f];
+                if (is_interior(&st, t) && t < s)
+                    continue; /* the edges of this face: tested by t's cell or a lower one */
                 for (int j = j0; j < j1; j++) {
                     const int a = c->fv[j], b = c->fv[j + 1 < j1 ? j + 1 : j0];
                     const int64_t ga = st.gid[st.loc_off[m] + a], gb = st.gid[st.loc_off[m] + b];
                     if (ga > gb)
                         continue; /* each edge once per cell: from its lower end */
+                    /* and once in the mesh: by the kept cell of the lowest
+                     * seed of the three whose cells meet along it */
+                    const int64_t t2 = c->plane[other_face(c, a, b, f)];
+                    if (t2 != t && is_interior(&st, t2) && t2 < s)
+                        continue;
                     const int r = points_coincide(&st, ga, gb, merge_tol);
                     if (r == VC_PREDICATE_NOMEM || (r == 1 && PUSH(pb, ((pair64){ga, gb})) != 0))
                         failed = 1;
