@@ -428,6 +428,15 @@ static inline int is_interior(const stitch *st, int64_t t)
     return t >= 0 && st->kidx[t] >= 0;
 }
 
+/* Has cell c a face against seed t? */
+static inline int has_plane(const vc_cell_result *c, int64_t t)
+{
+    for (int f = 0; f < c->nf; f++)
+        if (c->plane[f] == t)
+            return 1;
+    return 0;
+}
+
 /* The face other than f that vertices a and b of cell c share: the second
  * face along their edge (f itself if there is none: no edge). */
 static inline int other_face(const vc_cell_result *c, int a, int b, int f)
@@ -441,7 +450,7 @@ static inline int other_face(const vc_cell_result *c, int a, int b, int f)
 
 /* Per cell (by position): counts, then places. */
 typedef struct cell_count {
-    int64_t n_int, fv_int, n_bnd, fv_bnd, n_faces;
+    int64_t n_int, fv_int, n_bnd, fv_bnd;
 } cell_count;
 
 static int max_face_len(const vc_cell_result *c)
@@ -777,13 +786,8 @@ typedef struct u64_buf {
     int64_t n, cap;
 } u64_buf;
 
-static int cmp_pair(const void *x, const void *y)
-{
-    const pair64 *a = x, *b = y;
-    if (a->a != b->a)
-        return a->a < b->a ? -1 : 1;
-    return (a->b > b->b) - (a->b < b->b);
-}
+#define PAIR_LESS(x, y) ((x)->a != (y)->a ? (x)->a < (y)->a : (x)->b < (y)->b)
+VC_SMALL_SORT(sort_pairs, pair64, PAIR_LESS)
 
 /* Frees the stitching's arrays (and clears them). */
 static void free_stitch_arrays(stitch *st)
@@ -1480,13 +1484,16 @@ reclass:
             }
             cell_count *a = &cnt[m];
             for (int f = 0; f < c->nf; f++) {
+                if (!owns_face(&st, m, f)) {
+                    /* written by the cell across, which must have it */
+                    if (!has_plane(&cells[st.kpos[st.kidx[c->plane[f]]]], seed_of(&st, m)))
+                        inconsistent = 1;
+                    continue;
+                }
                 const int len = final_cycle(&st, m, f, &ob, &ocap, buf);
                 if (len < 0)
                     failed = 1;
                 if (len <= 0)
-                    continue;
-                a->n_faces++;
-                if (!owns_face(&st, m, f))
                     continue;
                 if (is_interior(&st, c->plane[f])) {
                     a->n_int++;
@@ -1504,6 +1511,12 @@ reclass:
     }
     if (failed)
         goto nomem;
+    if (inconsistent) {
+        rc = vc_error_set(err, VC_EINTERNAL,
+                          "two neighbouring cells disagree on their common face (a defect of "
+                          "the engine)");
+        goto done;
+    }
     /* Points: the used roots in global order. */
     pid = malloc((size_t)(ng + 1) * sizeof(int64_t));
     if (!pid)
@@ -1525,16 +1538,11 @@ reclass:
     }
 
     /* Places, by kept index. */
-    int64_t n_int = 0, n_bnd = 0, fv_int = 0, fv_bnd = 0, n_cf = 0;
+    int64_t n_int = 0, n_bnd = 0, fv_int = 0, fv_bnd = 0;
     out->n_cells = n_kept;
-    out->cell_offsets = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
-    if (!out->cell_offsets)
-        goto nomem;
     for (int64_t k = 0; k < n_kept; k++) {
         cell_count *a = &cnt[st.kpos[k]];
         const int64_t ni = a->n_int, nb = a->n_bnd, fi = a->fv_int, fb = a->fv_bnd;
-        out->cell_offsets[k] = n_cf;
-        n_cf += a->n_faces;
         a->n_int = n_int;
         a->n_bnd = n_bnd;
         a->fv_int = fv_int;
@@ -1544,7 +1552,6 @@ reclass:
         fv_int += fi;
         fv_bnd += fb;
     }
-    out->cell_offsets[n_kept] = n_cf;
     const int64_t n_faces = n_int + n_bnd;
     out->n_faces = n_faces;
     out->n_interior_faces = n_int;
@@ -1553,9 +1560,8 @@ reclass:
     out->face_owner = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
     out->face_neighbour = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
     out->face_other_seed = malloc((size_t)(n_faces + 1) * sizeof(int64_t));
-    out->cell_faces = malloc((size_t)(n_cf + 1) * sizeof(int64_t));
     if (!out->face_offsets || !out->face_vertices || !out->face_owner || !out->face_neighbour ||
-        !out->face_other_seed || !out->cell_faces)
+        !out->face_other_seed)
         goto nomem;
     out->face_offsets[0] = 0;
 
@@ -1587,7 +1593,7 @@ reclass:
                 else
                     bd[n_bd++] = (pair64){t, f};
             }
-            qsort(bd, (size_t)n_bd, sizeof *bd, cmp_pair);
+            sort_pairs(bd, n_bd);
             for (int q = 0; q < n_bd; q++) {
                 const int f = (int)bd[q].b;
                 const int64_t t = bd[q].a;
@@ -1604,7 +1610,7 @@ reclass:
                 out->face_offsets[ib + 1] = pb;
                 ib++;
             }
-            qsort(nb, (size_t)n_nb, sizeof *nb, cmp_pair);
+            sort_pairs(nb, n_nb);
             int64_t ii = a->n_int, pi = a->fv_int;
             for (int q = 0; q < n_nb; q++) {
                 const int f = (int)nb[q].b;
@@ -1642,8 +1648,19 @@ reclass:
     PHASE("faces");
 
     /* Each cell's faces, in increasing order. */
+    out->cell_offsets = calloc((size_t)(n_kept + 1), sizeof(int64_t));
     fill = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
-    if (!fill)
+    if (!out->cell_offsets || !fill)
+        goto nomem;
+    for (int64_t i = 0; i < n_faces; i++) {
+        out->cell_offsets[out->face_owner[i] + 1]++;
+        if (out->face_neighbour[i] >= 0)
+            out->cell_offsets[out->face_neighbour[i] + 1]++;
+    }
+    for (int64_t k = 0; k < n_kept; k++)
+        out->cell_offsets[k + 1] += out->cell_offsets[k];
+    out->cell_faces = malloc((size_t)(out->cell_offsets[n_kept] + 1) * sizeof(int64_t));
+    if (!out->cell_faces)
         goto nomem;
     memcpy(fill, out->cell_offsets, (size_t)(n_kept + 1) * sizeof(int64_t));
     for (int64_t i = 0; i < n_faces; i++) {
@@ -1651,17 +1668,6 @@ reclass:
         if (out->face_neighbour[i] >= 0)
             out->cell_faces[fill[out->face_neighbour[i]]++] = i;
     }
-    for (int64_t k = 0; k < n_kept; k++)
-        if (fill[k] != out->cell_offsets[k + 1]) {
-            /* a face one cell has and its neighbour not */
-            const int64_t s = kept_seed[k];
-            rc = vc_error_set(err, VC_EINTERNAL,
-                              "the cell of seed %lld (%g %g %g) and a neighbour disagree on a "
-                              "face (a defect of the engine)",
-                              (long long)s, seeds->xyz[3 * s], seeds->xyz[3 * s + 1],
-                              seeds->xyz[3 * s + 2]);
-            goto done;
-        }
 
     out->cell_seed = malloc((size_t)(n_kept + 1) * sizeof(int64_t));
     out->cell_region = malloc((size_t)(n_kept + 1) * sizeof(int32_t));
