@@ -10,6 +10,9 @@
   (b) --max-volume: no tetrahedron exceeds the bound; a smaller bound gives
       more tetrahedra;
   (c) the same on the reference sphere.obj (VC_MODELS), when present;
+  (d) nested shells: a box with a cavity (its inner box inward) holding an
+      inclusion: the tetrahedra fill the solid only (TetGen's hole point in
+      the cavity), their volume the shells' signed sum;
   and bad input: exit 1 (2 for usage), one stderr line "vc-tetgen: ..."
   naming the file and the problem, no output file left behind.
 
@@ -190,6 +193,26 @@ else:
     rc, so, se = run(sphere, "-o", path("sphere.vtu"), "--target-cells", "5000")
     if check(rc == 0, "sphere.obj: exit %d, stderr %r" % (rc, se)):
         check_tet_mesh("sphere.obj", path("sphere.vtu"), sv, st, se, target=5000, on_surface=False)
+
+
+# (d) a box of side 3 with a cavity of side 2 (inward) holding a box of side 1
+def box(lo, size, inward=False):
+    v = [(lo[0] + size * x, lo[1] + size * y, lo[2] + size * z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    f = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1), (2, 3, 7), (2, 7, 6),
+         (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    return v, [(a, c, b) for a, b, c in f] if inward else f
+
+
+nv, nt = [], []
+for lo, size, inward in (((0, 0, 0), 3.0, False), ((0.5, 0.5, 0.5), 2.0, True), ((1.0, 1.0, 1.0), 1.0, False)):
+    v, f = box(lo, size, inward)
+    nt += [(a + len(nv), b + len(nv), c + len(nv)) for a, b, c in f]
+    nv += v
+nested = write_obj("nested.obj", nv, nt)
+check(abs(enclosed_volume(nv, nt) - 20.0) < 1e-12, "nested: the shells enclose %r, not 27 - 8 + 1" % enclosed_volume(nv, nt))
+rc, so, se = run(nested, "-o", path("nested.vtu"), "--max-volume", "0.05")
+if check(rc == 0, "nested boxes: exit %d, stderr %r" % (rc, se)):
+    check_tet_mesh("nested boxes", path("nested.vtu"), nv, nt, se, max_volume=0.05)
 
 
 # bad input

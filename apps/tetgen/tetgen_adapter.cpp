@@ -134,14 +134,23 @@ extern "C" int vc_tetgen_self_intersections(const vc_surface *s, int64_t *n_tria
 }
 
 extern "C" int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches,
-                                        vc_tetgen_mesh *out, char *msg, size_t msg_len)
+                                        const double *holes, int64_t n_holes, vc_tetgen_mesh *out,
+                                        char *msg, size_t msg_len)
 {
     std::memset(out, 0, sizeof *out);
-    if (too_large(s, msg, msg_len))
+    if (too_large(s, msg, msg_len) || n_holes > INT_MAX / 3) {
+        if (n_holes > INT_MAX / 3)
+            std::snprintf(msg, msg_len, "too many cavities for TetGen (%lld)", (long long)n_holes);
         return 1;
+    }
     try {
         tetgenio in, o;
         fill_plc(s, &in);
+        if (n_holes > 0) {
+            in.numberofholes = (int)n_holes;
+            in.holelist = new REAL[3 * (size_t)n_holes];
+            std::memcpy(in.holelist, holes, sizeof(double) * 3 * (size_t)n_holes);
+        }
         std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
         tetgenbehavior b;
         if (!b.parse_commandline(sw.data())) {

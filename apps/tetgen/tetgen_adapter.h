@@ -24,11 +24,14 @@ typedef struct vc_tetgen_mesh {
 
 /* Tetrahedralizes the volume the closed surface s encloses with TetGen
  * (the surface is its piecewise linear complex, one facet per triangle)
- * under the command-line switches given (e.g. "pq1.414a0.01Q"). Returns 0,
- * or non-zero with one line in msg (TetGen's failure: a self-intersecting
- * surface, an out-of-memory, ...). out is zeroed on failure. */
-int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches, vc_tetgen_mesh *out,
-                             char *msg, size_t msg_len);
+ * under the command-line switches given (e.g. "pq1.414a0.01Q"), with
+ * n_holes points (3 each; may be NULL when 0) inside cavities: TetGen
+ * removes the tetrahedra of the region around each, as it removes those
+ * outside. Returns 0, or non-zero with one line in msg (TetGen's failure: a
+ * self-intersecting surface, an out-of-memory, ...). out is zeroed on
+ * failure. */
+int vc_tetgen_tetrahedralize(const vc_surface *s, const char *switches, const double *holes,
+                             int64_t n_holes, vc_tetgen_mesh *out, char *msg, size_t msg_len);
 
 /* The number of triangles of s that intersect another one (TetGen's -d
  * check) into n_triangles. TetGen 1.5.0 crashes when it stops on a

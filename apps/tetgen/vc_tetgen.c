@@ -15,6 +15,7 @@
 #include "tetgen_adapter.h"
 #include "tetra_vtu_writer.h"
 #include "vorocrust/error.h"
+#include "vorocrust/regions.h"
 #include "vorocrust/surface.h"
 
 /* TetGen's tetrahedra under a volume bound V and radius-edge bound 1.414
@@ -89,8 +90,9 @@ static double six_digits(double v)
  * bracketed, then bisecting (geometrically); at most SEARCH_RUNS runs,
  * stopping within SEARCH_TOLERANCE. mesh gets the best run's mesh, bound
  * its volume bound, runs the number of runs. Returns 0 or non-zero with msg. */
-static int search_bound(const vc_surface *s, double radius_edge, double first, double target,
-                        vc_tetgen_mesh *mesh, double *bound, int *runs, char *msg, size_t msg_len)
+static int search_bound(const vc_surface *s, const double *holes, int64_t n_holes,
+                        double radius_edge, double first, double target, vc_tetgen_mesh *mesh,
+                        double *bound, int *runs, char *msg, size_t msg_len)
 {
     double lo = 0, hi = 0; /* bounds known to give too many / too few cells (0: none yet) */
     double v = six_digits(first);
@@ -99,7 +101,7 @@ static int search_bound(const vc_surface *s, double radius_edge, double first, d
         char switches[128];
         vc_tetgen_mesh m;
         make_switches(switches, sizeof switches, radius_edge, v);
-        if (vc_tetgen_tetrahedralize(s, switches, &m, msg, msg_len) != 0)
+        if (vc_tetgen_tetrahedralize(s, switches, holes, n_holes, &m, msg, msg_len) != 0)
             return 1;
         double n = (double)m.n_tets;
         if (*bound == 0 || fabs(n - target) < fabs((double)mesh->n_tets - target)) {
@@ -124,6 +126,74 @@ static int search_bound(const vc_surface *s, double radius_edge, double first, d
     if (*runs > SEARCH_RUNS)
         *runs = SEARCH_RUNS;
     return 0;
+}
+
+/* A point inside each cavity of s (a bounded region its triangles' normals
+ * point into), for TetGen to carve out: TetGen only removes what lies
+ * outside the outer shell, and meshed a hollow sphere's cavity as solid.
+ * The point lies a little in front of one of the cavity's triangles (its
+ * centroid moved along its normal by a share of its size, smaller until
+ * the region locator puts it in that cavity). *holes (3 per cavity) is
+ * allocated; returns the count, or -1 with err set. */
+static int64_t cavity_points(const vc_surface *s, double **holes, vc_error *err)
+{
+    *holes = NULL;
+    vc_regions r;
+    memset(&r, 0, sizeof r);
+    if (vc_surface_regions(s, &r, err) != 0)
+        return -1;
+    int64_t n_void = 0, n = 0;
+    for (int64_t k = 0; k < r.n_regions; k++)
+        n_void += r.region[k].kind == VC_REGION_VOID;
+    vc_region_locator *L = NULL;
+    double *h = malloc(sizeof(double) * 3 * (size_t)(n_void ? n_void : 1));
+    if (!h) {
+        vc_regions_free(&r);
+        return vc_error_set(err, VC_ENOMEM, "out of memory locating cavities"), -1;
+    }
+    if (n_void > 0 && vc_region_locator_build(s, r.side_region, &L, err) != 0) {
+        free(h);
+        vc_regions_free(&r);
+        return -1;
+    }
+    for (int64_t k = 0; k < r.n_regions; k++) {
+        if (r.region[k].kind != VC_REGION_VOID)
+            continue;
+        int found = 0;
+        for (int64_t t = 0; t < s->n_triangles && !found; t++) {
+            if (r.side_region[2 * t] != k)
+                continue; /* its front side (the normal's) is not this cavity */
+            const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
+                         *c = s->xyz + 3 * s->tri[3 * t + 2];
+            double u[3], v[3], nrm[3], ctr[3];
+            for (int d = 0; d < 3; d++) {
+                u[d] = b[d] - a[d];
+                v[d] = c[d] - a[d];
+                ctr[d] = (a[d] + b[d] + c[d]) / 3;
+            }
+            nrm[0] = u[1] * v[2] - u[2] * v[1];
+            nrm[1] = u[2] * v[0] - u[0] * v[2];
+            nrm[2] = u[0] * v[1] - u[1] * v[0];
+            const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+            if (!(len > 0))
+                continue;
+            /* a tenth of the triangle's size, then smaller */
+            for (double step = 0.1 * sqrt(0.5 * len); step > 1e-6 * sqrt(0.5 * len) && !found;
+                 step *= 0.25) {
+                double p[3];
+                for (int d = 0; d < 3; d++)
+                    p[d] = ctr[d] + step * nrm[d] / len;
+                if (vc_region_locate(L, p) == k) {
+                    memcpy(h + 3 * n++, p, sizeof p);
+                    found = 1;
+                }
+            }
+        }
+    }
+    vc_region_locator_free(L);
+    vc_regions_free(&r);
+    *holes = h;
+    return n;
 }
 
 static int parse_positive(const char *s, double *out)
@@ -228,6 +298,12 @@ int main(int argc, char **argv)
                 n_crossing);
         goto out;
     }
+    double *holes = NULL;
+    const int64_t n_holes = cavity_points(&s, &holes, &err);
+    if (n_holes < 0) {
+        fprintf(stderr, "vc-tetgen: %s: %s\n", input, err.msg);
+        goto out;
+    }
     double t_check = vc_cli_now();
     snprintf(crash_line, sizeof crash_line, "vc-tetgen: %s: TetGen crashed while stopping on "
              "this surface (TetGen 1.5.0 does so on features below its tolerance or facets "
@@ -237,13 +313,15 @@ int main(int argc, char **argv)
     signal(SIGABRT, on_tetgen_crash);
     int runs = 1, tetgen_rc;
     if (target > 0)
-        tetgen_rc = search_bound(&s, radius_edge, MEAN_VOLUME_RATIO * rep.volume / target, target,
-                                 &mesh, &max_volume, &runs, msg, sizeof msg);
+        tetgen_rc = search_bound(&s, holes, n_holes, radius_edge,
+                                 MEAN_VOLUME_RATIO * rep.volume / target, target, &mesh,
+                                 &max_volume, &runs, msg, sizeof msg);
     else {
         char switches[128];
         make_switches(switches, sizeof switches, radius_edge, max_volume);
-        tetgen_rc = vc_tetgen_tetrahedralize(&s, switches, &mesh, msg, sizeof msg);
+        tetgen_rc = vc_tetgen_tetrahedralize(&s, switches, holes, n_holes, &mesh, msg, sizeof msg);
     }
+    free(holes);
     signal(SIGSEGV, SIG_DFL);
     signal(SIGBUS, SIG_DFL);
     signal(SIGABRT, SIG_DFL);
