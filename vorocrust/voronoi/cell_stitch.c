@@ -1063,25 +1063,50 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     }
     if (oom_keys)
         goto nomem;
-    /* The others, looked up among their owners' keys. */
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int64_t m = 0; m < n_kept; m++) {
-        for (int i = 0; i < cells[m].nv; i++) {
-            if (st.gid[st.loc_off[m] + i] >= 0)
-                continue;
-            int64_t key[4];
-            vertex_key(&st, m, i, key);
-            const int64_t g = find_in_owner(&st, vbase, owner_of(&st, key), key);
-            if (g < 0) {
-#pragma omp critical(vc_stitch_bad)
-                if (bad_m < 0 || m < bad_m)
-                    bad_m = m;
-                inconsistent = 1;
+    /* The others, looked up among their owners' keys: a cell's keys and
+     * owners first, the owners' keys prefetched, then the searches (the
+     * owners' keys are the lookup's cache misses; a cell's twenty-odd of
+     * them overlap). */
+    int oom_lookup = 0;
+#pragma omp parallel num_threads(threads)
+    {
+        owned_key *q = NULL; /* key, and in .local the vertex */
+        int64_t *qo = NULL, q_cap = 0, qo_cap = 0;
+#pragma omp for schedule(dynamic, 256)
+        for (int64_t m = 0; m < n_kept; m++) {
+            const int nv = cells[m].nv;
+            if (vc_reserve(&q, &q_cap, nv + 1, sizeof *q) || vc_reserve(&qo, &qo_cap, nv + 1, sizeof *qo)) {
+#pragma omp atomic write
+                oom_lookup = 1;
                 continue;
             }
-            st.gid[st.loc_off[m] + i] = (int32_t)g;
+            int nq = 0;
+            for (int i = 0; i < nv; i++) {
+                if (st.gid[st.loc_off[m] + i] >= 0)
+                    continue;
+                vertex_key(&st, m, i, q[nq].key);
+                q[nq].local = i;
+                qo[nq] = owner_of(&st, q[nq].key);
+                __builtin_prefetch(st.gkey + 4 * vbase[qo[nq]]);
+                nq++;
+            }
+            for (int j = 0; j < nq; j++) {
+                const int64_t g = find_in_owner(&st, vbase, qo[j], q[j].key);
+                if (g < 0) {
+#pragma omp critical(vc_stitch_bad)
+                    if (bad_m < 0 || m < bad_m)
+                        bad_m = m;
+                    inconsistent = 1;
+                    continue;
+                }
+                st.gid[st.loc_off[m] + q[j].local] = (int32_t)g;
+            }
         }
+        free(q);
+        free(qo);
     }
+    if (oom_lookup)
+        goto nomem;
     if (inconsistent) {
         const int64_t s = seed_of(&st, bad_m);
         rc = vc_error_set(err, VC_EINTERNAL,
