@@ -1128,24 +1128,18 @@ int vc_stitch_cells(const vc_seeds *seeds, const vc_power_ctx *ctx, const vc_cel
     st.root = malloc((size_t)(ng + 1) * sizeof(int64_t));
     if (!st.gp || !st.gev || !st.grad || !st.root)
         goto nomem;
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int64_t m = 0; m < n_kept; m++) {
-        const vc_cell_result *c = &cells[m];
-        for (int i = 0; i < c->nv; i++) {
-            const int64_t g = st.gid[st.loc_off[m] + i];
-            if (g < vbase[m] || g >= vbase[m + 1])
-                continue; /* not this cell's own */
-            const int64_t *key = st.gkey + 4 * g;
-            double rad;
-            st.gev[g] = canonical_point(ctx, key, st.gp + 3 * g, &rad);
-            st.grad[g] = rad;
-            /* a vertex on a wall lies exactly on it */
-            for (int j = 0; j < 4; j++)
-                if (key[j] < 0) {
-                    const int w = (int)(-1 - key[j]), axis = w / 2;
-                    st.gp[3 * g + axis] = (w % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
-                }
-        }
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(threads)
+    for (int64_t g = 0; g < ng; g++) {
+        const int64_t *key = st.gkey + 4 * g;
+        double rad;
+        st.gev[g] = canonical_point(ctx, key, st.gp + 3 * g, &rad);
+        st.grad[g] = rad;
+        /* a vertex on a wall lies exactly on it */
+        for (int j = 0; j < 4; j++)
+            if (key[j] < 0) {
+                const int w = (int)(-1 - key[j]), axis = w / 2;
+                st.gp[3 * g + axis] = (w % 2) ? ctx->box_hi[axis] : ctx->box_lo[axis];
+            }
     }
 
     /* Collapsed edges, then their classes. */
