@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/threads.h"
+
 /* balls per unit area of radius bound r is PATCH_DENSITY / r^2, per unit
  * length of crease CREASE_DENSITY / r: random maximal packings (2D
  * packing fraction 0.547, 1D 0.748) at spacing (1 - alpha) r = 0.866 r */
@@ -361,7 +363,7 @@ int vc_ball_estimate_compute(const vc_sizing *z, double sz, int threads, vc_ball
         edge_rank[e] = f->edge_sharp[e] ? n_sharp++ : -1;
     const int64_t tri_stride = nt > MAX_EVALUATED ? (nt + MAX_EVALUATED - 1) / MAX_EVALUATED : 1;
     const int64_t edge_stride = n_sharp > MAX_EVALUATED ? (n_sharp + MAX_EVALUATED - 1) / MAX_EVALUATED : 1;
-    const int nth = threads > 0 ? threads : 1;
+    const int nth = vc_threads_or_default(threads); /* 0: all cores, as everywhere */
 
     /* the corner balls */
 #pragma omp parallel for schedule(dynamic, 256) num_threads(nth)

@@ -8,6 +8,7 @@
 
 #include "balls/ball_set.h"
 #include "util/small_sort.h"
+#include "util/threads.h"
 
 /* A seed lies on a sphere when its distance from the centre is the radius
  * to this share of it: the triplets' points are placed on their spheres
@@ -62,7 +63,7 @@ int vc_seed_spheres_find(const vc_balls *balls, const vc_seeds *seeds, int64_t n
         rc = -1;
         goto done;
     }
-#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads > 0 ? threads : 1)
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(vc_threads_or_default(threads))
     for (int64_t s = 0; s < n_near; s++) {
         on_ctx c = {&bs.b, seeds->xyz + 3 * s, {0}, 0};
         vc_ball_set_query(&bs, c.x, 0, 1 + ON_SPHERE, 0.0, collect_on, &c);
