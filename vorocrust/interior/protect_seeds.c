@@ -65,7 +65,107 @@ typedef struct workspace {
      * order, searches within its k-th distance plus the step first (the
      * same answers, a quarter of the protection's time was the tree) */
     vc_kd_hint hint;
+    /* the reach balls of the cell's vertices (measure_reaches): 4 doubles
+     * each, room for ball_cap */
+    double *ball;
+    int ball_cap;
 } workspace;
+
+/* Which seeds a measure can still need (measure_at's range queries): a
+ * seed y cuts the cell only inside the clearance ball of one of its
+ * vertices w (|y - w| < |w|, relative to the point), and edge_measure
+ * reads it only where |y - w| < |w| + 2 len, len at most cap times the
+ * cell's radius. |y - p|^2 - (|p| + d)^2 is concave in p, so a seed
+ * outside every ball B(w, |w| + d) of the cell's vertices is outside
+ * B(p, |p| + d) for every point p of the cell, the vertices of any smaller
+ * cell the further cuts leave included: the balls of the cell as it is
+ * when the query is made hold every seed the measure needs. */
+typedef struct measure_reach {
+    const double *ball; /* x, y, z, radius; by decreasing |w| */
+    int n;
+    const double *x;    /* the point (absolute) */
+    double lo[3], hi[3]; /* the balls' bounding box, relative */
+} measure_reach;
+
+static int measure_reaches(void *ctx, const double lo[3], const double hi[3])
+{
+    const measure_reach *c = ctx;
+    double l[3], h[3], d2 = 0;
+    for (int d = 0; d < 3; d++) {
+        l[d] = lo[d] - c->x[d];
+        h[d] = hi[d] - c->x[d];
+        if (l[d] > c->hi[d] || h[d] < c->lo[d])
+            return 0;
+        const double e = l[d] > 0 ? l[d] : (h[d] < 0 ? -h[d] : 0);
+        d2 += e * e;
+    }
+    for (int v = 0; v < c->n; v++) {
+        const double *b = c->ball + 4 * v;
+        /* a ball about a vertex at |w| of radius |w| + d reaches 2 |w| + d
+         * from the point; the rest reach less */
+        const double wr = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        if ((wr + b[3]) * (wr + b[3]) < d2)
+            break;
+        double e2 = 0;
+        for (int d = 0; d < 3; d++) {
+            const double e = b[d] < l[d] ? l[d] - b[d] : (b[d] > h[d] ? b[d] - h[d] : 0);
+            e2 += e * e;
+        }
+        if (e2 <= b[3] * b[3])
+            return 1;
+    }
+    return 0;
+}
+
+/* The reach balls of the cell's vertices into ws->ball (grown by cap times
+ * the cell's radius, twice, and by the vertices' error and a relative
+ * 1e-9), by decreasing distance from the point; -1 when out of memory. */
+static int reach_balls(workspace *ws, double cap, measure_reach *mr, const double *x)
+{
+    const vc_convex_cell *cell = &ws->cell;
+    if (cell->nt > ws->ball_cap) {
+        double *q = realloc(ws->ball, sizeof(double) * 4 * (size_t)(cell->nt + 64));
+        if (!q)
+            return -1;
+        ws->ball = q;
+        ws->ball_cap = cell->nt + 64;
+    }
+    double ev = 0;
+    for (int t = 0; t < cell->nt; t++)
+        ev = fmax(ev, cell->ev[t]);
+    const double grow = 2 * cap * sqrt(cell->rmax2) + 2 * ev;
+    for (int d = 0; d < 3; d++) {
+        mr->lo[d] = INFINITY;
+        mr->hi[d] = -INFINITY;
+    }
+    int n = 0;
+    for (int t = 0; t < cell->nt; t++) {
+        const double w[3] = {cell->px[t], cell->py[t], cell->pz[t]};
+        const double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        const double rad = (sqrt(r2) + grow) * (1 + 1e-9);
+        int j = n++; /* insertion by decreasing |w| */
+        while (j > 0) {
+            const double *p = ws->ball + 4 * (j - 1);
+            if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] >= r2)
+                break;
+            memcpy(ws->ball + 4 * j, p, 4 * sizeof(double));
+            j--;
+        }
+        double *b = ws->ball + 4 * j;
+        b[0] = w[0];
+        b[1] = w[1];
+        b[2] = w[2];
+        b[3] = rad;
+        for (int d = 0; d < 3; d++) {
+            mr->lo[d] = fmin(mr->lo[d], w[d] - rad);
+            mr->hi[d] = fmax(mr->hi[d], w[d] + rad);
+        }
+    }
+    mr->ball = ws->ball;
+    mr->n = n;
+    mr->x = x;
+    return 0;
+}
 
 /* The calling thread's workspace. */
 static inline workspace *own_workspace(workspace *ws)
@@ -322,9 +422,12 @@ static int measure_at(workspace *ws, const vc_seed_kdtree *tree, const double *x
              * of them when fewer, and then the cell is done) */
             const double reach = 2 * sqrt(ws->cell.rmax2) * (1 + cap) * (1 + 1e-9);
             int truncated;
+            measure_reach mr;
+            if (reach_balls(ws, cap, &mr, x) != 0)
+                return -1;
             const int add = vc_seed_kdtree_within(tree, x, isfinite(reach) ? reach * reach : INFINITY,
-                                                  ws->hit[m - 1], self, NULL, NULL, ws->hit + m, k,
-                                                  &truncated);
+                                                  ws->hit[m - 1], self, measure_reaches, &mr,
+                                                  ws->hit + m, k, &truncated);
             for (int i = m; i < m + add; i++)
                 memcpy(ws->local + 3 * (i + 1), xyz + 3 * ws->hit[i].seed, 3 * sizeof(double));
             const int from = m;
@@ -669,8 +772,10 @@ int vc_interior_protect(const vc_balls *balls, vc_seeds *seeds, int64_t n_surfac
 
 done:
     if (ws) {
-        for (int t = 0; t < threads; t++)
+        for (int t = 0; t < threads; t++) {
             vc_convex_cell_free(&ws[t].cell);
+            free(ws[t].ball);
+        }
         free(ws);
     }
     if (prop)
