@@ -413,14 +413,17 @@ if PART == "determinism":
         # 0.40): the bound allows that much.
         check(qmin >= 0.39, "smoothed sphere: Q min %.3f" % qmin)
 
-    # Determinism: 1 and 2 threads, same seed twice; another seed differs.
+    # Determinism: 1 and 2 threads, same seed twice, and the default (every
+    # core: --threads unset is 0 for the library, which some phases once
+    # read as one thread); another seed differs.
     outs = []
-    for t in ("1", "2", "2"):
-        rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det%s_%d" % (t, len(outs)), "--threads", t, "--quiet")
+    for t in ("1", "2", "2", None):
+        args = ("--threads", t, "--quiet") if t else ("--quiet",)
+        rc, err, surf, balls_csv, seeds_csv = mesh("bracket.obj", "det%s_%d" % (t, len(outs)), *args)
         check(rc == 0 and err == "", "determinism run: exit %d %r" % (rc, err))
         outs.append(b"".join(open(p, "rb").read() for p in (surf, balls_csv, seeds_csv)))
     det_surf, det_seeds, det_balls = open(surf, "rb").read(), open(seeds_csv, "rb").read(), balls_csv
-    check(outs[0] == outs[1] == outs[2], "bracket: outputs differ between runs or thread counts")
+    check(outs[0] == outs[1] == outs[2] == outs[3], "bracket: outputs differ between runs or thread counts")
     # The same solid numbered another way, as another exporter writes it
     # (OFF, vertices renumbered, triangles shuffled and each started at
     # another corner): the same outputs (the mesher samples the surface in
