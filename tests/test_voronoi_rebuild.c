@@ -169,17 +169,24 @@ static void check_rounds(const char *name, vc_seeds *s, const double *box, int n
     vc_voronoi_cells_free(cells);
 }
 
+/* n uniform random seeds in the unit cube, stream seed of the generator;
+ * labels 1, or 1 and 2 alternately. */
+static void unit_cube_seeds(vc_seeds *s, int64_t n, uint64_t seed, int two_labels)
+{
+    vc_seeds_alloc(s, n, NULL);
+    vc_rng rng;
+    vc_rng_init(&rng, seed, 0);
+    for (int64_t i = 0; i < 3 * n; i++)
+        s->xyz[i] = vc_rng_uniform(&rng);
+    for (int64_t i = 0; i < n; i++)
+        s->label[i] = two_labels ? 1 + (int32_t)(i % 2) : 1;
+}
+
 static void test_random(int threads, int neighbours)
 {
     const int64_t n = 1500;
     vc_seeds s;
-    vc_seeds_alloc(&s, n, NULL);
-    vc_rng rng;
-    vc_rng_init(&rng, 11, 0);
-    for (int64_t i = 0; i < 3 * n; i++)
-        s.xyz[i] = vc_rng_uniform(&rng);
-    for (int64_t i = 0; i < n; i++)
-        s.label[i] = 1;
+    unit_cube_seeds(&s, n, 11, 0);
     const double box[6] = {0, 0, 0, 1, 1, 1};
     char name[64];
     snprintf(name, sizeof name, "random, %d threads, neighbours %d", threads, neighbours);
@@ -232,13 +239,7 @@ static void test_outside_bounds(void)
 {
     const int64_t n = 800;
     vc_seeds s;
-    vc_seeds_alloc(&s, n, NULL);
-    vc_rng rng;
-    vc_rng_init(&rng, 3, 0);
-    for (int64_t i = 0; i < 3 * n; i++)
-        s.xyz[i] = vc_rng_uniform(&rng);
-    for (int64_t i = 0; i < n; i++)
-        s.label[i] = 1 + (int32_t)(i % 2);
+    unit_cube_seeds(&s, n, 3, 1);
     vc_voronoi_options o;
     options(&o, 2, 0, NULL);
     vc_error err = {0, ""};

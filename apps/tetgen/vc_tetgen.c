@@ -160,7 +160,9 @@ static int64_t cavity_points(const vc_surface *s, double **holes, vc_error *err)
         if (r.region[k].kind != VC_REGION_VOID)
             continue;
         int found = 0;
-        for (int64_t t = 0; t < s->n_triangles && !found; t++) {
+        /* from the lowest triangle on its boundary: one of the first few
+         * faces it */
+        for (int64_t t = r.region[k].first_triangle; t < s->n_triangles && !found; t++) {
             if (r.side_region[2 * t] != k)
                 continue; /* its front side (the normal's) is not this cavity */
             const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],

@@ -65,7 +65,7 @@ typedef struct workspace {
      * order, searches within its k-th distance plus the step first (the
      * same answers, a quarter of the protection's time was the tree) */
     vc_kd_hint hint;
-    /* the reach balls of the cell's vertices (measure_reaches): 4 doubles
+    /* the reach balls of the cell's vertices (measure_reaches): 5 doubles
      * each, room for ball_cap */
     double *ball;
     int ball_cap;
@@ -81,7 +81,7 @@ typedef struct workspace {
  * cell the further cuts leave included: the balls of the cell as it is
  * when the query is made hold every seed the measure needs. */
 typedef struct measure_reach {
-    const double *ball; /* x, y, z, radius; by decreasing |w| */
+    const double *ball; /* x, y, z, radius, |w|; by decreasing |w| */
     int n;
     const double *x;    /* the point (absolute) */
     double lo[3], hi[3]; /* the balls' bounding box, relative */
@@ -100,11 +100,10 @@ static int measure_reaches(void *ctx, const double lo[3], const double hi[3])
         d2 += e * e;
     }
     for (int v = 0; v < c->n; v++) {
-        const double *b = c->ball + 4 * v;
+        const double *b = c->ball + 5 * v;
         /* a ball about a vertex at |w| of radius |w| + d reaches 2 |w| + d
          * from the point; the rest reach less */
-        const double wr = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        if ((wr + b[3]) * (wr + b[3]) < d2)
+        if ((b[4] + b[3]) * (b[4] + b[3]) < d2)
             break;
         double e2 = 0;
         for (int d = 0; d < 3; d++) {
@@ -124,7 +123,7 @@ static int reach_balls(workspace *ws, double cap, measure_reach *mr, const doubl
 {
     const vc_convex_cell *cell = &ws->cell;
     if (cell->nt > ws->ball_cap) {
-        double *q = realloc(ws->ball, sizeof(double) * 4 * (size_t)(cell->nt + 64));
+        double *q = realloc(ws->ball, sizeof(double) * 5 * (size_t)(cell->nt + 64));
         if (!q)
             return -1;
         ws->ball = q;
@@ -141,21 +140,19 @@ static int reach_balls(workspace *ws, double cap, measure_reach *mr, const doubl
     int n = 0;
     for (int t = 0; t < cell->nt; t++) {
         const double w[3] = {cell->px[t], cell->py[t], cell->pz[t]};
-        const double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-        const double rad = (sqrt(r2) + grow) * (1 + 1e-9);
+        const double wr = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const double rad = (wr + grow) * (1 + 1e-9);
         int j = n++; /* insertion by decreasing |w| */
-        while (j > 0) {
-            const double *p = ws->ball + 4 * (j - 1);
-            if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] >= r2)
-                break;
-            memcpy(ws->ball + 4 * j, p, 4 * sizeof(double));
+        while (j > 0 && ws->ball[5 * (j - 1) + 4] < wr) {
+            memcpy(ws->ball + 5 * j, ws->ball + 5 * (j - 1), 5 * sizeof(double));
             j--;
         }
-        double *b = ws->ball + 4 * j;
+        double *b = ws->ball + 5 * j;
         b[0] = w[0];
         b[1] = w[1];
         b[2] = w[2];
         b[3] = rad;
+        b[4] = wr;
         for (int d = 0; d < 3; d++) {
             mr->lo[d] = fmin(mr->lo[d], w[d] - rad);
             mr->hi[d] = fmax(mr->hi[d], w[d] + rad);
