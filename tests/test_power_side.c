@@ -1,5 +1,5 @@
 /* The Voronoi engine's exact side test (voronoi/power_side.h): its two
- * exact evaluations, in fixed-width integers and in floating-point
+ * exact evaluations, in integers (narrow and wide) and in floating-point
  * expansions, must agree on every configuration, and the full test (filter,
  * double-double, then the exact path) with them:
  *  - random seeds at several scales and offsets (2^-40, 1, 2^30; shifted
@@ -8,8 +8,13 @@
  *    make: two mirrored pairs are co-circular, so every fifth seed is on
  *    their sphere), and integer points of one sphere; the symbolic
  *    perturbation then decides;
+ *  - cubic lattices whose spacing (0.1, 1/46) is not a power of two:
+ *    corners of eight co-spherical seeds, ties the double-double stage
+ *    cannot settle; the narrow integers (two to five limbs) take every one
+ *    of them without walls;
  *  - exponents too far apart for the integers (coordinates 1e-300 next to
- *    1): the integer path declines (-2) and the expansions decide. */
+ *    1): the integer path declines (-2) and the expansions decide.
+ * Every stage that takes a configuration must agree with the expansions. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -26,7 +31,7 @@ static vc_rng rng;
 
 static double uniform(void) { return vc_rng_uniform(&rng); }
 
-static int n_compared, n_ties, n_declined;
+static int n_compared, n_ties, n_declined, n_narrow;
 
 /* Compares the evaluations on seed s, planes pl and tested seed x; skips
  * a vertex of four coplanar seeds (its planes do not meet in a point). */
@@ -39,7 +44,12 @@ static void compare(const vc_power_ctx *ctx, int64_t s, const int64_t pl[3], int
         return;
     const int by_int = vc_power_side_by(ctx, s, pl, x, 0);
     const int by_exp = vc_power_side_by(ctx, s, pl, x, 1);
+    const int by_narrow = vc_power_side_by(ctx, s, pl, x, 2);
     const int full = vc_power_side(ctx, s, pl, x);
+    CHECKF(by_narrow == -2 || by_narrow == by_exp, "%s: narrow integers %d, expansions %d (s %lld, "
+           "planes %lld %lld %lld, x %lld)", what, by_narrow, by_exp, (long long)s,
+           (long long)pl[0], (long long)pl[1], (long long)pl[2], (long long)x);
+    n_narrow += by_narrow != -2;
     CHECKF(by_exp == 1 || by_exp == -1, "%s: expansions gave %d", what, by_exp);
     CHECKF(by_int == -2 || by_int == by_exp, "%s: integers %d, expansions %d (s %lld, planes %lld "
            "%lld %lld, x %lld)", what, by_int, by_exp, (long long)s, (long long)pl[0],
@@ -149,6 +159,61 @@ static void test_sphere(double h, double cx)
         CHECKF(n_ties - ties_before > 100, "%s: only %d exact ties", what, n_ties - ties_before);
 }
 
+/* A cubic lattice of spacing h about (o, o, o) (h = 0.1 or 1/46: not
+ * doubles' multiples of a power of two, so the differences' products
+ * round and the double-double stage cannot settle the ties): every
+ * vertex of a lattice cell is a corner shared by eight co-spherical
+ * seeds, so most tests are exact ties, which the narrow integers must
+ * take (and agree with both other stages on). With walls too. */
+static void test_lattice(double h, double o)
+{
+    enum { L = 5 };
+    double xyz[3 * L * L * L];
+    for (int i = 0; i < L; i++)
+        for (int j = 0; j < L; j++)
+            for (int k = 0; k < L; k++) {
+                double *p = xyz + 3 * ((i * L + j) * L + k);
+                p[0] = o + h * i;
+                p[1] = o + h * j;
+                p[2] = o + h * k;
+            }
+    vc_power_ctx ctx = {xyz, {0}, {0}};
+    set_box(&ctx, o - 0.5 * h, o + (L - 0.5) * h);
+    char what[80];
+    snprintf(what, sizeof what, "lattice, spacing %g, origin %g", h, o);
+    const int ties_before = n_ties;
+    int n_seed_tests = 0, n_seed_narrow = 0;
+    /* s at the centre; planes and the tested seed among its 26 neighbours
+     * (the unit cube's corners about s's corner vertex among them) */
+    const int64_t s = (2 * L + 2) * L + 2;
+    int64_t nb[26], n = 0;
+    for (int di = -1; di <= 1; di++)
+        for (int dj = -1; dj <= 1; dj++)
+            for (int dk = -1; dk <= 1; dk++)
+                if (di || dj || dk)
+                    nb[n++] = ((2 + di) * L + 2 + dj) * L + 2 + dk;
+    for (int a = 0; a < 26; a++)
+        for (int b = a + 1; b < 26; b += 2)
+            for (int c = b + 1; c < 26; c += 3) {
+                const int64_t pl[3] = {nb[a], nb[b], nb[c]};
+                for (int x = 0; x < 26; x += 5)
+                    if (x != a && x != b && x != c) {
+                        compare(&ctx, s, pl, nb[x], what);
+                        /* neighbours' differences are doubles (Sterbenz) */
+                        n_seed_tests++;
+                        n_seed_narrow += vc_power_side_by(&ctx, s, pl, nb[x], 2) != -2 ||
+                                         vc_orient3d_exact(xyz + 3 * s, xyz + 3 * pl[0],
+                                                           xyz + 3 * pl[1], xyz + 3 * pl[2]) == 0;
+                    }
+                const int64_t pw[3] = {nb[a], nb[b], VC_WALL_XMIN - (c % 6)};
+                compare(&ctx, s, pw, nb[c], what);
+            }
+    CHECKF(n_ties - ties_before > 50, "%s: only %d exact ties", what, n_ties - ties_before);
+    CHECKF(n_seed_narrow == n_seed_tests && n_seed_tests > 1000,
+           "%s: the narrow integers took %d of %d tests without walls", what, n_seed_narrow,
+           n_seed_tests);
+}
+
 /* Exponents far apart: the integers decline, the expansions decide. */
 static void test_far_exponents(void)
 {
@@ -225,9 +290,12 @@ int main(void)
     test_sphere(1.0, 0);
     test_sphere(0.1, 3);
     test_sphere(0x1.0p-30, 1000);
+    test_lattice(0.1, 0.0);
+    test_lattice(1.0 / 46, 0.5 / 46);
+    test_lattice(0.1, 1e3);
     test_far_exponents();
-    printf("%d configurations compared, %d exact ties, %d declined by the integers\n",
-           n_compared, n_ties, n_declined);
+    printf("%d configurations compared, %d exact ties, %d declined by the integers, %d taken by "
+           "the narrow integers\n", n_compared, n_ties, n_declined, n_narrow);
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else

@@ -68,13 +68,16 @@ int vc_power_vertex_exact(const vc_power_ctx *ctx, int64_t s, const int64_t plan
 
 /* How many tests needed exact arithmetic, and how many of those the
  * expansions (statistics; all threads). Exact tests run in fixed-width
- * integers (util/bigint.h) when the coordinates' exponents are close
- * enough for them, else in expansions. */
+ * integers: two to five limbs when every difference to s is a double and
+ * their exponents lie within 8 of one another (the common tie), else
+ * util/bigint.h when the coordinates' exponents are close enough for it,
+ * else in expansions. */
 long long vc_power_exact_count(void);
 long long vc_power_expansion_count(void);
 
 /* The exact test alone, for the tests: method 0 in integers (-2 when they
- * cannot hold the values), 1 in expansions. */
+ * cannot hold the values), 1 in expansions, 2 in the narrow integers (-2
+ * when the differences are not doubles or too far apart). */
 int vc_power_side_by(const vc_power_ctx *ctx, int64_t s, const int64_t plane[3], int64_t x,
                      int method);
 
