@@ -431,8 +431,9 @@ static void reduce_lifts(const vc_balls *b, int64_t n, const int64_t *facet_v, i
     }
 }
 
-int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
-                    int threads, const vc_logger *log, vc_lift_result *res)
+int vc_lift_centres(vc_balls *b, const int64_t *facet_v, const double *facet_clearance,
+                    int64_t n_facets, const vc_sizing *z, int threads, const vc_logger *log,
+                    vc_lift_result *res)
 {
     const double t0 = vc_clock_seconds();
     /* a line before each stage that can take seconds on a large ball set
@@ -479,7 +480,19 @@ int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const
         goto done;
     }
     have_set = 1;
-    if (check(&bs, 1, NULL, 0, threads, bad, group, scanned, &ref, &n_ref) < 0) {
+    if (facet_clearance) {
+        ref = malloc(sizeof(facet_clear) * (size_t)n_facets);
+        if (!ref) {
+            rc = -1;
+            goto done;
+        }
+        for (int64_t t = 0; t < n_facets; t++) {
+            memcpy(ref[t].v, facet_v + 3 * t, sizeof ref[t].v);
+            ref[t].clear = facet_clearance[t];
+        }
+        n_ref = n_facets;
+        qsort(ref, (size_t)n_ref, sizeof(facet_clear), cmp_facet);
+    } else if (check(&bs, 1, NULL, 0, threads, bad, group, scanned, &ref, &n_ref) < 0) {
         rc = -1;
         goto done;
     }

@@ -48,11 +48,15 @@ typedef struct vc_lift_result {
 
 /* Moves the centres of b's surface balls as described above. facet_v holds
  * the facets, 3 ball indices each, as sliver elimination left them (no
- * half-covered pair); z is the sizing of the input (its elements and
- * normals). Same result for any thread count. A progress line per check
- * on log (VC_LOG_INFO) once the lift has run 2 s. Returns 0, or -1 when
- * out of memory (b unchanged). */
-int vc_lift_centres(vc_balls *b, const int64_t *facet_v, int64_t n_facets, const vc_sizing *z,
-                    int threads, const vc_logger *log, vc_lift_result *res);
+ * half-covered pair); facet_clearance, when not NULL, each facet's
+ * clearance (the smaller of its triplet's two, vc_triplet) from a scan of
+ * every triplet of b as it is (the reference the checks compare with;
+ * NULL: the lift scans for it); z is the sizing of the input (its
+ * elements and normals). Same result for any thread count. A progress
+ * line per check on log (VC_LOG_INFO) once the lift has run 2 s. Returns
+ * 0, or -1 when out of memory (b unchanged). */
+int vc_lift_centres(vc_balls *b, const int64_t *facet_v, const double *facet_clearance,
+                    int64_t n_facets, const vc_sizing *z, int threads, const vc_logger *log,
+                    vc_lift_result *res);
 
 #endif

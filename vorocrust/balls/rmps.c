@@ -1269,9 +1269,12 @@ static int64_t enforce_lipschitz_after(sampler *S, double *old_r, unsigned char 
  * points covered by a fourth ball, the covering ball that needs the least
  * shrinking is cut to leave the point just outside. */
 
-/* The facets of the reconstructed surface, as triplets of balls. */
+/* The facets of the reconstructed surface, as triplets of balls, and how
+ * near their seeds come to a fourth sphere (min of the triplet's two
+ * clearances: the centre lift's reference). */
 typedef struct facet_rec {
     int64_t v[3];
+    double clear;
 } facet_rec;
 
 typedef struct facet_list {
@@ -1279,6 +1282,16 @@ typedef struct facet_list {
     int64_t n, cap;
     int oom;
 } facet_list;
+
+/* The facets' balls, 3 per facet, in a new array (NULL when out of
+ * memory). */
+static int64_t *facet_balls(const facet_list *l)
+{
+    int64_t *v = malloc(sizeof(int64_t) * 3 * (size_t)(l->n + 1));
+    for (int64_t f = 0; v && f < l->n; f++)
+        memcpy(v + 3 * f, l->f[f].v, sizeof l->f[f].v);
+    return v;
+}
 
 static void push_facet(facet_list *l, facet_rec r)
 {
@@ -1292,7 +1305,7 @@ static void push_facet(facet_list *l, facet_rec r)
 /* a triplet whose two seeds both stay is a facet of the surface */
 static void collect_facet(facet_list *l, const vc_triplet *t)
 {
-    push_facet(l, (facet_rec){{t->i, t->j, t->k}});
+    push_facet(l, (facet_rec){{t->i, t->j, t->k}, fmin(t->clear_up, t->clear_down)});
 }
 
 /* A half-covered pair: its triplet, the covering ball and the radius that
@@ -1752,13 +1765,16 @@ static int64_t shrink_far_vertices(sampler *S, const facet_list *facets, double 
     const int64_t nb = S->bs.b.n, nv = s->n_vertices;
     if (!isfinite(bound) || facets->n == 0 || nv == 0)
         return 0;
-    /* the facets at each ball (a facet_rec is its three balls) */
+    /* the facets at each ball */
     int64_t *start, *of;
     unsigned char *far = calloc((size_t)nv, 1);
-    if (!far || vc_csr_group((const int64_t *)facets->f, facets->n, 3, nb, NULL, &start, &of)) {
+    int64_t *fv = facet_balls(facets);
+    if (!far || !fv || vc_csr_group(fv, facets->n, 3, nb, NULL, &start, &of)) {
         free(far);
+        free(fv);
         return -1;
     }
+    free(fv);
     const vc_balls *b = &S->bs.b;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(S->threads)
     for (int64_t v = 0; v < nv; v++) {
@@ -2174,6 +2190,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
      * same again, up to FLAT_PASSES times. */
     int iter = 0, flat_passes = 0, pinch_passes = 0, deviation_passes = 0;
     facet_list facets = {NULL, 0, 0, 0};
+    int facets_of_all = 0; /* facets holds a scan of every triplet of the balls as they are */
     while (!rc) {
         double ta = vc_clock_seconds();
         if (grow_scratch(&old_r, &shrunk, S.bs.b.n)) {
@@ -2275,8 +2292,10 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                 break;
             }
             st->n_half_covered = n_half;
-            if (ns == 0)
+            if (ns == 0) {
+                facets_of_all = 1;
                 break;
+            }
         }
         st->n_shrunk_sliver += ns;
         iter++;
@@ -2358,8 +2377,21 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     if (!rc && !diverged && opt->lift_centres && st->n_half_covered == 0 && facets.n > 0) {
         double tl = vc_clock_seconds();
         vc_lift_result lr;
-        rc = vc_lift_centres(&S.bs.b, &facets.f[0].v[0], facets.n, &S.z, S.opt.threads, opt->log,
-                             &lr);
+        memset(&lr, 0, sizeof lr);
+        /* when the last scan was of every triplet of these balls, its
+         * facets and clearances are the lift's reference (the lift does
+         * not scan for it again) */
+        int64_t *fv = facet_balls(&facets);
+        double *fclear = facets_of_all ? malloc(sizeof(double) * (size_t)(facets.n + 1)) : NULL;
+        if (!fv || (facets_of_all && !fclear))
+            rc = -1;
+        for (int64_t f = 0; !rc && fclear && f < facets.n; f++)
+            fclear[f] = facets.f[f].clear;
+        if (!rc)
+            rc = vc_lift_centres(&S.bs.b, fv, fclear, facets.n, &S.z, S.opt.threads, opt->log,
+                                 &lr);
+        free(fv);
+        free(fclear);
         st->t_lift = vc_clock_seconds() - tl;
         st->n_lifted = lr.n_lifted;
         st->n_lift_reduced = lr.n_reduced;
