@@ -237,6 +237,7 @@ typedef struct subface_cover_ctx {
      * and radii as the coverage rules count them) */
     int n_cand, overflow;
     double cand_c[3 * VC_UNION_COVER_MAX], cand_r[VC_UNION_COVER_MAX];
+    int64_t cand_id[VC_UNION_COVER_MAX];
 } subface_cover_ctx;
 
 /* The radius ball i covers a point of the stratum with: its own for a
@@ -297,6 +298,7 @@ static int covers_subface(void *ctx, int64_t i)
         return 0;
     }
     memcpy(c->cand_c + 3 * c->n_cand, c->b->center + 3 * i, 3 * sizeof(double));
+    c->cand_id[c->n_cand] = i;
     c->cand_r[c->n_cand++] = r;
     return 0;
 }
@@ -318,49 +320,172 @@ static const double *subface_bound(const subface *sf, const subface_on_smooth *s
     return v;
 }
 
+/* The coverage test of a subface set up: its corners (on S' when sampled
+ * there), their bounding ball and margin; no ball found yet. */
+static void subface_test_init(const sampler *S, const subface *sf, const subface_on_smooth *sg,
+                              int nv, int kind, subface_cover_ctx *cc, double c[3])
+{
+    double reach;
+    cc->v = subface_bound(sf, sg, nv, c, &reach);
+    cc->b = &S->bs.b;
+    cc->nv = nv;
+    cc->kind = kind;
+    cc->deep = 1 - S->cover_alpha;
+    /* corners placed between projected ones lie off S' by about the sag:
+     * they count as covered that much further out, or the darts (on S')
+     * and the subfaces would disagree at the edges of the coverage */
+    cc->margin = sg && sg->interpolated ? sg->sag : 0;
+    cc->centre = c;
+    cc->reach = reach;
+    cc->found = -1;
+    cc->n_cand = cc->overflow = 0;
+}
+
+/* Subfaces come in runs of neighbours (a face's children, triangles in
+ * mesh order): the ball that covered the last one often covers this one
+ * too, and trying it first skips most queries. The answer (is the subface
+ * covered?) does not depend on which ball is found. */
+static int last_cover_holds(const subface_cover_ctx *cc, int64_t last)
+{
+    if (last < 0 || last >= cc->b->n)
+        return 0;
+    const double r = cover_radius(cc->b, last, cc->kind, cc->deep);
+    return r >= 0 && holds_corners(cc, last, r + cc->margin);
+}
+
+/* After the balls meeting the subface were listed (none holds it whole):
+ * is it inside their union? The balls go to the test in the order of
+ * their indices, so that its rounding does not depend on the order they
+ * were found in (a query's cells, or a group's list). */
+static int union_covered(subface_cover_ctx *cc)
+{
+    if (cc->overflow || cc->n_cand < 2)
+        return 0;
+    for (int a = 1; a < cc->n_cand; a++) {
+        const int64_t id = cc->cand_id[a];
+        const double r = cc->cand_r[a], x = cc->cand_c[3 * a], y = cc->cand_c[3 * a + 1],
+                     z = cc->cand_c[3 * a + 2];
+        int b = a;
+        for (; b > 0 && cc->cand_id[b - 1] > id; b--) {
+            cc->cand_id[b] = cc->cand_id[b - 1];
+            cc->cand_r[b] = cc->cand_r[b - 1];
+            memcpy(cc->cand_c + 3 * b, cc->cand_c + 3 * (b - 1), 3 * sizeof(double));
+        }
+        cc->cand_id[b] = id;
+        cc->cand_r[b] = r;
+        cc->cand_c[3 * b] = x;
+        cc->cand_c[3 * b + 1] = y;
+        cc->cand_c[3 * b + 2] = z;
+    }
+    return vc_union_covers(cc->v, cc->nv, cc->cand_c, cc->cand_r, cc->n_cand);
+}
+
 /* Is the whole subface covered: by one ball (balls are convex), or else by
  * the union of the balls that meet it (union_cover.h)? */
 static int subface_covered(const sampler *S, const subface *sf, const subface_on_smooth *sg,
                            int nv, int kind, int64_t *last_cover)
 {
-    double c[3], reach;
-    const double *v = subface_bound(sf, sg, nv, c, &reach);
-    /* corners placed between projected ones lie off S' by about the sag:
-     * they count as covered that much further out, or the darts (on S')
-     * and the subfaces would disagree at the edges of the coverage */
-    const double margin = sg && sg->interpolated ? sg->sag : 0;
+    double c[3];
     subface_cover_ctx cc;
-    cc.b = &S->bs.b;
-    cc.v = v;
-    cc.nv = nv;
-    cc.kind = kind;
-    cc.deep = 1 - S->cover_alpha;
-    cc.margin = margin;
-    cc.centre = c;
-    cc.reach = reach;
-    cc.found = -1;
-    cc.n_cand = cc.overflow = 0;
-    /* Subfaces come in runs of neighbours (a face's children, triangles in
-     * mesh order): the ball that covered the last one often covers this
-     * one too, and trying it first skips most queries. The answer (is
-     * the subface covered?) does not depend on which ball is found. */
-    if (*last_cover >= 0 && *last_cover < S->bs.b.n) {
-        const double r = cover_radius(cc.b, *last_cover, kind, cc.deep);
-        if (r >= 0 && holds_corners(&cc, *last_cover, r + margin))
-            return 1;
-    }
+    subface_test_init(S, sf, sg, nv, kind, &cc, c);
+    if (last_cover_holds(&cc, *last_cover))
+        return 1;
     /* A ball meeting the subface has its centre within its radius (plus
      * the margin) of the subface's bounding ball. One that holds it has a
      * radius of at least reach / 2; the union test takes no smaller ones
      * either (fewer balls can only find less covered: such a subface is
      * split, and its children see them), which keeps the query to a few
      * cells per level. */
-    if (vc_ball_set_query(&S->bs, c, reach + margin, 1.0, 0.5 * reach, covers_subface, &cc)) {
+    if (vc_ball_set_query(&S->bs, c, cc.reach + cc.margin, 1.0, 0.5 * cc.reach, covers_subface,
+                          &cc)) {
         *last_cover = cc.found;
         return 1;
     }
-    return !cc.overflow && cc.n_cand >= 2 &&
-           vc_union_covers(v, nv, cc.cand_c, cc.cand_r, cc.n_cand);
+    return union_covered(&cc);
+}
+
+/* Neighbouring subfaces of similar size are tested as a group: one query
+ * lists the balls that can meet any of them, and each subface reads that
+ * list, taking the balls its own query would take (a level whose radii
+ * reach half its bounding radius: vc_ball_set_query's rule) through the
+ * same callback, so each answer is its own query's. A query was a
+ * microsecond, most of it memory latency over the index's levels and
+ * cells (cow.off: 1.5 million of them); a list of a few dozen balls
+ * read sixteen times stays in cache. */
+#define GROUP_MAX 32
+/* a group's bounding radius at most this many times its smallest
+ * subface's (the list then holds few balls that subface cannot use) */
+#define GROUP_SPREAD 6.0
+
+typedef struct id_list {
+    int64_t *id;
+    int64_t n, cap;
+    int oom;
+} id_list;
+
+static int collect_id(void *ctx, int64_t i)
+{
+    id_list *l = ctx;
+    if (vc_reserve(&l->id, &l->cap, l->n + 1, sizeof(int64_t))) {
+        l->oom = 1;
+        return 1; /* stop: the caller sees oom */
+    }
+    l->id[l->n++] = i;
+    return 0;
+}
+
+/* The subfaces t[0..n) (set up by subface_test_init, c[3 q] their
+ * centres) tested with one listing query: covered[q] for each; the last
+ * covering ball kept in *last as subface_covered does. Returns 0, or -1
+ * when out of memory. */
+static int group_covered(const sampler *S, subface_cover_ctx *t, int n, unsigned char *covered,
+                         int64_t *last, id_list *list)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double min_r = INFINITY;
+    for (int q = 0; q < n; q++) {
+        const double e = t[q].reach + t[q].margin;
+        for (int d = 0; d < 3; d++) {
+            lo[d] = fmin(lo[d], t[q].centre[d] - e);
+            hi[d] = fmax(hi[d], t[q].centre[d] + e);
+        }
+        min_r = fmin(min_r, 0.5 * t[q].reach);
+    }
+    double C[3], R2 = 0;
+    for (int d = 0; d < 3; d++) {
+        C[d] = 0.5 * (lo[d] + hi[d]);
+        R2 += 0.25 * (hi[d] - lo[d]) * (hi[d] - lo[d]);
+    }
+    /* grown far above the rounding: the list must hold every ball any of
+     * the subfaces' own queries would call back */
+    const double R = sqrt(R2) * (1 + 1e-6);
+    list->n = 0;
+    vc_ball_set_query(&S->bs, C, R, 1.0, min_r, collect_id, list);
+    if (list->oom)
+        return -1;
+    const vc_ball_set *bs = &S->bs;
+    for (int q = 0; q < n; q++) {
+        subface_cover_ctx *cc = &t[q];
+        if (last_cover_holds(cc, *last)) {
+            covered[q] = 1;
+            continue;
+        }
+        const double need = 0.5 * cc->reach;
+        int found = 0;
+        for (int64_t m = 0; m < list->n && !found; m++) {
+            const int64_t i = list->id[m];
+            /* the levels the subface's own query reads */
+            if (bs->scale[bs->level[i] + 1] < need)
+                continue;
+            found = covers_subface(cc, i);
+        }
+        if (found) {
+            *last = cc->found;
+            covered[q] = 1;
+        } else
+            covered[q] = (unsigned char)union_covered(cc);
+    }
+    return 0;
 }
 
 /* The midpoint of the cubic through a and b whose tangents there are the
@@ -481,17 +606,82 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
         return -1;
     const int64_t chunk = 256;
     const int64_t n_chunks = (n + chunk - 1) / chunk;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(S->threads) if (n > 2 * chunk)
-    for (int64_t c = 0; c < n_chunks; c++) {
-        int64_t last = -1, last_lost = -1;
-        const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
-        for (int64_t i = c * chunk; i < end; i++) {
-            if (g)
-                project_corners(S, &f[i], &g[i]);
-            keep[i] = !(g && on_seam(S, &f[i], &g[i])) &&
-                      in_lost_region(S, &f[i], g ? &g[i] : NULL, nv, &last_lost) &&
-                      !subface_covered(S, &f[i], g ? &g[i] : NULL, nv, kind, &last);
+    int oom = 0;
+#pragma omp parallel num_threads(S->threads) if (n > 2 * chunk) reduction(| : oom)
+    {
+        id_list list = {NULL, 0, 0, 0};
+        subface_cover_ctx t[GROUP_MAX + 1]; /* the group, and the subface after it */
+        double centre[GROUP_MAX + 1][3];
+        int64_t member[GROUP_MAX];
+        unsigned char covered[GROUP_MAX];
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t c = 0; c < n_chunks; c++) {
+            int64_t last = -1, last_lost = -1;
+            const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
+            int ng = 0;
+            double glo[3] = {0, 0, 0}, ghi[3] = {0, 0, 0}, gmin = 0;
+            for (int64_t i = c * chunk; i <= end; i++) {
+                int take = 0;
+                if (i < end) {
+                    if (g)
+                        project_corners(S, &f[i], &g[i]);
+                    keep[i] = 0;
+                    take = !(g && on_seam(S, &f[i], &g[i])) &&
+                           in_lost_region(S, &f[i], g ? &g[i] : NULL, nv, &last_lost);
+                }
+                /* the group so far is tested when this subface is the
+                 * end, or does not fit it */
+                int fits = 0;
+                double lo[3], hi[3], mn = 0;
+                if (take) {
+                    subface_test_init(S, &f[i], g ? &g[i] : NULL, nv, kind, &t[ng], centre[ng]);
+                    const double e = t[ng].reach + t[ng].margin;
+                    double r2 = 0;
+                    mn = ng ? fmin(gmin, t[ng].reach) : t[ng].reach;
+                    for (int d = 0; d < 3; d++) {
+                        lo[d] = fmin(ng ? glo[d] : INFINITY, centre[ng][d] - e);
+                        hi[d] = fmax(ng ? ghi[d] : -INFINITY, centre[ng][d] + e);
+                        r2 += 0.25 * (hi[d] - lo[d]) * (hi[d] - lo[d]);
+                    }
+                    fits = ng < GROUP_MAX && r2 <= GROUP_SPREAD * GROUP_SPREAD * mn * mn;
+                }
+                if (ng > 0 && (i == end || (take && !fits))) {
+                    if (ng == 1) {
+                        keep[member[0]] =
+                            !subface_covered(S, &f[member[0]], g ? &g[member[0]] : NULL, nv, kind, &last);
+                    } else {
+                        if (group_covered(S, t, ng, covered, &last, &list))
+                            oom = 1;
+                        for (int q = 0; q < ng; q++)
+                            keep[member[q]] = !covered[q];
+                    }
+                    if (take) {
+                        /* this subface starts the next group */
+                        t[0] = t[ng];
+                        memcpy(centre[0], centre[ng], sizeof centre[0]);
+                        t[0].centre = centre[0];
+                        const double e = t[0].reach + t[0].margin;
+                        for (int d = 0; d < 3; d++) {
+                            lo[d] = centre[0][d] - e;
+                            hi[d] = centre[0][d] + e;
+                        }
+                        mn = t[0].reach;
+                    }
+                    ng = 0;
+                }
+                if (take) {
+                    member[ng++] = i;
+                    memcpy(glo, lo, sizeof glo);
+                    memcpy(ghi, hi, sizeof ghi);
+                    gmin = mn;
+                }
+            }
         }
+        free(list.id);
+    }
+    if (oom) {
+        free(keep);
+        return -1;
     }
     int64_t m = 0;
     for (int64_t i = 0; i < n; i++)
