@@ -195,17 +195,142 @@ typedef struct triplet_buf {
     int oom;
 } triplet_buf;
 
-static void triplets_of(const vc_ball_set *bs, int64_t i, nb_list *L, triplet_buf *out)
+/* The overlap graph of every ball (CSR, each list ascending). */
+typedef struct overlap_graph {
+    int64_t *start, *adj;
+} overlap_graph;
+
+/* A query's pairs (its ball, a ball it overlaps), per thread. */
+typedef struct pair_buf {
+    const vc_balls *b;
+    int64_t self;
+    int64_t *pair; /* 2 per pair */
+    int64_t n, cap;
+    int oom;
+} pair_buf;
+
+/* Lists q when it overlaps self and comes after it in (radius, index)
+ * order: every overlapping pair once, from its smaller ball. */
+static int collect_later(void *ctx, int64_t q)
+{
+    pair_buf *P = ctx;
+    const vc_balls *b = P->b;
+    const double rs = b->radius[P->self], rq = b->radius[q];
+    if (!(rq > rs || (rq == rs && q > P->self)))
+        return 0;
+    const double *a = b->center + 3 * P->self, *c = b->center + 3 * q;
+    double d[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
+    double s = rs + rq; /* collect_overlapping's test, symmetric in the two balls */
+    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= s * s)
+        return 0;
+    if (vc_reserve(&P->pair, &P->cap, 2 * P->n + 2, sizeof(int64_t))) {
+        P->oom = 1;
+        return 1;
+    }
+    P->pair[2 * P->n] = P->self;
+    P->pair[2 * P->n + 1] = q;
+    P->n++;
+    return 0;
+}
+
+/* The overlap graph of every ball of bs: each ball's query reads only the
+ * levels of radii at least its own (a ball's level holds radii up to
+ * twice its bound), so a pair is found by the query of its smaller ball
+ * and entered in both lists. A query down to the smallest balls' levels
+ * probes many tiny cells: a full scan's neighbour queries took 0.175 s of
+ * CPU on cow.off's 39,000 balls, these 0.07 s. The lists are those
+ * collect_overlapping makes. Returns 0, or -1 when out of memory. */
+static int build_overlap_graph(const vc_ball_set *bs, int threads, overlap_graph *g)
+{
+    const vc_balls *b = &bs->b;
+    const int64_t n = b->n;
+    g->start = NULL;
+    g->adj = NULL;
+    pair_buf *buf = calloc((size_t)threads, sizeof *buf);
+    if (!buf)
+        return -1;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+    for (int64_t i = 0; i < n; i++) {
+        int t = 0;
+#ifdef _OPENMP
+        t = omp_get_thread_num();
+#endif
+        pair_buf *P = &buf[t];
+        P->b = b;
+        P->self = i;
+        vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, b->radius[i], collect_later, P);
+    }
+    int rc = 0;
+    for (int t = 0; t < threads; t++)
+        rc |= buf[t].oom;
+    int64_t *start = rc ? NULL : calloc((size_t)n + 2, sizeof(int64_t));
+    int64_t total = 0;
+    for (int t = 0; t < threads; t++)
+        total += buf[t].n;
+    int64_t *adj = start ? malloc(sizeof(int64_t) * (size_t)(2 * total + 1)) : NULL;
+    if (adj) {
+        for (int t = 0; t < threads; t++)
+            for (int64_t m = 0; m < buf[t].n; m++) {
+                start[buf[t].pair[2 * m] + 2]++;
+                start[buf[t].pair[2 * m + 1] + 2]++;
+            }
+        for (int64_t i = 0; i < n; i++)
+            start[i + 2] += start[i + 1];
+        /* start[i + 1]: where ball i's list is filled next */
+        for (int t = 0; t < threads; t++)
+            for (int64_t m = 0; m < buf[t].n; m++) {
+                const int64_t x = buf[t].pair[2 * m], y = buf[t].pair[2 * m + 1];
+                adj[start[x + 1]++] = y;
+                adj[start[y + 1]++] = x;
+            }
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(threads)
+        for (int64_t i = 0; i < n; i++)
+            sort_ids(adj + start[i], start[i + 1] - start[i]);
+    } else
+        rc = -1;
+    for (int t = 0; t < threads; t++)
+        free(buf[t].pair);
+    free(buf);
+    if (rc) {
+        free(start);
+        free(adj);
+        return -1;
+    }
+    g->start = start;
+    g->adj = adj;
+    return 0;
+}
+
+/* The balls overlapping ball i into L, ascending: from the graph when
+ * there is one, else by a query. */
+static int neighbours_of(const vc_ball_set *bs, const overlap_graph *g, int64_t i, nb_list *L)
 {
     const vc_balls *b = &bs->b;
     L->self = i;
     L->n = 0;
+    if (g && g->start) {
+        const int64_t k = g->start[i + 1] - g->start[i];
+        if (vc_reserve(&L->ids, &L->cap, k + 1, sizeof(int64_t)))
+            return -1;
+        memcpy(L->ids, g->adj + g->start[i], sizeof(int64_t) * (size_t)k);
+        L->n = k;
+        return 0;
+    }
     vc_ball_set_query(bs, b->center + 3 * i, b->radius[i], 1.0, 0.0, collect_overlapping, L);
-    if (L->oom) {
+    if (L->oom)
+        return -1;
+    sort_ids(L->ids, L->n);
+    return 0;
+}
+
+static void triplets_of(const vc_ball_set *bs, const overlap_graph *g, int64_t i, nb_list *L,
+                        triplet_buf *out)
+{
+    const vc_balls *b = &bs->b;
+    if (neighbours_of(bs, g, i, L)) {
         out->oom = 1;
         return;
     }
-    sort_ids(L->ids, L->n);
     for (int64_t a = 0; a < L->n; a++) {
         int64_t j = L->ids[a];
         if (j < i)
@@ -270,6 +395,11 @@ static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
     triplet_buf *buf = calloc((size_t)threads, sizeof *buf);
     nb_list *lists = calloc((size_t)threads, sizeof *lists);
     int rc = (!first || !count || !owner || !buf || !lists) ? -1 : 0;
+    /* every ball: its neighbours from the overlap graph (a scan of a few
+     * balls queries for them) */
+    overlap_graph graph = {NULL, NULL};
+    if (!rc && !only && build_overlap_graph(bs, threads, &graph))
+        rc = -1;
     for (int64_t start = 0; start < n && !rc; start += SCAN_BLOCK) {
         const int64_t end = start + SCAN_BLOCK < n ? start + SCAN_BLOCK : n;
         for (int t = 0; t < threads; t++)
@@ -284,7 +414,7 @@ static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
             first[i - start] = buf[t].n;
             if (!only || only[i]) {
                 lists[t].b = b;
-                triplets_of(bs, i, &lists[t], &buf[t]);
+                triplets_of(bs, &graph, i, &lists[t], &buf[t]);
             }
             count[i - start] = buf[t].n - first[i - start];
         }
@@ -299,6 +429,8 @@ static int scan(const vc_ball_set *bs, const unsigned char *only, int threads,
                 fn(ctx, &tb->t[q]);
         }
     }
+    free(graph.start);
+    free(graph.adj);
     for (int t = 0; buf && t < threads; t++)
         free(buf[t].t);
     for (int t = 0; lists && t < threads; t++)
