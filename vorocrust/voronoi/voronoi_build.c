@@ -482,32 +482,19 @@ static int compute_cell(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *
 /* Neighbours asked of the tree at first; when the cell still reaches
  * beyond the last of them, every seed within twice its radius and within a
  * clearance ball of one of its vertices comes from range queries, RANGE_MAX
- * at a time (about 15 neighbours cut an ordinary cell, but a VoroCrust
- * surface cell reaches 60 to 200 seeds: asking for 2k, 4k, ... nearest
- * repeated the whole search). Before session 30 more than RANGE_MAX
- * candidates went to the grid's rings, whose bins in a sheet of tiny
- * seeds hold tens of thousands (cow.off: 713 cells, 5.7 s of 12.9, up to
- * 111,000 cuts each); now the cell, cut by the nearest RANGE_MAX, asks
- * again for those after the last with its smaller reach and balls. */
+ * at a time, nearest first (about 15 neighbours cut an ordinary cell, but a
+ * VoroCrust surface cell reaches 60 to 200 seeds, and a cell open to the
+ * clipping box thousands). After each batch the cell's reach and balls are
+ * taken again: they shrink as the cell is cut, so a small batch prunes what
+ * a large one would have listed. Since session 46 a cell still open to the
+ * box goes the same way (it asked the tree for twice as many neighbours,
+ * up to 3,072, then searched the grid's rings): every seed's cell of
+ * fertility.off's seeds (65,543, one thread) 7.4 -> 3.2 s, bunny.off's
+ * (112,657) 10.5 -> 5.5 s, the same cells. Batches of 4,096 cost 7.4 s
+ * there, of 1,024 6.4 s, of 256 5.7 s, of 64 (open cells on the grid's
+ * rings) 5.5 s. */
 #define KNN_FIRST 48
-#define RANGE_MAX 4096
-/* A cell still open to the clipping box after its nearest neighbours asks
- * the tree for twice as many, up to this many, before the grid's rings:
- * in a sheet of tiny seeds (VoroCrust balls shrunk where two parts of the
- * surface meet at a small angle: cow.off's tail on its rump) the nearest
- * hundreds all lie in the sheet and the cell stays open across it, and the
- * grid's bins there hold tens of thousands of seeds (cow.off: 1,168 such
- * cells took 5.3 s of its 21, up to 100,000 cuts each). */
-#define KNN_OPEN_MAX 3072
-
-/* Does the cell still reach the clipping box (a wall plane in a vertex)? */
-static int on_box(const vc_convex_cell *cell)
-{
-    for (int i = 0; i < 3 * cell->nt; i++)
-        if (cell->plane_id[cell->tri[i]] < 0)
-            return 1;
-    return 0;
-}
+#define RANGE_MAX 64
 
 static int reserve_hits(vc_cell_buf *b, int k)
 {
@@ -617,33 +604,19 @@ static int clearance_balls(const vc_convex_cell *cell, vc_cell_buf *b, clearance
  * neighbours are cut nearest first (from the k-d tree), until the next
  * one is farther than twice the cell's radius: no seed beyond can cut. */
 static int compute_cell_knn(const cell_job *job, vc_convex_cell *cell, vc_cell_buf *hit_buf,
-                            vc_cell_buf *cand_buf, prune *pr, vc_kd_hint *hint, int64_t s,
-                            const double *xs, int64_t *other)
+                            prune *pr, vc_kd_hint *hint, int64_t s, const double *xs,
+                            int64_t *other)
 {
     if (reset_to_box(job, cell, s, xs) != 0 || reserve_hits(hit_buf, KNN_FIRST) != 0)
         return CELL_NOMEM;
     const vc_seed_kdtree *t = job->tree;
     vc_kd_hit *hit = hit_buf->data;
-    int k = KNN_FIRST;
     /* bounded by the thread's previous cell's (its neighbour in the build
      * order): the k-d tree's share of cow.off's cells 14.6% -> 12.8% */
-    int got = vc_seed_kdtree_knn_hinted(t, hint, xs, k, s, hit);
+    const int got = vc_seed_kdtree_knn_hinted(t, hint, xs, KNN_FIRST, s, hit);
     int more, r = cut_with_hits(job, cell, pr, xs, hit, got, &more, other);
-    /* the k nearest in (d2, seed) order begin with the k / 2 nearest: only
-     * the new ones cut */
-    while (r == CELL_OK && got == k && more && k < KNN_OPEN_MAX && on_box(cell)) {
-        const int before = got;
-        k *= 2;
-        if (reserve_hits(hit_buf, k) != 0)
-            return CELL_NOMEM;
-        hit = hit_buf->data;
-        got = vc_seed_kdtree_knn(t, xs, k, s, hit);
-        r = cut_with_hits(job, cell, pr, xs, hit + before, got - before, &more, other);
-    }
-    if (r != CELL_OK || got < k || !more)
+    if (r != CELL_OK || got < KNN_FIRST || !more)
         return r;
-    if (on_box(cell))
-        return compute_cell(job, cell, cand_buf, pr, s, xs, other);
     /* every further seed that can still cut: within twice the radius the
      * cell has now (it only shrinks) and in a clearance ball of one of its
      * vertices, RANGE_MAX at a time in (d2, seed) order, the cell's reach
@@ -887,8 +860,8 @@ static int64_t build_batch(const cell_job *job, const cell_batch *b, vc_cell_sto
                 const int64_t p = b->pos[q];
                 const int64_t s = b->index ? b->index[p] : p;
                 const double *xs = b->xyz + 3 * p; /* seed s, or a copy of it */
-                int r = job->tree ? compute_cell_knn(job, &cell, &hit_buf, &cand_buf, &pr, &hint,
-                                                     s, xs, &b->other[q])
+                int r = job->tree ? compute_cell_knn(job, &cell, &hit_buf, &pr, &hint, s, xs,
+                                                     &b->other[q])
                                   : compute_cell(job, &cell, &cand_buf, &pr, s, xs, &b->other[q]);
                 if (r == CELL_OK) {
                     const int fr = vc_convex_cell_faces(&cell);
