@@ -563,9 +563,18 @@ void vc_sizing_elements_near_within(const vc_sizing *z, const double p[3], doubl
 
 int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r)
 {
+    int64_t hint = -1;
+    return vc_sizing_triangle_within_hint(z, p, r, &hint);
+}
+
+int vc_sizing_triangle_within_hint(const vc_sizing *z, const double p[3], double r, int64_t *hint)
+{
     if (z->n_elems == 0)
         return 0;
     const double r2 = r * r;
+    if (*hint >= 0 && *hint < z->s->n_triangles &&
+        vc_sizing_element_dist2(z, VC_ELEM_TRIANGLE, *hint, p) < r2)
+        return 1;
     int64_t stack[128];
     int top = 0;
     stack[top++] = 0;
@@ -576,8 +585,10 @@ int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r)
         if (nd->count > 0) {
             for (int64_t i = nd->start; i < nd->start + nd->count; i++)
                 if (z->elem_kind[i] == VC_ELEM_TRIANGLE &&
-                    vc_sizing_element_dist2(z, VC_ELEM_TRIANGLE, z->elem_id[i], p) < r2)
+                    vc_sizing_element_dist2(z, VC_ELEM_TRIANGLE, z->elem_id[i], p) < r2) {
+                    *hint = z->elem_id[i];
                     return 1;
+                }
             continue;
         }
         if (top + 2 > 128)

@@ -115,6 +115,10 @@ void vc_sizing_elements_near_within(const vc_sizing *z, const double p[3], doubl
 /* Is some triangle closer to p than r (vc_sizing_element_dist2 < r^2)?
  * Stops at the first one found, nearest boxes first. */
 int vc_sizing_triangle_within(const vc_sizing *z, const double p[3], double r);
+/* The same, trying triangle *hint first (-1: none) and leaving in it the
+ * triangle found: nearby points (a facet's probes) are mostly near the
+ * same triangle. */
+int vc_sizing_triangle_within_hint(const vc_sizing *z, const double p[3], double r, int64_t *hint);
 
 /* Outward normal at the point (for an edge or corner: the normalised mean
  * of its triangles' normals). */
