@@ -740,33 +740,75 @@ static int nearest_centre(void *ctx, int64_t i)
  * at the dart on the input (vc_sizing_radius_bound, capped at S->sz); c:
  * the centre (the dart, or its projection on S' with radius of curvature
  * rho there). */
+static int ball_kind_of(const vc_surface_point *sp)
+{
+    return sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
+         : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
+                                      : VC_BALL_SURFACE;
+}
+
+/* The two conditions among the balls at a new centre c, over the balls
+ * there now: *r lowered from r0 by the Lipschitz condition, *nearest the
+ * nearest centre within (1 - alpha) *r (INFINITY: none). Both are minima
+ * over balls, so the balls added later can be taken in afterwards
+ * (radius_after). */
+static void radius_conditions(const sampler *S, int kind, const double c[3], double r0, double *r,
+                              double *nearest)
+{
+    radius_ctx rc = {&S->bs.b, c, kind, r0, S->opt.lipschitz, 1 - S->alpha, INFINITY};
+    /* ball i binds only when r_i + L d < r, so d < (r - r_i) / L; a level's
+     * radii are at least half its largest (level 0: at least 0, hence the
+     * unit added), so only centres within (r + unit - rl / 2) / L count */
+    const double L = S->opt.lipschitz;
+    vc_ball_set_query(&S->bs, c, (r0 + S->bs.unit) / L, -0.5 / L, 0.0, lipschitz_bound, &rc);
+    *r = rc.r;
+    /* only a centre nearer than deep r changes anything */
+    spacing_ctx sc = {&S->bs.b, c, INFINITY};
+    vc_ball_set_query(&S->bs, c, (1 - S->alpha) * *r, 0.0, 0.0, nearest_centre, &sc);
+    *nearest = sc.nearest;
+}
+
+/* The radius from the conditions over the balls before ball `from` (r,
+ * nearest: radius_conditions then) and the balls from `from` on, or a
+ * negative value when density regulation drops the sample. A ball that
+ * cannot bind leaves a minimum as it is, so this is the radius the
+ * conditions over all balls give, whichever balls the first part read. */
+static double radius_after(sampler *S, int kind, const double c[3], double r, double nearest,
+                           int64_t from)
+{
+    const vc_balls *b = &S->bs.b;
+    const double L = S->opt.lipschitz;
+    for (int64_t i = from; i < b->n; i++)
+        if (b->kind[i] == kind) {
+            const double lim = b->radius[i] + L * dist(b->center + 3 * i, c);
+            if (lim < r)
+                r = lim;
+        }
+    for (int64_t i = from; i < b->n; i++) {
+        const double d = dist(b->center + 3 * i, c);
+        if (d < nearest)
+            nearest = d;
+    }
+    const double deep = 1 - S->alpha;
+    if (nearest < deep * r) {
+        if (vc_rng_uniform(&S->rng) < 0.1)
+            return -1;
+        r = nearest / deep;
+    }
+    return r;
+}
+
 static double new_radius(sampler *S, const vc_surface_point *sp, double bound, const double c[3],
                          double rho)
 {
     double r = bound;
     if (S->smooth && sp->kind == VC_ELEM_TRIANGLE)
         r = fmin(r, S->opt.curvature_factor * rho);
-    int kind = sp->kind == VC_ELEM_CORNER ? VC_BALL_CORNER
-             : sp->kind == VC_ELEM_EDGE   ? VC_BALL_EDGE
-                                          : VC_BALL_SURFACE;
+    const int kind = ball_kind_of(sp);
     /* the conditions among balls hold at the centre */
-    radius_ctx rc = {&S->bs.b, c, kind, r, S->opt.lipschitz, 1 - S->alpha, INFINITY};
-    /* ball i binds only when r_i + L d < r, so d < (r - r_i) / L; a level's
-     * radii are at least half its largest (level 0: at least 0, hence the
-     * unit added), so only centres within (r + unit - rl / 2) / L count */
-    const double L = S->opt.lipschitz;
-    vc_ball_set_query(&S->bs, c, (r + S->bs.unit) / L, -0.5 / L, 0.0, lipschitz_bound, &rc);
-    r = rc.r;
-    double deep = 1 - S->alpha;
-    /* only a centre nearer than deep r changes anything */
-    spacing_ctx sc = {&S->bs.b, c, INFINITY};
-    vc_ball_set_query(&S->bs, c, deep * r, 0.0, 0.0, nearest_centre, &sc);
-    if (sc.nearest < deep * r) {
-        if (vc_rng_uniform(&S->rng) < 0.1)
-            return -1;
-        r = sc.nearest / deep;
-    }
-    return r;
+    double nearest;
+    radius_conditions(S, kind, c, r, &r, &nearest);
+    return radius_after(S, kind, c, r, nearest, S->bs.b.n);
 }
 
 /* normal: the outward normal at x, or NULL for the input's */
@@ -1015,6 +1057,9 @@ static int mps(sampler *S, pool *P, int nv)
         double x[3];  /* the dart on the input */
         double c[3];  /* ... and where its coverage is tested (on S', or x) */
         double bound; /* the sizing's radius bound at x (uncovered darts) */
+        /* on the input (no S'): the radius conditions over the balls before
+         * the batch (radius_conditions), for uncovered darts */
+        double r, nearest;
     } batch[DART_BATCH];
     unsigned char batch_covered[DART_BATCH];
     for (int round = 0; P->n > 0 && round < 60; round++) {
@@ -1066,6 +1111,12 @@ static int mps(sampler *S, pool *P, int nv)
                 if (!batch_covered[b]) {
                     const vc_surface_point sp = {kind, P->f[batch[b].sub].elem};
                     batch[b].bound = vc_sizing_radius_bound(&S->z, &sp, batch[b].x, S->sz);
+                    /* and, on the input, where the centre is the dart, the
+                     * ball-index queries of its radius (the serial loop
+                     * below then reads only the batch's new balls) */
+                    if (!P->smooth)
+                        radius_conditions(S, ball_kind_of(&sp), batch[b].c, batch[b].bound,
+                                          &batch[b].r, &batch[b].nearest);
                 }
             }
             for (int b = 0; b < DART_BATCH && misses < MAX_MISSES; b++) {
@@ -1134,7 +1185,9 @@ static int mps(sampler *S, pool *P, int nv)
                         rho = fmin(rho, 1 / k);
                 }
                 vc_surface_point sp = {kind, sf->elem};
-                double r = new_radius(S, &sp, batch[b].bound, c, rho);
+                double r = on_smooth ? new_radius(S, &sp, batch[b].bound, c, rho)
+                                     : radius_after(S, ball_kind_of(&sp), c, batch[b].r,
+                                                    batch[b].nearest, n_before);
                 if (r <= 0) {
                     misses++;
                     continue;
