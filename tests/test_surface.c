@@ -268,8 +268,16 @@ static void check_box(const char *path, double tol, int64_t polygons, int64_t du
 }
 
 /* The box as ASCII STL into b (emptied first): lower case and LF, or
- * upper case and CRLF. */
+ * upper case and CRLF; with signed_zero, every other facet writes its
+ * zero coordinates as -0 (equal positions: merged all the same). */
+static void ascii_stl_zeros(strbuf *b, int upper, int signed_zero);
+
 static void ascii_stl(strbuf *b, int upper)
+{
+    ascii_stl_zeros(b, upper, 0);
+}
+
+static void ascii_stl_zeros(strbuf *b, int upper, int signed_zero)
 {
     const char *eol = upper ? "\r\n" : "\n";
     double p[3];
@@ -282,6 +290,9 @@ static void ascii_stl(strbuf *b, int upper)
                   upper ? "OUTER LOOP" : "outer loop", eol);
         for (int k = 0; k < 3; k++) {
             box_vertex(v[k], p);
+            for (int d = 0; d < 3 && signed_zero && t % 2; d++)
+                if (p[d] == 0)
+                    p[d] = -0.0;
             sb_printf(b, "      %s %.9g %.9g %.9g%s", upper ? "VERTEX" : "vertex", p[0], p[1], p[2], eol);
         }
         sb_printf(b, "    %s%s  %s%s", upper ? "ENDLOOP" : "endloop", eol, upper ? "EndFacet" : "endfacet",
@@ -331,6 +342,8 @@ static void test_formats(void)
     check_box(write_file("box_ascii.stl", b.s, b.n), 1e-14, 0, 28);
     ascii_stl(&b, 1);
     check_box(write_file("box_upper_ascii.stl", b.s, b.n), 1e-14, 0, 28);
+    ascii_stl_zeros(&b, 0, 1);
+    check_box(write_file("box_signed_zeros.stl", b.s, b.n), 1e-14, 0, 28);
 
     /* OBJ with long face lines continued by a backslash (LF and CRLF), a
      * vertex line too. */

@@ -7,7 +7,6 @@
 #include "vorocrust/surface.h"
 #include "surface/surface_internal.h"
 #include "io/text_escape.h"
-#include "util/small_sort.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -275,23 +274,100 @@ int vc_surface_read_with(const char *path, vc_surface_reader which, vc_surface *
 
 /* ---- Merging equal vertices. ---- */
 
-/* A vertex's position and index: sorting these needs no state outside
- * the comparator (a file-scope pointer for it made concurrent reads race). */
-typedef struct pos_rec {
-    double x[3];
+/* A vertex's position hashed, and its index. */
+typedef struct hashed_vertex {
+    uint64_t h;
     int64_t i;
-} pos_rec;
+} hashed_vertex;
 
-static int pos_less(const pos_rec *p, const pos_rec *q)
+static uint64_t mix64(uint64_t x)
 {
-    for (int k = 0; k < 3; k++)
-        if (p->x[k] != q->x[k])
-            return p->x[k] < q->x[k];
-    return p->i < q->i;
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
 }
-/* distinct records (the index breaks ties; the coordinates are finite): the
- * same order for any sort */
-VC_SMALL_SORT(sort_positions, pos_rec, pos_less)
+
+/* A hash of the position's values: equal positions (-0 and 0 alike) hash
+ * alike. */
+static uint64_t position_hash(const double x[3])
+{
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (int k = 0; k < 3; k++) {
+        const double v = x[k] + 0.0; /* -0 -> +0 */
+        uint64_t b;
+        memcpy(&b, &v, sizeof b);
+        h = mix64(h ^ b) + (uint64_t)k;
+    }
+    return h;
+}
+
+static int same_position(const double *a, const double *b)
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* map[i] = the lowest index of a vertex at i's position; returns how many
+ * vertices map elsewhere, or -1 when out of memory. The positions' hashes
+ * are sorted with their indices by a stable radix sort (16 bits a pass),
+ * so each run of one hash lists its vertices by increasing index; within
+ * a run (almost always one position) each vertex maps to the first
+ * earlier one at its position. A comparison sort of the positions took a
+ * second on a 1.8-million-triangle STL soup (5.3 million corners); this,
+ * a tenth of it. */
+static int64_t first_at_position(const double *xyz, int64_t nv, int64_t *map)
+{
+    hashed_vertex *a = malloc((size_t)(nv ? nv : 1) * sizeof *a);
+    hashed_vertex *b = malloc((size_t)(nv ? nv : 1) * sizeof *b);
+    int64_t *count = malloc((size_t)65536 * sizeof *count);
+    if (!a || !b || !count) {
+        free(a);
+        free(b);
+        free(count);
+        return -1;
+    }
+    for (int64_t i = 0; i < nv; i++)
+        a[i] = (hashed_vertex){position_hash(xyz + 3 * i), i};
+    for (int pass = 0; pass < 4; pass++) {
+        const int shift = 16 * pass;
+        memset(count, 0, (size_t)65536 * sizeof *count);
+        for (int64_t i = 0; i < nv; i++)
+            count[(a[i].h >> shift) & 0xffff]++;
+        int64_t sum = 0;
+        for (int d = 0; d < 65536; d++) {
+            const int64_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (int64_t i = 0; i < nv; i++)
+            b[count[(a[i].h >> shift) & 0xffff]++] = a[i];
+        hashed_vertex *t = a;
+        a = b;
+        b = t;
+    }
+    int64_t merged = 0;
+    for (int64_t k = 0; k < nv;) {
+        int64_t e = k + 1;
+        while (e < nv && a[e].h == a[k].h)
+            e++;
+        for (int64_t j = k; j < e; j++) {
+            const int64_t i = a[j].i;
+            map[i] = i;
+            for (int64_t q = k; q < j; q++)
+                if (map[a[q].i] == a[q].i && same_position(xyz + 3 * a[q].i, xyz + 3 * i)) {
+                    map[i] = a[q].i;
+                    merged++;
+                    break;
+                }
+        }
+        k = e;
+    }
+    free(a);
+    free(b);
+    free(count);
+    return merged;
+}
 
 int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unused,
                               int64_t *n_collapsed, vc_error *err)
@@ -299,33 +375,11 @@ int vc_surface_merge_vertices(vc_surface *s, int64_t *n_merged, int64_t *n_unuse
     int64_t nv = s->n_vertices;
     int64_t *order = malloc((size_t)(nv ? nv : 1) * sizeof *order);
     int64_t *map = malloc((size_t)(nv ? nv : 1) * sizeof *map);
-    pos_rec *rec = malloc((size_t)(nv ? nv : 1) * sizeof *rec);
-    if (!order || !map || !rec) {
+    const int64_t merged = order && map ? first_at_position(s->xyz, nv, map) : -1;
+    if (merged < 0) {
         free(order);
         free(map);
-        free(rec);
         return vc_error_set(err, VC_ENOMEM, "out of memory merging vertices");
-    }
-    for (int64_t i = 0; i < nv; i++) {
-        memcpy(rec[i].x, s->xyz + 3 * i, sizeof rec[i].x);
-        rec[i].i = i;
-    }
-    sort_positions(rec, nv);
-    for (int64_t i = 0; i < nv; i++)
-        order[i] = rec[i].i;
-    free(rec);
-    /* map[i] = the first vertex (lowest index) with i's position. */
-    int64_t merged = 0;
-    for (int64_t k = 0; k < nv;) {
-        int64_t first = order[k], e = k + 1;
-        while (e < nv && s->xyz[3 * order[e]] == s->xyz[3 * first] &&
-               s->xyz[3 * order[e] + 1] == s->xyz[3 * first + 1] &&
-               s->xyz[3 * order[e] + 2] == s->xyz[3 * first + 2])
-            e++;
-        for (int64_t j = k; j < e; j++)
-            map[order[j]] = first;
-        merged += e - k - 1;
-        k = e;
     }
     /* Remap triangles, drop those repeating a vertex, mark used vertices
      * (order[] is reused as the new index, -1 for unused). */
