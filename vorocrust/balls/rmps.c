@@ -410,8 +410,11 @@ static int subface_covered(const sampler *S, const subface *sf, const subface_on
  * reach half its bounding radius: vc_ball_set_query's rule) through the
  * same callback, so each answer is its own query's. A query was a
  * microsecond, most of it memory latency over the index's levels and
- * cells (cow.off: 1.5 million of them); a list of a few dozen balls
- * read sixteen times stays in cache. */
+ * cells (cow.off: 1.5 million of them); a list of a few dozen balls,
+ * read by each subface of the group, stays in cache. The list holds
+ * every ball any subface's query would call back: the group's bounding
+ * ball holds each subface's (grown by its margin), and it reads every
+ * level the subface with the smallest radius needs. */
 #define GROUP_MAX 32
 /* a group's bounding radius at most this many times its smallest
  * subface's (the list then holds few balls that subface cannot use) */
