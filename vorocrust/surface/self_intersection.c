@@ -20,6 +20,7 @@
  * The orientations are exact (predicates.h): zero only for points exactly
  * coplanar, which counts as touching. */
 #include "surface/self_intersection.h"
+#include "util/radix_sort.h"
 #include "surface/predicates.h"
 #include "util/morton.h"
 
@@ -254,42 +255,6 @@ static int64_t build(node *nodes, int64_t *n_nodes, const box *items, int64_t lo
     return id;
 }
 
-/* Sorts idx by key (both of length n), stable LSD radix on bytes. */
-static int radix_sort(uint64_t *key, int64_t *idx, int64_t n)
-{
-    uint64_t *k2 = malloc((size_t)(n ? n : 1) * sizeof *k2);
-    int64_t *i2 = malloc((size_t)(n ? n : 1) * sizeof *i2);
-    if (!k2 || !i2) {
-        free(k2);
-        free(i2);
-        return -1;
-    }
-    for (int pass = 0; pass < 8; pass++) {
-        int shift = 8 * pass;
-        int64_t count[257] = {0};
-        for (int64_t q = 0; q < n; q++)
-            count[((key[q] >> shift) & 0xff) + 1]++;
-        int trivial = 0;
-        for (int d = 1; d <= 256; d++)
-            if (count[d] == n)
-                trivial = 1;
-        if (trivial)
-            continue;
-        for (int d = 1; d <= 256; d++)
-            count[d] += count[d - 1];
-        for (int64_t q = 0; q < n; q++) {
-            int64_t to = count[(key[q] >> shift) & 0xff]++;
-            k2[to] = key[q];
-            i2[to] = idx[q];
-        }
-        memcpy(key, k2, (size_t)n * sizeof *key);
-        memcpy(idx, i2, (size_t)n * sizeof *idx);
-    }
-    free(k2);
-    free(i2);
-    return 0;
-}
-
 static int cmp_pair(const void *a, const void *b)
 {
     const int64_t *x = a, *y = b;
@@ -380,7 +345,7 @@ static int scan(const double *xyz, const int64_t *tri, int64_t nt, const unsigne
         order[q] = q; /* position in tbox for now */
     }
     int64_t *pos_tri = malloc((size_t)m * sizeof *pos_tri);
-    if (!pos_tri || radix_sort(key, order, m)) {
+    if (!pos_tri || vc_radix_sort_u64(key, order, m)) {
         free(pos_tri);
         free(tri_of);
         free(order);
