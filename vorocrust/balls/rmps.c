@@ -437,38 +437,67 @@ static int collect_id(void *ctx, int64_t i)
     return 0;
 }
 
-/* The subfaces t[0..n) (set up by subface_test_init, c[3 q] their
- * centres) tested with one listing query: covered[q] for each; the last
- * covering ball kept in *last as subface_covered does. Returns 0, or -1
- * when out of memory. */
-static int group_covered(const sampler *S, subface_cover_ctx *t, int n, unsigned char *covered,
+/* A group of subfaces being formed: their tests (set up by
+ * subface_test_init; one slot more for the subface that may join), their
+ * places in the pool, and the box of their bounding balls (grown by their
+ * margins) and their smallest bounding radius. */
+typedef struct subface_group {
+    int n;
+    subface_cover_ctx t[GROUP_MAX + 1];
+    double centre[GROUP_MAX + 1][3];
+    int64_t member[GROUP_MAX];
+    double lo[3], hi[3], min_reach;
+} subface_group;
+
+/* Does the subface in slot g->n fit the group (at most GROUP_MAX, and its
+ * bounding radius at most GROUP_SPREAD times the smallest)? */
+static int group_fits(const subface_group *g)
+{
+    const subface_cover_ctx *t = &g->t[g->n];
+    const double e = t->reach + t->margin, mn = fmin(g->min_reach, t->reach);
+    double r2 = 0;
+    for (int d = 0; d < 3; d++) {
+        const double lo = fmin(g->lo[d], t->centre[d] - e), hi = fmax(g->hi[d], t->centre[d] + e);
+        r2 += 0.25 * (hi - lo) * (hi - lo);
+    }
+    return g->n < GROUP_MAX && r2 <= GROUP_SPREAD * GROUP_SPREAD * mn * mn;
+}
+
+/* Takes the subface in slot g->n (pool index i) into the group. */
+static void group_add(subface_group *g, int64_t i)
+{
+    const subface_cover_ctx *t = &g->t[g->n];
+    const double e = t->reach + t->margin;
+    for (int d = 0; d < 3; d++) {
+        g->lo[d] = fmin(g->n ? g->lo[d] : INFINITY, t->centre[d] - e);
+        g->hi[d] = fmax(g->n ? g->hi[d] : -INFINITY, t->centre[d] + e);
+    }
+    g->min_reach = g->n ? fmin(g->min_reach, t->reach) : t->reach;
+    g->member[g->n++] = i;
+}
+
+/* The group's subfaces tested with one listing query (their tests take
+ * their balls): covered[q] for each; the last covering ball kept in *last
+ * as subface_covered does.
+ * Returns 0, or -1 when out of memory. */
+static int group_covered(const sampler *S, subface_group *g, unsigned char *covered,
                          int64_t *last, id_list *list)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double min_r = INFINITY;
-    for (int q = 0; q < n; q++) {
-        const double e = t[q].reach + t[q].margin;
-        for (int d = 0; d < 3; d++) {
-            lo[d] = fmin(lo[d], t[q].centre[d] - e);
-            hi[d] = fmax(hi[d], t[q].centre[d] + e);
-        }
-        min_r = fmin(min_r, 0.5 * t[q].reach);
-    }
     double C[3], R2 = 0;
     for (int d = 0; d < 3; d++) {
-        C[d] = 0.5 * (lo[d] + hi[d]);
-        R2 += 0.25 * (hi[d] - lo[d]) * (hi[d] - lo[d]);
+        C[d] = 0.5 * (g->lo[d] + g->hi[d]);
+        R2 += 0.25 * (g->hi[d] - g->lo[d]) * (g->hi[d] - g->lo[d]);
     }
     /* grown far above the rounding: the list must hold every ball any of
      * the subfaces' own queries would call back */
-    const double R = sqrt(R2) * (1 + 1e-6);
+    const double R = sqrt(R2) * (1 + 1e-6), min_r = 0.5 * g->min_reach;
     list->n = 0;
     vc_ball_set_query(&S->bs, C, R, 1.0, min_r, collect_id, list);
     if (list->oom)
         return -1;
     const vc_ball_set *bs = &S->bs;
-    for (int q = 0; q < n; q++) {
-        subface_cover_ctx *cc = &t[q];
+    for (int q = 0; q < g->n; q++) {
+        subface_cover_ctx *cc = &g->t[q];
         if (last_cover_holds(cc, *last)) {
             covered[q] = 1;
             continue;
@@ -613,16 +642,13 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
 #pragma omp parallel num_threads(S->threads) if (n > 2 * chunk) reduction(| : oom)
     {
         id_list list = {NULL, 0, 0, 0};
-        subface_cover_ctx t[GROUP_MAX + 1]; /* the group, and the subface after it */
-        double centre[GROUP_MAX + 1][3];
-        int64_t member[GROUP_MAX];
+        subface_group grp;
         unsigned char covered[GROUP_MAX];
 #pragma omp for schedule(dynamic, 1)
         for (int64_t c = 0; c < n_chunks; c++) {
             int64_t last = -1, last_lost = -1;
             const int64_t end = (c + 1) * chunk < n ? (c + 1) * chunk : n;
-            int ng = 0;
-            double glo[3] = {0, 0, 0}, ghi[3] = {0, 0, 0}, gmin = 0;
+            grp.n = 0;
             for (int64_t i = c * chunk; i <= end; i++) {
                 int take = 0;
                 if (i < end) {
@@ -631,53 +657,31 @@ static int drop_covered(const sampler *S, pool *P, int64_t from, int nv, int kin
                     keep[i] = 0;
                     take = !(g && on_seam(S, &f[i], &g[i])) &&
                            in_lost_region(S, &f[i], g ? &g[i] : NULL, nv, &last_lost);
+                    if (take)
+                        subface_test_init(S, &f[i], g ? &g[i] : NULL, nv, kind, &grp.t[grp.n],
+                                          grp.centre[grp.n]);
                 }
-                /* the group so far is tested when this subface is the
-                 * end, or does not fit it */
-                int fits = 0;
-                double lo[3], hi[3], mn = 0;
-                if (take) {
-                    subface_test_init(S, &f[i], g ? &g[i] : NULL, nv, kind, &t[ng], centre[ng]);
-                    const double e = t[ng].reach + t[ng].margin;
-                    double r2 = 0;
-                    mn = ng ? fmin(gmin, t[ng].reach) : t[ng].reach;
-                    for (int d = 0; d < 3; d++) {
-                        lo[d] = fmin(ng ? glo[d] : INFINITY, centre[ng][d] - e);
-                        hi[d] = fmax(ng ? ghi[d] : -INFINITY, centre[ng][d] + e);
-                        r2 += 0.25 * (hi[d] - lo[d]) * (hi[d] - lo[d]);
-                    }
-                    fits = ng < GROUP_MAX && r2 <= GROUP_SPREAD * GROUP_SPREAD * mn * mn;
-                }
-                if (ng > 0 && (i == end || (take && !fits))) {
-                    if (ng == 1) {
-                        keep[member[0]] =
-                            !subface_covered(S, &f[member[0]], g ? &g[member[0]] : NULL, nv, kind, &last);
+                /* the group so far is tested at the chunk's end, or when
+                 * this subface does not fit it (and starts the next) */
+                if (grp.n > 0 && (i == end || (take && !group_fits(&grp)))) {
+                    if (grp.n == 1) {
+                        const int64_t m0 = grp.member[0];
+                        keep[m0] = !subface_covered(S, &f[m0], g ? &g[m0] : NULL, nv, kind, &last);
                     } else {
-                        if (group_covered(S, t, ng, covered, &last, &list))
+                        if (group_covered(S, &grp, covered, &last, &list))
                             oom = 1;
-                        for (int q = 0; q < ng; q++)
-                            keep[member[q]] = !covered[q];
+                        for (int q = 0; q < grp.n; q++)
+                            keep[grp.member[q]] = !covered[q];
                     }
                     if (take) {
-                        /* this subface starts the next group */
-                        t[0] = t[ng];
-                        memcpy(centre[0], centre[ng], sizeof centre[0]);
-                        t[0].centre = centre[0];
-                        const double e = t[0].reach + t[0].margin;
-                        for (int d = 0; d < 3; d++) {
-                            lo[d] = centre[0][d] - e;
-                            hi[d] = centre[0][d] + e;
-                        }
-                        mn = t[0].reach;
+                        grp.t[0] = grp.t[grp.n];
+                        memcpy(grp.centre[0], grp.centre[grp.n], sizeof grp.centre[0]);
+                        grp.t[0].centre = grp.centre[0];
                     }
-                    ng = 0;
+                    grp.n = 0;
                 }
-                if (take) {
-                    member[ng++] = i;
-                    memcpy(glo, lo, sizeof glo);
-                    memcpy(ghi, hi, sizeof ghi);
-                    gmin = mn;
-                }
+                if (take)
+                    group_add(&grp, i);
             }
         }
         free(list.id);
@@ -781,14 +785,10 @@ static double radius_after(sampler *S, int kind, const double c[3], double r, do
 {
     const vc_balls *b = &S->bs.b;
     const double L = S->opt.lipschitz;
-    for (int64_t i = from; i < b->n; i++)
-        if (b->kind[i] == kind) {
-            const double lim = b->radius[i] + L * dist(b->center + 3 * i, c);
-            if (lim < r)
-                r = lim;
-        }
     for (int64_t i = from; i < b->n; i++) {
         const double d = dist(b->center + 3 * i, c);
+        if (b->kind[i] == kind && b->radius[i] + L * d < r)
+            r = b->radius[i] + L * d;
         if (d < nearest)
             nearest = d;
     }

@@ -114,15 +114,19 @@ typedef struct nb_list {
     int oom;
 } nb_list;
 
+/* Do balls p and q overlap? The same answer for (q, p). */
+static int overlap(const vc_balls *b, int64_t p, int64_t q)
+{
+    const double *a = b->center + 3 * p, *c = b->center + 3 * q;
+    double d[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
+    double s = b->radius[p] + b->radius[q];
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s * s;
+}
+
 static int collect_overlapping(void *ctx, int64_t q)
 {
     nb_list *L = ctx;
-    if (q == L->self)
-        return 0;
-    const double *a = L->b->center + 3 * L->self, *c = L->b->center + 3 * q;
-    double d[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
-    double s = L->b->radius[L->self] + L->b->radius[q];
-    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= s * s)
+    if (q == L->self || !overlap(L->b, L->self, q))
         return 0;
     if (L->n == L->cap) {
         int64_t c2 = L->cap ? 2 * L->cap : 64;
@@ -140,14 +144,6 @@ static int collect_overlapping(void *ctx, int64_t q)
 
 #define ID_LESS(p, q) (*(p) < *(q))
 VC_SMALL_SORT(sort_ids, int64_t, ID_LESS)
-
-static int overlap(const vc_balls *b, int64_t p, int64_t q)
-{
-    const double *a = b->center + 3 * p, *c = b->center + 3 * q;
-    double d[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
-    double s = b->radius[p] + b->radius[q];
-    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s * s;
-}
 
 /* The covering ball of p among the neighbours (other than i, j, k) that is
  * closest to its sphere (the least shrinking uncovers p), or -1; when there
@@ -216,12 +212,7 @@ static int collect_later(void *ctx, int64_t q)
     pair_buf *P = ctx;
     const vc_balls *b = P->b;
     const double rs = b->radius[P->self], rq = b->radius[q];
-    if (!(rq > rs || (rq == rs && q > P->self)))
-        return 0;
-    const double *a = b->center + 3 * P->self, *c = b->center + 3 * q;
-    double d[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
-    double s = rs + rq; /* collect_overlapping's test, symmetric in the two balls */
-    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= s * s)
+    if (!(rq > rs || (rq == rs && q > P->self)) || !overlap(b, P->self, q))
         return 0;
     if (vc_reserve(&P->pair, &P->cap, 2 * P->n + 2, sizeof(int64_t))) {
         P->oom = 1;
