@@ -91,6 +91,12 @@ The cases (NAME: what it tests):
                   the inner one facing in)
   bump_sphere     a fine sphere with a Gaussian bump 0.02 high
   mc_hemisphere   marching cubes of a half ball: a 90-degree rim of slivers
+  perlin_blob     sphere plus Perlin noise of frequency 11 on 160^3 (about
+                  146k triangles): vertices whose triangles spread beyond
+                  theta_sharp while every fold at them stays below it, next
+                  to folds that are noise (session 47: corners; before,
+                  sliver elimination chased them with balls down to 1e-10
+                  for two minutes, then a smoothed copy was sampled)
 """
 import math
 import os
@@ -929,6 +935,25 @@ def case_noise_blob(res=200):
     return polydata_to_lists(conn.GetOutput())
 
 
+def case_perlin_blob(res=100):
+    """The unit sphere's quadric plus vtkPerlinNoise of frequency 11 and
+    amplitude 0.12 on a res^3 grid over [-1.4, 1.4]^3, the largest
+    component: bumps a few error bounds wide."""
+    q = quadric((1, 1, 1, 0, 0, 0, 0, 0, 0, -1))
+    n = vtk.vtkPerlinNoise()
+    n.SetFrequency(13, 13, 13)
+    n.SetAmplitude(0.1)
+    f = vtk.vtkImplicitSum()
+    f.AddFunction(q)
+    f.AddFunction(n)
+    surf = contour(sample(f, (-1.4, 1.4, -1.4, 1.4, -1.4, 1.4), (res, res, res)), 0.0)
+    conn = vtk.vtkPolyDataConnectivityFilter()
+    conn.SetInputData(surf)
+    conn.SetExtractionModeToLargestRegion()
+    conn.Update()
+    return polydata_to_lists(conn.GetOutput())
+
+
 def jitter(pts, amplitude, seed):
     """Every point of the unit sphere's surface moved along its normal by
     seeded uniform noise of +-amplitude."""
@@ -1448,6 +1473,7 @@ CASES = [
     ("thin_shell", case_thin_shell, "spherical shell 3% of its radius thick: two surfaces close everywhere", 4),
     ("bump_sphere", case_bump_sphere, "fine UV sphere of radius 2 with a Gaussian bump 0.02 high: a small smooth feature", 2),
     ("mc_hemisphere", case_mc_hemisphere, "marching cubes of a half ball: smooth dome, flat disc, a 90-degree rim as staircase slivers", 2),
+    ("perlin_blob", case_perlin_blob, "sphere plus Perlin noise of frequency 11, marching cubes on 160^3: vertices whose triangles spread beyond theta_sharp with every fold below it", 2),
 ]
 
 

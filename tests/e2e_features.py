@@ -365,8 +365,13 @@ if PART == "models":
                 check(at["noise_folds"] == 0 and at["visible_folds"] == seen and
                       all(at[k] == expect[k] for k in keys),
                       "%s: features at the error bound at 60 degrees: %r against %r" % (name, at, expect))
+    # Since session 47, 24 vertices of those bumps are corners all the same:
+    # two of their triangles agree within 10 degrees neither in their
+    # normals nor in their normals smoothed at the bound, so the sizing
+    # would vanish there (sampled at 10 degrees: 6 s with the corners, a
+    # divergence after 59 s and a resampled copy without).
     bumpy = cli_features(os.path.join(MODELS, "bumpy-cube.obj"), 10.0, None)[0]
-    check(bumpy["angle"] == 0 and bumpy["noise_folds"] == 48 and bumpy["corners"] == 0,
+    check(bumpy["angle"] == 0 and bumpy["noise_folds"] == 48 and bumpy["corners"] == 24,
           "bumpy-cube.obj at 10 degrees and the error bound: %r" % bumpy)
 
     # bracket: the rib slopes (45 degrees) become sharp below 45, the wall kinks

@@ -48,6 +48,7 @@ import math
 import os
 import re
 import subprocess
+import time
 import sys
 
 sys.path.insert(0, os.path.join(os.environ["VC_SOURCE"], "tests"))
@@ -116,6 +117,15 @@ SHORT_EDGES = {"csg_animal": 10}
 # at the cube's faces stall sliver elimination; its copy moves the volume
 # by about +0.22%. The fold rounds on the input took 300 s and more.
 COPY_AFTER_DIVERGENCE = {"gyroid_lattice"}
+# Session 47: a marching-cubes Perlin blob (frequency 13). Its first
+# sampling diverges (half-covered pairs stay at a 73-degree fold judged
+# noise), and so does the copy smoothed within half the bound, where a ball
+# shrunk below 1e-5 of the bound now ends it at once (before, balls went
+# down to 1e-10 and each pass took longer: 348 s in all); the stuck folds
+# as creases then converge. Two vertices whose triangles the sizing cannot
+# take as co-smooth are corners from the start. Checked: that ladder, and
+# the whole run within the seconds given.
+LADDER = {"perlin_blob": 180}
 # Noise at the error bound (session 35, vorocrust/pipeline/denoise_choice.c):
 # the input's facets fold everywhere at a fraction of the bound, the sizing
 # predicts 1.5 times more balls or more than for a copy smoothed within half
@@ -190,8 +200,10 @@ def main():
     vtu = os.path.join(tmp, name + ".vtu")
     surf = os.path.join(tmp, name + "_surface.obj")
     opts = OPTIONS.get(name, [])
+    t_run = time.time()
     p = subprocess.run([BIN, "mesh", src, "-o", vtu, "--surface", surf, "--threads", "2"] + opts,
                        capture_output=True, text=True, timeout=900)
+    t_run = time.time() - t_run
     if not check(p.returncode == 0 and "warning" not in p.stderr,
                  "%s: exit %d: %s" % (name, p.returncode, p.stderr[-2000:])):
         return 1
@@ -219,6 +231,13 @@ def main():
               "more folds of over 10 degrees as creases" not in e and "sampling again with --" not in e,
               "%s: not sampled again on the copy smoothed within half the bound, its volume "
               "change within 0.1 to 0.25%%: %s" % (name, m and m.group(0)))
+    elif name in LADDER:
+        check(re.search(r"mesh: \d+ vertices are corners: two of their triangles agree", e) is not None and
+              "mesh: sampling again a copy smoothed within" in e and
+              re.search(r"a ball shrunk to [0-9.e+-]+, [0-9.e+-]+ of the error bound", e) is not None and
+              "more folds of over 10 degrees as creases" in e and t_run <= LADDER[name],
+              "%s: not the ladder (corners, the copy ended by a tiny ball, the folds as creases) "
+              "within %d s (%.0f s)" % (name, LADDER[name], t_run))
     elif name in FOLDS_RESAMPLED:
         # with defaults: one sampling (the short edges collapsed, SHORT_EDGES)
         check("after 0 smoothing rounds; sharp angle 60)" in e and "sampling again" not in e,
@@ -289,7 +308,7 @@ def main():
               abs(float(m.group(3))) > 0.1,
               "%s: the copy's refusal not said as expected: %s" % (name, m and m.group(0)))
     # the copy after a divergence: only where expected
-    if name not in COPY_AFTER_DIVERGENCE:
+    if name not in COPY_AFTER_DIVERGENCE and name not in LADDER:
         check("sampling again a copy smoothed" not in e, "%s: sampled again on the copy" % name)
     if name in SHORT_EDGES:
         m = re.search(r"mesh: \S+: (\d+) edges shorter than [0-9.e+-]+ \(0\.001 of the error bound\) "

@@ -124,6 +124,10 @@ typedef struct vc_features {
     int64_t n_sharp_noise;      /* folds above theta_sharp left inside a patch: flat
                                    ground at noise_scale */
     int64_t n_corner_noise;     /* sector corners dropped for the same reason */
+    int64_t n_corner_cosmooth;  /* vertices made corners (VC_CORNER_SECTOR, in n_corners)
+                                   after the noise judgement: two triangles of one sector
+                                   there agree neither in normals nor in smoothed ones,
+                                   so the sizing would vanish at the vertex */
     int64_t n_sharp_visible;    /* folds below theta_sharp made creases: visible at
                                    noise_scale (VC_SHARP_FOLD) */
 

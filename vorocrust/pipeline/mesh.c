@@ -654,6 +654,12 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                    "patches",
                    (long long)f.n_sharp_noise, so.sharp_angle, (long long)f.n_corner_noise,
                    f.noise_scale);
+        if (attempt == 0 && f.n_corner_cosmooth > 0)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %lld vertices are corners: two of their triangles agree within %g "
+                   "degrees neither in their normals nor in their normals smoothed at the error "
+                   "bound (no sampling converges at such a vertex without a corner ball)",
+                   (long long)f.n_corner_cosmooth, so.sharp_angle);
         if (attempt == 0 && f.n_sharp_visible > 0)
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %lld folds below %g degrees are creases: their triangles leave each "

@@ -711,6 +711,8 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
     return 0;
 }
 
+static int64_t close_cosmooth_corners(const vc_surface *s, vc_features *f, double theta_sharp_deg);
+
 /* ---- 4. Creases ---- */
 
 static int build_creases(vc_features *f, const int64_t *adj_start, const int64_t *adj,
@@ -889,12 +891,75 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
     if (!rc && f->n_sharp_noise + f->n_corner_noise > 0 &&
         vc_features_smooth_normals(s, f, f->noise_scale, near))
         rc = vc_error_set(err, VC_ENOMEM, "out of memory smoothing normals");
+    if (!rc && close_cosmooth_corners(s, f, theta_sharp_deg) < 0)
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory checking the corners");
     free(near);
     free(adj_start);
     free(adj);
     if (rc)
         vc_features_free(f);
     return rc;
+}
+
+/* ---- 7. Corners where co-smoothness breaks ----
+ *
+ * The sizing takes two triangles of a patch as co-smooth when their
+ * normals agree within theta_sharp, or their normals smoothed at the error
+ * bound do (sizing.c, normals_agree). Around a vertex that is no corner,
+ * the triangles of one sector (joined around it through non-sharp edges)
+ * must all be co-smooth so: two that are not lie at distance zero from
+ * each other's points at the vertex, the sizing falls to zero there, and
+ * the sampling chases the vertex with ever smaller balls (a marching-cubes
+ * Perlin blob: a vertex whose six triangles spread by 66 degrees, every
+ * fold at it below 60, balls down to 7e-9 of the error bound near it). The
+ * corner step counts such a spread (VC_CORNER_SECTOR) but without the
+ * triangles that a noise fold nearby tilted, whose smoothed normals the
+ * sizing then reads: the two views can disagree, and this step closes the
+ * gap with the sizing's own test. Such a vertex is a corner, which a corner
+ * ball protects. Returns the vertices made corners, or -1 when out of
+ * memory. */
+static int64_t close_cosmooth_corners(const vc_surface *s, vc_features *f, double theta_sharp_deg)
+{
+    const int64_t nv = s->n_vertices, nt = s->n_triangles;
+    const double cos_smooth = cos(theta_sharp_deg * M_PI / 180.0);
+    const double *m = f->tri_smooth_normal;
+    int64_t *vstart = NULL, *vslot = NULL;
+    if (vc_csr_group(s->tri, 3 * nt, 1, nv, NULL, &vstart, &vslot))
+        return -1;
+    int64_t added = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : added)
+    for (int64_t v = 0; v < nv; v++) {
+        /* Only a vertex without sharp edges: its triangles are one sector (a
+         * pinch is a corner already); one on a crease is the crease's, whose
+         * balls cover it, and a corner there would cut the crease. */
+        if (f->vertex_corner[v] || f->vertex_sharp_degree[v] != 0)
+            continue;
+        const int64_t *slot = vslot + vstart[v], k = vstart[v + 1] - vstart[v];
+        int conflict = 0;
+        for (int64_t i = 0; i < k && !conflict; i++) {
+            const int64_t t = slot[i] / 3;
+            const double *a = f->tri_normal + 3 * t;
+            /* zero area: no normal; a Moebius strip: no orientation */
+            if ((a[0] == 0 && a[1] == 0 && a[2] == 0) || !f->patch_orientable[f->tri_patch[t]])
+                continue;
+            for (int64_t j = i + 1; j < k && !conflict; j++) {
+                const int64_t u = slot[j] / 3;
+                const double *b = f->tri_normal + 3 * u;
+                if (b[0] == 0 && b[1] == 0 && b[2] == 0)
+                    continue;
+                conflict = dot3(a, b) < cos_smooth && !(m && dot3(m + 3 * t, m + 3 * u) >= cos_smooth);
+            }
+        }
+        if (conflict) {
+            f->vertex_corner[v] = VC_CORNER_SECTOR;
+            added++;
+        }
+    }
+    free(vstart);
+    free(vslot);
+    f->n_corners += added;
+    f->n_corner_cosmooth = added;
+    return added;
 }
 
 void vc_features_oriented_triangle(const vc_features *f, const vc_surface *s, int64_t t,
