@@ -916,42 +916,36 @@ def case_text():
     return polydata_to_lists(e.GetOutput(), tolerance=1e-9)
 
 
-def case_noise_blob(res=200):
-    """The unit sphere's quadric plus vtkPerlinNoise (frequency 6, amplitude
-    0.2) contoured on a res^3 grid (200: about 170k triangles), the largest
-    component: a bumpy, scan-like marching-cubes surface."""
+def perlin_sphere(freq, amp, half, res):
+    """The unit sphere's quadric plus vtkPerlinNoise (frequency freq,
+    amplitude amp) contoured on a res^3 grid over [-half, half]^3, the
+    largest component: a bumpy marching-cubes surface."""
     q = quadric((1, 1, 1, 0, 0, 0, 0, 0, 0, -1))
     n = vtk.vtkPerlinNoise()
-    n.SetFrequency(6, 6, 6)
-    n.SetAmplitude(0.2)
+    n.SetFrequency(freq, freq, freq)
+    n.SetAmplitude(amp)
     f = vtk.vtkImplicitSum()
     f.AddFunction(q)
     f.AddFunction(n)
-    surf = contour(sample(f, (-1.6, 1.6, -1.6, 1.6, -1.6, 1.6), (res, res, res)), 0.0)
+    surf = contour(sample(f, (-half, half, -half, half, -half, half), (res, res, res)), 0.0)
     conn = vtk.vtkPolyDataConnectivityFilter()
     conn.SetInputData(surf)
     conn.SetExtractionModeToLargestRegion()
     conn.Update()
     return polydata_to_lists(conn.GetOutput())
+
+
+def case_noise_blob(res=200):
+    """Perlin noise of frequency 6 and amplitude 0.2 on the sphere, contoured
+    on a res^3 grid (200: about 170k triangles): a bumpy, scan-like
+    marching-cubes surface."""
+    return perlin_sphere(6, 0.2, 1.6, res)
 
 
 def case_perlin_blob(res=100):
-    """The unit sphere's quadric plus vtkPerlinNoise of frequency 11 and
-    amplitude 0.12 on a res^3 grid over [-1.4, 1.4]^3, the largest
-    component: bumps a few error bounds wide."""
-    q = quadric((1, 1, 1, 0, 0, 0, 0, 0, 0, -1))
-    n = vtk.vtkPerlinNoise()
-    n.SetFrequency(13, 13, 13)
-    n.SetAmplitude(0.1)
-    f = vtk.vtkImplicitSum()
-    f.AddFunction(q)
-    f.AddFunction(n)
-    surf = contour(sample(f, (-1.4, 1.4, -1.4, 1.4, -1.4, 1.4), (res, res, res)), 0.0)
-    conn = vtk.vtkPolyDataConnectivityFilter()
-    conn.SetInputData(surf)
-    conn.SetExtractionModeToLargestRegion()
-    conn.Update()
-    return polydata_to_lists(conn.GetOutput())
+    """Perlin noise of frequency 13 and amplitude 0.1 on the sphere, on a
+    res^3 grid over [-1.4, 1.4]^3: bumps a few error bounds wide."""
+    return perlin_sphere(13, 0.1, 1.4, res)
 
 
 def jitter(pts, amplitude, seed):
