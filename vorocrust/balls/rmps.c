@@ -28,6 +28,7 @@
 #include "vorocrust/sampling.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -81,8 +82,8 @@
 #define LARGE_SCAN 50000
 /* A ball shrunk below this share of the error bound follows the surface at
  * a scale far finer than the accuracy asked: only a point where the sizing
- * has no lower bound (a fold no smoothness the sampling needs can follow)
- * drives balls there, shrinking them further at every pass, each pass
+ * has no lower bound, or a fold judged noise that sliver elimination cannot
+ * follow, drives balls there, shrinking them further at every pass, each pass
  * dearer than the last (a marching-cubes blob with Perlin noise of
  * frequency 11: balls of 7e-9 of the bound after ten passes, the last ones
  * 10 to 20 s each, before the pair counts said it diverged). The sampling
@@ -2709,21 +2710,17 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         st->diverged = 1;
         st->n_balls_diverged = nb;
         vc_ball_set_free(&S.bs);
+        char what[96] = "half-covered seed pairs";
         if (tiny_ball > 0)
-            return vc_error_set(err, VC_EINPUT,
-                                "sliver elimination does not converge (%lld balls after %d "
-                                "iterations, from %lld; a ball shrunk to %.3g, %.2g of the error "
-                                "bound, near (%.6g, %.6g, %.6g)): the surface bends there more "
-                                "sharply than the sampling can follow without a crease; try a "
-                                "smaller --sharp-angle (e.g. 20)",
-                                (long long)nb, iter, (long long)n_first, tiny_ball,
-                                tiny_rel, where[0], where[1], where[2]);
+            snprintf(what, sizeof what, "a ball shrunk to %.3g, %.2g of the error bound,", tiny_ball,
+                     tiny_rel);
         return vc_error_set(err, VC_EINPUT,
                             "sliver elimination does not converge (%lld balls after %d iterations, "
-                            "from %lld; half-covered seed pairs near (%.6g, %.6g, %.6g)): the "
-                            "surface bends there more sharply than the sampling can follow without "
-                            "a crease; try a smaller --sharp-angle (e.g. 20)",
-                            (long long)nb, iter, (long long)n_first, where[0], where[1], where[2]);
+                            "from %lld; %s near (%.6g, %.6g, %.6g)): the surface bends there more "
+                            "sharply than the sampling can follow without a crease; try a smaller "
+                            "--sharp-angle (e.g. 20)",
+                            (long long)nb, iter, (long long)n_first, what, where[0], where[1],
+                            where[2]);
     }
     /* hand the balls over, trimmed */
     *out = S.bs.b;
