@@ -11,6 +11,11 @@
  *    its edge (two vertex ids) and the pierced triangle, and computed from
  *    them in one fixed order, so the triangles around an edge agree on it
  *    by construction, not by a distance.
+ *    Where two segments cross inside a triangle, three sheets pass through
+ *    one point (generic where three parts overlap: a pack of spheres): the
+ *    point the three triangles' planes share, named by the three triangles
+ *    and computed from them in one order, splits the three pairs' segments,
+ *    alike in the three triangles (split_at_triple_points).
  * 2. Each cut triangle is split along its segments: the planar graph of
  *    its border (corners and the points on its edges) and the segments,
  *    its faces traced by angle, each face triangulated by ear clipping.
@@ -21,8 +26,9 @@
  *    inside another part (w >= 1) or outside everything (w < 0) and go.
  *
  * Degenerate contacts (a vertex or edge in another triangle's plane within
- * rounding, coplanar overlaps, three sheets through one point, a curve
- * closed inside one triangle) are refused with the triangles named: their
+ * rounding, coplanar overlaps, a triple point on an edge or within rounding
+ * of a curve's end, a curve closed inside one triangle) are refused with the
+ * triangles named: their
  * union needs exact constructions this file does not make. The decisions use
  * the filtered predicates of predicates.h on coordinates centred and scaled
  * by a power of two, as in the self-intersection test. */
@@ -86,10 +92,12 @@ static uint64_t hash_point(int64_t a, int64_t b, int64_t t)
     return h;
 }
 
-/* The id of the point where edge (a, b) (a < b) pierces triangle t, made
- * on first use; -1 when out of memory. */
-static int64_t point_id(builder *u, int64_t a, int64_t b, int64_t t)
+/* The index of point (a, b, t) among the cut points, made on first use
+ * (*fresh = 1: its coordinates are the caller's to set); -1 when out of
+ * memory. */
+static int64_t point_slot(builder *u, int64_t a, int64_t b, int64_t t, int *fresh)
 {
+    *fresh = 0;
     uint64_t mask = (uint64_t)u->n_slots - 1;
     for (uint64_t h = hash_point(a, b, t) & mask;; h = (h + 1) & mask) {
         int64_t k = u->slot[h];
@@ -108,18 +116,76 @@ static int64_t point_id(builder *u, int64_t a, int64_t b, int64_t t)
             }
             k = u->n_pts++;
             u->pts[k] = (cut_point){a, b, t};
-            const int64_t *vt = u->s->tri + 3 * t;
-            const double *A = u->xyz + 3 * a, *B = u->xyz + 3 * b;
-            const double *T0 = u->xyz + 3 * vt[0], *T1 = u->xyz + 3 * vt[1], *T2 = u->xyz + 3 * vt[2];
-            double da = det3(T0, T1, T2, A), db = det3(T0, T1, T2, B), f = da / (da - db);
-            for (int c = 0; c < 3; c++)
-                u->pxyz[3 * k + c] = A[c] + f * (B[c] - A[c]);
             u->slot[h] = k;
-            return u->nv + k;
+            *fresh = 1;
+            return k;
         }
         if (u->pts[k].a == a && u->pts[k].b == b && u->pts[k].t == t)
-            return u->nv + k;
+            return k;
     }
+}
+
+/* The id of the point where edge (a, b) (a < b) pierces triangle t, made
+ * on first use; -1 when out of memory. */
+static int64_t point_id(builder *u, int64_t a, int64_t b, int64_t t)
+{
+    int fresh;
+    const int64_t k = point_slot(u, a, b, t, &fresh);
+    if (k < 0)
+        return -1;
+    if (fresh) {
+        const int64_t *vt = u->s->tri + 3 * t;
+        const double *A = u->xyz + 3 * a, *B = u->xyz + 3 * b;
+        const double *T0 = u->xyz + 3 * vt[0], *T1 = u->xyz + 3 * vt[1], *T2 = u->xyz + 3 * vt[2];
+        double da = det3(T0, T1, T2, A), db = det3(T0, T1, T2, B), f = da / (da - db);
+        for (int c = 0; c < 3; c++)
+            u->pxyz[3 * k + c] = A[c] + f * (B[c] - A[c]);
+    }
+    return u->nv + k;
+}
+
+/* The id of the point where triangles x < y < z meet (three sheets through
+ * one point, where two curves cross inside each of the three), named by
+ * them (stored as a = -1 - x, b = y, t = z) and computed from their planes
+ * in that order, so the three agree on it (NaN coordinates when the planes
+ * meet in no one point); -1 when out of memory. */
+static int64_t triple_id(builder *u, int64_t x, int64_t y, int64_t z)
+{
+    int fresh;
+    const int64_t k = point_slot(u, -1 - x, y, z, &fresh);
+    if (k < 0 || !fresh)
+        return k < 0 ? -1 : u->nv + k;
+    const int64_t t3[3] = {x, y, z};
+    double n[3][3], d[3];
+    for (int i = 0; i < 3; i++) {
+        const int64_t *v = u->s->tri + 3 * t3[i];
+        const double *A = u->xyz + 3 * v[0], *B = u->xyz + 3 * v[1], *C = u->xyz + 3 * v[2];
+        const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+        const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+        n[i][0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[i][1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[i][2] = e1[0] * e2[1] - e1[1] * e2[0];
+        d[i] = n[i][0] * A[0] + n[i][1] * A[1] + n[i][2] * A[2];
+    }
+    /* Cramer's rule */
+    const double det = n[0][0] * (n[1][1] * n[2][2] - n[1][2] * n[2][1]) -
+                       n[0][1] * (n[1][0] * n[2][2] - n[1][2] * n[2][0]) +
+                       n[0][2] * (n[1][0] * n[2][1] - n[1][1] * n[2][0]);
+    for (int c = 0; c < 3; c++)
+        u->pxyz[3 * k + c] = NAN; /* planes that meet in no one point: no point */
+    if (!(det != 0) || !isfinite(det))
+        return u->nv + k;
+    for (int c = 0; c < 3; c++) {
+        double m[3][3];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                m[i][j] = j == c ? d[i] : n[i][j];
+        u->pxyz[3 * k + c] = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                              m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                              m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) /
+                             det;
+    }
+    return u->nv + k;
 }
 
 /* Whether edge (a, b) of one triangle, whose ends lie strictly on both
@@ -538,7 +604,8 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
             const cut_point *p = &u->pts[id - u->nv];
             const double *P = u->pxyz + 3 * (id - u->nv);
             local_vertex v = {id, 3, 0};
-            if (p->t != x) {
+            /* a triple point lies inside each of its three triangles */
+            if (p->a >= 0 && p->t != x) {
                 v.side = -9;
                 for (int k = 0; k < 3; k++) {
                     int64_t a = c[k], b = c[(k + 1) % 3];
@@ -697,6 +764,201 @@ done:
     return rc;
 }
 
+/* ---- Triple points ---- */
+
+/* Segment q's other triangle than t. */
+static inline int64_t other_of(const segment *q, int64_t t)
+{
+    return q->x == t ? q->y : q->x;
+}
+
+/* Projection axes of triangle t that keep it counter-clockwise (as
+ * split_triangle takes them). */
+static void plane_axes(const builder *u, int64_t t, int *ai, int *aj)
+{
+    const int64_t *c = u->s->tri + 3 * t;
+    const double *A = u->xyz + 3 * c[0], *B = u->xyz + 3 * c[1], *C = u->xyz + 3 * c[2];
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = B[k] - A[k];
+        e2[k] = C[k] - A[k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    int kz = fabs(n[0]) > fabs(n[1]) ? (fabs(n[0]) > fabs(n[2]) ? 0 : 2) : (fabs(n[1]) > fabs(n[2]) ? 1 : 2);
+    *ai = (kz + 1) % 3;
+    *aj = (kz + 2) % 3;
+    if (n[kz] < 0) {
+        int k = *ai;
+        *ai = *aj;
+        *aj = k;
+    }
+}
+
+typedef struct split_rec {
+    int64_t seg, point;
+    double param;
+} split_rec;
+
+static int cmp_split_rec(const void *pa, const void *pb)
+{
+    const split_rec *a = pa, *b = pb;
+    if (a->seg != b->seg)
+        return a->seg < b->seg ? -1 : 1;
+    if (a->param != b->param)
+        return a->param < b->param ? -1 : 1;
+    return (a->point > b->point) - (a->point < b->point);
+}
+
+/* Where two segments of one triangle cross properly (three sheets through
+ * one point: the triangle, and the two others of the segments), the point
+ * the three triangles' planes share (triple_id) splits the three segments
+ * of the three pairs, in every one of the three triangles alike: the curves
+ * then meet at a vertex instead of crossing. A crossing that is not proper
+ * within rounding (an end on the other segment) is left, and split_triangle
+ * refuses it as before. *segp (n_seg of them) is replaced by the split
+ * segments. Returns the triple points made, or -1 when out of memory. */
+static int64_t split_at_triple_points(builder *u, segment **segp, int64_t *n_segp)
+{
+    segment *seg = *segp;
+    const int64_t n_seg = *n_segp, nt = u->s->n_triangles;
+    int64_t *count = calloc((size_t)nt + 1, sizeof *count);
+    int64_t *list = malloc((size_t)(2 * n_seg + 1) * sizeof *list);
+    /* the segment of each pair, by open addressing on the pair */
+    int64_t n_map = 64;
+    while (n_map < 4 * n_seg)
+        n_map *= 2;
+    int64_t *map = malloc((size_t)n_map * sizeof *map);
+    split_rec *sp = NULL;
+    int64_t n_sp = 0, cap_sp = 0, n_triple = 0;
+    int rc = 0;
+    if (!count || !list || !map) {
+        rc = -1;
+        goto done;
+    }
+    for (int64_t i = 0; i < n_map; i++)
+        map[i] = -1;
+    for (int64_t q = 0; q < n_seg; q++) {
+        const int64_t a = seg[q].x < seg[q].y ? seg[q].x : seg[q].y, b = seg[q].x ^ seg[q].y ^ a;
+        uint64_t h = hash_point(a, b, -1) & (uint64_t)(n_map - 1);
+        while (map[h] >= 0)
+            h = (h + 1) & (uint64_t)(n_map - 1);
+        map[h] = q;
+        count[seg[q].x + 1]++;
+        count[seg[q].y + 1]++;
+    }
+    for (int64_t t = 0; t < nt; t++)
+        count[t + 1] += count[t];
+    for (int64_t q = 0; q < n_seg; q++) {
+        list[count[seg[q].x]++] = q;
+        list[count[seg[q].y]++] = q;
+    }
+    for (int64_t t = nt; t > 0; t--)
+        count[t] = count[t - 1];
+    count[0] = 0;
+    for (int64_t t = 0; t < nt && !rc; t++) {
+        const int64_t k0 = count[t], k1 = count[t + 1];
+        if (k1 - k0 < 2)
+            continue;
+        int ai, aj;
+        plane_axes(u, t, &ai, &aj);
+        for (int64_t i = k0; i < k1 && !rc; i++)
+            for (int64_t j = i + 1; j < k1 && !rc; j++) {
+                const segment *p = &seg[list[i]], *q = &seg[list[j]];
+                if (p->e[0] == q->e[0] || p->e[0] == q->e[1] || p->e[1] == q->e[0] || p->e[1] == q->e[1])
+                    continue;
+                const double *A = vertex_of(u, p->e[0]), *B = vertex_of(u, p->e[1]);
+                const double *C = vertex_of(u, q->e[0]), *D = vertex_of(u, q->e[1]);
+                if (!(orient_tol(A, B, C, ai, aj) * orient_tol(A, B, D, ai, aj) < 0 &&
+                      orient_tol(C, D, A, ai, aj) * orient_tol(C, D, B, ai, aj) < 0))
+                    continue;
+                const int64_t y = other_of(p, t), z = other_of(q, t);
+                if (y == z)
+                    continue;
+                /* the third pair's segment */
+                const int64_t a = y < z ? y : z, b = y < z ? z : y;
+                uint64_t h = hash_point(a, b, -1) & (uint64_t)(n_map - 1);
+                int64_t third = -1;
+                for (; map[h] >= 0; h = (h + 1) & (uint64_t)(n_map - 1)) {
+                    const segment *r = &seg[map[h]];
+                    if ((r->x == a && r->y == b) || (r->x == b && r->y == a)) {
+                        third = map[h];
+                        break;
+                    }
+                }
+                if (third < 0)
+                    continue;
+                int64_t tri3[3] = {t, y, z};
+                for (int m = 1; m < 3; m++)
+                    for (int l = m; l > 0 && tri3[l] < tri3[l - 1]; l--) {
+                        const int64_t w = tri3[l];
+                        tri3[l] = tri3[l - 1];
+                        tri3[l - 1] = w;
+                    }
+                const int64_t pid = triple_id(u, tri3[0], tri3[1], tri3[2]);
+                if (pid < 0) {
+                    rc = -1;
+                    break;
+                }
+                const double *P = vertex_of(u, pid);
+                if (isnan(P[0]))
+                    continue;
+                const int64_t sq[3] = {list[i], list[j], third};
+                if (n_sp + 3 > cap_sp) {
+                    cap_sp = cap_sp ? 2 * cap_sp : 64;
+                    split_rec *x = realloc(sp, (size_t)cap_sp * sizeof *sp);
+                    if (!x) {
+                        rc = -1;
+                        break;
+                    }
+                    sp = x;
+                }
+                for (int m = 0; m < 3; m++) {
+                    const segment *r = &seg[sq[m]];
+                    const double *E0 = vertex_of(u, r->e[0]), *E1 = vertex_of(u, r->e[1]);
+                    double num = 0, den = 0;
+                    for (int c = 0; c < 3; c++) {
+                        num += (P[c] - E0[c]) * (E1[c] - E0[c]);
+                        den += (E1[c] - E0[c]) * (E1[c] - E0[c]);
+                    }
+                    sp[n_sp++] = (split_rec){sq[m], pid, num / den};
+                }
+            }
+    }
+    if (rc || n_sp == 0)
+        goto done;
+    /* the split segments: each segment's points by parameter, once */
+    qsort(sp, (size_t)n_sp, sizeof *sp, cmp_split_rec);
+    segment *out = malloc((size_t)(n_seg + n_sp + 1) * sizeof *out);
+    if (!out) {
+        rc = -1;
+        goto done;
+    }
+    int64_t n_out = 0, k = 0;
+    for (int64_t q = 0; q < n_seg; q++) {
+        int64_t from = seg[q].e[0];
+        for (; k < n_sp && sp[k].seg == q; k++) {
+            if (sp[k].point == from || (k > 0 && sp[k - 1].seg == q && sp[k - 1].point == sp[k].point))
+                continue;
+            out[n_out++] = (segment){seg[q].x, seg[q].y, {from, sp[k].point}};
+            from = sp[k].point;
+        }
+        out[n_out++] = (segment){seg[q].x, seg[q].y, {from, seg[q].e[1]}};
+    }
+    for (int64_t i = 0; i < u->n_pts; i++)
+        n_triple += u->pts[i].a < 0;
+    free(seg);
+    *segp = out;
+    *n_segp = n_out;
+done:
+    free(count);
+    free(list);
+    free(map);
+    free(sp);
+    return rc ? -1 : n_triple;
+}
+
 /* ---- Patches and their winding numbers ---- */
 
 typedef struct edge_entry {
@@ -799,6 +1061,9 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         if (res == 1)
             seg[n_seg++] = (segment){x, y, {ends[0], ends[1]}};
     }
+    /* 1b. curves crossing inside a triangle: split at their triple points */
+    if (split_at_triple_points(&u, &seg, &n_seg) < 0)
+        goto oom;
     r->n_segments = n_seg;
 
     /* 2. the segments of each triangle (counting sort), each cut triangle
