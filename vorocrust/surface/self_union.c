@@ -28,8 +28,8 @@
  * Degenerate contacts (a vertex or edge in another triangle's plane within
  * rounding, coplanar overlaps, a triple point on an edge or within rounding
  * of a curve's end, a curve closed inside one triangle) are refused with the
- * triangles named: their
- * union needs exact constructions this file does not make. The decisions use
+ * triangles named: their union needs exact constructions this file does not
+ * make. The decisions use
  * the filtered predicates of predicates.h on coordinates centred and scaled
  * by a power of two, as in the self-intersection test. */
 #include "vorocrust/surface.h"
@@ -1100,8 +1100,8 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         if (res < 0) {
             rc = vc_error_set(err, VC_EINPUT,
                               "%s: the surface intersects itself (%lld pairs of triangles) and the curves "
-                              "cross triangle %lld in a degenerate way (three sheets through one point, or "
-                              "a curve closed inside it): the union of its parts cannot be formed; repair "
+                              "cross triangle %lld in a degenerate way (three sheets through one point on "
+                              "an edge, or a curve closed inside it): the union of its parts cannot be formed; repair "
                               "it (a boolean union, or remesh)",
                               name, (long long)n_pairs, (long long)t + 1);
             goto done;
