@@ -546,6 +546,30 @@ static int triangulate_large_face(const builder *u, const local_vertex *lv, cons
     return rc;
 }
 
+/* The two axes of the projection that keeps triangle t counter-clockwise
+ * (its normal's largest coordinate dropped). */
+static void plane_axes(const builder *u, int64_t t, int *ai, int *aj)
+{
+    const int64_t *c = u->s->tri + 3 * t;
+    const double *A = u->xyz + 3 * c[0], *B = u->xyz + 3 * c[1], *C = u->xyz + 3 * c[2];
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = B[k] - A[k];
+        e2[k] = C[k] - A[k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    int kz = fabs(n[0]) > fabs(n[1]) ? (fabs(n[0]) > fabs(n[2]) ? 0 : 2) : (fabs(n[1]) > fabs(n[2]) ? 1 : 2);
+    *ai = (kz + 1) % 3;
+    *aj = (kz + 2) % 3;
+    if (n[kz] < 0) {
+        int k = *ai;
+        *ai = *aj;
+        *aj = k;
+    }
+}
+
 /* Splits triangle x along segments seg[list[0..n)]: appends (a, b, c, x)
  * for each piece to out (the input's orientation). Returns 0, -1 when the
  * split is degenerate, -2 when out of memory. */
@@ -554,22 +578,8 @@ static int split_triangle(const builder *u, int64_t x, const segment *seg, const
 {
     const int64_t *c = u->s->tri + 3 * x;
     const double *C[3] = {u->xyz + 3 * c[0], u->xyz + 3 * c[1], u->xyz + 3 * c[2]};
-    /* projection axes that keep the triangle counter-clockwise */
-    double e1[3], e2[3], nrm[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = C[1][k] - C[0][k];
-        e2[k] = C[2][k] - C[0][k];
-    }
-    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    int kz = fabs(nrm[0]) > fabs(nrm[1]) ? (fabs(nrm[0]) > fabs(nrm[2]) ? 0 : 2) : (fabs(nrm[1]) > fabs(nrm[2]) ? 1 : 2);
-    int ai = (kz + 1) % 3, aj = (kz + 2) % 3;
-    if (nrm[kz] < 0) {
-        int t = ai;
-        ai = aj;
-        aj = t;
-    }
+    int ai, aj;
+    plane_axes(u, x, &ai, &aj);
 
     int64_t m_cap = 3 + 2 * n, e_cap = 3 + 2 * n + n;
     local_vertex *lv = malloc((size_t)m_cap * sizeof *lv);
@@ -770,30 +780,6 @@ done:
 static inline int64_t other_of(const segment *q, int64_t t)
 {
     return q->x == t ? q->y : q->x;
-}
-
-/* Projection axes of triangle t that keep it counter-clockwise (as
- * split_triangle takes them). */
-static void plane_axes(const builder *u, int64_t t, int *ai, int *aj)
-{
-    const int64_t *c = u->s->tri + 3 * t;
-    const double *A = u->xyz + 3 * c[0], *B = u->xyz + 3 * c[1], *C = u->xyz + 3 * c[2];
-    double e1[3], e2[3], n[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = B[k] - A[k];
-        e2[k] = C[k] - A[k];
-    }
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    int kz = fabs(n[0]) > fabs(n[1]) ? (fabs(n[0]) > fabs(n[2]) ? 0 : 2) : (fabs(n[1]) > fabs(n[2]) ? 1 : 2);
-    *ai = (kz + 1) % 3;
-    *aj = (kz + 2) % 3;
-    if (n[kz] < 0) {
-        int k = *ai;
-        *ai = *aj;
-        *aj = k;
-    }
 }
 
 typedef struct split_rec {
