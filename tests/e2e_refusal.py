@@ -7,9 +7,11 @@ and no temporary file. `vorocrust info` reports the counts, and
 --require-closed fails on them (cubes_overlap: its union cannot be formed,
 a degenerate contact). Two boxes overlapping in general position mesh as
 their union by default (its volume), and are refused naming --no-union
-with it. Environment: VC_BIN, VC_TMP, VC_SOURCE,
+with it; three boxes with triple points mesh as their union (its volume,
+the summary's and the .vtu's "volume" array). Environment: VC_BIN, VC_TMP, VC_SOURCE,
 VC_SANITIZED."""
 import os
+import re
 import sys
 import time
 
@@ -136,6 +138,50 @@ if rc == 0:
     total = sum(vol.GetValue(i) for i in range(vol.GetNumberOfTuples()))
     check(grid.GetNumberOfCells() > 1000 and abs(total - union_volume) < 0.005 * union_volume,
           "boxes --union: %d cells, volume %.6g, union %.6g" % (grid.GetNumberOfCells(), total, union_volume))
+
+# Three boxes, each pair overlapping, all three sharing a block, their
+# coordinates all distinct: faces of the three meet at isolated points
+# inside a triangle of each (two curves cross there: a triple point, refused
+# until session 47). The union meshes; its volume by inclusion and
+# exclusion, the summary's and VTK's.
+BOXES3 = [(0, 0, 0, 2, 2, 2), (1.1, 0.37, 0.29, 3.05, 1.63, 1.71), (0.53, 1.09, 0.61, 2.47, 3.01, 2.57)]
+boxes3 = os.path.join(TMP, "boxes3.obj")
+with open(boxes3, "w") as f:
+    for b in BOXES3:
+        f.write("".join("v %r %r %r\n" % (b[3] if k & 1 else b[0], b[4] if (k >> 1) & 1 else b[1],
+                                            b[5] if (k >> 2) & 1 else b[2]) for k in range(8)))
+    for i in range(3):
+        for q in ((0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)):
+            a, b, c, d = (8 * i + k + 1 for k in q)
+            f.write("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d))
+
+
+def box_meet(a, b):
+    return tuple(max(a[k], b[k]) for k in range(3)) + tuple(min(a[k + 3], b[k + 3]) for k in range(3))
+
+
+def box_volume(b):
+    return max(0, b[3] - b[0]) * max(0, b[4] - b[1]) * max(0, b[5] - b[2])
+
+
+A3, B3, C3 = BOXES3
+union3 = (sum(box_volume(b) for b in BOXES3) - box_volume(box_meet(A3, B3)) - box_volume(box_meet(A3, C3))
+          - box_volume(box_meet(B3, C3)) + box_volume(box_meet(box_meet(A3, B3), C3)))
+boxes3_vtu = os.path.join(TMP, "boxes3.vtu")
+rc, _, err = e2eutil.run([BIN, "mesh", boxes3, "-o", boxes3_vtu, "--threads", "2"], timeout=300)
+m = re.search(r"volume mesh: \d+ cells \(\d+ interior seeds\), volume ([0-9.e+-]+)", err)
+check(rc == 0 and "meshing the union of its parts" in err and m is not None and
+      abs(float(m.group(1)) - union3) <= 1e-9 * union3,
+      "three boxes: exit %d, volume %s against the union's %.9g: %r" % (rc, m and m.group(1), union3, err[-1500:]))
+if rc == 0:
+    import vtk
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(boxes3_vtu)
+    reader.Update()
+    vol = reader.GetOutput().GetCellData().GetArray("volume")
+    total = sum(vol.GetValue(i) for i in range(vol.GetNumberOfTuples()))
+    check(abs(total - union3) <= 1e-9 * union3, "three boxes: the .vtu's volumes sum to %.12g, the union %.12g"
+          % (total, union3))
 
 # A good cube: solid, no warning.
 good = os.path.join(TMP, "cube.obj")
