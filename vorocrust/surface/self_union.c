@@ -36,6 +36,8 @@
 #include "surface/predicates.h"
 #include "surface/self_intersection.h"
 #include "surface/solid_angle.h"
+#include "util/csr_group.h"
+#include "util/reserve.h"
 #include "util/union_find.h"
 
 #include <math.h>
@@ -144,6 +146,25 @@ static int64_t point_id(builder *u, int64_t a, int64_t b, int64_t t)
     return u->nv + k;
 }
 
+/* The (unnormalised) normal of triangle t. */
+static void triangle_normal(const builder *u, int64_t t, double n[3])
+{
+    const int64_t *v = u->s->tri + 3 * t;
+    const double *A = u->xyz + 3 * v[0], *B = u->xyz + 3 * v[1], *C = u->xyz + 3 * v[2];
+    const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+    const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+/* The determinant of the rows r[0], r[1], r[2]. */
+static double det_rows(const double r[3][3])
+{
+    return r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+           r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+}
+
 /* The id of the point where triangles x < y < z meet (three sheets through
  * one point, where two curves cross inside each of the three), named by
  * them (stored as a = -1 - x, b = y, t = z) and computed from their planes
@@ -158,32 +179,18 @@ static int64_t triple_id(builder *u, int64_t x, int64_t y, int64_t z)
     const int64_t t3[3] = {x, y, z};
     double n[3][3], d[3];
     for (int i = 0; i < 3; i++) {
-        const int64_t *v = u->s->tri + 3 * t3[i];
-        const double *A = u->xyz + 3 * v[0], *B = u->xyz + 3 * v[1], *C = u->xyz + 3 * v[2];
-        const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-        const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-        n[i][0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[i][1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[i][2] = e1[0] * e2[1] - e1[1] * e2[0];
+        triangle_normal(u, t3[i], n[i]);
+        const double *A = u->xyz + 3 * u->s->tri[3 * t3[i]];
         d[i] = n[i][0] * A[0] + n[i][1] * A[1] + n[i][2] * A[2];
     }
-    /* Cramer's rule */
-    const double det = n[0][0] * (n[1][1] * n[2][2] - n[1][2] * n[2][1]) -
-                       n[0][1] * (n[1][0] * n[2][2] - n[1][2] * n[2][0]) +
-                       n[0][2] * (n[1][0] * n[2][1] - n[1][1] * n[2][0]);
-    for (int c = 0; c < 3; c++)
-        u->pxyz[3 * k + c] = NAN; /* planes that meet in no one point: no point */
-    if (!(det != 0) || !isfinite(det))
-        return u->nv + k;
+    /* Cramer's rule; NaN when the planes meet in no one point */
+    const double det = det_rows((const double(*)[3])n);
     for (int c = 0; c < 3; c++) {
         double m[3][3];
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++)
                 m[i][j] = j == c ? d[i] : n[i][j];
-        u->pxyz[3 * k + c] = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                              m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                              m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) /
-                             det;
+        u->pxyz[3 * k + c] = det != 0 && isfinite(det) ? det_rows((const double(*)[3])m) / det : NAN;
     }
     return u->nv + k;
 }
@@ -550,16 +557,8 @@ static int triangulate_large_face(const builder *u, const local_vertex *lv, cons
  * (its normal's largest coordinate dropped). */
 static void plane_axes(const builder *u, int64_t t, int *ai, int *aj)
 {
-    const int64_t *c = u->s->tri + 3 * t;
-    const double *A = u->xyz + 3 * c[0], *B = u->xyz + 3 * c[1], *C = u->xyz + 3 * c[2];
-    double e1[3], e2[3], n[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = B[k] - A[k];
-        e2[k] = C[k] - A[k];
-    }
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double n[3];
+    triangle_normal(u, t, n);
     int kz = fabs(n[0]) > fabs(n[1]) ? (fabs(n[0]) > fabs(n[2]) ? 0 : 2) : (fabs(n[1]) > fabs(n[2]) ? 1 : 2);
     *ai = (kz + 1) % 3;
     *aj = (kz + 2) % 3;
@@ -776,6 +775,24 @@ done:
 
 /* ---- Triple points ---- */
 
+/* The segments of each triangle, in segment order: those of triangle t are
+ * (*list)[(*start)[t] .. (*start)[t + 1]). Returns 0, or -1 when out of
+ * memory. */
+static int segments_by_triangle(const segment *seg, int64_t n_seg, int64_t nt, int64_t **start,
+                                int64_t **list)
+{
+    int64_t *key = malloc((size_t)(2 * n_seg + 1) * sizeof *key);
+    if (!key)
+        return -1;
+    for (int64_t q = 0; q < n_seg; q++) {
+        key[2 * q] = seg[q].x;
+        key[2 * q + 1] = seg[q].y;
+    }
+    const int rc = vc_csr_group(key, n_seg, 2, nt, NULL, start, list);
+    free(key);
+    return rc;
+}
+
 /* Segment q's other triangle than t. */
 static inline int64_t other_of(const segment *q, int64_t t)
 {
@@ -804,47 +821,17 @@ static int cmp_split_rec(const void *pa, const void *pb)
  * then meet at a vertex instead of crossing. A crossing that is not proper
  * within rounding (an end on the other segment) is left, and split_triangle
  * refuses it as before. *segp (n_seg of them) is replaced by the split
- * segments. Returns the triple points made, or -1 when out of memory. */
-static int64_t split_at_triple_points(builder *u, segment **segp, int64_t *n_segp)
+ * segments. Returns 0, or -1 when out of memory. */
+static int split_at_triple_points(builder *u, segment **segp, int64_t *n_segp)
 {
     segment *seg = *segp;
-    const int64_t n_seg = *n_segp, nt = u->s->n_triangles;
-    int64_t *count = calloc((size_t)nt + 1, sizeof *count);
-    int64_t *list = malloc((size_t)(2 * n_seg + 1) * sizeof *list);
-    /* the segment of each pair, by open addressing on the pair */
-    int64_t n_map = 64;
-    while (n_map < 4 * n_seg)
-        n_map *= 2;
-    int64_t *map = malloc((size_t)n_map * sizeof *map);
+    const int64_t n_seg = *n_segp;
+    int64_t *start = NULL, *list = NULL;
     split_rec *sp = NULL;
-    int64_t n_sp = 0, cap_sp = 0, n_triple = 0;
-    int rc = 0;
-    if (!count || !list || !map) {
-        rc = -1;
-        goto done;
-    }
-    for (int64_t i = 0; i < n_map; i++)
-        map[i] = -1;
-    for (int64_t q = 0; q < n_seg; q++) {
-        const int64_t a = seg[q].x < seg[q].y ? seg[q].x : seg[q].y, b = seg[q].x ^ seg[q].y ^ a;
-        uint64_t h = hash_point(a, b, -1) & (uint64_t)(n_map - 1);
-        while (map[h] >= 0)
-            h = (h + 1) & (uint64_t)(n_map - 1);
-        map[h] = q;
-        count[seg[q].x + 1]++;
-        count[seg[q].y + 1]++;
-    }
-    for (int64_t t = 0; t < nt; t++)
-        count[t + 1] += count[t];
-    for (int64_t q = 0; q < n_seg; q++) {
-        list[count[seg[q].x]++] = q;
-        list[count[seg[q].y]++] = q;
-    }
-    for (int64_t t = nt; t > 0; t--)
-        count[t] = count[t - 1];
-    count[0] = 0;
-    for (int64_t t = 0; t < nt && !rc; t++) {
-        const int64_t k0 = count[t], k1 = count[t + 1];
+    int64_t n_sp = 0, cap_sp = 0;
+    int rc = segments_by_triangle(seg, n_seg, u->s->n_triangles, &start, &list);
+    for (int64_t t = 0; t < u->s->n_triangles && !rc; t++) {
+        const int64_t k0 = start[t], k1 = start[t + 1];
         if (k1 - k0 < 2)
             continue;
         int ai, aj;
@@ -860,30 +847,17 @@ static int64_t split_at_triple_points(builder *u, segment **segp, int64_t *n_seg
                       orient_tol(C, D, A, ai, aj) * orient_tol(C, D, B, ai, aj) < 0))
                     continue;
                 const int64_t y = other_of(p, t), z = other_of(q, t);
-                if (y == z)
-                    continue;
-                /* the third pair's segment */
-                const int64_t a = y < z ? y : z, b = y < z ? z : y;
-                uint64_t h = hash_point(a, b, -1) & (uint64_t)(n_map - 1);
+                /* the third pair's segment, among y's */
                 int64_t third = -1;
-                for (; map[h] >= 0; h = (h + 1) & (uint64_t)(n_map - 1)) {
-                    const segment *r = &seg[map[h]];
-                    if ((r->x == a && r->y == b) || (r->x == b && r->y == a)) {
-                        third = map[h];
-                        break;
-                    }
-                }
-                if (third < 0)
+                for (int64_t l = start[y]; l < start[y + 1] && third < 0; l++)
+                    if (other_of(&seg[list[l]], y) == z)
+                        third = list[l];
+                if (y == z || third < 0)
                     continue;
-                int64_t tri3[3] = {t, y, z};
-                for (int m = 1; m < 3; m++)
-                    for (int l = m; l > 0 && tri3[l] < tri3[l - 1]; l--) {
-                        const int64_t w = tri3[l];
-                        tri3[l] = tri3[l - 1];
-                        tri3[l - 1] = w;
-                    }
-                const int64_t pid = triple_id(u, tri3[0], tri3[1], tri3[2]);
-                if (pid < 0) {
+                const int64_t lo = t < y ? (t < z ? t : z) : (y < z ? y : z);
+                const int64_t hi = t > y ? (t > z ? t : z) : (y > z ? y : z);
+                const int64_t pid = triple_id(u, lo, t ^ y ^ z ^ lo ^ hi, hi);
+                if (pid < 0 || vc_reserve(&sp, &cap_sp, n_sp + 3, sizeof *sp)) {
                     rc = -1;
                     break;
                 }
@@ -891,15 +865,6 @@ static int64_t split_at_triple_points(builder *u, segment **segp, int64_t *n_seg
                 if (isnan(P[0]))
                     continue;
                 const int64_t sq[3] = {list[i], list[j], third};
-                if (n_sp + 3 > cap_sp) {
-                    cap_sp = cap_sp ? 2 * cap_sp : 64;
-                    split_rec *x = realloc(sp, (size_t)cap_sp * sizeof *sp);
-                    if (!x) {
-                        rc = -1;
-                        break;
-                    }
-                    sp = x;
-                }
                 for (int m = 0; m < 3; m++) {
                     const segment *r = &seg[sq[m]];
                     const double *E0 = vertex_of(u, r->e[0]), *E1 = vertex_of(u, r->e[1]);
@@ -912,37 +877,33 @@ static int64_t split_at_triple_points(builder *u, segment **segp, int64_t *n_seg
                 }
             }
     }
-    if (rc || n_sp == 0)
-        goto done;
-    /* the split segments: each segment's points by parameter, once */
-    qsort(sp, (size_t)n_sp, sizeof *sp, cmp_split_rec);
-    segment *out = malloc((size_t)(n_seg + n_sp + 1) * sizeof *out);
-    if (!out) {
-        rc = -1;
-        goto done;
-    }
-    int64_t n_out = 0, k = 0;
-    for (int64_t q = 0; q < n_seg; q++) {
-        int64_t from = seg[q].e[0];
-        for (; k < n_sp && sp[k].seg == q; k++) {
-            if (sp[k].point == from || (k > 0 && sp[k - 1].seg == q && sp[k - 1].point == sp[k].point))
-                continue;
-            out[n_out++] = (segment){seg[q].x, seg[q].y, {from, sp[k].point}};
-            from = sp[k].point;
+    if (!rc && n_sp > 0) {
+        /* the split segments: each segment's points by parameter, once */
+        qsort(sp, (size_t)n_sp, sizeof *sp, cmp_split_rec);
+        segment *out = malloc((size_t)(n_seg + n_sp + 1) * sizeof *out);
+        if (!out)
+            rc = -1;
+        int64_t n_out = 0, k = 0;
+        for (int64_t q = 0; q < n_seg && out; q++) {
+            int64_t from = seg[q].e[0];
+            for (; k < n_sp && sp[k].seg == q; k++) {
+                if (sp[k].point == from || (k > 0 && sp[k - 1].seg == q && sp[k - 1].point == sp[k].point))
+                    continue;
+                out[n_out++] = (segment){seg[q].x, seg[q].y, {from, sp[k].point}};
+                from = sp[k].point;
+            }
+            out[n_out++] = (segment){seg[q].x, seg[q].y, {from, seg[q].e[1]}};
         }
-        out[n_out++] = (segment){seg[q].x, seg[q].y, {from, seg[q].e[1]}};
+        if (out) {
+            free(seg);
+            *segp = out;
+            *n_segp = n_out;
+        }
     }
-    for (int64_t i = 0; i < u->n_pts; i++)
-        n_triple += u->pts[i].a < 0;
-    free(seg);
-    *segp = out;
-    *n_segp = n_out;
-done:
-    free(count);
+    free(start);
     free(list);
-    free(map);
     free(sp);
-    return rc ? -1 : n_triple;
+    return rc;
 }
 
 /* ---- Patches and their winding numbers ---- */
@@ -998,7 +959,7 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
     int64_t *pairs = NULL, n_pairs = 0;
     segment *seg = NULL;
     growing pieces = {0};
-    int64_t *parent = NULL, *count = NULL, *list = NULL, *start = NULL, *rep_piece = NULL;
+    int64_t *parent = NULL, *list = NULL, *start = NULL, *rep_piece = NULL;
     edge_entry *ent = NULL;
     double *winding = NULL;
     int rc = 0;
@@ -1052,35 +1013,19 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
         goto oom;
     r->n_segments = n_seg;
 
-    /* 2. the segments of each triangle (counting sort), each cut triangle
+    /* 2. the segments of each triangle (segments_by_triangle), each cut triangle
      * split */
-    count = calloc((size_t)nt + 1, sizeof *count);
-    list = malloc((size_t)(2 * n_seg + 1) * sizeof *list);
-    if (!count || !list)
+    if (segments_by_triangle(seg, n_seg, nt, &start, &list))
         goto oom;
-    for (int64_t q = 0; q < n_seg; q++) {
-        count[seg[q].x + 1]++;
-        count[seg[q].y + 1]++;
-    }
-    for (int64_t t = 0; t < nt; t++)
-        count[t + 1] += count[t];
-    start = malloc((size_t)(nt + 1) * sizeof *start);
-    if (!start)
-        goto oom;
-    memcpy(start, count, (size_t)(nt + 1) * sizeof *start);
-    for (int64_t q = 0; q < n_seg; q++) {
-        list[start[seg[q].x]++] = q;
-        list[start[seg[q].y]++] = q;
-    }
     for (int64_t t = 0; t < nt; t++) {
         const int64_t *v = s->tri + 3 * t;
-        if (count[t + 1] == count[t]) {
+        if (start[t + 1] == start[t]) {
             if (grow_push(&pieces, v[0], v[1], v[2], t))
                 goto oom;
             continue;
         }
         r->n_split++;
-        int res = split_triangle(&u, t, seg, list + count[t], count[t + 1] - count[t], &pieces);
+        int res = split_triangle(&u, t, seg, list + start[t], start[t + 1] - start[t], &pieces);
         if (res == -2)
             goto oom;
         if (res < 0) {
@@ -1291,7 +1236,6 @@ done:
     free(u.slot);
     free(pieces.v);
     free(parent);
-    free(count);
     free(list);
     free(start);
     free(rep_piece);
