@@ -1211,6 +1211,31 @@ def case_wing(n_chord=80, n_span=20, span=3.0, taper=0.4):
     return pts, [(a, c, b) for a, b, c in tris]
 
 
+def case_wing_round_te(n_chord=80, n_span=20, span=3.0, taper=0.4, te_radius=0.003, n_te=8):
+    """The wing of case_wing with its trailing edge cut where the section is
+    2 te_radius thick and rounded there by a half circle in n_te facets
+    (0.24 of the error bound: a round the bound does not resolve, each of
+    its folds below theta_sharp), the chord scaled back to 1."""
+    def half(x):  # open trailing edge (the standard -0.1015 x^4)
+        return 5 * 0.12 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x ** 3
+                           - 0.1015 * x ** 4)
+    lo, hi = 0.5, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if half(mid) > te_radius else (lo, mid)
+    xe = lo
+    xs = [xe * 0.5 * (1 - math.cos(math.pi * i / n_chord)) for i in range(n_chord + 1)]
+    section = [(x, half(x)) for x in reversed(xs)] + [(x, -half(x)) for x in xs[1:]]
+    section += [(xe + te_radius * math.cos(a), te_radius * math.sin(a))
+                for a in (-math.pi / 2 + math.pi * j / n_te for j in range(1, n_te))]
+    rings = []
+    for k in range(n_span + 1):
+        c = 1.0 - (1.0 - taper) * k / n_span
+        rings.append([(c * x, c * y, span * k / n_span) for x, y in section])
+    pts, tris = capped_sweep(rings)
+    return pts, [(a, c, b) for a, b, c in tris]
+
+
 def case_hex_prism():
     """A capped hexagonal prism: its six side edges fold by exactly 60
     degrees, theta_sharp itself (to rounding), the caps' rims by 90."""
@@ -1448,6 +1473,7 @@ CASES = [
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
     ("csg_animal", case_csg_animal, "marching cubes of a union of sphere chains (a body, four legs): junction creases as staircases of folds", 2),
     ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
+    ("wing_round_te", case_wing_round_te, "the wing with its trailing edge rounded to a quarter of the error bound (a round below the bound's resolution: a crease at its scale)", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),
     ("rough_blob", case_rough_blob, "bumpy star-shaped subdivided icosahedron, every vertex moved radially by up to 0.7 of the default error bound: noise at the facets' scale", 2),

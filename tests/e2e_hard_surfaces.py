@@ -150,6 +150,11 @@ OPTIONS = {"uv_tight": ["--max-error", "1e-4"]}
 # sampling (session 33, features.h's VC_VISIBLE_FOLD): at least this many
 # said so.
 VISIBLE_FOLDS = {"uv_tight": 400}
+# Rounds narrower than the error bound made creases (session 48,
+# features.h's VC_SHARP_ROUND): at least this many edges said so, and at
+# most this many balls (the wing's trailing edge rounded to 0.24 of the
+# bound took 60,556 balls before, its sharp twin 6,751; now 19,931).
+ROUNDS = {"wing_round_te": (20, 30000)}
 # A repair a case needs, said so on stderr (session 30: the 8 turned-over
 # needles flipped, each within half the error bound; without the flips the
 # sampling diverged after 6 passes).
@@ -320,6 +325,13 @@ def main():
         check(m is not None and int(m.group(1)) >= VISIBLE_FOLDS[name],
               "%s: fewer than %d folds made creases at the error bound: %s"
               % (name, VISIBLE_FOLDS[name], m and m.group(0)))
+    m = re.search(r"mesh: (\d+) edges are creases in the middle of rounds narrower than the error bound", e)
+    if name in ROUNDS:
+        b = re.search(r"balls: (\d+) ", e)
+        check(m is not None and int(m.group(1)) >= ROUNDS[name][0] and b is not None and
+              int(b.group(1)) <= ROUNDS[name][1],
+              "%s: not %d round creases and at most %d balls: %s, %s"
+              % (name, ROUNDS[name][0], ROUNDS[name][1], m and m.group(0), b and b.group(0)))
     if name in SPECKS:
         m = re.search(r"mesh: (\d+) folds over 60 degrees and (\d+) corners are noise at the error bound", e)
         check(m is not None and int(m.group(1)) >= SPECKS[name], "%s: fewer than %d folds judged noise: %s"

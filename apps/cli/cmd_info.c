@@ -393,6 +393,8 @@ int vc_cmd_info(int argc, char **argv)
         printf("folds the error bound sees: %lld below the sharp angle (sharp: their triangles leave "
                "each other's plane by more than %g bounds)\n",
                (long long)f.n_sharp_visible, VC_VISIBLE_FOLD);
+        printf("rounds narrower than the error bound: %lld edges in their middle made sharp\n",
+               (long long)f.n_sharp_round);
         printf("creases: %lld (%lld open, %lld closed)\n", (long long)f.n_creases,
                (long long)(f.n_creases - f.n_closed_creases), (long long)f.n_closed_creases);
         printf("surface patches: %lld", (long long)f.n_patches);

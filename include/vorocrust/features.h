@@ -57,7 +57,8 @@ enum {
     VC_SHARP_ANGLE = 1,       /* two triangles, normals differ by more than theta_sharp */
     VC_SHARP_BOUNDARY = 2,    /* one triangle */
     VC_SHARP_NONMANIFOLD = 4, /* three or more triangles */
-    VC_SHARP_FOLD = 8         /* a fold below theta_sharp the caller made a crease */
+    VC_SHARP_FOLD = 8,        /* a fold below theta_sharp the caller made a crease */
+    VC_SHARP_ROUND = 16       /* the middle of a round narrower than the error bound */
 };
 
 /* Why a vertex is a sharp corner (bits of vertex_corner; 0 = no corner). */
@@ -112,6 +113,11 @@ typedef struct vc_features {
      * triangles of a patch as co-smooth when either their normals or
      * these agree. */
     double *tri_smooth_normal;
+    /* NULL unless a round narrower than the error bound became a crease
+     * (VC_SHARP_ROUND): then n_triangles flags, 1 for the triangles of
+     * its band, whose tri_smooth_normal is the flank of the round they lie
+     * on; the sizing takes that as their tangent plane too. */
+    unsigned char *tri_round;
 
     /* ---- Counts ---- */
     int64_t n_sharp_edges;
@@ -130,6 +136,8 @@ typedef struct vc_features {
                                    so the sizing would vanish at the vertex */
     int64_t n_sharp_visible;    /* folds below theta_sharp made creases: visible at
                                    noise_scale (VC_SHARP_FOLD) */
+    int64_t n_sharp_round;      /* edges made creases in the middle of rounds narrower
+                                   than noise_scale (VC_SHARP_ROUND) */
 
     /* ---- Creases ----
      * Crease c has k = crease_start[c+1] - crease_start[c] edges,
@@ -198,6 +206,16 @@ int vc_features_detect_with(const vc_surface *s, double theta_sharp_deg,
  * 650,000 balls and no end), while as a crease its sides are flat and take
  * balls of their own size. */
 #define VC_VISIBLE_FOLD 8.0
+/*
+ * And a round narrower than the error bound is a crease (VC_SHARP_ROUND,
+ * n_sharp_round): where folds below theta_sharp turn the surface by more
+ * than theta_sharp between two flat flanks half an error bound apart, the
+ * edges in the middle of the round (between the triangles nearer one
+ * flank and those nearer the other) are sharp, and the band's triangles
+ * take their flank's normal as their smoothed normal (tri_round). Kept
+ * smooth, such a round bounds the balls by its radius over both flanks (a
+ * wing whose trailing edge is rounded to a quarter of the bound: nine
+ * times the balls of the same wing with a sharp edge). */
 int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
                               const unsigned char *extra_sharp, double scale, vc_features *out,
                               vc_error *err);

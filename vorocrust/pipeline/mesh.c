@@ -665,6 +665,12 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                    "mesh: %lld folds below %g degrees are creases: their triangles leave each "
                    "other's plane by more than %g times the error bound",
                    (long long)f.n_sharp_visible, so.sharp_angle, VC_VISIBLE_FOLD);
+        if (attempt == 0 && f.n_sharp_round > 0)
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %lld edges are creases in the middle of rounds narrower than the error "
+                   "bound (the surface turns by more than %g degrees between flat flanks %g "
+                   "apart)",
+                   (long long)f.n_sharp_round, so.sharp_angle, bound);
         if (smooth > 0) {
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %d rounds of Loop smoothing of the patches (%lld triangles, about %lld "

@@ -272,6 +272,71 @@ static void csr_free(int64_t **a, int64_t **b)
     *a = *b = NULL;
 }
 
+/* The normal that stands for triangle t's plane: for a triangle of a
+ * round's band (vc_features.tri_round), the flank it took. */
+static const double *plane_normal(const vc_features *f, int64_t t)
+{
+    return f->tri_round && f->tri_round[t] ? f->tri_smooth_normal + 3 * t : f->tri_normal + 3 * t;
+}
+
+/* A crease along a round narrower than the error bound (a wing's tip cap
+ * around its rounded trailing edge) turns with it, by the round's whole
+ * turn within a fraction of the bound: its points there are not co-smooth
+ * by tangent, and the edge balls would shrink to the round's size, as the
+ * surface balls did before the round became a crease. Its edges there take
+ * the direction of the flanks' planes instead, the intersection of the
+ * planes of their two triangles (flank normals on the round's side): as
+ * the crease runs where the round is sharp. Along each run of such edges
+ * the sign is the run's: the direction its chords advance along. */
+static void round_crease_tangents(vc_sizing *z)
+{
+    const vc_features *f = z->f;
+    for (int64_t c = 0; c < f->n_creases; c++) {
+        const int64_t k0 = f->crease_start[c], k1 = f->crease_start[c + 1];
+        for (int64_t k = k0; k < k1;) {
+            /* a run of edges beside a round's band, whose planes meet */
+            int64_t j = k;
+            double net = 0, first[3] = {0, 0, 0};
+            for (; j < k1; j++) {
+                const int64_t e = f->crease_edge[j];
+                if (f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
+                    break;
+                const int64_t u = f->edge_tri[f->edge_tri_start[e]], v = f->edge_tri[f->edge_tri_start[e] + 1];
+                if (!f->tri_round[u] && !f->tri_round[v])
+                    break;
+                const double *nu = plane_normal(f, u), *nv = plane_normal(f, v);
+                double t[3] = {nu[1] * nv[2] - nu[2] * nv[1], nu[2] * nv[0] - nu[0] * nv[2],
+                               nu[0] * nv[1] - nu[1] * nv[0]};
+                const double l = sqrt(dot3(t, t));
+                if (!(l > 0.1))
+                    break; /* (nearly) parallel planes: no line of theirs */
+                for (int d = 0; d < 3; d++)
+                    t[d] /= l;
+                if (j == k)
+                    memcpy(first, t, sizeof first);
+                else if (dot3(t, first) < 0)
+                    for (int d = 0; d < 3; d++)
+                        t[d] = -t[d];
+                memcpy(z->edge_tangent + 3 * e, t, sizeof t);
+                /* the chord, in the crease's direction */
+                const double *a = vtx(z, f->crease_vertex[j + c]), *b = vtx(z, f->crease_vertex[j + c + 1]);
+                const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+                net += dot3(ab, t);
+            }
+            if (j == k) {
+                k++;
+                continue;
+            }
+            /* the run advances along -first: turn it */
+            if (net < 0)
+                for (int64_t i = k; i < j; i++)
+                    for (int d = 0; d < 3; d++)
+                        z->edge_tangent[3 * f->crease_edge[i] + d] = -z->edge_tangent[3 * f->crease_edge[i] + d];
+            k = j;
+        }
+    }
+}
+
 int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
                    double sharp_angle_deg, double max_error)
 {
@@ -327,6 +392,8 @@ int vc_sizing_init(vc_sizing *z, const vc_surface *s, const vc_features *f,
             for (int k = 0; k < 3; k++)
                 z->edge_tangent[3 * e + k] = sg * d[k] / l;
     }
+    if (f->tri_round)
+        round_crease_tangents(z);
     /* The elements and their tree. */
     int64_t n = nt + f->n_sharp_edges + f->n_corners;
     build_elem *be = malloc(sizeof(build_elem) * (size_t)(n ? n : 1));
@@ -410,8 +477,10 @@ static int tri_cosmooth_with_list(const vc_sizing *z, const int64_t *tris, int64
 
 /* For an edge or corner point: the normal of its own triangle (around the
  * edge or corner) in triangle t's patch that is nearest t's, the tangent
- * plane of that patch there; NULL when none is in t's patch. */
-static const double *patch_normal_at(const vc_sizing *z, const vc_surface_point *sp, int64_t t)
+ * plane of that patch there (for a triangle of a round's band, the flank
+ * it took: vc_features.tri_round), in buf; NULL when none is in t's patch. */
+static const double *patch_normal_at(const vc_sizing *z, const vc_surface_point *sp, int64_t t,
+                                     double buf[3])
 {
     const int64_t *tris;
     int64_t n;
@@ -432,6 +501,11 @@ static const double *patch_normal_at(const vc_sizing *z, const vc_surface_point 
         if (z->f->tri_patch[u] == z->f->tri_patch[t] && d > best_dot) {
             best_dot = d;
             best = z->tri_out_normal + 3 * u;
+            if (z->f->tri_round && z->f->tri_round[u]) {
+                for (int k = 0; k < 3; k++)
+                    buf[k] = z->orientation * z->f->tri_smooth_normal[3 * u + k];
+                best = buf;
+            }
         }
     }
     return best;
@@ -768,11 +842,44 @@ static void bound_by_element(const vc_sizing *z, const vc_surface_point *sp, con
          * patch's tangent plane there (without this, a corner ball on a
          * curved patch reached 0.6% of the diagonal away from it:
          * fandisk.off) */
-        const double *nq = patch_normal_at(z, sp, id);
+        double buf[3];
+        const double *nq = patch_normal_at(z, sp, id, buf);
         if (nq)
             *best = fmin(*best, fmin(dist_outside_slab(z, id, p, nq, 1.0),
                                      dist_outside_slab(z, id, p, nq, -1.0)));
     }
+}
+
+/* Is sharp edge e on a round's crease, or beside a round's band? */
+static int edge_on_round(const vc_features *f, int64_t e)
+{
+    if (f->edge_sharp[e] == VC_SHARP_ROUND)
+        return 1;
+    for (int64_t k = f->edge_tri_start[e]; k < f->edge_tri_start[e + 1]; k++)
+        if (f->tri_round[f->edge_tri[k]])
+            return 1;
+    return 0;
+}
+
+/* The error bound for an edge or corner ball on a round's crease (or on a
+ * crease beside its band), INFINITY for any other point. The crease runs
+ * through the round's middle and the reconstruction is sharp there: a
+ * ball of radius R along it cuts about the round's radius times R off
+ * the section (a wing's rounded trailing edge under balls of 0.35: -1.4%
+ * of its volume); at most the error bound, that loss is the bound's own
+ * order, times the round's radius over the bound. */
+static double round_cap(const vc_sizing *z, const vc_surface_point *sp)
+{
+    const vc_features *f = z->f;
+    if (!f->tri_round || !isfinite(z->eps))
+        return INFINITY;
+    if (sp->kind == VC_ELEM_EDGE)
+        return edge_on_round(f, sp->id) ? z->eps : INFINITY;
+    if (sp->kind == VC_ELEM_CORNER)
+        for (int64_t k = z->vedge_start[sp->id]; k < z->vedge_start[sp->id + 1]; k++)
+            if (edge_on_round(f, z->vedge[k]))
+                return z->eps;
+    return INFINITY;
 }
 
 double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, const double p[3],
@@ -780,7 +887,7 @@ double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, co
 {
     if (z->n_elems == 0)
         return bound;
-    double best = bound;
+    double best = fmin(bound, round_cap(z, sp));
     const double *np = sp->kind == VC_ELEM_TRIANGLE ? z->tri_out_normal + 3 * sp->id : NULL;
     const double *tp = sp->kind == VC_ELEM_EDGE ? z->edge_tangent + 3 * sp->id : NULL;
     const int64_t patch = np ? z->f->tri_patch[sp->id] : -1;
@@ -827,7 +934,7 @@ double vc_sizing_radius_bound(const vc_sizing *z, const vc_surface_point *sp, co
 double vc_sizing_radius_bound_all(const vc_sizing *z, const vc_surface_point *sp,
                                   const double p[3], double bound)
 {
-    double best = bound;
+    double best = fmin(bound, round_cap(z, sp));
     const double *np = sp->kind == VC_ELEM_TRIANGLE ? z->tri_out_normal + 3 * sp->id : NULL;
     const double *tp = sp->kind == VC_ELEM_EDGE ? z->edge_tangent + 3 * sp->id : NULL;
     for (int64_t i = 0; i < z->n_elems; i++)

@@ -86,6 +86,17 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
 int vc_features_vertex_flat(const vc_surface *s, const vc_features *f, vc_flat_probe *p, int64_t v,
                             const int64_t *vtri, int64_t n_vtri, double scale, unsigned char *near);
 
+/* Step 2c (round_creases.c): the folds below theta_sharp in the middle of
+ * rounds narrower than the error bound scale become creases
+ * (VC_SHARP_ROUND; f->n_sharp_round, and n_sharp_edges raised). *round_normal
+ * receives NULL when none did, else 3 * n_triangles: for the triangles of
+ * their bands, the flank normal each took (unit, in the triangle's input
+ * orientation), zero elsewhere; the caller frees it. cos_theta: of
+ * theta_sharp; near (or NULL): triangles beside noise, left alone. Returns
+ * the edges made creases, or -1 when out of memory. */
+int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scale, double cos_theta,
+                                const unsigned char *near, double **round_normal);
+
 /* Step 6: f->tri_smooth_normal, the area-weighted mean of the patch-oriented
  * normals within VC_FLAT_REACH * scale of each marked triangle (near[t]), in
  * its patch; the triangle's own normal elsewhere (within theta_sharp / 2

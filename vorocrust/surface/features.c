@@ -46,6 +46,7 @@ void vc_features_free(vc_features *f)
     free(f->tri_orient);
     free(f->tri_normal);
     free(f->tri_smooth_normal);
+    free(f->tri_round);
     free(f->crease_start);
     free(f->crease_edge);
     free(f->crease_vertex);
@@ -712,6 +713,7 @@ static int find_corners(const vc_surface *s, vc_features *f, const int64_t *adj_
 }
 
 static int64_t close_cosmooth_corners(const vc_surface *s, vc_features *f, double theta_sharp_deg);
+static int take_round_normals(vc_features *f, const double *round_normal);
 
 /* ---- 4. Creases ---- */
 
@@ -826,6 +828,7 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
     f->n_triangles = nt;
     f->noise_scale = scale > 0 && isfinite(scale) ? scale : 0;
     unsigned char *near = NULL;
+    double *round_normal = NULL;
     /* Folds within FOLD_TIE radians of theta_sharp count as sharp: an input
      * that folds by exactly theta_sharp (a hexagonal prism at 60 degrees)
      * has its folds computed a few ulps either side of it, a few 1e-7
@@ -852,8 +855,11 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
         if (f->noise_scale > 0 && (!(near = xcalloc(nt, 1)) ||
                                    vc_features_unmark_noise_folds(s, f, f->noise_scale, near)))
             rc = vc_error_set(err, VC_ENOMEM, "out of memory detecting features");
-        else if (f->noise_scale > 0)
+        else if (f->noise_scale > 0) {
             promote_visible_folds(s, f, f->noise_scale, near);
+            if (vc_features_mark_rounds(s, f, f->noise_scale, cos_theta, near, &round_normal) < 0)
+                rc = vc_error_set(err, VC_ENOMEM, "out of memory detecting features");
+        }
     }
     if (!rc)
         rc = sharp_adjacency(f, &adj_start, &adj, err);
@@ -891,14 +897,44 @@ int vc_features_detect_scaled(const vc_surface *s, double theta_sharp_deg,
     if (!rc && f->n_sharp_noise + f->n_corner_noise > 0 &&
         vc_features_smooth_normals(s, f, f->noise_scale, near))
         rc = vc_error_set(err, VC_ENOMEM, "out of memory smoothing normals");
+    if (!rc && round_normal && take_round_normals(f, round_normal))
+        rc = vc_error_set(err, VC_ENOMEM, "out of memory smoothing normals");
     if (!rc && close_cosmooth_corners(s, f, theta_sharp_deg) < 0)
         rc = vc_error_set(err, VC_ENOMEM, "out of memory checking the corners");
     free(near);
+    free(round_normal);
     free(adj_start);
     free(adj);
     if (rc)
         vc_features_free(f);
     return rc;
+}
+
+/* Step 2c's band triangles (round_normal non-zero, in their input
+ * orientation) take that flank as their smoothed normal, in the patch
+ * orientation, and are flagged in tri_round. Returns 0, or -1 when out of
+ * memory. */
+static int take_round_normals(vc_features *f, const double *round_normal)
+{
+    const int64_t nt = f->n_triangles;
+    if (!f->tri_smooth_normal) {
+        f->tri_smooth_normal = malloc(sizeof(double) * 3 * (size_t)(nt > 0 ? nt : 1));
+        if (!f->tri_smooth_normal)
+            return -1;
+        memcpy(f->tri_smooth_normal, f->tri_normal, sizeof(double) * 3 * (size_t)nt);
+    }
+    f->tri_round = xcalloc(nt, 1);
+    if (!f->tri_round)
+        return -1;
+    for (int64_t t = 0; t < nt; t++) {
+        const double *r = round_normal + 3 * t;
+        if (r[0] == 0 && r[1] == 0 && r[2] == 0)
+            continue;
+        for (int k = 0; k < 3; k++)
+            f->tri_smooth_normal[3 * t + k] = f->tri_orient[t] * r[k];
+        f->tri_round[t] = 1;
+    }
+    return 0;
 }
 
 /* ---- 7. Corners where co-smoothness breaks ----
