@@ -573,6 +573,17 @@ def case_fillet_block():
     return box_surface(coords, a, r)
 
 
+def case_fillet_block_tiny():
+    """The filleted block with fillets of radius 0.001, a fifth of the error
+    bound, in 4 facets per quarter turn: rounds the bound does not resolve,
+    each a crease at its scale, meeting at rounded corners."""
+    r = 0.001
+    a = (0.5 - r, 0.35 - r, 0.25 - r)
+    coords = [fillet_coords(a[0], r, 3, 4), fillet_coords(a[1], r, 2, 4),
+              fillet_coords(a[2], r, 1, 4)]
+    return box_surface(coords, a, r)
+
+
 def case_genus3():
     return polydata_to_lists(contour(torus_blend_field(14), math.exp(-1.0)))
 
@@ -1473,6 +1484,7 @@ CASES = [
     ("noise_blob", case_noise_blob, "sphere plus Perlin noise, marching cubes on 200^3: bumpy, scan-like, ~170k triangles", 2),
     ("csg_animal", case_csg_animal, "marching cubes of a union of sphere chains (a body, four legs): junction creases as staircases of folds", 2),
     ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
+    ("fillet_block_tiny", case_fillet_block_tiny, "block with fillets of radius a fifth of the error bound (rounds below the bound's resolution meeting at rounded corners)", 2),
     ("wing_round_te", case_wing_round_te, "the wing with its trailing edge rounded to a quarter of the error bound (a round below the bound's resolution: a crease at its scale)", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),

@@ -36,7 +36,7 @@
  *    apart are the crease (VC_SHARP_ROUND): the boundary of a set of
  *    triangles, so it has no gaps. Networks of them spanning less than
  *    ROUND_EXTENT error bounds are dropped, and those with an end on smooth
- *    ground or a branch.
+ *    ground (not within W of another network or crease).
  * 4. The triangles of the band keep the flank they took as their smoothed
  *    normal (vc_features.tri_smooth_normal, marked in tri_round): the
  *    sizing then sees each side of the crease as its flank, as on a sharp
@@ -435,6 +435,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     int64_t *parent = NULL;
     double *box = NULL;
     unsigned char *degree = NULL;
+    int64_t *near_v = NULL;
     int64_t n_crease = 0;
     if (oom || n_round == 0)
         goto done;
@@ -495,14 +496,15 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
             parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
     }
     /* networks shorter than ROUND_EXTENT error bounds are dropped, and so
-     * are those that end in smooth ground (an end at no other sharp edge) or
-     * branch: a round crease runs round a closed rim or into other
-     * features; a stretch of one is the few folds of a round fading below
-     * the test's threshold, or noise folds that passed it, whose ends
-     * would be corners */
+     * are those that end in smooth ground (an end at no other sharp edge): a
+     * round crease runs round a closed rim or into other features; a
+     * stretch of one is the few folds of a round fading below the test's
+     * threshold, or noise folds that passed it, whose ends would be
+     * corners */
     box = malloc(sizeof *box * 6 * (size_t)(nv > 0 ? nv : 1));
     degree = calloc((size_t)(nv > 0 ? nv : 1), sizeof *degree);
-    if (!box || !degree) {
+    near_v = malloc(sizeof *near_v * (size_t)(nv > 0 ? nv : 1));
+    if (!box || !degree || !near_v) {
         oom = 1;
         goto done;
     }
@@ -529,11 +531,29 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
                     box[6 * r + 3 + d] = fmax(box[6 * r + 3 + d], s->xyz[3 * v + d]);
                 }
             }
-    /* a free end or a branch: the network is dropped (its box emptied) */
+    /* a free end: the network is dropped (its box emptied), unless the end
+     * lies within W of a vertex of another network or of a crease (three
+     * round creases stop short of a box's rounded corner, where none of
+     * the corner's triangles lies between two flat flanks) */
+    int64_t n_near = 0;
+    for (int64_t v = 0; v < nv; v++)
+        if (degree[v])
+            near_v[n_near++] = v;
     for (int64_t v = 0; v < nv; v++) {
-        const int dv = degree[v] & 0x7f;
-        if ((dv == 1 && !(degree[v] & 0x80)) || dv > 2)
-            box[6 * find_root(parent, v)] = NAN;
+        if (!((degree[v] & 0x7f) == 1 && !(degree[v] & 0x80)))
+            continue;
+        const int64_t r = find_root(parent, v);
+        int attached = 0;
+        for (int64_t i = 0; i < n_near && !attached; i++) {
+            const int64_t u = near_v[i];
+            if ((degree[u] & 0x7f) && find_root(parent, u) == r)
+                continue;
+            const double *p = s->xyz + 3 * v, *q = s->xyz + 3 * u;
+            const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+            attached = dot3(d, d) <= W * W;
+        }
+        if (!attached)
+            box[6 * r] = NAN;
     }
     for (int64_t e = 0; e < ne; e++) {
         if (!keep[e])
@@ -602,6 +622,7 @@ done:
     free(parent);
     free(box);
     free(degree);
+    free(near_v);
     if (oom) {
         free(*round_normal);
         *round_normal = NULL;
