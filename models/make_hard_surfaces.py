@@ -1214,6 +1214,13 @@ def case_wing(n_chord=80, n_span=20, span=3.0, taper=0.4):
     xs = [0.5 * (1 - math.cos(math.pi * i / n_chord)) for i in range(n_chord + 1)]
     section = [(x, naca4_half_thickness(0.12, x)) for x in reversed(xs)] + \
               [(x, -naca4_half_thickness(0.12, x)) for x in xs[1:-1]]
+    return tapered_wing(section, n_span, span, taper)
+
+
+def tapered_wing(section, n_span, span, taper):
+    """The section (a closed counter-clockwise list of (x, y), chord 1)
+    swept along z over span in n_span steps, its chord tapering from 1 to
+    taper about x = 0, capped, outward."""
     rings = []
     for k in range(n_span + 1):
         c = 1.0 - (1.0 - taper) * k / n_span
@@ -1239,12 +1246,7 @@ def case_wing_round_te(n_chord=80, n_span=20, span=3.0, taper=0.4, te_radius=0.0
     section = [(x, half(x)) for x in reversed(xs)] + [(x, -half(x)) for x in xs[1:]]
     section += [(xe + te_radius * math.cos(a), te_radius * math.sin(a))
                 for a in (-math.pi / 2 + math.pi * j / n_te for j in range(1, n_te))]
-    rings = []
-    for k in range(n_span + 1):
-        c = 1.0 - (1.0 - taper) * k / n_span
-        rings.append([(c * x, c * y, span * k / n_span) for x, y in section])
-    pts, tris = capped_sweep(rings)
-    return pts, [(a, c, b) for a, b, c in tris]
+    return tapered_wing(section, n_span, span, taper)
 
 
 def case_hex_prism():

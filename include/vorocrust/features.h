@@ -107,10 +107,11 @@ typedef struct vc_features {
     double *tri_normal;         /* 3 * n_triangles: unit normal in the patch
                                    orientation; (0,0,0) for zero area */
     /* NULL unless vc_features_detect_scaled judged folds or corners to be
-     * noise: then 3 * n_triangles, the normals smoothed at the error bound
-     * next to them (the area-weighted mean of the patch's normals within
-     * a few error bounds), tri_normal elsewhere. The sizing takes two
-     * triangles of a patch as co-smooth when either their normals or
+     * noise, or made rounds creases: then 3 * n_triangles, the normals
+     * smoothed at the error bound next to noise (the area-weighted mean of
+     * the patch's normals within a few error bounds), the flank normal on
+     * a round's band (tri_round), tri_normal elsewhere. The sizing takes
+     * two triangles of a patch as co-smooth when either their normals or
      * these agree. */
     double *tri_smooth_normal;
     /* NULL unless a round narrower than the error bound became a crease

@@ -55,15 +55,13 @@ void vc_flat_probe_free(vc_flat_probe *p)
     memset(p, 0, sizeof *p);
 }
 
-/* +1 when triangle t walks edge e from edge_vertex[2e] to edge_vertex[2e+1]
- * in its input order, -1 otherwise. */
-static int walks_forward(const vc_features *f, const vc_surface *s, int64_t t, int64_t e)
+int vc_features_walks_forward(const vc_features *f, const vc_surface *s, int64_t t, int64_t e)
 {
     const int j = f->tri_edge[3 * t] == e ? 0 : f->tri_edge[3 * t + 1] == e ? 1 : 2;
     return s->tri[3 * t + j] == f->edge_vertex[2 * e] ? 1 : -1;
 }
 
-static void centroid(const vc_surface *s, int64_t t, double c[3])
+void vc_triangle_centroid(const vc_surface *s, int64_t t, double c[3])
 {
     const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                  *d = s->xyz + 3 * s->tri[3 * t + 2];
@@ -71,7 +69,7 @@ static void centroid(const vc_surface *s, int64_t t, double c[3])
         c[k] = (a[k] + b[k] + d[k]) / 3.0;
 }
 
-static double twice_area(const vc_surface *s, int64_t t)
+double vc_triangle_twice_area(const vc_surface *s, int64_t t)
 {
     const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                  *d = s->xyz + 3 * s->tri[3 * t + 2];
@@ -282,7 +280,7 @@ static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p
                 const int64_t e = f->tri_edge[3 * t + j];
                 for (int64_t k = f->edge_tri_start[e]; k < f->edge_tri_start[e + 1]; k++)
                     if (f->edge_tri[k] == seeds[0] && f->edge_tri_start[e + 1] - f->edge_tri_start[e] == 2)
-                        p->sign[t] = (signed char)(walks_forward(f, s, t, e) == walks_forward(f, s, seeds[0], e)
+                        p->sign[t] = (signed char)(vc_features_walks_forward(f, s, t, e) == vc_features_walks_forward(f, s, seeds[0], e)
                                                        ? -1
                                                        : 1);
             }
@@ -292,9 +290,9 @@ static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p
     double m[3] = {0, 0, 0}, c[3] = {0, 0, 0}, area = 0;
     while (head < tail) {
         const int64_t t = p->queue[head++];
-        const double w = twice_area(s, t);
+        const double w = vc_triangle_twice_area(s, t);
         double ct[3];
-        centroid(s, t, ct);
+        vc_triangle_centroid(s, t, ct);
         for (int k = 0; k < 3; k++) {
             m[k] += p->sign[t] * w * f->tri_normal[3 * t + k];
             c[k] += w * ct[k];
@@ -309,13 +307,13 @@ static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p
             if (p->stamp[u] == walk)
                 continue;
             double cu[3];
-            centroid(s, u, cu);
+            vc_triangle_centroid(s, u, cu);
             if ((cu[0] - x[0]) * (cu[0] - x[0]) + (cu[1] - x[1]) * (cu[1] - x[1]) + (cu[2] - x[2]) * (cu[2] - x[2]) >
                 reach * reach)
                 continue;
             p->stamp[u] = walk;
             p->sign[u] = within_patch ? 1
-                                      : (signed char)(walks_forward(f, s, t, e) == walks_forward(f, s, u, e)
+                                      : (signed char)(vc_features_walks_forward(f, s, t, e) == vc_features_walks_forward(f, s, u, e)
                                                           ? -p->sign[t]
                                                           : p->sign[t]);
             p->queue[tail++] = u;
@@ -361,7 +359,7 @@ static int flat_walk(const vc_surface *s, const vc_features *f, vc_flat_probe *p
             const double *n = f->tri_normal + 3 * t;
             const double d = p->sign[t] * (n[0] * q[0] + n[1] * q[1] + n[2] * q[2]);
             if (d < 0)
-                away += twice_area(s, t) * -d;
+                away += vc_triangle_twice_area(s, t) * -d;
         }
         if (!(away <= VC_FLAT_TURNED * area))
             /* a few triangles of a fan (a UV sphere's pole) make no plane
@@ -645,7 +643,7 @@ int vc_features_smooth_normals(const vc_surface *s, vc_features *f, double scale
                 if (!near[t])
                     continue;
                 double c[3], m[3];
-                centroid(s, t, c);
+                vc_triangle_centroid(s, t, c);
                 vc_flat_near(s, f, &p, &t, 1, c, VC_FLAT_REACH * scale, INFINITY, 1, m);
                 if (m[0] != 0 || m[1] != 0 || m[2] != 0)
                     memcpy(f->tri_smooth_normal + 3 * t, m, sizeof m);

@@ -75,37 +75,16 @@ static double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static int side_of(const vc_features *f, int64_t t, int64_t e)
-{
-    return f->tri_edge[3 * t] == e ? 0 : f->tri_edge[3 * t + 1] == e ? 1 : 2;
-}
-
 /* -1 when triangles t and u, which share edge e, walk it the same way (one
  * of them turned over relative to the other), +1 otherwise. */
 static int relative_sign(const vc_surface *s, const vc_features *f, int64_t t, int64_t u, int64_t e)
 {
-    const int jt = side_of(f, t, e), ju = side_of(f, u, e);
-    const int ft = s->tri[3 * t + jt] == f->edge_vertex[2 * e];
-    const int fu = s->tri[3 * u + ju] == f->edge_vertex[2 * e];
-    return ft == fu ? -1 : 1;
-}
-
-static void centroid(const vc_surface *s, int64_t t, double c[3])
-{
-    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
-                 *d = s->xyz + 3 * s->tri[3 * t + 2];
-    for (int k = 0; k < 3; k++)
-        c[k] = (a[k] + b[k] + d[k]) / 3.0;
+    return -vc_features_walks_forward(f, s, t, e) * vc_features_walks_forward(f, s, u, e);
 }
 
 static double area(const vc_surface *s, int64_t t)
 {
-    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
-                 *d = s->xyz + 3 * s->tri[3 * t + 2];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-    return 0.5 * sqrt(dot3(n, n));
+    return 0.5 * vc_triangle_twice_area(s, t);
 }
 
 /* Distance from c to the line through edge e; *beyond (if not NULL): how
@@ -238,7 +217,7 @@ static int fold_in_round(const vc_surface *s, const vc_features *f, round_walk *
     for (int k = 0; k < 2; k++) {
         const int64_t t = k ? t2 : t1;
         double c[3];
-        centroid(s, t, c);
+        vc_triangle_centroid(s, t, c);
         w->stamp[t] = w->walk;
         w->dist[t] = line_distance(s, f, e, c, NULL);
         w->entry[t] = 0;
@@ -254,7 +233,7 @@ static int fold_in_round(const vc_surface *s, const vc_features *f, round_walk *
             continue; /* a stale entry */
         const int k = w->side[t] - 1;
         double ct[3], beyond;
-        centroid(s, t, ct);
+        vc_triangle_centroid(s, t, ct);
         /* beside the fold only: the band's next stretch, along it, is no
          * flank of this fold */
         const double across = line_distance(s, f, e, ct, &beyond);
@@ -287,7 +266,7 @@ static int fold_in_round(const vc_surface *s, const vc_features *f, round_walk *
             /* across each edge crossed, not along it: a long triangle of a
              * band (a CAD export's) is as far from the fold as it is wide */
             double cu[3];
-            centroid(s, u, cu);
+            vc_triangle_centroid(s, u, cu);
             const double in = it.d + line_distance(s, f, g, ct, NULL),
                          du = in + line_distance(s, f, g, cu, NULL);
             if (w->stamp[u] == w->walk && !(du < w->dist[u]))
@@ -392,17 +371,19 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
         free(cand);
         return 0;
     }
+    double *label = NULL;
+    unsigned char *keep = NULL;
+    int64_t *parent = NULL;
+    double *box = NULL;
+    unsigned char *degree = NULL;
+    int64_t *near_v = NULL;
+    int64_t n_crease = 0, n_round = 0;
     double *flank = malloc(sizeof *flank * 6 * (size_t)nc);
     signed char *in_round = malloc((size_t)nc);
     int64_t *slot = malloc(sizeof *slot * (size_t)ne);
-    if (!flank || !in_round || !slot) {
-        free(cand);
-        free(flank);
-        free(in_round);
-        free(slot);
-        return -1;
-    }
-    int oom = 0;
+    int oom = !flank || !in_round || !slot;
+    if (oom)
+        goto done;
 #pragma omp parallel reduction(| : oom)
     {
         round_walk w;
@@ -422,7 +403,6 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
         }
         walk_free(&w);
     }
-    int64_t n_round = 0;
     for (int64_t e = 0; e < ne; e++)
         slot[e] = -1;
     for (int64_t i = 0; i < nc; i++)
@@ -430,13 +410,6 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
             slot[cand[i]] = i;
             n_round++;
         }
-    double *label = NULL;
-    unsigned char *keep = NULL;
-    int64_t *parent = NULL;
-    double *box = NULL;
-    unsigned char *degree = NULL;
-    int64_t *near_v = NULL;
-    int64_t n_crease = 0;
     if (oom || n_round == 0)
         goto done;
 
