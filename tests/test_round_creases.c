@@ -5,8 +5,8 @@
  * number of facets, the apex row; an odd number, one of the two middle
  * rows, the same one everywhere), its band's triangles take their flank's
  * normal; at a bound no larger than the round nothing changes, nor on a
- * cylinder as wide as the bound, nor at the bound-scale rounds of a
- * cylinder's rims, which are sharp already. */
+ * cylinder as wide as the bound; a concave round (an L's inner corner)
+ * is found as a convex one is. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -140,6 +140,69 @@ static void expect_round(const char *name, double rho, int k, double scale, int 
     vc_surface_free(&b.s);
 }
 
+/* An L-shaped block (arms 1 long, 0.3 wide) whose inner corner is a
+ * concave round of radius r in k facets (k even), extruded over nz steps of
+ * 0.05, caps fanned from (0.15, 0.15) (the L is star-shaped about it): at
+ * a bound of 0.006 a radius of 0.001 is a crease along the round's middle
+ * row, 0.02 is not. */
+static void expect_concave(double r, int k, int64_t want)
+{
+    double xy[2 * 64];
+    int n = 0, mid = -1;
+    /* the outline: straight runs of 4 segments, then the round */
+    const double run[][4] = {{0, 0, 1, 0}, {1, 0, 1, 0.3}, {1, 0.3, 0.3 + r, 0.3}};
+    for (int q = 0; q < 3; q++)
+        for (int i = 0; i < 4; i++) {
+            xy[2 * n] = run[q][0] + (run[q][2] - run[q][0]) * i / 4;
+            xy[2 * n + 1] = run[q][1] + (run[q][3] - run[q][1]) * i / 4;
+            n++;
+        }
+    for (int j = 0; j < k; j++) {
+        const double a = -M_PI / 2 - (M_PI / 2) * j / k;
+        if (j == k / 2)
+            mid = n;
+        xy[2 * n] = 0.3 + r + r * cos(a);
+        xy[2 * n + 1] = 0.3 + r + r * sin(a);
+        n++;
+    }
+    const double run2[][4] = {{0.3, 0.3 + r, 0.3, 1}, {0.3, 1, 0, 1}, {0, 1, 0, 0}};
+    for (int q = 0; q < 3; q++)
+        for (int i = 0; i < 4; i++) {
+            xy[2 * n] = run2[q][0] + (run2[q][2] - run2[q][0]) * i / 4;
+            xy[2 * n + 1] = run2[q][1] + (run2[q][3] - run2[q][1]) * i / 4;
+            n++;
+        }
+    const int nz = 8;
+    builder b = {0};
+    for (int l = 0; l <= nz; l++)
+        for (int i = 0; i < n; i++)
+            add_v(&b, xy[2 * i], xy[2 * i + 1], 0.05 * l);
+    const int64_t c0 = add_v(&b, 0.15, 0.15, 0), c1 = add_v(&b, 0.15, 0.15, 0.05 * nz);
+    for (int l = 0; l < nz; l++)
+        for (int i = 0; i < n; i++) {
+            const int j = (i + 1) % n;
+            add_q(&b, (int64_t)l * n + i, (int64_t)l * n + j, (int64_t)(l + 1) * n + j,
+                  (int64_t)(l + 1) * n + i);
+        }
+    for (int i = 0; i < n; i++) {
+        const int j = (i + 1) % n;
+        add_t(&b, c0, j, i);
+        add_t(&b, c1, (int64_t)nz * n + i, (int64_t)nz * n + j);
+    }
+    vc_features f;
+    vc_error err = {0};
+    CHECK(vc_features_detect_scaled(&b.s, 60, NULL, 0.006, &f, &err) == 0);
+    int64_t on_mid = 0;
+    for (int64_t e = 0; e < f.n_edges; e++)
+        if (f.edge_sharp[e] == VC_SHARP_ROUND)
+            on_mid += f.edge_vertex[2 * e] % n == mid && f.edge_vertex[2 * e + 1] == f.edge_vertex[2 * e] + n;
+    CHECKF(f.n_sharp_round == want && on_mid == want,
+           "L block, concave round of radius %g: %lld round creases, %lld on its middle row (want %lld)", r,
+           (long long)f.n_sharp_round, (long long)on_mid, (long long)want);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
+}
+
 /* A capped n-gon cylinder of radius 1 at bound scale: no rounds, its sides
  * curved ground (the rims are sharp already). */
 static void expect_cylinder(int sides, double scale)
@@ -166,6 +229,9 @@ int main(void)
     expect_round("round of 8 facets, bound 0.002", 0.002, 8, 0.002, -1);
     /* no bound: nothing judged at a scale */
     expect_round("round of 8 facets, no bound", 0.002, 8, 0, -1);
+    /* concave: the inner corner of an L */
+    expect_concave(0.001, 6, 8);
+    expect_concave(0.02, 6, 0);
     /* curved ground: a cylinder of radius 1 under a bound of 2.5 (its flanks
      * 1.25 to 2.5 round it spread by half the turn between them) and 4
      * (flanks beyond the far side), fine and coarse; folds on a cylinder
