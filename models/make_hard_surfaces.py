@@ -584,6 +584,36 @@ def case_fillet_block_tiny():
     return box_surface(coords, a, r)
 
 
+def case_can_round_rims(radius=1.0, height=2.0, rho=0.002, n_around=128, n_round=4, n_face=20,
+                        n_side=20):
+    """A can (cylinder of radius 1, height 2) whose two rims are rounded to
+    0.002 (0.14 of the error bound) in n_round facets: two closed rounds
+    below the bound's resolution, each a closed crease at its scale."""
+    prof = [((radius - rho) * i / n_face, 0.0) for i in range(1, n_face + 1)]
+    prof += [(radius - rho + rho * math.cos(a), rho + rho * math.sin(a))
+             for a in (-math.pi / 2 + (math.pi / 2) * j / n_round for j in range(1, n_round))]
+    prof += [(radius, rho + (height - 2 * rho) * i / n_side) for i in range(n_side + 1)]
+    prof += [(radius - rho + rho * math.cos(a), height - rho + rho * math.sin(a))
+             for a in ((math.pi / 2) * j / n_round for j in range(1, n_round))]
+    prof += [((radius - rho) * i / n_face, height) for i in range(n_face, 0, -1)]
+    pts = [(0.0, 0.0, 0.0), (0.0, 0.0, height)]
+    for r, z in prof:
+        pts += [(r * math.cos(2 * math.pi * k / n_around), r * math.sin(2 * math.pi * k / n_around), z)
+                for k in range(n_around)]
+    m = len(prof)
+
+    def idx(i, k):
+        return 2 + i * n_around + k % n_around
+    tris = []
+    for k in range(n_around):
+        tris += [(0, idx(0, k + 1), idx(0, k)), (1, idx(m - 1, k), idx(m - 1, k + 1))]
+    for i in range(m - 1):
+        for k in range(n_around):
+            a, b, c, d = idx(i, k), idx(i, k + 1), idx(i + 1, k + 1), idx(i + 1, k)
+            tris += [(a, b, c), (a, c, d)]
+    return pts, tris
+
+
 def case_genus3():
     return polydata_to_lists(contour(torus_blend_field(14), math.exp(-1.0)))
 
@@ -1487,6 +1517,7 @@ CASES = [
     ("csg_animal", case_csg_animal, "marching cubes of a union of sphere chains (a body, four legs): junction creases as staircases of folds", 2),
     ("wing", case_wing, "tapered NACA 0012 wing: a sharp trailing edge (16-degree wedge), a round leading edge, flat caps", 2),
     ("fillet_block_tiny", case_fillet_block_tiny, "block with fillets of radius a fifth of the error bound (rounds below the bound's resolution meeting at rounded corners)", 2),
+    ("can_round_rims", case_can_round_rims, "cylinder whose rims are rounded to a seventh of the error bound (two closed rounds: closed creases at the bound's scale)", 2),
     ("wing_round_te", case_wing_round_te, "the wing with its trailing edge rounded to a quarter of the error bound (a round below the bound's resolution: a crease at its scale)", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),

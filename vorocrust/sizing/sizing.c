@@ -296,7 +296,7 @@ static void round_crease_tangents(vc_sizing *z)
         for (int64_t k = k0; k < k1;) {
             /* a run of edges beside a round's band, whose planes meet */
             int64_t j = k;
-            double net = 0, first[3] = {0, 0, 0};
+            double net = 0, prev[3] = {0, 0, 0};
             for (; j < k1; j++) {
                 const int64_t e = f->crease_edge[j];
                 if (f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
@@ -312,11 +312,12 @@ static void round_crease_tangents(vc_sizing *z)
                     break; /* (nearly) parallel planes: no line of theirs */
                 for (int d = 0; d < 3; d++)
                     t[d] /= l;
-                if (j == k)
-                    memcpy(first, t, sizeof first);
-                else if (dot3(t, first) < 0)
+                /* each edge's sign follows the one before it: a run can
+                 * turn through a whole circle (a can's rounded rim) */
+                if (j > k && dot3(t, prev) < 0)
                     for (int d = 0; d < 3; d++)
                         t[d] = -t[d];
+                memcpy(prev, t, sizeof prev);
                 memcpy(z->edge_tangent + 3 * e, t, sizeof t);
                 /* the chord, in the crease's direction */
                 const double *a = vtx(z, f->crease_vertex[j + c]), *b = vtx(z, f->crease_vertex[j + c + 1]);
@@ -327,7 +328,7 @@ static void round_crease_tangents(vc_sizing *z)
                 k++;
                 continue;
             }
-            /* the run advances along -first: turn it */
+            /* the run advances against its tangents: turn them */
             if (net < 0)
                 for (int64_t i = k; i < j; i++)
                     for (int d = 0; d < 3; d++)
