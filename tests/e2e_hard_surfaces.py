@@ -154,8 +154,8 @@ VISIBLE_FOLDS = {"uv_tight": 400}
 # features.h's VC_SHARP_ROUND): at least this many edges said so, and at
 # most this many balls (the wing's trailing edge rounded to 0.24 of the
 # bound took 60,556 balls before, its sharp twin 6,751; now 20,093; the
-# block with fillets of a fifth of the bound 192,869 in 179 s, now 34,111).
-# a can with rims rounded to a seventh of the bound: 140,202 balls in 115 s,
+# block with fillets of a fifth of the bound 192,869 in 87 s, now 34,111 in 7.9 s).
+# a can with rims rounded to a seventh of the bound: 140,202 balls in 49 s,
 # now 17,145 in 4.2 s; its two creases are closed loops, whose tangents must
 # turn with them (a sign taken from the loop's first edge reversed half of
 # each: the sampling diverged and the copy was sampled).
