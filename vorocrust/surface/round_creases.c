@@ -319,6 +319,18 @@ static int take_first(const double *p, const double *q)
     return (b[ib] < 0) != (d[id] > 0);
 }
 
+/* A vertex by its x coordinate, for the range searches of step 3. */
+typedef struct by_x {
+    double x;
+    int64_t v;
+} by_x;
+
+static int by_x_less(const void *a, const void *b)
+{
+    const by_x *p = a, *q = b;
+    return p->x < q->x ? -1 : p->x > q->x ? 1 : (p->v > q->v) - (p->v < q->v);
+}
+
 /* Union-find over vertices (path halving). */
 static int64_t find_root(int64_t *parent, int64_t v)
 {
@@ -376,7 +388,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     int64_t *parent = NULL;
     double *box = NULL;
     unsigned char *degree = NULL;
-    int64_t *near_v = NULL;
+    by_x *near_v = NULL;
     int64_t n_crease = 0, n_round = 0;
     double *flank = malloc(sizeof *flank * 6 * (size_t)nc);
     signed char *in_round = malloc((size_t)nc);
@@ -511,17 +523,28 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     int64_t n_near = 0;
     for (int64_t v = 0; v < nv; v++)
         if (degree[v])
-            near_v[n_near++] = v;
+            near_v[n_near++] = (by_x){s->xyz[3 * v], v};
+    qsort(near_v, (size_t)n_near, sizeof *near_v, by_x_less);
     for (int64_t v = 0; v < nv; v++) {
         if (!((degree[v] & 0x7f) == 1 && !(degree[v] & 0x80)))
             continue;
         const int64_t r = find_root(parent, v);
+        const double *p = s->xyz + 3 * v;
+        /* the candidates within W in x, from a binary search */
+        int64_t lo = 0, hi = n_near;
+        while (lo < hi) {
+            const int64_t mid = lo + (hi - lo) / 2;
+            if (near_v[mid].x < p[0] - W)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
         int attached = 0;
-        for (int64_t i = 0; i < n_near && !attached; i++) {
-            const int64_t u = near_v[i];
+        for (int64_t i = lo; i < n_near && near_v[i].x <= p[0] + W && !attached; i++) {
+            const int64_t u = near_v[i].v;
             if ((degree[u] & 0x7f) && find_root(parent, u) == r)
                 continue;
-            const double *p = s->xyz + 3 * v, *q = s->xyz + 3 * u;
+            const double *q = s->xyz + 3 * u;
             const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
             attached = dot3(d, d) <= W * W;
         }
