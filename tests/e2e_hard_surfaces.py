@@ -152,15 +152,15 @@ OPTIONS = {"uv_tight": ["--max-error", "1e-4"]}
 VISIBLE_FOLDS = {"uv_tight": 400}
 # Rounds narrower than the error bound made creases (session 48,
 # features.h's VC_SHARP_ROUND): at least this many edges said so, and at
-# most this many balls (the wing's trailing edge rounded to 0.24 of the
-# bound took 60,556 balls before, its sharp twin 6,751; now 20,093; the
-# block with fillets of a fifth of the bound 192,869 in 87 s, now 34,111 in 7.9 s).
-# a can with rims rounded to a seventh of the bound: 140,202 balls in 49 s,
-# now 17,145 in 4.2 s; its two creases are closed loops, whose tangents must
-# turn with them (a sign taken from the loop's first edge reversed half of
-# each: the sampling diverged and the copy was sampled).
-ROUNDS = {"wing_round_te": (20, 30000), "fillet_block_tiny": (24, 60000),
-          "can_round_rims": (256, 30000)}
+# most this many balls. Before: the wing's trailing edge rounded to 0.24 of
+# the bound took 60,556 balls (its sharp twin 6,751), the block with
+# fillets of a fifth of the bound 192,869 in 87 s, the can with rims
+# rounded to a seventh of it 140,202 in 49 s; now 11,591, 11,741 and 3,728.
+# The can's two creases are closed loops, whose tangents must turn with
+# them (a sign taken from the loop's first edge reversed half of each: the
+# sampling diverged and the copy was sampled).
+ROUNDS = {"wing_round_te": (20, 20000), "fillet_block_tiny": (24, 25000),
+          "can_round_rims": (256, 10000)}
 # A repair a case needs, said so on stderr (session 30: the 8 turned-over
 # needles flipped, each within half the error bound; without the flips the
 # sampling diverged after 6 passes).
