@@ -49,17 +49,13 @@ static int profile(double rho, double beta, int k, double flank, double *xy, int
     return n;
 }
 
-/* The profile extruded along z over nz steps of dz, capped by fans. */
-static void extrude(builder *b, const double *xy, int n, int nz, double dz)
+/* The profile extruded along z over nz steps of dz, capped by fans from
+ * (cx, cy) (a point the profile is star-shaped about). */
+static void extrude(builder *b, const double *xy, int n, int nz, double dz, double cx, double cy)
 {
     for (int l = 0; l <= nz; l++)
         for (int i = 0; i < n; i++)
             add_v(b, xy[2 * i], xy[2 * i + 1], l * dz);
-    double cx = 0, cy = 0;
-    for (int i = 0; i < n; i++) {
-        cx += xy[2 * i] / n;
-        cy += xy[2 * i + 1] / n;
-    }
     const int64_t c0 = add_v(b, cx, cy, 0), c1 = add_v(b, cx, cy, nz * dz);
     for (int l = 0; l < nz; l++)
         for (int i = 0; i < n; i++) {
@@ -84,8 +80,13 @@ static void expect_round(const char *name, double rho, int k, double scale, int 
     const double beta = 10 * M_PI / 180;
     const int n = profile(rho, beta, k, 0.1, xy, &tip);
     const int nz = 10;
+    double cx = 0, cy = 0;
+    for (int i = 0; i < n; i++) {
+        cx += xy[2 * i] / n;
+        cy += xy[2 * i + 1] / n;
+    }
     builder b = {0};
-    extrude(&b, xy, n, nz, 0.02);
+    extrude(&b, xy, n, nz, 0.02, cx, cy);
     vc_features f;
     vc_error err = {0};
     if (vc_features_detect_scaled(&b.s, 60, NULL, scale, &f, &err)) {
@@ -140,6 +141,20 @@ static void expect_round(const char *name, double rho, int k, double scale, int 
     vc_surface_free(&b.s);
 }
 
+/* The points of m straight runs (x0, y0, x1, y1), 4 segments each, the
+ * runs' ends left to the next run, after the n points of xy; returns the
+ * new count. */
+static int add_runs(double *xy, int n, const double (*run)[4], int m)
+{
+    for (int q = 0; q < m; q++)
+        for (int i = 0; i < 4; i++) {
+            xy[2 * n] = run[q][0] + (run[q][2] - run[q][0]) * i / 4;
+            xy[2 * n + 1] = run[q][1] + (run[q][3] - run[q][1]) * i / 4;
+            n++;
+        }
+    return n;
+}
+
 /* An L-shaped block (arms 1 long, 0.3 wide) whose inner corner is a
  * concave round of radius r in k facets (k even), extruded over nz steps of
  * 0.05, caps fanned from (0.15, 0.15) (the L is star-shaped about it): at
@@ -151,12 +166,7 @@ static void expect_concave(double r, int k, int64_t want)
     int n = 0, mid = -1;
     /* the outline: straight runs of 4 segments, then the round */
     const double run[][4] = {{0, 0, 1, 0}, {1, 0, 1, 0.3}, {1, 0.3, 0.3 + r, 0.3}};
-    for (int q = 0; q < 3; q++)
-        for (int i = 0; i < 4; i++) {
-            xy[2 * n] = run[q][0] + (run[q][2] - run[q][0]) * i / 4;
-            xy[2 * n + 1] = run[q][1] + (run[q][3] - run[q][1]) * i / 4;
-            n++;
-        }
+    n = add_runs(xy, n, run, 3);
     for (int j = 0; j < k; j++) {
         const double a = -M_PI / 2 - (M_PI / 2) * j / k;
         if (j == k / 2)
@@ -166,29 +176,10 @@ static void expect_concave(double r, int k, int64_t want)
         n++;
     }
     const double run2[][4] = {{0.3, 0.3 + r, 0.3, 1}, {0.3, 1, 0, 1}, {0, 1, 0, 0}};
-    for (int q = 0; q < 3; q++)
-        for (int i = 0; i < 4; i++) {
-            xy[2 * n] = run2[q][0] + (run2[q][2] - run2[q][0]) * i / 4;
-            xy[2 * n + 1] = run2[q][1] + (run2[q][3] - run2[q][1]) * i / 4;
-            n++;
-        }
+    n = add_runs(xy, n, run2, 3);
     const int nz = 8;
     builder b = {0};
-    for (int l = 0; l <= nz; l++)
-        for (int i = 0; i < n; i++)
-            add_v(&b, xy[2 * i], xy[2 * i + 1], 0.05 * l);
-    const int64_t c0 = add_v(&b, 0.15, 0.15, 0), c1 = add_v(&b, 0.15, 0.15, 0.05 * nz);
-    for (int l = 0; l < nz; l++)
-        for (int i = 0; i < n; i++) {
-            const int j = (i + 1) % n;
-            add_q(&b, (int64_t)l * n + i, (int64_t)l * n + j, (int64_t)(l + 1) * n + j,
-                  (int64_t)(l + 1) * n + i);
-        }
-    for (int i = 0; i < n; i++) {
-        const int j = (i + 1) % n;
-        add_t(&b, c0, j, i);
-        add_t(&b, c1, (int64_t)nz * n + i, (int64_t)nz * n + j);
-    }
+    extrude(&b, xy, n, nz, 0.05, 0.15, 0.15);
     vc_features f;
     vc_error err = {0};
     CHECK(vc_features_detect_scaled(&b.s, 60, NULL, 0.006, &f, &err) == 0);

@@ -279,6 +279,16 @@ static const double *plane_normal(const vc_features *f, int64_t t)
     return f->tri_round && f->tri_round[t] ? f->tri_smooth_normal + 3 * t : f->tri_normal + 3 * t;
 }
 
+/* Is sharp edge e on a round's crease, or beside a round's band? (A
+ * round's crease has its band on both sides.) */
+static int edge_on_round(const vc_features *f, int64_t e)
+{
+    for (int64_t k = f->edge_tri_start[e]; k < f->edge_tri_start[e + 1]; k++)
+        if (f->tri_round[f->edge_tri[k]])
+            return 1;
+    return 0;
+}
+
 /* A crease along a round narrower than the error bound (a wing's tip cap
  * around its rounded trailing edge) turns with it, by the round's whole
  * turn within a fraction of the bound: its points there are not co-smooth
@@ -301,9 +311,9 @@ static void round_crease_tangents(vc_sizing *z)
                 const int64_t e = f->crease_edge[j];
                 if (f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
                     break;
-                const int64_t u = f->edge_tri[f->edge_tri_start[e]], v = f->edge_tri[f->edge_tri_start[e] + 1];
-                if (!f->tri_round[u] && !f->tri_round[v])
+                if (!edge_on_round(f, e))
                     break;
+                const int64_t u = f->edge_tri[f->edge_tri_start[e]], v = f->edge_tri[f->edge_tri_start[e] + 1];
                 const double *nu = plane_normal(f, u), *nv = plane_normal(f, v);
                 double t[3] = {nu[1] * nv[2] - nu[2] * nv[1], nu[2] * nv[0] - nu[0] * nv[2],
                                nu[0] * nv[1] - nu[1] * nv[0]};
@@ -849,17 +859,6 @@ static void bound_by_element(const vc_sizing *z, const vc_surface_point *sp, con
             *best = fmin(*best, fmin(dist_outside_slab(z, id, p, nq, 1.0),
                                      dist_outside_slab(z, id, p, nq, -1.0)));
     }
-}
-
-/* Is sharp edge e on a round's crease, or beside a round's band? */
-static int edge_on_round(const vc_features *f, int64_t e)
-{
-    if (f->edge_sharp[e] == VC_SHARP_ROUND)
-        return 1;
-    for (int64_t k = f->edge_tri_start[e]; k < f->edge_tri_start[e + 1]; k++)
-        if (f->tri_round[f->edge_tri[k]])
-            return 1;
-    return 0;
 }
 
 /* Edge and corner balls on a round's crease reach at most this many error

@@ -42,6 +42,8 @@
  *    sizing then sees each side of the crease as its flank, as on a sharp
  *    edge. */
 #include "feature_scale.h"
+#include "util/reserve.h"
+#include "util/union_find.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -102,6 +104,13 @@ static double line_distance(const vc_surface *s, const vc_features *f, int64_t e
     return sqrt(dot3(d, d));
 }
 
+/* Has triangle t taken a flank (step 2; zero: none)? */
+static int labelled(const double *label, int64_t t)
+{
+    const double *l = label + 3 * t;
+    return l[0] != 0 || l[1] != 0 || l[2] != 0;
+}
+
 static int has_normal(const vc_features *f, int64_t t)
 {
     const double *n = f->tri_normal + 3 * t;
@@ -131,9 +140,7 @@ static int walk_init(round_walk *w, int64_t nt)
     w->entry = malloc(n * sizeof *w->entry);
     w->side = malloc(n);
     w->sign = malloc(n);
-    w->cap_heap = 64;
-    w->heap = malloc((size_t)w->cap_heap * sizeof *w->heap);
-    return w->stamp && w->dist && w->entry && w->side && w->sign && w->heap ? 0 : -1;
+    return w->stamp && w->dist && w->entry && w->side && w->sign ? 0 : -1;
 }
 
 static void walk_free(round_walk *w)
@@ -155,13 +162,8 @@ static int item_less(const struct heap_item *a, const struct heap_item *b)
 
 static int heap_push(round_walk *w, double d, int64_t t)
 {
-    if (w->n_heap == w->cap_heap) {
-        struct heap_item *h = realloc(w->heap, (size_t)(2 * w->cap_heap) * sizeof *h);
-        if (!h)
-            return -1;
-        w->heap = h;
-        w->cap_heap *= 2;
-    }
+    if (vc_reserve(&w->heap, &w->cap_heap, w->n_heap + 1, sizeof *w->heap))
+        return -1;
     int64_t i = w->n_heap++;
     const struct heap_item it = {d, t};
     while (i > 0 && item_less(&it, &w->heap[(i - 1) / 2])) {
@@ -331,16 +333,6 @@ static int by_x_less(const void *a, const void *b)
     return p->x < q->x ? -1 : p->x > q->x ? 1 : (p->v > q->v) - (p->v < q->v);
 }
 
-/* Union-find over vertices (path halving). */
-static int64_t find_root(int64_t *parent, int64_t v)
-{
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
 int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scale, double cos_theta,
                                 const unsigned char *near, double **round_normal)
 {
@@ -463,22 +455,16 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
         oom = 1;
         goto done;
     }
-    for (int64_t v = 0; v < nv; v++)
-        parent[v] = v;
+    vc_uf_init(parent, nv);
     for (int64_t e = 0; e < ne; e++) {
         if (f->edge_sharp[e] || f->edge_tri_start[e + 1] - f->edge_tri_start[e] != 2)
             continue;
         const int64_t t1 = f->edge_tri[f->edge_tri_start[e]], t2 = f->edge_tri[f->edge_tri_start[e] + 1];
-        const double *l1 = label + 3 * t1, *l2 = label + 3 * t2;
-        if ((l1[0] == 0 && l1[1] == 0 && l1[2] == 0) || (l2[0] == 0 && l2[1] == 0 && l2[2] == 0))
-            continue;
-        if (!(relative_sign(s, f, t1, t2, e) * dot3(l1, l2) <= cos_theta))
+        if (!labelled(label, t1) || !labelled(label, t2) ||
+            !(relative_sign(s, f, t1, t2, e) * dot3(label + 3 * t1, label + 3 * t2) <= cos_theta))
             continue;
         keep[e] = 1;
-        const int64_t ra = find_root(parent, f->edge_vertex[2 * e]),
-                      rb = find_root(parent, f->edge_vertex[2 * e + 1]);
-        if (ra != rb)
-            parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+        vc_uf_unite(parent, f->edge_vertex[2 * e], f->edge_vertex[2 * e + 1]);
     }
     /* networks shorter than ROUND_EXTENT error bounds are dropped, and so
      * are those that end in smooth ground (an end at no other sharp edge): a
@@ -510,7 +496,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     for (int64_t e = 0; e < ne; e++)
         if (keep[e])
             for (int k = 0; k < 2; k++) {
-                const int64_t v = f->edge_vertex[2 * e + k], r = find_root(parent, v);
+                const int64_t v = f->edge_vertex[2 * e + k], r = vc_uf_find(parent, v);
                 for (int d = 0; d < 3; d++) {
                     box[6 * r + d] = fmin(box[6 * r + d], s->xyz[3 * v + d]);
                     box[6 * r + 3 + d] = fmax(box[6 * r + 3 + d], s->xyz[3 * v + d]);
@@ -528,7 +514,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     for (int64_t v = 0; v < nv; v++) {
         if (!((degree[v] & 0x7f) == 1 && !(degree[v] & 0x80)))
             continue;
-        const int64_t r = find_root(parent, v);
+        const int64_t r = vc_uf_find(parent, v);
         const double *p = s->xyz + 3 * v;
         /* the candidates within W in x, from a binary search */
         int64_t lo = 0, hi = n_near;
@@ -542,7 +528,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
         int attached = 0;
         for (int64_t i = lo; i < n_near && near_v[i].x <= p[0] + W && !attached; i++) {
             const int64_t u = near_v[i].v;
-            if ((degree[u] & 0x7f) && find_root(parent, u) == r)
+            if ((degree[u] & 0x7f) && vc_uf_find(parent, u) == r)
                 continue;
             const double *q = s->xyz + 3 * u;
             const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
@@ -554,7 +540,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
     for (int64_t e = 0; e < ne; e++) {
         if (!keep[e])
             continue;
-        const double *bx = box + 6 * find_root(parent, f->edge_vertex[2 * e]);
+        const double *bx = box + 6 * vc_uf_find(parent, f->edge_vertex[2 * e]);
         double diag2 = 0;
         for (int d = 0; d < 3; d++)
             diag2 += (bx[3 + d] - bx[d]) * (bx[3 + d] - bx[d]);
@@ -593,8 +579,7 @@ int64_t vc_features_mark_rounds(const vc_surface *s, vc_features *f, double scal
                     continue;
                 const int64_t u = f->edge_tri[f->edge_tri_start[g]] == t ? f->edge_tri[f->edge_tri_start[g] + 1]
                                                                         : f->edge_tri[f->edge_tri_start[g]];
-                const double *lu = label + 3 * u;
-                if (reach[u] || (lu[0] == 0 && lu[1] == 0 && lu[2] == 0))
+                if (reach[u] || !labelled(label, u))
                     continue;
                 reach[u] = 1;
                 queue[tail++] = u;
