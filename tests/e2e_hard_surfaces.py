@@ -161,6 +161,13 @@ VISIBLE_FOLDS = {"uv_tight": 400}
 # sampling diverged and the copy was sampled).
 ROUNDS = {"wing_round_te": (20, 20000), "fillet_block_tiny": (24, 25000),
           "can_round_rims": (256, 12000)}
+# Knife edges on curved ground (session 49, sizing.c's crease_slab): the
+# balls centred on a crease opening by less than a right angle take a
+# tangent slab narrowed by sin^2 of the opening, since their facets' sag
+# is not lifted away. The volume within this share of the input's: the
+# twisted blade lost 0.526% (edge balls of 21 error bounds along its
+# 16-degree trailing edge), the wing 0.249%; now 0.03% each.
+KNIFE_EDGES = {"twisted_blade": 0.001, "wing": 0.001}
 # A repair a case needs, said so on stderr (session 30: the 8 turned-over
 # needles flipped, each within half the error bound; without the flips the
 # sampling diverged after 6 passes).
@@ -376,7 +383,7 @@ def main():
     if name in WITHIN_ERROR_BOUND:
         check(h <= 0.004 * diag, "%s: Hausdorff %.4g > the error bound, 0.4%% of the diagonal %.4g"
               % (name, h, diag))
-    check(abs(dv) <= 0.005, "%s: volume %.9g against the input's %.9g (%+.3f%%)"
+    check(abs(dv) <= KNIFE_EDGES.get(name, 0.005), "%s: volume %.9g against the input's %.9g (%+.3f%%)"
           % (name, v_out, v_in, 100 * dv))
     # the summary's own Hausdorff distance (vc_hausdorff, both sides sampled,
     # a lower bound within its sampling error), against this one (VTK's)

@@ -81,8 +81,11 @@ EXPECTED = {
     "torus.obj": (0.418, 0.9, 5.9, 14),
     # at 60 degrees since session 14 (before: resampled at 20, 0.143); 0.171
     # before session 19's batched darts drew another seed-1 sample (README:
-    # 0.07 to 0.20 by --seed)
-    "fandisk.off": (0.140, 7.5, 8.4, 20),
+    # 0.07 to 0.20 by --seed); 0.140 before session 49's narrower slab at
+    # knife edges drew another (seeds 1 to 14: mean 0.131 -> 0.124, least
+    # 0.076 -> 0.077; seed 1's worst triangle at the same corner, whose
+    # ball and creases the rule leaves as they were)
+    "fandisk.off": (0.100, 7.5, 8.4, 20),
     # at 60 degrees since session 14 (before: at 20 degrees, Q min 0.000)
     "fertility.off": (0.120, 2.1, 6.2, 36),
 }

@@ -4,7 +4,9 @@
  * to the bit, what the same rules give element by element over the whole
  * surface (vc_sizing_radius_bound_all): at triangle centroids, sharp edge
  * midpoints and corners, with the error bound and without it, on fine and
- * coarse smooth surfaces and on surfaces with creases and corners. */
+ * coarse smooth surfaces and on surfaces with creases and corners.
+ * And the tangent slab of a ball on a knife edge (session 49): narrowed by
+ * sin^2 of the crease's opening below a right angle, eps above it. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -34,6 +36,70 @@ static void make_wavy_torus(builder *b, int nu, int nv)
         for (int j = 0; j < nv; j++)
             add_q(b, V(i, j), V(i + 1, j), V(i + 1, j + 1), V(i, j + 1));
 #undef V
+}
+
+/* A lens prism: the section two circular arcs meeting at tips (+-a, 0)
+ * under the angle 2 alpha, n points each, extruded along z by len,
+ * capped, outward. Returns the arcs' radius. */
+static double make_lens_prism(builder *b, double a, double alpha, int n, double len)
+{
+    const double rho = a / sin(alpha), h = rho - sqrt(rho * rho - a * a);
+    const double b0 = atan2(rho - h, a); /* the tip (a, 0) seen from the top arc's centre */
+    int64_t base = b->s.n_vertices;
+    const int m = 2 * n;
+    for (int i = 0; i < m; i++) {
+        /* the top arc from (a, 0) to (-a, 0), then the bottom one back */
+        const int k = i < n ? i : m - i;
+        const double th = b0 + (M_PI - 2 * b0) * k / n;
+        const double x = rho * cos(th), y = (h - rho + rho * sin(th)) * (i < n ? 1 : -1);
+        add_v(b, x, y, 0);
+        add_v(b, x, y, len);
+    }
+    int64_t c0 = add_v(b, 0, 0, 0), c1 = add_v(b, 0, 0, len);
+    for (int i = 0; i < m; i++) {
+        int j = (i + 1) % m;
+        int64_t lo_i = base + 2 * i, hi_i = lo_i + 1, lo_j = base + 2 * j, hi_j = lo_j + 1;
+        add_q(b, lo_i, lo_j, hi_j, hi_i);
+        add_t(b, c0, lo_j, lo_i);
+        add_t(b, c1, hi_i, hi_j);
+    }
+    return rho;
+}
+
+/* The radius bound of an edge ball halfway along the lens' tip crease at
+ * (a, 0): where the arc leaves the tangent slab of half-width w, about
+ * sqrt(2 rho w), w = eps sin^2(2 alpha) below a right angle, eps above. */
+static void check_knife(double alpha_deg)
+{
+    const double a = 0.5, len = 4, alpha = alpha_deg * M_PI / 180;
+    builder b = {0};
+    const double rho = make_lens_prism(&b, a, alpha, 400, len);
+    vc_features f;
+    vc_sizing z;
+    vc_error err;
+    CHECK(vc_features_detect(&b.s, 60, &f, &err) == 0);
+    CHECK(vc_sizing_init(&z, &b.s, &f, 60, 0.004) == 0);
+    int64_t tip = -1;
+    for (int64_t e = 0; e < f.n_edges; e++) {
+        const double *p = b.s.xyz + 3 * f.edge_vertex[2 * e], *q = b.s.xyz + 3 * f.edge_vertex[2 * e + 1];
+        if (f.edge_sharp[e] && p[0] > 0.99 * a && q[0] > 0.99 * a && fabs(p[2] - q[2]) > 0.5 * len)
+            tip = e;
+    }
+    CHECKF(tip >= 0, "lens of %g degrees: no sharp edge along the tip", 2 * alpha_deg);
+    if (tip >= 0) {
+        const double x[3] = {b.s.xyz[3 * f.edge_vertex[2 * tip]], 0, 0.5 * len};
+        vc_surface_point sp = {VC_ELEM_EDGE, tip};
+        const double got = vc_sizing_radius_bound(&z, &sp, x, z.diag);
+        const double s = sin(2 * alpha), w = 2 * alpha < M_PI / 2 ? z.eps * s * s : z.eps;
+        const double want = sqrt(2 * rho * w);
+        CHECKF(fabs(got / want - 1) < 0.05, "lens of %g degrees: edge ball bound %.5g, expected %.5g",
+               2 * alpha_deg, got, want);
+        printf("lens of %g degrees: edge ball bound %.5g (slab %.3g of eps: %.5g)\n", 2 * alpha_deg, got,
+               w / z.eps, want);
+    }
+    vc_sizing_free(&z);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
 }
 
 typedef struct tally {
@@ -117,5 +183,8 @@ int main(void)
         compare_surface(&q.s, errors[k], "cube");
         vc_surface_free(&q.s);
     }
+    check_knife(8);  /* a 16-degree knife edge: sin^2 = 0.076 */
+    check_knife(30); /* 60 degrees: 0.75 */
+    check_knife(50); /* 100 degrees: eps */
     return failures ? 1 : 0;
 }

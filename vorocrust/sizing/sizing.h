@@ -23,7 +23,11 @@
  * triangle lying farther than eps from the tangent plane at p, and an edge
  * ball may not reach the part of its crease farther than eps from the
  * tangent line. The reconstructed facets are planar through ball centres,
- * so this bounds how far they stray from the input. Unlike a smaller
+ * so this bounds how far they stray from the input. An edge or corner
+ * ball at a crease that opens by less than a right angle takes a narrower
+ * slab (sin^2 of the opening, at least 1/16 of eps): its centre stays on
+ * the crease, so its facets' sag is not lifted away, and across a thin
+ * wedge it would bias a large share of the section. Unlike a smaller
  * co-smoothness angle, it gives no vanishing radii next to a non-sharp
  * bend of a coarse tessellation. */
 #ifndef VC_SIZING_SIZING_H
@@ -55,6 +59,10 @@ typedef struct vc_sizing {
     double eps;               /* absolute approximation error for the radius bound */
     double *tri_out_normal;   /* 3 per triangle: outward unit normal */
     double *edge_tangent;     /* 3 per edge: unit, along its crease (sharp edges) */
+    /* per edge: the half-width of the tangent slabs of a ball centred on
+     * it (sharp edges; eps, narrower at a crease opening below a right
+     * angle: see pinned_slab in sizing.c) */
+    double *edge_slab;
     /* vertex -> incident triangles and incident sharp edges (CSR) */
     int64_t *vtri_start, *vtri;
     int64_t *vedge_start, *vedge;
