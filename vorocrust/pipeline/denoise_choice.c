@@ -125,9 +125,9 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     /* the predictions take seconds on a fine rough input (a noisy
      * 374,000-triangle blob: 4.7 s), which the progress lines otherwise
      * spent repeating the last input check */
-    vc_log(log, VC_LOG_INFO, "mesh: %s: rough (%.1f%% of the vertices with a triangle %g degrees "
-           "off their mean normal): weighing the balls of the input against a copy smoothed "
-           "within half the error bound", name, 100 * ch->rough_share, VC_ROUGH_ANGLE);
+    vc_log(log, VC_LOG_INFO, "mesh: %s: %.1f%% of the vertices have a triangle %g degrees "
+           "off their mean normal (creases or noise): weighing the balls of the input against a "
+           "copy smoothed within half the error bound", name, 100 * ch->rough_share, VC_ROUGH_ANGLE);
     vc_features f_input, f_copy;
     if ((rc = vc_predict_balls(s, sharp_angle, extra, bound, max_size, threads, &ch->n_input, &f_input, err)))
         return rc;
