@@ -97,6 +97,20 @@ int vc_make_denoised(const vc_surface *s, double bound, int threads, vc_surface 
     ch->bound = bound - ch->moved.max_move;
     const double v_in = vc_surface_signed_volume(s);
     ch->volume_change = v_in != 0 ? vc_surface_signed_volume(denoised) / v_in - 1 : 0;
+    /* A part thinner than the smoothing's reach (a marching-cubes blade
+     * 0.07 of the bound thick) can come out with its two sides through
+     * each other: the sizing then vanishes along the crossing (a
+     * propeller's copy: balls of 6e-8, 1e-5 of the bound, and cells the
+     * validator refused). The input has no self-intersection here (the
+     * pipeline's union made sure), so any pair counted is the copy's. */
+    vc_solid_report solid;
+    vc_error ignored;
+    rc = vc_surface_check_solid(denoised, NULL, &solid, &ignored);
+    if (rc == VC_ENOMEM) {
+        vc_surface_free(denoised);
+        return vc_error_set(err, VC_ENOMEM, "out of memory checking the smoothed copy");
+    }
+    ch->self_intersections = solid.n_self_intersections;
     return 0;
 }
 
@@ -114,7 +128,7 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
     if (force > 0) {
         if ((rc = vc_make_denoised(s, bound, threads, denoised, ch, err)) != 0)
             return rc;
-        ch->used = 1;
+        ch->used = ch->self_intersections == 0;
         return 0;
     }
     /* a clean surface, nothing to weigh (a million-triangle sphere: the
@@ -139,7 +153,8 @@ int vc_choose_denoised(const vc_surface *s, double sharp_angle, const unsigned c
         return rc;
     }
     ch->used = ch->n_input >= VC_DENOISE_GAIN * ch->n_denoised &&
-               fabs(ch->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE;
+               fabs(ch->volume_change) <= VC_DENOISE_MAX_VOLUME_CHANGE &&
+               ch->self_intersections == 0;
     /* the sampling's first attempt takes the features of the surface it
      * samples from here (they take seconds on a fine noisy input) */
     *f_chosen = ch->used ? f_copy : f_input;

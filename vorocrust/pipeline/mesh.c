@@ -595,7 +595,13 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
                "  mesh: balls predicted for the input %.4g, for a copy smoothed within %.4g "
                "(mean move %.3g, volume %+.3f%%) %.4g; %.3f s", dc->n_input, dc->moved.max_move,
                dc->moved.mean_move, 100 * dc->volume_change, dc->n_denoised, out->time.denoise);
-        if (!dc->used && dc->n_input >= VC_DENOISE_GAIN * dc->n_denoised && dc->n_denoised > 0)
+        if (!dc->used && dc->self_intersections > 0 &&
+            (opt->denoise > 0 || dc->n_input >= VC_DENOISE_GAIN * dc->n_denoised))
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: a copy smoothed within half the error bound would intersect itself (%lld "
+                   "pairs of triangles: a part thinner than the smoothing's reach): sampling the "
+                   "input", (long long)dc->self_intersections);
+        else if (!dc->used && dc->n_input >= VC_DENOISE_GAIN * dc->n_denoised && dc->n_denoised > 0)
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: a copy smoothed within half the error bound would take about %.3g balls "
                    "(the input %.3g) but change the volume by %+.2f%%: sampling the input",
@@ -725,6 +731,12 @@ static int sample(const vc_surface *s, const vc_mesh_options *opt, const char *n
             vc_log(opt->log, VC_LOG_INFO,
                    "mesh: %s; a copy smoothed within half the error bound would change the "
                    "volume by %+.2f%%: not sampled", why.msg, 100 * dc->volume_change);
+        } else if (copy_next && dc->self_intersections > 0) {
+            dc->copy_refused = 1;
+            vc_log(opt->log, VC_LOG_INFO,
+                   "mesh: %s; a copy smoothed within half the error bound would intersect itself "
+                   "(%lld pairs of triangles: a part thinner than the smoothing's reach): not "
+                   "sampled", why.msg, (long long)dc->self_intersections);
         } else if (copy_next) {
             dc->used = 1;
             base = &denoised;
