@@ -1298,6 +1298,44 @@ def case_twisted_blade(n_chord=80, n_span=60, chord=0.3, span=1.5, twist=40.0):
     return pts, [(a, c, b) for a, b, c in tris]
 
 
+def case_propeller(n=90, thickness=0.045):
+    """A hub (sphere of radius 0.25) and three blades twisted by 35 degrees
+    from root to tip, 0.045 thick (under two grid steps: marching cubes draws
+    sheets a fraction of the error bound thick with ragged rims), the union
+    contoured on n^3 samples. Session 49: the denoised copy's Taubin steps
+    pulled the two sides of a blade together (0.0017 apart, then 1e-7) and
+    the cells there failed validation."""
+    L = 1.1
+    h = 2 * L / (n - 1)
+    img = vtk.vtkImageData()
+    img.SetDimensions(n, n, n)
+    img.SetOrigin(-L, -L, -L)
+    img.SetSpacing(h, h, h)
+    arr = vtk.vtkDoubleArray()
+    arr.SetNumberOfTuples(n * n * n)
+    axes = [(math.cos(2 * math.pi * k / 3), math.sin(2 * math.pi * k / 3)) for k in range(3)]
+    i = 0
+    for iz in range(n):
+        z = -L + iz * h
+        for iy in range(n):
+            y = -L + iy * h
+            for ix in range(n):
+                x = -L + ix * h
+                f = math.sqrt(x * x + y * y + z * z) - 0.25
+                for ax, ay in axes:
+                    r = x * ax + y * ay              # along the blade
+                    s = -x * ay + y * ax             # across it, in the hub's plane
+                    a = math.radians(35.0) * r
+                    u = s * math.cos(a) - z * math.sin(a)
+                    w = s * math.sin(a) + z * math.cos(a)
+                    chord = 0.14 + 0.1 * r
+                    f = min(f, max(abs(w) - thickness / 2, abs(u) - chord, r - 1.0, 0.1 - r))
+                arr.SetValue(i, f)
+                i += 1
+    img.GetPointData().SetScalars(arr)
+    return polydata_to_lists(contour(img, 0.0))
+
+
 def case_hex_prism():
     """A capped hexagonal prism: its six side edges fold by exactly 60
     degrees, theta_sharp itself (to rounding), the caps' rims by 90."""
@@ -1538,6 +1576,7 @@ CASES = [
     ("fillet_block_tiny", case_fillet_block_tiny, "block with fillets of radius a fifth of the error bound (rounds below the bound's resolution meeting at rounded corners)", 2),
     ("can_round_rims", case_can_round_rims, "cylinder whose rims are rounded to a seventh of the error bound (two closed rounds: closed creases at the bound's scale)", 2),
     ("twisted_blade", case_twisted_blade, "a slender NACA 0012 blade, chord 0.3, twisted 40 degrees over 1.5: a 16-degree trailing edge a sixth of the chord wide at the error bound's balls", 2),
+    ("propeller", case_propeller, "marching cubes of a hub and three twisted blades 0.045 thick (under two grid steps): thin ragged sheets, noise-like folds", 2),
     ("wing_round_te", case_wing_round_te, "the wing with its trailing edge rounded to a quarter of the error bound (a round below the bound's resolution: a crease at its scale)", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),

@@ -116,16 +116,15 @@ SHORT_EDGES = {"csg_animal": 10}
 # VC_DENOISE_REMEDY_VOLUME_CHANGE): the gyroid lattice's staircase creases
 # at the cube's faces stall sliver elimination; its copy moves the volume
 # by about +0.22%. The fold rounds on the input took 300 s and more.
-COPY_AFTER_DIVERGENCE = {"gyroid_lattice"}
-# Session 47: a marching-cubes Perlin blob (frequency 13). Its first
-# sampling diverges (half-covered pairs stay at a 73-degree fold judged
-# noise), and so does the copy smoothed within half the bound, where a ball
-# shrunk below 1e-5 of the bound now ends it at once (before, balls went
-# down to 1e-10 and each pass took longer: 348 s in all); the stuck folds
-# as creases then converge. Two vertices whose triangles the sizing cannot
-# take as co-smooth are corners from the start. Checked: that ladder, and
-# the whole run within the seconds given.
-LADDER = {"perlin_blob": 180}
+# Session 47: a marching-cubes Perlin blob (frequency 13) diverges the same
+# way (half-covered pairs stay at a 73-degree fold judged noise). Its copy
+# diverged too until session 50: Taubin's steps crossed needles of the
+# input (a ball shrunk below 1e-5 of the bound ended it, then the stuck
+# folds became creases: 167 to 237 s). Since the copy never cuts itself
+# (vc_surface_denoise) it converges: 90,122 balls, 39 s, volume -0.011%.
+# Checked: the copy sampled after the divergence, its volume change within
+# the range given (percent), no fold made a crease, no smoothing.
+COPY_AFTER_DIVERGENCE = {"gyroid_lattice": (0.1, 0.25), "perlin_blob": (0.0, 0.1)}
 # Noise at the error bound (session 35, vorocrust/pipeline/denoise_choice.c):
 # the input's facets fold everywhere at a fraction of the bound, the sizing
 # predicts 1.5 times more balls or more than for a copy smoothed within half
@@ -244,18 +243,12 @@ def main():
     if name in COPY_AFTER_DIVERGENCE:
         m = re.search(r"mesh: sampling again a copy smoothed within [0-9.e+-]+ \(([0-9.]+) of the error "
                       r"bound; vertices moved [0-9.e+-]+ on average; volume ([+-][0-9.]+)%\)", e)
-        check(m is not None and float(m.group(1)) <= 0.5 + 1e-9 and 0.1 < abs(float(m.group(2))) <= 0.25 and
+        lo, hi = COPY_AFTER_DIVERGENCE[name]
+        check(m is not None and float(m.group(1)) <= 0.5 + 1e-9 and lo <= abs(float(m.group(2))) <= hi and
               "after 0 smoothing rounds; sharp angle 60, after sampling at 60 diverged)" in e and
               "more folds of over 10 degrees as creases" not in e and "sampling again with --" not in e,
               "%s: not sampled again on the copy smoothed within half the bound, its volume "
-              "change within 0.1 to 0.25%%: %s" % (name, m and m.group(0)))
-    elif name in LADDER:
-        check(re.search(r"mesh: \d+ vertices are corners: two of their triangles agree", e) is not None and
-              "mesh: sampling again a copy smoothed within" in e and
-              re.search(r"a ball shrunk to [0-9.e+-]+, [0-9.e+-]+ of the error bound", e) is not None and
-              "more folds of over 10 degrees as creases" in e and t_run <= LADDER[name],
-              "%s: not the ladder (corners, the copy ended by a tiny ball, the folds as creases) "
-              "within %d s (%.0f s)" % (name, LADDER[name], t_run))
+              "change within %g to %g%%: %s" % (name, lo, hi, m and m.group(0)))
     elif name in FOLDS_RESAMPLED:
         # with defaults: one sampling (the short edges collapsed, SHORT_EDGES)
         check("after 0 smoothing rounds; sharp angle 60)" in e and "sampling again" not in e,
@@ -326,7 +319,7 @@ def main():
               abs(float(m.group(3))) > 0.1,
               "%s: the copy's refusal not said as expected: %s" % (name, m and m.group(0)))
     # the copy after a divergence: only where expected
-    if name not in COPY_AFTER_DIVERGENCE and name not in LADDER:
+    if name not in COPY_AFTER_DIVERGENCE:
         check("sampling again a copy smoothed" not in e, "%s: sampled again on the copy" % name)
     if name in SHORT_EDGES:
         m = re.search(r"mesh: \S+: (\d+) edges shorter than [0-9.e+-]+ \(0\.001 of the error bound\) "

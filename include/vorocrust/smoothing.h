@@ -91,12 +91,16 @@ int vc_surface_smooth(const vc_surface *in, const vc_features *f, int iterations
 /* Denoising within a bound (vorocrust/surface/denoise.c): `iterations`
  * pairs of Taubin's lambda|mu steps of the umbrella Laplacian (lambda 0.5,
  * mu -0.53: frequencies above about a ninth of the mesh's own decay, the
- * shape below stays, without shrinking), every vertex held within
- * max_move of its input position after each step. Every vertex moves,
+ * shape below stays, without shrinking), every vertex's move then cut to
+ * max_move from its input position. Every vertex moves,
  * corners and creases too: the bound is what protects them. The
  * triangles, their order and groups are the input's, so a closed,
- * oriented input stays one with the same topology (the surface may come
- * to touch itself only where two sheets are closer than 2 max_move).
+ * oriented input stays one with the same topology. A part thinner than
+ * the moves keeps its thickness: a vertex moves at most a quarter of its
+ * distance to the nearest triangle behind it that faces away (the other
+ * side of a plate or rod). Where triangles would still cross, the moves
+ * of their vertices are halved, then withdrawn: the result intersects
+ * itself only where the input does.
  * The result does not depend on the thread count. out is allocated (free
  * with vc_surface_free); rep (may be NULL) gets the moves. Fails (out
  * zeroed) with VC_EPARAM (max_move negative or not finite, iterations
