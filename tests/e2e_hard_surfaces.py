@@ -118,10 +118,10 @@ SHORT_EDGES = {"csg_animal": 10}
 # by about +0.22%. The fold rounds on the input took 300 s and more.
 # Session 47: a marching-cubes Perlin blob (frequency 13) diverges the same
 # way (half-covered pairs stay at a 73-degree fold judged noise). Its copy
-# diverged too until session 50: Taubin's steps crossed needles of the
-# input (a ball shrunk below 1e-5 of the bound ended it, then the stuck
-# folds became creases: 167 to 237 s). Since the copy never cuts itself
-# (vc_surface_denoise) it converges: 90,122 balls, 39 s, volume -0.011%.
+# diverged too until session 49 (a ball shrunk below 1e-5 of the bound
+# ended it, then the stuck folds became creases: 167 to 237 s); since then
+# the copy converges (session 50, the copy kept from cutting itself:
+# 90,122 balls, 39 s, volume -0.011%).
 # Checked: the copy sampled after the divergence, its volume change within
 # the range given (percent), no fold made a crease, no smoothing.
 COPY_AFTER_DIVERGENCE = {"gyroid_lattice": (0.1, 0.25), "perlin_blob": (0.0, 0.1)}
