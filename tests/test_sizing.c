@@ -45,24 +45,19 @@ static double make_lens_prism(builder *b, double a, double alpha, int n, double 
 {
     const double rho = a / sin(alpha), h = rho - sqrt(rho * rho - a * a);
     const double b0 = atan2(rho - h, a); /* the tip (a, 0) seen from the top arc's centre */
-    int64_t base = b->s.n_vertices;
     const int m = 2 * n;
+    double *xy = malloc(sizeof(double) * 2 * (size_t)m);
+    if (!xy)
+        abort();
     for (int i = 0; i < m; i++) {
         /* the top arc from (a, 0) to (-a, 0), then the bottom one back */
         const int k = i < n ? i : m - i;
         const double th = b0 + (M_PI - 2 * b0) * k / n;
-        const double x = rho * cos(th), y = (h - rho + rho * sin(th)) * (i < n ? 1 : -1);
-        add_v(b, x, y, 0);
-        add_v(b, x, y, len);
+        xy[2 * i] = rho * cos(th);
+        xy[2 * i + 1] = (h - rho + rho * sin(th)) * (i < n ? 1 : -1);
     }
-    int64_t c0 = add_v(b, 0, 0, 0), c1 = add_v(b, 0, 0, len);
-    for (int i = 0; i < m; i++) {
-        int j = (i + 1) % m;
-        int64_t lo_i = base + 2 * i, hi_i = lo_i + 1, lo_j = base + 2 * j, hi_j = lo_j + 1;
-        add_q(b, lo_i, lo_j, hi_j, hi_i);
-        add_t(b, c0, lo_j, lo_i);
-        add_t(b, c1, hi_i, hi_j);
-    }
+    extrude_section(b, xy, m, len);
+    free(xy);
     return rho;
 }
 

@@ -52,24 +52,39 @@ static inline void add_q(builder *b, int64_t a, int64_t c1, int64_t c2, int64_t 
     add_t(b, a, c2, d);
 }
 
-/* An n-gon prism of radius 1 and height h, caps fanned from a centre
- * vertex, outward oriented; its vertices follow those already in b. */
-static inline void make_prism(builder *b, int n, double h)
+/* The closed polygon xy (m points, counter-clockwise) extruded along z
+ * from 0 to len, caps fanned from a centre vertex at the origin's (0, 0),
+ * outward oriented; its vertices follow those already in b. */
+static inline void extrude_section(builder *b, const double *xy, int m, double len)
 {
     int64_t base = b->s.n_vertices;
-    for (int i = 0; i < n; i++) {
-        double a = 2 * M_PI * i / n;
-        add_v(b, cos(a), sin(a), 0);
-        add_v(b, cos(a), sin(a), h);
+    for (int i = 0; i < m; i++) {
+        add_v(b, xy[2 * i], xy[2 * i + 1], 0);
+        add_v(b, xy[2 * i], xy[2 * i + 1], len);
     }
-    int64_t c0 = add_v(b, 0, 0, 0), c1 = add_v(b, 0, 0, h);
-    for (int i = 0; i < n; i++) {
-        int j = (i + 1) % n;
+    int64_t c0 = add_v(b, 0, 0, 0), c1 = add_v(b, 0, 0, len);
+    for (int i = 0; i < m; i++) {
+        int j = (i + 1) % m;
         int64_t lo_i = base + 2 * i, hi_i = lo_i + 1, lo_j = base + 2 * j, hi_j = lo_j + 1;
         add_q(b, lo_i, lo_j, hi_j, hi_i);
         add_t(b, c0, lo_j, lo_i);
         add_t(b, c1, hi_i, hi_j);
     }
+}
+
+/* An n-gon prism of radius 1 and height h, caps fanned from a centre
+ * vertex, outward oriented; its vertices follow those already in b. */
+static inline void make_prism(builder *b, int n, double h)
+{
+    double *xy = malloc(sizeof(double) * 2 * (size_t)n);
+    if (!xy)
+        abort();
+    for (int i = 0; i < n; i++) {
+        xy[2 * i] = cos(2 * M_PI * i / n);
+        xy[2 * i + 1] = sin(2 * M_PI * i / n);
+    }
+    extrude_section(b, xy, n, h);
+    free(xy);
 }
 
 /* A UV sphere of radius 1, nu x nv, outward. */
