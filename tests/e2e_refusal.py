@@ -8,8 +8,11 @@ and no temporary file. `vorocrust info` reports the counts, and
 a degenerate contact). Two boxes overlapping in general position mesh as
 their union by default (its volume), and are refused naming --no-union
 with it; three boxes with triple points mesh as their union (its volume,
-the summary's and the .vtu's "volume" array). Environment: VC_BIN, VC_TMP, VC_SOURCE,
+the summary's and the .vtu's "volume" array). A prism twisted 80 degrees
+per slice (creased at nearly every edge) is refused before sampling, the
+line counting the edges that fold beyond the sharp angle. Environment: VC_BIN, VC_TMP, VC_SOURCE,
 VC_SANITIZED."""
+import math
 import os
 import re
 import sys
@@ -89,6 +92,34 @@ for name, (text, words) in CASES.items():
           "info --require-closed %s: exit %d, stderr %r" % (name, rc, err))
     check(not any(l.startswith("vorocrust: warning: ") and words[0] in l for l in lines),
           "info --require-closed %s: the problem printed twice: %r" % (name, err))
+
+# A square prism twisted by 80 degrees per slice, 60 slices 0.05 apart:
+# creased at nearly every edge, the radius bounds 1e-4 of the bound's
+# size: refused before sampling (the prediction above --max-balls' default),
+# the line saying how many edges fold beyond the sharp angle.
+path = os.path.join(TMP, "twisted_prism.obj")
+with open(path, "w") as f:
+    n_sl = 60
+    for j in range(n_sl + 1):
+        a = math.radians(80.0 * j)
+        for x, y in [(1, 0), (0, 1), (-1, 0), (0, -1)]:
+            f.write("v %.17g %.17g %.17g\n" % (x * math.cos(a) - y * math.sin(a),
+                                                x * math.sin(a) + y * math.cos(a), 0.05 * j))
+    for j in range(n_sl):
+        for k in range(4):
+            a, b = 4 * j + k + 1, 4 * j + (k + 1) % 4 + 1
+            c, d = 4 * (j + 1) + (k + 1) % 4 + 1, 4 * (j + 1) + k + 1
+            f.write("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d))
+    t = 4 * n_sl + 1
+    f.write("f 1 3 2\nf 1 4 3\nf %d %d %d\nf %d %d %d\n" % (t, t + 1, t + 2, t, t + 2, t + 3))
+out = os.path.join(TMP, "twisted_prism.vtu")
+rc, _, err = e2eutil.run([BIN, "mesh", path, "-o", out], timeout=120)
+lines = err.strip().splitlines()
+m = re.search(r"balls predicted from the sizing, above the limit of \d+: .*; (\d+) of its (\d+) edges fold by "
+              r"more than the sharp angle", lines[-1] if lines else "")
+check(rc == 1 and m is not None and int(m.group(1)) * 2 > int(m.group(2)) and not os.path.exists(out),
+      "twisted_prism: exit %d, no folded-edge count in the refusal, or output left: %r" % (rc, err[-600:]))
+print("twisted_prism: exit %d: %s" % (rc, lines[-1] if lines else ""))
 
 # The counts info prints.
 _, out_text, _ = e2eutil.run([BIN, "info", os.path.join(TMP, "cube_dup.obj")], timeout=60)

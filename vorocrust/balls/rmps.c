@@ -2404,6 +2404,17 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
            S.sz);
     if (opt->max_balls > 0 && !(est.n_balls <= (double)opt->max_balls)) {
         const double diag = S.z.diag;
+        /* a surface folded at most of its edges (a coarse twisted
+         * extrusion, a crumpled mesh) is creases everywhere: where that
+         * brings the radii a hundred times below the bound, say so, it is
+         * the likeliest cause */
+        char folded[320] = "";
+        if (f->n_edges > 0 && 2 * f->n_sharp_edges > f->n_edges && est.r_min < 0.01 * S.z.eps)
+            snprintf(folded, sizeof folded,
+                     "; %lld of its %lld edges fold by more than the sharp angle: a surface "
+                     "creased at most of its edges needs balls below its facets' size (a finer "
+                     "or smoother tessellation of it would not)",
+                     (long long)f->n_sharp_edges, (long long)f->n_edges);
         vc_ball_set_free(&S.bs);
         vc_smooth_surface_free(&S.ss);
         free(S.tri_on_smooth);
@@ -2412,9 +2423,9 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                             "about %.3g balls predicted from the sizing, above the limit of "
                             "%lld: radius bounds down to %.3g (near %.6g %.6g %.6g) for a "
                             "surface of diagonal %.3g; raise the limit (--max-balls), or the "
-                            "largest radius (--max-size) or the error bound (--max-error)",
+                            "largest radius (--max-size) or the error bound (--max-error)%s",
                             est.n_balls, (long long)opt->max_balls, est.r_min, est.r_min_at[0],
-                            est.r_min_at[1], est.r_min_at[2], diag);
+                            est.r_min_at[1], est.r_min_at[2], diag, folded);
     }
 
     int rc = 0;
