@@ -1336,6 +1336,92 @@ def case_propeller(n=90, thickness=0.045):
     return polydata_to_lists(contour(img, 0.0))
 
 
+def case_pipe_bend(n=64, r=0.5, bend=1.5, straight=5.0):
+    """A CFD pipe: radius 0.5, 5 straight, a 90-degree bend of radius 1.5,
+    5 straight, 64 facets around, flat end caps (a fluid domain)."""
+    frames = [((0.0, 0.0, -straight + straight * i / 50), (1.0, 0.0, 0.0)) for i in range(51)]
+    for i in range(1, 41):
+        a = (math.pi / 2) * i / 40
+        frames.append(((bend - bend * math.cos(a), 0.0, bend * math.sin(a)), (math.cos(a), 0.0, -math.sin(a))))
+    frames += [((bend + straight * i / 50, 0.0, bend), (0.0, 0.0, -1.0)) for i in range(1, 51)]
+    rings = [[tuple(c[d] + r * (math.cos(2 * math.pi * k / n) * u[d] + math.sin(2 * math.pi * k / n) * (d == 1))
+                    for d in range(3)) for k in range(n)] for c, u in frames]
+    pts, tris = capped_sweep(rings)
+    if sum(twice_volume6(pts, t) for t in tris) < 0:
+        tris = [(a, c, b) for a, b, c in tris]
+    return pts, tris
+
+
+def twice_volume6(pts, t):
+    a, b, c = (pts[i] for i in t)
+    return dot(a, cross(b, c))
+
+
+def case_dumbbell_thin(rn=0.01, n=96):
+    """Two unit spheres 3 apart joined by a neck of radius 0.01 (a tenth of
+    the error bound), sharp concave junctions, 96 facets around."""
+    a0 = math.asin(rn)
+    prof = []
+    for i in range(1, 61):  # the lower sphere, from near its south pole to the neck
+        th = math.pi - (math.pi - a0) * i / 60
+        prof.append((math.sin(th), math.cos(th)))
+    z0 = math.cos(a0)
+    prof += [(rn, z0 + (3.0 - 2 * z0) * i / 40) for i in range(1, 40)]
+    for i in range(0, 60):  # the upper sphere, from the neck to near its north pole
+        th = math.pi - a0 - (math.pi - a0) * i / 60
+        prof.append((math.sin(th), 3.0 + math.cos(th)))
+    rings = [[(rho * math.cos(2 * math.pi * k / n), rho * math.sin(2 * math.pi * k / n), z) for k in range(n)]
+             for rho, z in prof]
+    return capped_sweep(rings)
+
+
+def case_bracket_decimated():
+    """An L bracket in millimetres (base 60 x 40 x 6, upright 6 x 40 x 50, a
+    boss of radius 9 around the upright's hole, three holes), marching cubes
+    (flying edges) on a 0.4 grid, then vtkQuadricDecimation to 10%: where
+    the grid passes within 0.009 of the boss's rim, a ribbon of needle
+    triangles 0.026 of the error bound wide, folding 80-86 degrees to one
+    face and 44 to the other, the sharp side switching from edge to edge
+    (session 50: 119,379 balls, 55 s on 2 threads; the same bracket on a
+    grid shifted by 0.01, 29,076)."""
+    def cylinder(center, axis, r):
+        c = vtk.vtkCylinder()  # about y
+        c.SetRadius(r)
+        t = vtk.vtkTransform()
+        t.PostMultiply()
+        t.Translate(-center[0], -center[1], -center[2])
+        if axis == "z":
+            t.RotateX(-90)
+        elif axis == "x":
+            t.RotateZ(90)
+        c.SetTransform(t)
+        return c
+    boss = vtk.vtkImplicitBoolean()
+    boss.SetOperationTypeToIntersection()
+    boss.AddFunction(cylinder((6, 20, 32), "x", 9))
+    boss.AddFunction(box((0, 10, 0, 40, 0, 50)))
+    union = vtk.vtkImplicitBoolean()
+    union.SetOperationTypeToUnion()
+    for f in (box((0, 60, 0, 40, 0, 6)), box((0, 6, 0, 40, 0, 50)), boss):
+        union.AddFunction(f)
+    part = vtk.vtkImplicitBoolean()
+    part.SetOperationTypeToDifference()
+    for f in (union, cylinder((40, 12, 0), "z", 4), cylinder((40, 28, 0), "z", 4), cylinder((0, 20, 32), "x", 5)):
+        part.AddFunction(f)
+    image = sample(part, (-2.013, 62.007, -2.011, 42.009, -2.017, 52.003), (161, 111, 136))
+    cl = vtk.vtkCleanPolyData()
+    cl.SetInputData(contour(image, 0.0))
+    cl.Update()
+    dec = vtk.vtkQuadricDecimation()
+    dec.SetInputConnection(cl.GetOutputPort())
+    dec.SetTargetReduction(0.9)
+    dec.Update()
+    pts, tris = polydata_to_lists(dec.GetOutput())
+    if sum(twice_volume6(pts, t) for t in tris) < 0:
+        tris = [(a, c, b) for a, b, c in tris]
+    return pts, tris
+
+
 def case_hex_prism():
     """A capped hexagonal prism: its six side edges fold by exactly 60
     degrees, theta_sharp itself (to rounding), the caps' rims by 90."""
@@ -1577,6 +1663,9 @@ CASES = [
     ("can_round_rims", case_can_round_rims, "cylinder whose rims are rounded to a seventh of the error bound (two closed rounds: closed creases at the bound's scale)", 2),
     ("twisted_blade", case_twisted_blade, "a slender NACA 0012 blade, chord 0.3, twisted 40 degrees over 1.5: a 16-degree trailing edge a sixth of the chord wide at the error bound's balls", 2),
     ("propeller", case_propeller, "marching cubes of a hub and three twisted blades 0.045 thick (under two grid steps): thin ragged sheets, noise-like folds", 2),
+    ("pipe_bend", case_pipe_bend, "a CFD pipe of radius 0.5 with a 90-degree bend of radius 1.5 and flat caps (a fluid domain)", 2),
+    ("dumbbell_thin", case_dumbbell_thin, "two unit spheres joined by a neck of radius 0.01 (a tenth of the error bound): a thin part between large ones", 2),
+    ("bracket_decimated", case_bracket_decimated, "marching-cubes L bracket in mm decimated to 10%: a ribbon of needles a fortieth of the error bound wide along a rim, its crease switching sides", -4),
     ("wing_round_te", case_wing_round_te, "the wing with its trailing edge rounded to a quarter of the error bound (a round below the bound's resolution: a crease at its scale)", 2),
     ("hex_prism", case_hex_prism, "capped hexagonal prism: side edges folding by exactly theta_sharp (60 degrees)", 2),
     ("uv_tight", case_uv_tight, "UV sphere 24 x 12 at an error bound of 1e-4: every fold of its facets seen by the bound", 2),
