@@ -13,9 +13,9 @@ with default options, and the test checks:
    smoothing (no fallback that moves the surface beyond half the error
    bound; csg_animal: a second one on the copy smoothed within half the
    bound, and with --denoise off with its stuck folds as creases, both
-   with --keep-short-edges, FOLDS_RESAMPLED; gyroid_lattice: on the copy,
-   whose volume is 0.1 to 0.25% off, COPY_AFTER_DIVERGENCE), no
-   half-covered pair;
+   with --keep-short-edges, FOLDS_RESAMPLED; gyroid_lattice and
+   perlin_blob: on the copy after the input's divergence, its volume change
+   within the range given, COPY_AFTER_DIVERGENCE), no half-covered pair;
  - the reconstructed surface: a closed, consistently oriented 2-manifold
    with the input's Euler characteristic (the summary's report, and the
    count of components and V - E + F computed here from the written OBJ);
@@ -37,6 +37,8 @@ with default options, and the test checks:
    least 1.5 times the copy's;
  - slot_block: the copy would save balls but change the volume: refused,
    and said so (COPY_REFUSED);
+ - bracket_decimated: with --denoise on, the copy made and never refused
+   as self-intersecting (COPY_UNCROSSED);
  - uv_tight: meshed at --max-error 1e-4 (OPTIONS), its folds made creases
    from the first sampling (VISIBLE_FOLDS), the Hausdorff distance within
    5/4 of that bound;
