@@ -111,6 +111,7 @@ typedef struct vc_denoise_report {
     double max_move;  /* largest distance of a vertex from its input position */
     double mean_move;
     int64_t n_held;   /* vertices that ended max_move away (held by the bound) */
+    int64_t n_crossing; /* pairs of triangles that cut each other (0 unless in does) */
 } vc_denoise_report;
 
 int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, int threads,

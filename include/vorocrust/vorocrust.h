@@ -193,10 +193,10 @@ typedef struct vc_denoise_choice {
     vc_denoise_report moved;    /* how far the copy's vertices are from the input's */
     double volume_change;       /* the copy's enclosed volume over the input's, less 1
                                    (0 when no copy was made) */
-    int64_t self_intersections; /* pairs of the copy's triangles that cut or touch each
-                                   other (the input's do not): smoothing moved the two
-                                   sides of a part thinner than the bound through each
-                                   other; such a copy is never sampled */
+    int64_t self_intersections; /* pairs of the copy's triangles that cut each other
+                                   (moved.n_crossing: 0, since vc_surface_denoise
+                                   withdraws such moves; a guard); such a copy is never
+                                   sampled */
     int copy_refused;           /* a copy made was not sampled for its volume change or
                                    its self-intersections */
 } vc_denoise_choice;

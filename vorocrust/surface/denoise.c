@@ -36,6 +36,7 @@
 #include "util/closest_point.h"
 #include "util/csr_group.h"
 #include "util/triangle_bvh.h"
+#include "feature_scale.h"
 #include "self_intersection.h"
 
 /* pass band 1 / lambda + 1 / mu = 0.11 (Taubin's 0.6307|-0.6732 in half
@@ -105,17 +106,6 @@ typedef struct other_side {
     double best2;          /* the nearest such triangle's squared distance from p */
 } other_side;
 
-static void tri_normal(const vc_surface *s, int64_t t, double n[3])
-{
-    const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
-                 *c = s->xyz + 3 * s->tri[3 * t + 2];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    n[0] = u[1] * w[2] - u[2] * w[1];
-    n[1] = u[2] * w[0] - u[0] * w[2];
-    n[2] = u[0] * w[1] - u[1] * w[0];
-}
-
 /* Records triangle t when it is of the other side; never stops the search
  * (every triangle of the query's ball is looked at). */
 static int record_other_side(void *ctx, int64_t t, double d2)
@@ -126,7 +116,7 @@ static int record_other_side(void *ctx, int64_t t, double d2)
     if (tv[0] == o->v || tv[1] == o->v || tv[2] == o->v)
         return 0;
     double m[3];
-    tri_normal(o->s, t, m);
+    vc_triangle_cross(o->s, t, m);
     const double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     if (!(l > 0) || m[0] * o->n[0] + m[1] * o->n[1] + m[2] * o->n[2] >= FACING_AWAY * l)
         return 0;
@@ -159,7 +149,7 @@ static int move_caps(const vc_surface *s, double max_move, int threads, double *
     }
     for (int64_t t = 0; t < nt; t++) {
         double m[3];
-        tri_normal(s, t, m);
+        vc_triangle_cross(s, t, m);
         for (int k = 0; k < 3; k++)
             for (int d = 0; d < 3; d++)
                 vn[3 * s->tri[3 * t + k] + d] += m[d];
@@ -208,16 +198,7 @@ static int64_t uncross(const vc_surface *in, vc_surface *out, const int64_t *sta
     const int64_t nv = out->n_vertices, nt = out->n_triangles;
     if (nv == 0 || nt == 0)
         return 0;
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; k++)
-        lo[k] = hi[k] = in->xyz[k];
-    for (int64_t v = 0; v < nv; v++)
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fmin(lo[k], in->xyz[3 * v + k]);
-            hi[k] = fmax(hi[k], in->xyz[3 * v + k]);
-        }
-    const double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                             (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double diag = vc_surface_diagonal(in);
     int e = 0;
     if (diag > 0)
         frexp(diag, &e);
@@ -383,6 +364,7 @@ int vc_surface_denoise(const vc_surface *in, double max_move, int iterations, in
             rep->n_held += m >= max_move * (1 - 1e-12) && max_move > 0 && m > 0;
         }
         rep->mean_move = nv ? sum / (double)nv : 0;
+        rep->n_crossing = crossing;
     }
     return 0;
 }

@@ -69,13 +69,21 @@ void vc_triangle_centroid(const vc_surface *s, int64_t t, double c[3])
         c[k] = (a[k] + b[k] + d[k]) / 3.0;
 }
 
-double vc_triangle_twice_area(const vc_surface *s, int64_t t)
+void vc_triangle_cross(const vc_surface *s, int64_t t, double n[3])
 {
     const double *a = s->xyz + 3 * s->tri[3 * t], *b = s->xyz + 3 * s->tri[3 * t + 1],
                  *d = s->xyz + 3 * s->tri[3 * t + 2];
     const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const double v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+double vc_triangle_twice_area(const vc_surface *s, int64_t t)
+{
+    double n[3];
+    vc_triangle_cross(s, t, n);
     return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 

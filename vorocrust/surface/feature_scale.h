@@ -51,8 +51,10 @@ typedef struct vc_flat_probe {
 /* +1 when triangle t walks edge e from edge_vertex[2e] to edge_vertex[2e+1]
  * in its input order, -1 otherwise. */
 int vc_features_walks_forward(const vc_features *f, const vc_surface *s, int64_t t, int64_t e);
-/* Triangle t's centroid, and twice its area. */
+/* Triangle t's centroid, its normal scaled by twice its area (the cross
+ * product of its edges from its first vertex), and twice its area. */
 void vc_triangle_centroid(const vc_surface *s, int64_t t, double c[3]);
+void vc_triangle_cross(const vc_surface *s, int64_t t, double n[3]);
 double vc_triangle_twice_area(const vc_surface *s, int64_t t);
 
 int vc_flat_probe_init(vc_flat_probe *p, int64_t n_triangles);
