@@ -3,7 +3,10 @@
  * that edge flipped when the apex's height is within max_move, and only
  * then; the result is a closed, consistently oriented surface without a
  * fold of 90 degrees, moved by the apex's height at most. A needle that did
- * not cross its edge is left alone. */
+ * not cross its edge is left alone. vc_surface_collapse_hairpins: a box
+ * whose front face reaches into its top face as a needle (a hairpin of two
+ * creases) loses it when its base is below max_base (and its folds are
+ * sharp in the features given), and only then, closed and oriented. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +14,7 @@
 
 #include "test_check.h"
 #include "test_surface_util.h"
+#include "vorocrust/features.h"
 #include "vorocrust/surface.h"
 
 static void sub(const double *a, const double *b, double *r)
@@ -149,6 +153,100 @@ static vc_surface copy_surface(const vc_surface *s)
     return c;
 }
 
+/* The unit cube whose front face (y = 0) reaches into its top face (z = 1)
+ * as a needle: from the rim's middle a = (0.5, 0, 1) and b = (0.5, 0,
+ * 1 - h) just below it to the apex c = (0.5, 0.6, 1) inside the top face,
+ * standing up 90 degrees between the top face's triangles on either side.
+ * Returns c. */
+static int64_t make_hairpin_box(builder *b, double h)
+{
+    int64_t v[8];
+    for (int k = 0; k < 8; k++)
+        v[k] = add_v(b, k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const int64_t a = add_v(b, 0.5, 0, 1), bb = add_v(b, 0.5, 0, 1 - h), c = add_v(b, 0.5, 0.6, 1);
+    add_q(b, v[0], v[2], v[3], v[1]); /* z = 0 */
+    add_q(b, v[2], v[6], v[7], v[3]); /* y = 1 */
+    add_q(b, v[0], v[4], v[6], v[2]); /* x = 0 */
+    add_q(b, v[1], v[3], v[7], v[5]); /* x = 1 */
+    add_t(b, v[4], a, c);             /* z = 1, around c */
+    add_t(b, bb, v[5], c);
+    add_t(b, v[5], v[7], c);
+    add_t(b, v[7], v[6], c);
+    add_t(b, v[6], v[4], c);
+    add_t(b, a, bb, c); /* the needle */
+    add_t(b, v[0], v[1], bb); /* y = 0 */
+    add_t(b, v[1], v[5], bb);
+    add_t(b, v[0], bb, a);
+    add_t(b, v[0], a, v[4]);
+    return c;
+}
+
+/* The sharp edges at vertex v at theta_sharp theta (degrees). */
+static int sharp_at(const vc_surface *s, int64_t v, double theta)
+{
+    vc_features f;
+    vc_error err;
+    if (vc_features_detect(s, theta, &f, &err))
+        return -1;
+    int n = 0;
+    for (int64_t e = 0; e < f.n_edges; e++)
+        n += f.edge_sharp[e] && (f.edge_vertex[2 * e] == v || f.edge_vertex[2 * e + 1] == v);
+    vc_features_free(&f);
+    return n;
+}
+
+static void check_hairpins(void)
+{
+    const double h = 0.002, cos60 = 0.5;
+    builder b = {0};
+    const int64_t c = make_hairpin_box(&b, h);
+    double c0;
+    CHECK(closed_oriented(&b.s, &c0));
+    CHECKF(sharp_at(&b.s, c, 60) == 2, "%d sharp edges at the apex", sharp_at(&b.s, c, 60));
+    const double vol0 = surface_enclosed_volume(&b.s);
+    CHECK(vc_surface_count_hairpins(&b.s, 2 * h, cos60) == 1);
+    CHECK(vc_surface_count_hairpins(&b.s, 0.5 * h, cos60) == 0);
+
+    /* its base longer than max_base: nothing */
+    vc_surface s1 = copy_surface(&b.s);
+    double move = -1;
+    CHECK(vc_surface_collapse_hairpins(&s1, 0.5 * h, cos60, NULL, &move) == 0 && move == 0);
+    CHECK(s1.n_triangles == b.s.n_triangles);
+    vc_surface_free(&s1);
+
+    /* features at the bound 0.1 (the rim within reach: not flat ground)
+     * take its folds as creases: collapsed, closed and oriented, no crease
+     * left at the apex, moved by the base's length */
+    vc_features f;
+    vc_error err;
+    CHECK(vc_features_detect_scaled(&b.s, 60, NULL, 0.1, &f, &err) == 0);
+    vc_surface s2 = copy_surface(&b.s);
+    CHECKF(vc_surface_collapse_hairpins(&s2, 2 * h, cos60, &f, &move) == 1, "%lld triangles left",
+           (long long)s2.n_triangles);
+    CHECK(s2.n_triangles == b.s.n_triangles - 2 && s2.n_vertices == b.s.n_vertices - 1);
+    CHECKF(fabs(move - h) <= 1e-12, "moved by %.17g", move);
+    double c2;
+    CHECK(closed_oriented(&s2, &c2));
+    int64_t apex = -1; /* c's index after compaction: the point (0.5, 0.6, 1) */
+    for (int64_t v = 0; v < s2.n_vertices; v++)
+        if (s2.xyz[3 * v] == 0.5 && s2.xyz[3 * v + 1] == 0.6 && s2.xyz[3 * v + 2] == 1)
+            apex = v;
+    CHECK(apex >= 0 && sharp_at(&s2, apex, 60) == 0);
+    CHECKF(fabs(surface_enclosed_volume(&s2) - vol0) < h, "volume %.9g to %.9g", vol0,
+           surface_enclosed_volume(&s2));
+    vc_surface_free(&s2);
+    vc_features_free(&f);
+
+    /* features that do not take its folds as creases (theta_sharp 100):
+     * left alone */
+    CHECK(vc_features_detect(&b.s, 100, &f, &err) == 0);
+    vc_surface s3 = copy_surface(&b.s);
+    CHECK(vc_surface_collapse_hairpins(&s3, 2 * h, cos60, &f, &move) == 0);
+    vc_surface_free(&s3);
+    vc_features_free(&f);
+    vc_surface_free(&b.s);
+}
+
 int main(void)
 {
     builder b = {0};
@@ -228,5 +326,7 @@ int main(void)
     CHECK(memcmp(s4.tri, c.s.tri, sizeof(int64_t) * 3 * (size_t)c.s.n_triangles) == 0);
     vc_surface_free(&s4);
     vc_surface_free(&c.s);
+
+    check_hairpins();
     return failures ? 1 : 0;
 }

@@ -351,6 +351,28 @@ int vc_surface_self_union(const vc_surface *s, const char *name, vc_surface *out
 int64_t vc_surface_collapse_short_edges(vc_surface *s, int64_t first_movable, double eps,
                                         double *max_move);
 
+/* Collapses the bases of hairpins, like vc_surface_collapse_short_edges
+ * (the same link and turn-over tests, either end into the other; no chain
+ * of collapses moves a point by more than max_base): a triangle whose
+ * shortest edge is below max_base and whose two other edges fold by more
+ * than the sharp angle (cos_sharp: its cosine) against two triangles that
+ * agree with each other within it, a sliver of one face reaching into
+ * another (a decimated marching-cubes part has them along its rims). Its
+ * two sharp edges would be two creases max_base apart, meeting at a
+ * corner, and the balls along them would shrink to that width for their
+ * whole length; collapsed, the two sides of the slit are one smooth edge.
+ * f (may be NULL): features of s as given (vc_features_detect_scaled at
+ * the error bound); then only hairpins whose two folds are sharp in f, not
+ * noise, are collapsed. The surface moves by at most *max_move (may be
+ * NULL). Returns the number of collapses, -1 when out of memory. */
+struct vc_features;
+int64_t vc_surface_collapse_hairpins(vc_surface *s, double max_base, double cos_sharp,
+                                     const struct vc_features *f, double *max_move);
+
+/* The hairpins of s by the geometric test of vc_surface_collapse_hairpins
+ * alone (the candidates; none: nothing to do), -1 when out of memory. */
+int64_t vc_surface_count_hairpins(const vc_surface *s, double max_base, double cos_sharp);
+
 /* 1 when some edge of s is shorter than eps. */
 int vc_surface_has_edge_shorter(const vc_surface *s, double eps);
 

@@ -55,6 +55,11 @@ extern "C" {
 /* vc_mesh collapses the input's edges shorter than this share of the error
  * bound (far below what the mesh can show: vc_surface_collapse_short_edges). */
 #define VC_MESH_SHORT_EDGE 1e-3
+/* A sliver of one face reaching into another (a hairpin of two creases)
+ * whose base is below this share of the error bound is collapsed before
+ * sampling (vc_surface_collapse_hairpins): the slit is that narrow at its
+ * widest. */
+#define VC_MESH_HAIRPIN_BASE 0.125
 
 /* The version of the library the program runs with, "MAJOR.MINOR.PATCH"
  * (VC_VERSION_STRING is the one it was compiled against). */
@@ -280,6 +285,11 @@ typedef struct vc_mesh_result {
      * a vertex moved; input then describes the collapsed surface. */
     int64_t n_short_collapsed;
     double short_collapse_move;
+    /* Hairpin bases collapsed (vc_surface_collapse_hairpins, bases below
+     * VC_MESH_HAIRPIN_BASE times the error bound): how many, and the largest
+     * distance a vertex moved; input then describes the collapsed surface. */
+    int64_t n_hairpins;
+    double hairpin_move;
     /* Pinch vertices opened (vc_surface_open_pinches, by an eighth of the
      * error bound): the input's whose fans meet at less than theta_sharp
      * (input then describes the opened surface) and, when unioned, every

@@ -1523,6 +1523,8 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
     vc_surface collapsed; /* edges far below the error bound collapsed (own arrays, group
                              names borrowed) */
     memset(&collapsed, 0, sizeof collapsed);
+    vc_surface hairpinned; /* hairpin bases collapsed (the same ownership) */
+    memset(&hairpinned, 0, sizeof hairpinned);
     vc_surface canonical; /* in the order of its geometry (vc_surface_canonical_order) */
     memset(&canonical, 0, sizeof canonical);
     int64_t *input_triangle = NULL, *input_vertex = NULL; /* canonical's in s before it */
@@ -1689,6 +1691,51 @@ int vc_mesh(const vc_surface *s, const vc_mesh_options *opt_in, vc_mesh_result *
                 vc_log(opt.log, VC_LOG_INFO, "mesh: %s: the surface moved by at most %.3g (%.2g of the "
                        "error bound)", name, out->needles.max_move,
                        out->needles.max_move / error_bound_of(s, opt.max_error));
+        }
+    }
+    /* Hairpins: a sliver of one face reaching into another, its two long
+     * edges folding beyond theta_sharp, its base far below the error bound
+     * (decimated marching-cubes parts have them along their rims): two
+     * creases that close, for their whole length, would hold every ball
+     * near them to the slit's width (a decimated bracket: 119,777 balls,
+     * 44,500 without its six hairpins). Collapsed at the base, the slit's
+     * sides are one edge of the face. */
+    if (opt.max_error > 0) {
+        const double bound = error_bound_of(s, opt.max_error);
+        const double cos_sharp = cos(opt.sharp_angle * 3.14159265358979323846 / 180);
+        check_progress(&opt, &t_line, name, "hairpins");
+        const int64_t candidates = vc_surface_count_hairpins(s, VC_MESH_HAIRPIN_BASE * bound, cos_sharp);
+        if (candidates < 0) {
+            rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+            goto fail;
+        }
+        if (candidates > 0) {
+            /* only the hairpins whose folds are features at the error
+             * bound: on noisy ground (a scan's pole) they are noise, which
+             * the sizing already smooths, and collapses there fold it more */
+            vc_features fh;
+            if ((rc = vc_features_detect_scaled(s, opt.sharp_angle, NULL, bound, &fh, err)) != 0)
+                goto fail;
+            rc = copy_surface_own(s, &hairpinned, err);
+            const int64_t nh = rc ? 0
+                                  : vc_surface_collapse_hairpins(&hairpinned, VC_MESH_HAIRPIN_BASE * bound,
+                                                                 cos_sharp, &fh, &out->hairpin_move);
+            vc_features_free(&fh);
+            if (rc)
+                goto fail;
+            if (nh < 0) {
+                rc = vc_error_set(err, VC_ENOMEM, "%s: out of memory", name);
+                goto fail;
+            }
+            if (nh > 0) {
+                out->n_hairpins = nh;
+                if ((rc = adopt_repair(&s, &s_input, &hairpinned, &out->input, err)) != 0)
+                    goto fail;
+                vc_log(opt.log, VC_LOG_INFO,
+                       "mesh: %s: %lld hairpins (slivers of one face reaching into another, their "
+                       "bases below %g of the error bound) collapsed; the surface moved by at most %.3g",
+                       name, (long long)nh, VC_MESH_HAIRPIN_BASE, out->hairpin_move);
+            }
         }
     }
     /* Parts that touch at a vertex only, their sheets parting at less than
@@ -2065,6 +2112,9 @@ fail:
     free(collapsed.xyz);
     free(collapsed.tri);
     free(collapsed.tri_group);
+    free(hairpinned.xyz);
+    free(hairpinned.tri);
+    free(hairpinned.tri_group);
     vc_surface_free(&welded);
     vc_surface_free(&needled);
     free(capped.tri);
