@@ -6,8 +6,7 @@
  * even then) is judged by the plane alone; a needle's folds smaller than
  * the bound are noise on any coherent ground. And the converse: folds
  * below theta_sharp whose triangles leave each other's plane by more than
- * VC_VISIBLE_FOLD bounds are creases, the others not. A branch of a
- * crease network ending free within a quarter of the bound is noise. */
+ * VC_VISIBLE_FOLD bounds are creases, the others not. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -290,44 +289,6 @@ static void expect_visible_folds(double theta, double scale, int64_t want)
     vc_surface_free(&b.s);
 }
 
-/* A crease of 115 degrees along x = 0 crossed by a 39-degree ridge along
- * y = 0, the crossing dented by 0.03: the ridge's two edges at the
- * crossing fold by 64 degrees, two spurs 0.05 long (the grid's spacing)
- * from the crease to free ends. Below a quarter of the bound (scale 0.4)
- * they are noise (vorocrust/surface/feature_scale.c, unmark_spurs): the
- * crossing keeps the crease's two edges and their ends are no corners; at
- * scale 0.1 they stay creases, corners at their ends. */
-static double crease_and_ridge(double x, double y)
-{
-    return -2 * fabs(x) + 0.8 * fabs(y);
-}
-
-static void expect_spurs(double scale, int want_noise)
-{
-    const int n = 40, h = n / 2;
-    builder b = {0};
-    make_field(&b, n, crease_and_ridge, 0);
-    const int64_t root = (int64_t)h * (n + 1) + h;
-    b.s.xyz[3 * root + 2] -= 0.03;
-    vc_features f;
-    vc_error err;
-    CHECK(vc_features_detect_scaled(&b.s, 60, NULL, scale, &f, &err) == 0);
-    int at_root = 0;
-    for (int64_t e = 0; e < f.n_edges; e++)
-        at_root += f.edge_sharp[e] && (f.edge_vertex[2 * e] == root || f.edge_vertex[2 * e + 1] == root);
-    const int64_t ends[2] = {root - 1, root + 1};
-    int end_corners = 0;
-    for (int k = 0; k < 2; k++)
-        end_corners += f.vertex_corner[ends[k]] != 0;
-    printf("spurs at scale %g: %d sharp edges at the crossing, %d corners at their ends, %lld noise folds\n",
-           scale, at_root, end_corners, (long long)f.n_sharp_noise);
-    CHECK(at_root == (want_noise ? 2 : 4));
-    CHECK(f.n_sharp_noise == (want_noise ? 2 : 0));
-    CHECK(end_corners == (want_noise ? 0 : 2));
-    vc_features_free(&f);
-    vc_surface_free(&b.s);
-}
-
 int main(void)
 {
     expect_visible_folds(60, 0.030, 12);
@@ -375,9 +336,6 @@ int main(void)
      * ground; at a bound of 0.009 it is wider than the bound, a feature */
     expect_needle("needle on waves, bound 0.02", 0.02, 1);
     expect_needle("needle on waves, bound 0.009", 0.009, 0);
-
-    expect_spurs(0.4, 1);
-    expect_spurs(0.1, 0);
 
     if (failures) {
         fprintf(stderr, "test_feature_scale: %d failures\n", failures);

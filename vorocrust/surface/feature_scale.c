@@ -28,7 +28,6 @@
  * their smoothed normals: the mean over the same reach, within the patch
  * (vc_features.tri_smooth_normal). */
 #include "feature_scale.h"
-#include "util/csr_group.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -555,82 +554,6 @@ static int unkeep_specks(const vc_surface *s, const vc_features *f, int64_t *par
     return 0;
 }
 
-/* Spurs: a branch of a kept crease network that runs from a vertex where
- * three or more sharp edges meet to a free end (a vertex of one sharp
- * edge), through vertices of two, all folds, spanning less than
- * VC_SPUR_EXTENT * scale (the diagonal of its vertices' box). A decimated
- * marching-cubes part folds by more than theta_sharp across the rungs of
- * its rims' ribbons, where a facet edge of the ground meets the rim: a
- * crease a hundredth of the bound long, whose free end is a corner that
- * close to the rim's (two corners that near hold every ball around them to
- * their distance). Below the resolution asked for like a speck, it is noise
- * the same way: unmarked, flat[e] set (its triangles' normals are smoothed
- * there). Judged on the network as found, in vertex order: the same for
- * any order. Returns the edges unmarked, or -1 when out of memory. */
-static int64_t unmark_spurs(const vc_surface *s, vc_features *f, unsigned char *flat, double scale)
-{
-    const int64_t nv = s->n_vertices, ne = f->n_edges;
-    int64_t *vstart = NULL, *vedge = NULL;
-    if (vc_csr_group(f->edge_vertex, ne, 2, nv, f->edge_sharp, &vstart, &vedge))
-        return -1;
-    unsigned char *spur = calloc((size_t)(ne > 0 ? ne : 1), 1);
-    if (!spur) {
-        free(vstart);
-        free(vedge);
-        return -1;
-    }
-    const double reach2 = VC_SPUR_EXTENT * scale * VC_SPUR_EXTENT * scale;
-    for (int64_t v = 0; v < nv; v++) {
-        if (vstart[v + 1] - vstart[v] != 1)
-            continue;
-        double lo[3], hi[3];
-        for (int k = 0; k < 3; k++)
-            lo[k] = hi[k] = s->xyz[3 * v + k];
-        /* walk to the branch vertex, then again to mark */
-        for (int pass = 0; pass < 2; pass++) {
-            int64_t w = v, e = vedge[vstart[v]];
-            int found = 0;
-            for (;;) {
-                if (f->edge_sharp[e] != VC_SHARP_ANGLE)
-                    break;
-                if (pass)
-                    spur[e] = 1;
-                w = f->edge_vertex[2 * e] == w ? f->edge_vertex[2 * e + 1] : f->edge_vertex[2 * e];
-                double d2 = 0;
-                for (int k = 0; k < 3; k++) {
-                    lo[k] = fmin(lo[k], s->xyz[3 * w + k]);
-                    hi[k] = fmax(hi[k], s->xyz[3 * w + k]);
-                    d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-                }
-                const int64_t deg = vstart[w + 1] - vstart[w];
-                if (!(d2 < reach2) || deg == 1)
-                    break; /* too long, or a whole network (a speck's to judge) */
-                if (deg >= 3) {
-                    found = 1;
-                    break;
-                }
-                e = vedge[vstart[w]] == e ? vedge[vstart[w] + 1] : vedge[vstart[w]];
-            }
-            if (!found)
-                break;
-        }
-    }
-    int64_t n = 0;
-    for (int64_t e = 0; e < ne; e++)
-        if (spur[e]) {
-            f->edge_sharp[e] = 0;
-            f->n_sharp_edges--;
-            f->n_sharp_by_angle--;
-            f->n_sharp_noise++;
-            flat[e] = 1;
-            n++;
-        }
-    free(spur);
-    free(vstart);
-    free(vedge);
-    return n;
-}
-
 int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double scale,
                                    unsigned char *near)
 {
@@ -680,8 +603,6 @@ int vc_features_unmark_noise_folds(const vc_surface *s, vc_features *f, double s
         f->n_sharp_by_angle--;
         f->n_sharp_noise++;
     }
-    if (!fail && unmark_spurs(s, f, flat, scale) < 0)
-        fail = 1;
     /* the ground looked at, again, for the smoothed normals */
     if (!fail)
         fail = walk_folds(s, f, flat, scale, near) != 0;

@@ -38,9 +38,6 @@
  * below this many error bounds is noise on coherent ground, however curved
  * (vc_features_unmark_noise_folds). */
 #define VC_SPECK_EXTENT 1.0
-/* A branch of a crease network ending free is noise below this many error
- * bounds (the spurs of vc_features_unmark_noise_folds) */
-#define VC_SPUR_EXTENT 0.25
 
 /* Scratch memory of the neighbourhood walks (one per thread). */
 typedef struct vc_flat_probe {
