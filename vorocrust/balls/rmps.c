@@ -91,6 +91,15 @@
  * samplings of 60 surfaces (the shared models, make_hard_surfaces.py) is
  * 3e-3 of the bound (cow.off), the rest above 7e-3. */
 #define TINY_BALL 1e-5
+/* A sampling that makes this many times the balls the sizing predicted
+ * (and at least RUNAWAY_MIN) does not converge either: on 60 surfaces the
+ * balls made were 0.34 to 3.3 times the prediction, while a decimated
+ * shaft's first coverage went on adding balls where the area was covered,
+ * 638,000 for 12,400 predicted after 300 s, slower and slower, far from
+ * the ball limit. Stopped there, it is said as a divergence (where its
+ * smallest ball is), and the mesh command's remedies follow. */
+#define RUNAWAY 20.0
+#define RUNAWAY_MIN 100000
 /* subfaces whose midpoints lie this close to S' (times the kernel width)
  * are subdivided without projecting them */
 #define SAG_TOLERANCE 1e-2
@@ -150,6 +159,8 @@ typedef struct sampler {
     int64_t dirty_cap;
     int threads;        /* for the parallel parts (OpenMP's default when opt.threads <= 0) */
     int too_many;       /* the ball count reached opt.max_balls */
+    int64_t runaway_at; /* RUNAWAY times the balls predicted (0: no check) */
+    int runaway;        /* ... reached: the sampling does not converge */
     const char *phase;  /* for the progress lines */
     vc_smooth_surface ss; /* S', when opt.smooth_width > 0 */
     int smooth;         /* centres of surface balls on S' */
@@ -832,6 +843,10 @@ static int add_ball(sampler *S, const double x[3], double r, const vc_surface_po
 {
     if (S->opt.max_balls > 0 && S->bs.b.n >= S->opt.max_balls) {
         S->too_many = 1;
+        return -1;
+    }
+    if (S->runaway_at > 0 && S->bs.b.n >= S->runaway_at) {
+        S->runaway = 1;
         return -1;
     }
     double n[3];
@@ -2397,6 +2412,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
         return vc_error_set(err, VC_ENOMEM, "out of memory for the ball estimate");
     }
     st->n_balls_predicted = est.n_balls;
+    S.runaway_at = (int64_t)fmax(RUNAWAY * est.n_balls, RUNAWAY_MIN);
     st->t_sizing = vc_clock_seconds() - t0; /* the sizing structures and the prediction */
     vc_log(opt->log, VC_LOG_INFO,
            "mesh: sampling %lld triangles: about %.3g balls predicted from the sizing "
@@ -2705,6 +2721,27 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     vc_smooth_surface_free(&S.ss);
     free(S.tri_on_smooth);
     vc_sizing_free(&S.z);
+    if (rc && S.runaway && !S.oom) {
+        /* where the balls are smallest */
+        int64_t smallest = 0;
+        for (int64_t i = 1; i < S.bs.b.n; i++)
+            if (S.bs.b.radius[i] < S.bs.b.radius[smallest])
+                smallest = i;
+        const int64_t nb = S.bs.b.n;
+        double at[3] = {0, 0, 0};
+        if (nb > 0)
+            memcpy(at, S.bs.b.center + 3 * smallest, sizeof at);
+        const double r_small = nb > 0 ? S.bs.b.radius[smallest] : 0;
+        st->diverged = 1;
+        st->n_balls_diverged = nb;
+        vc_ball_set_free(&S.bs);
+        return vc_error_set(err, VC_EINPUT,
+                            "the sampling does not converge (%lld balls in the %s, %.0f times the %.3g "
+                            "predicted from the sizing; the smallest, of radius %.3g, near (%.6g, %.6g, "
+                            "%.6g)): the surface bends there more sharply than the sampling can follow "
+                            "without a crease; try a smaller --sharp-angle (e.g. 20)",
+                            (long long)nb, S.phase, RUNAWAY, est.n_balls, r_small, at[0], at[1], at[2]);
+    }
     if (rc) {
         vc_ball_set_free(&S.bs);
         if (S.too_many)
