@@ -837,6 +837,17 @@ static double new_radius(sampler *S, const vc_surface_point *sp, double bound, c
     return radius_after(S, kind, c, r, nearest, S->bs.b.n);
 }
 
+/* The smallest ball of b (among those with among[i] set; among NULL: all),
+ * -1 when none. */
+static int64_t smallest_ball(const vc_balls *b, const unsigned char *among)
+{
+    int64_t smallest = -1;
+    for (int64_t i = 0; i < b->n; i++)
+        if ((!among || among[i]) && (smallest < 0 || b->radius[i] < b->radius[smallest]))
+            smallest = i;
+    return smallest;
+}
+
 /* normal: the outward normal at x, or NULL for the input's */
 static int add_ball(sampler *S, const double x[3], double r, const vc_surface_point *sp,
                     const double *normal)
@@ -2598,10 +2609,7 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
                "%lld balls shrunk, %lld balls", iter, (long long)n_half, (long long)ns,
                (long long)S.bs.b.n);
         if (S.z.eps > 0) {
-            int64_t smallest = -1;
-            for (int64_t i = 0; i < S.bs.b.n; i++)
-                if (shrunk[i] && (smallest < 0 || S.bs.b.radius[i] < S.bs.b.radius[smallest]))
-                    smallest = i;
+            const int64_t smallest = smallest_ball(&S.bs.b, shrunk);
             if (smallest >= 0 && S.bs.b.radius[smallest] < TINY_BALL * S.z.eps) {
                 tiny_ball = S.bs.b.radius[smallest];
                 tiny_rel = tiny_ball / S.z.eps;
@@ -2722,25 +2730,19 @@ int vc_sample_surface(const vc_surface *s, const vc_features *f,
     free(S.tri_on_smooth);
     vc_sizing_free(&S.z);
     if (rc && S.runaway && !S.oom) {
-        /* where the balls are smallest */
-        int64_t smallest = 0;
-        for (int64_t i = 1; i < S.bs.b.n; i++)
-            if (S.bs.b.radius[i] < S.bs.b.radius[smallest])
-                smallest = i;
-        const int64_t nb = S.bs.b.n;
-        double at[3] = {0, 0, 0};
-        if (nb > 0)
-            memcpy(at, S.bs.b.center + 3 * smallest, sizeof at);
-        const double r_small = nb > 0 ? S.bs.b.radius[smallest] : 0;
+        /* where the balls are smallest (there are RUNAWAY_MIN of them) */
+        const int64_t smallest = smallest_ball(&S.bs.b, NULL), nb = S.bs.b.n;
+        const double *at = S.bs.b.center + 3 * smallest, r_small = S.bs.b.radius[smallest];
         st->diverged = 1;
         st->n_balls_diverged = nb;
-        vc_ball_set_free(&S.bs);
-        return vc_error_set(err, VC_EINPUT,
+        const int e = vc_error_set(err, VC_EINPUT,
                             "the sampling does not converge (%lld balls in the %s, %.0f times the %.3g "
                             "predicted from the sizing; the smallest, of radius %.3g, near (%.6g, %.6g, "
                             "%.6g)): the surface bends there more sharply than the sampling can follow "
                             "without a crease; try a smaller --sharp-angle (e.g. 20)",
                             (long long)nb, S.phase, RUNAWAY, est.n_balls, r_small, at[0], at[1], at[2]);
+        vc_ball_set_free(&S.bs);
+        return e;
     }
     if (rc) {
         vc_ball_set_free(&S.bs);
